@@ -1,0 +1,46 @@
+"""pds_plugin: certified triangle meshes of planar sections.
+
+A region (from shapely, a trimesh/manifold3d solid cut by a plane, or an SVG file) is
+sampled with a maximal Poisson disc sampling of radius ``alpha`` and meshed with the
+solid alpha-complex of the samples; every triangle then has aspect ratio L²/A ≤ 4√3.
+
+>>> import pds_plugin as pds
+>>> from shapely.geometry import Point
+>>> mesh = pds.mesh_region(pds.Region.from_shapely(Point(0, 0).buffer(1)), alpha=0.2)
+>>> mesh.certificate().ok
+True
+
+Every public name is imported on first use, so ``import pds_plugin`` stays fast.
+"""
+
+from importlib import import_module
+
+__version__ = "0.1.0"
+
+_PUBLIC = {
+    "Region": "region",
+    "Samples": "sampling",
+    "poisson_disc": "sampling",
+    "solid_alpha_complex": "complex",
+    "PlanarMesh": "mesh",
+    "mesh_region": "mesh",
+    "Quality": "quality",
+    "triangle_quality": "quality",
+    "Certificate": "certificate",
+    "certify": "certificate",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name):
+    module = _PUBLIC.get(name)
+    if module is None:
+        raise AttributeError(f"module 'pds_plugin' has no attribute {name!r}")
+    value = getattr(import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_PUBLIC))

@@ -1,0 +1,168 @@
+"""The planar region to mesh: validated shapely geometry plus its 3D frame."""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+
+__all__ = ["Region"]
+
+
+class Region:
+    """A planar region: one or several polygons with holes, in a 2D frame of 3D space.
+
+    Build it with :meth:`Region.from_shapely` (or a source such as
+    :func:`pds_plugin.section` or :func:`pds_plugin.load_svg`), which validates the
+    geometry. A Region never changes after it is made.
+
+    Attributes
+    ----------
+    geometry : shapely.MultiPolygon
+        The region, exteriors counter-clockwise and holes clockwise.
+    frame : (4, 4) ndarray
+        Maps the 2D coordinates ``(x, y, 0, 1)`` into 3D (identity for plain 2D input).
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> region = Region.from_shapely(box(0, 0, 4, 4).difference(box(1, 1, 2, 2)))
+    >>> region.betti, region.area
+    ((1, 1), 15.0)
+    """
+
+    def __init__(self, geometry: MultiPolygon, frame: np.ndarray):
+        self.geometry = geometry
+        self.frame = frame
+        self.frame.setflags(write=False)
+
+    @classmethod
+    def from_shapely(cls, geometry, frame=None, *, repair: bool = False) -> "Region":
+        """Validate a shapely Polygon or MultiPolygon and make a Region of it.
+
+        Parameters
+        ----------
+        geometry : shapely Polygon, MultiPolygon or polygon-only GeometryCollection
+        frame : (4, 4) array_like, optional
+            2D -> 3D transform of the plane the region lies in; identity by default.
+        repair : bool
+            Mend invalid geometry with ``shapely.make_valid`` (never ``buffer(0)``,
+            which drops lobes) and drop zero-area parts, instead of raising.
+
+        Raises
+        ------
+        TypeError
+            If ``geometry`` is not a polygonal shapely geometry.
+        ValueError
+            If it is empty, has non-finite coordinates, is invalid (the message gives
+            shapely's reason and location) or has zero-area parts, and ``repair`` is off.
+
+        Examples
+        --------
+        >>> from shapely.geometry import Polygon
+        >>> bowtie = Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+        >>> Region.from_shapely(bowtie)
+        Traceback (most recent call last):
+        ...
+        ValueError: invalid region geometry: Self-intersection[1 1]; fix the outline or pass repair=True (shapely.make_valid)
+        >>> Region.from_shapely(bowtie, repair=True).betti
+        (2, 0)
+        """
+        polygons = _polygons_of(geometry)
+        coords = shapely.get_coordinates(geometry)
+        if not np.isfinite(coords).all():
+            raise ValueError("region geometry has NaN or infinite coordinates; "
+                             "clean the input coordinates first")
+        if not polygons:
+            raise ValueError("region geometry is empty: there is nothing to mesh")
+        multi = MultiPolygon(polygons)
+        if not multi.is_valid:
+            if not repair:
+                raise ValueError(f"invalid region geometry: {shapely.is_valid_reason(multi)}; "
+                                 "fix the outline or pass repair=True (shapely.make_valid)")
+            polygons = _polygons_of(shapely.make_valid(multi))
+        flat = [p for p in polygons if not p.area > 0]
+        if flat:
+            if not repair:
+                where = flat[0].representative_point() if not flat[0].is_empty else None
+                at = f" near ({where.x:.6g}, {where.y:.6g})" if where is not None else ""
+                raise ValueError(f"region has {len(flat)} zero-area part(s){at}; "
+                                 "remove them or pass repair=True to drop them")
+            polygons = [p for p in polygons if p.area > 0]
+        if not polygons:
+            raise ValueError("region geometry has no area after repair: there is nothing to mesh")
+        geometry = shapely.orient_polygons(MultiPolygon(polygons))
+        return cls(geometry, _checked_frame(frame))
+
+    @cached_property
+    def rings(self) -> list[np.ndarray]:
+        """Boundary rings as (k, 2) float arrays without the closing duplicate.
+
+        Exteriors run counter-clockwise, holes clockwise, so the region is on the left.
+        """
+        rings = []
+        for polygon in self.geometry.geoms:
+            for ring in (polygon.exterior, *polygon.interiors):
+                xy = shapely.get_coordinates(ring)[:-1]
+                keep = np.any(xy != np.roll(xy, 1, axis=0), axis=1)  # drop repeated vertices
+                rings.append(np.ascontiguousarray(xy[keep]))
+        return rings
+
+    @cached_property
+    def segments(self) -> np.ndarray:
+        """All boundary segments as an (m, 2, 2) array ``[[x0, y0], [x1, y1]]``."""
+        return np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], axis=1) for r in self.rings])
+
+    @property
+    def area(self) -> float:
+        return float(self.geometry.area)
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(xmin, ymin, xmax, ymax)`` in the region's 2D coordinates."""
+        return tuple(float(v) for v in self.geometry.bounds)
+
+    @property
+    def perimeter(self) -> float:
+        return float(self.geometry.length)
+
+    @property
+    def betti(self) -> tuple[int, int]:
+        """``(b0, b1)``: the number of components and the number of holes."""
+        return (len(self.geometry.geoms),
+                sum(len(p.interiors) for p in self.geometry.geoms))
+
+    def to_3d(self, xy) -> np.ndarray:
+        """Map (n, 2) region coordinates into 3D through :attr:`frame`."""
+        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+        return xy @ self.frame[:3, :2].T + self.frame[:3, 3]
+
+    def __repr__(self) -> str:
+        b0, b1 = self.betti
+        return (f"Region(components={b0}, holes={b1}, area={self.area:.6g}, "
+                f"bounds={tuple(round(v, 6) for v in self.bounds)})")
+
+
+def _polygons_of(geometry) -> list[Polygon]:
+    if not isinstance(geometry, shapely.Geometry):
+        raise TypeError(f"expected a shapely Polygon or MultiPolygon, got {type(geometry).__name__}")
+    parts = shapely.get_parts(geometry)
+    polygons = [p for p in parts if isinstance(p, Polygon) and not p.is_empty]
+    nested = [q for p in parts if isinstance(p, (MultiPolygon, shapely.GeometryCollection))
+              for q in _polygons_of(p)]
+    others = [p for p in parts if not isinstance(p, (Polygon, MultiPolygon, shapely.GeometryCollection))
+              and not p.is_empty]
+    if others and not (polygons or nested):
+        raise TypeError(f"expected polygons, got {others[0].geom_type}: a region needs area")
+    return polygons + nested
+
+
+def _checked_frame(frame) -> np.ndarray:
+    if frame is None:
+        return np.eye(4)
+    frame = np.array(frame, dtype=float)
+    if frame.shape != (4, 4) or not np.isfinite(frame).all():
+        raise ValueError(f"frame must be a finite 4x4 matrix, got shape {frame.shape}")
+    return frame
