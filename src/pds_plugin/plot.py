@@ -1,0 +1,307 @@
+"""Pictures of a PlanarMesh with matplotlib: samples and discs, the mesh coloured by
+aspect ratio, the aspect-ratio histogram (the paper's Figure 5), a one-file report and
+a multiresolution strip.
+
+Each drawing function takes an optional matplotlib ``ax`` and returns the Axes it drew
+on; without ``ax`` it opens a new pyplot figure (matplotlib picks the non-interactive
+Agg backend by itself when there is no display). The functions that write a file draw on
+a standalone ``matplotlib.figure.Figure``, so scripts that write thousands of reports do
+not accumulate open pyplot figures.
+
+matplotlib is an optional dependency: ``pip install "pds_plugin[plot]"``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+
+__all__ = ["plot_samples", "plot_mesh", "plot_histogram", "plot_report",
+           "plot_multiresolution"]
+
+_CMAP = "viridis"
+_OVER = "red"          # triangles above the Theorem 1 bound (none on a certified mesh)
+
+
+def _matplotlib():
+    try:
+        import matplotlib
+    except ImportError as error:
+        raise ImportError('matplotlib is needed for pds_plugin.plot: '
+                          'pip install "pds_plugin[plot]"') from error
+    return matplotlib
+
+
+def _new_axes(ax):
+    if ax is not None:
+        return ax
+    _matplotlib()
+    import matplotlib.pyplot as plt
+    return plt.subplots(figsize=(6, 6), layout="constrained")[1]
+
+
+def _figure(**kwargs):
+    """A standalone Figure (not registered with pyplot) for functions that write files."""
+    _matplotlib()
+    from matplotlib.figure import Figure
+    return Figure(layout="constrained", **kwargs)
+
+
+def _panel_size(region, panels: int, extra_width: float = 0.0, width: float = 4.5):
+    """figsize for ``panels`` equal-aspect views of ``region`` side by side."""
+    x0, y0, x1, y1 = region.bounds
+    height = float(np.clip(width * (y1 - y0) / (x1 - x0), 0.4 * width, 2.0 * width)) + 1.3
+    return (width * panels + extra_width, height)
+
+
+def _checked_output(path) -> Path:
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"cannot write {path}: directory {path.parent} does not exist; "
+                                "create it first")
+    return path
+
+
+def _checked_faces(mesh):
+    if len(mesh.faces) == 0:
+        raise ValueError(f"{mesh!r} has no triangles to plot "
+                         "(alpha is probably too large for the region)")
+
+
+def _draw_outline(ax, region):
+    from matplotlib.collections import LineCollection
+
+    rings = [np.vstack([ring, ring[:1]]) for ring in region.rings]
+    outline = LineCollection(rings, colors="black", linewidths=1.0, zorder=3,
+                             label="region boundary")
+    ax.add_collection(outline)
+    return outline
+
+
+def _square_view(ax, region):
+    x0, y0, x1, y1 = region.bounds
+    pad = 0.03 * max(x1 - x0, y1 - y0)
+    ax.set_xlim(x0 - pad, x1 + pad)
+    ax.set_ylim(y0 - pad, y1 + pad)
+    ax.set_aspect("equal")
+
+
+def plot_samples(mesh, discs: bool = False, ax=None):
+    """Draw the region's outline and the samples, boundary samples marked.
+
+    With ``discs=True`` every sample also gets its disc of radius ``alpha`` (one
+    EllipseCollection, fast for 10⁵ samples): by maximality the discs cover the region,
+    and by the Poisson condition no disc contains another sample.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
+    >>> ax = plot_samples(mesh, discs=True)
+    """
+    ax = _new_axes(ax)
+    from matplotlib.collections import EllipseCollection
+
+    from matplotlib.patches import Circle
+
+    points, on_boundary = np.asarray(mesh.vertices), np.asarray(mesh.on_boundary, dtype=bool)
+    handles = [_draw_outline(ax, mesh.region)]
+    size = 12 if len(points) < 2000 else 3
+    handles.append(ax.scatter(*points[~on_boundary].T, s=size, c="tab:blue", linewidths=0,
+                              zorder=4, label=f"interior samples ({np.count_nonzero(~on_boundary)})"))
+    handles.append(ax.scatter(*points[on_boundary].T, s=size, c="tab:orange", linewidths=0,
+                              zorder=5, label=f"boundary samples ({np.count_nonzero(on_boundary)})"))
+    if discs:
+        style = dict(facecolor="tab:blue", edgecolor="tab:blue", alpha=0.12, linewidth=0.5)
+        diameter = np.full(len(points), 2 * mesh.alpha)
+        ax.add_collection(EllipseCollection(diameter, diameter, 0.0, units="xy", offsets=points,
+                                            offset_transform=ax.transData, **style))
+        # legends cannot draw an EllipseCollection: show one disc instead
+        handles.append(Circle((0, 0), 1, label=f"discs of radius α = {mesh.alpha:.3g}", **style))
+    _square_view(ax, mesh.region)
+    ax.set_title(f"{len(points)} samples, α = {mesh.alpha:.3g}")
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.06), ncols=2,
+              fontsize="small", frameon=False)
+    return ax
+
+
+def _draw_mesh(ax, mesh):
+    """The triangles as one PolyCollection coloured by L²/A on [4/√3, 4√3]."""
+    import matplotlib
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import Normalize
+
+    _checked_faces(mesh)
+    aspect = mesh.quality().aspect_ratio
+    triangles = PolyCollection(np.asarray(mesh.vertices)[np.asarray(mesh.faces)],
+                               array=aspect, cmap=matplotlib.colormaps[_CMAP].with_extremes(over=_OVER),
+                               norm=Normalize(ASPECT_EQUILATERAL, ASPECT_BOUND),
+                               edgecolors="black", linewidths=0.15 if len(aspect) < 20000 else 0.0)
+    ax.add_collection(triangles)
+    _draw_outline(ax, mesh.region)
+    _square_view(ax, mesh.region)
+    return triangles
+
+
+def _colorbar(figure, mappable, axes, meshes):
+    above = any(mesh.quality().aspect_ratio.max() > ASPECT_BOUND for mesh in meshes)
+    bar = figure.colorbar(mappable, ax=axes, extend="max" if above else "neither")
+    bar.set_ticks([ASPECT_EQUILATERAL, 3, 4, 5, 6, ASPECT_BOUND],
+                  labels=["4/√3", "3", "4", "5", "6", "4√3"])
+    bar.set_label("aspect ratio L²/A")
+    return bar
+
+
+def plot_mesh(mesh, ax=None):
+    """Draw the triangles coloured by aspect ratio L²/A over [4/√3, 4√3], with a colorbar.
+
+    Triangles above the bound 4√3 (none on a certified mesh) are drawn in red. The
+    region's outline is drawn on top, so lost holes or bridged gaps show.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
+    >>> ax = plot_mesh(mesh)
+    """
+    ax = _new_axes(ax)
+    triangles = _draw_mesh(ax, mesh)
+    _colorbar(ax.figure, triangles, ax, [mesh])
+    ax.set_title(f"{len(mesh.faces)} triangles, α = {mesh.alpha:.3g}")
+    return ax
+
+
+def plot_histogram(mesh, ax=None, bins: int = 20):
+    """Histogram of the aspect ratio L²/A with its statistics (the paper's Figure 5).
+
+    The bounds 4/√3 (equilateral) and 4√3 (Theorem 1) are marked; the mean, standard
+    deviation, minimum and maximum are in the title. The bins span [4/√3, 4√3], widened
+    to include any value outside it, so a violation of the bound is visible.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
+    >>> ax = plot_histogram(mesh)
+    """
+    _checked_faces(mesh)
+    ax = _new_axes(ax)
+    aspect = mesh.quality().aspect_ratio
+    stats = mesh.quality().stats()
+    lo = min(ASPECT_EQUILATERAL, stats["aspect_min"])
+    hi = max(ASPECT_BOUND, stats["aspect_max"])
+    ax.hist(aspect, bins=bins, range=(lo, hi), color="tab:blue", edgecolor="white")
+    ax.axvline(ASPECT_EQUILATERAL, color="tab:green", linestyle="--",
+               label=f"4/√3 ≈ {ASPECT_EQUILATERAL:.3f} (equilateral)")
+    ax.axvline(ASPECT_BOUND, color="tab:red", linestyle="--",
+               label=f"4√3 ≈ {ASPECT_BOUND:.3f} (Theorem 1 bound)")
+    ax.set_xlabel("aspect ratio L²/A")
+    ax.set_ylabel("triangles")
+    ax.set_title(f"{stats['triangles']} triangles: mean {stats['aspect_mean']:.3f}, "
+                 f"std {stats['aspect_std']:.3f}\nmin {stats['aspect_min']:.3f}, "
+                 f"max {stats['aspect_max']:.3f}")
+    ax.legend(loc="upper right", fontsize="small")
+    return ax
+
+
+def plot_report(mesh, path, discs: bool = False, dpi: int = 120):
+    """Write one image with the samples, the mesh and the histogram side by side.
+
+    This is what ``pds-mesh --plot`` writes. The format follows the suffix of ``path``
+    (PNG, SVG, PDF, … whatever matplotlib writes).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The standalone figure that was saved.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the parent directory of ``path`` does not exist.
+    ValueError
+        If the mesh has no triangles.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
+    >>> figure = plot_report(mesh, pathlib.Path(tempfile.mkdtemp()) / "report.png")
+    """
+    path = _checked_output(path)
+    _checked_faces(mesh)
+    figure = _figure(figsize=_panel_size(mesh.region, 3, extra_width=1.0, width=5.0))
+    samples_ax, mesh_ax, histogram_ax = figure.subplots(1, 3, width_ratios=[1, 1.2, 1])
+    plot_samples(mesh, discs=discs, ax=samples_ax)
+    plot_mesh(mesh, ax=mesh_ax)
+    plot_histogram(mesh, ax=histogram_ax)
+    figure.savefig(path, dpi=dpi)
+    return figure
+
+
+def plot_multiresolution(meshes, path=None, dpi: int = 120):
+    """Draw several meshes of one region side by side, coarse to fine, one colorbar.
+
+    The paper's multiresolution view (Figure 6): each panel shows the mesh at its
+    ``alpha``, coloured by aspect ratio, with the region's outline on top so that the
+    holes and walls a coarse ``alpha`` loses stand out.
+
+    Parameters
+    ----------
+    meshes : sequence of PlanarMesh
+        Drawn in decreasing ``alpha`` order.
+    path : str or Path, optional
+        Write the image there (standalone figure); otherwise open a pyplot figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> region = pds.Region.from_shapely(box(0, 0, 1, 1))
+    >>> figure = plot_multiresolution([pds.mesh_region(region, a) for a in (0.3, 0.1)])
+    """
+    meshes = sorted(meshes, key=lambda mesh: -mesh.alpha)
+    if not meshes:
+        raise ValueError("plot_multiresolution needs at least one mesh")
+    for mesh in meshes:
+        _checked_faces(mesh)
+    size = dict(figsize=_panel_size(meshes[0].region, len(meshes), extra_width=1.0))
+    if path is None:
+        _matplotlib()
+        import matplotlib.pyplot as plt
+        figure = plt.figure(layout="constrained", **size)
+    else:
+        path = _checked_output(path)
+        figure = _figure(**size)
+    axes = np.atleast_1d(figure.subplots(1, len(meshes)))
+    for ax, mesh in zip(axes, meshes):
+        triangles = _draw_mesh(ax, mesh)
+        ax.set_title(f"α = {mesh.alpha:.3g}\n{len(mesh.vertices)} samples, "
+                     f"{len(mesh.faces)} triangles")
+    _colorbar(figure, triangles, list(axes), meshes)
+    if path is not None:
+        figure.savefig(path, dpi=dpi)
+    return figure
