@@ -230,3 +230,16 @@ def test_featuretype_sections_in_a_meshset():
     measured = meshlab_quality(ms)                 # the recipe on the layer in the MeshSet
     assert measured.certified
     assert measured.counts.sum() + measured.above == len(section.faces)
+
+
+def test_meshlab_workflow_example_runs(tmp_path, capsys):
+    import runpy
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "meshlab_workflow.py"
+    runpy.run_path(str(example))["main"](tmp_path)
+    assert "Theorem 1" in capsys.readouterr().out
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(tmp_path / "meshlab_section.ply"))
+    quality = ms.current_mesh().face_scalar_array()          # aspect ratio L²/A per face
+    assert len(quality) > 100 and quality.max() <= ASPECT_BOUND * (1 + 1e-9)
+    assert quality.min() >= (4 / np.sqrt(3)) * (1 - 1e-9)
