@@ -28,6 +28,9 @@ _PUBLIC = {
     "triangle_quality": "quality",
     "Certificate": "certificate",
     "certify": "certificate",
+    "section": "sources",
+    "sections": "sources",
+    "load_svg": "sources",
 }
 
 __all__ = sorted(_PUBLIC)

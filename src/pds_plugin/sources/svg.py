@@ -1,0 +1,265 @@
+"""SVG source: the filled shapes, or the outline drawing, of an SVG file as a Region.
+
+Parsed with svgelements (nested transforms, units, ``<use>``, styles and inherited
+``fill-rule``); every curve is flattened to an absolute chordal tolerance, and the fill
+rule or the nesting of outline loops is resolved exactly by :mod:`pds_plugin.sources`.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+import numpy as np
+import shapely
+
+from ..region import Region
+
+__all__ = ["load_svg"]
+
+_UNITS = ("px", "pt", "mm", "cm", "in")
+RELATIVE_TOLERANCE = 1e-4
+"""Default tolerance of :func:`load_svg`, as a fraction of the drawing's diagonal."""
+
+
+def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
+    """Read an SVG drawing as a :class:`Region` in the drawing's plane (z = 0).
+
+    Two kinds of drawing are understood:
+
+    - **filled** shapes (paths, polygons, circles, ellipses, rects with rounded corners):
+      each is filled by its ``fill-rule`` (``nonzero`` or ``evenodd``, set on the shape,
+      inherited from its groups or given in a ``style``), and the filled areas are
+      united, whatever their colour;
+    - **outline** drawings (CAD, DXF and laser-cutting exports: unfilled strokes whose
+      ends meet): the strokes are joined into closed loops where their ends are closer
+      than ``tolerance``, and the loops are nested by containment (even-odd), so a loop
+      inside a part is a hole and a loop inside a hole is an island. Ends that meet
+      nothing are reported in a warning with their coordinates.
+
+    ``<defs>``, ``<clipPath>``, ``<pattern>``, ``display:none`` and ``visibility:hidden``
+    content are skipped, text and images are ignored. The y axis is flipped (SVG points
+    down) so the drawing is not mirrored: the page rectangle maps onto itself upside
+    down, or ``y -> -y`` when the file gives neither ``viewBox`` nor size.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    tolerance : float, optional
+        Geometric accuracy in output units: arcs, circles, ellipses and Béziers are
+        flattened so that no point of the curve is farther than this from its polyline,
+        and outline strokes whose ends are closer than this are joined. Default:
+        ``RELATIVE_TOLERANCE`` (1e-4) times the diagonal of the drawing's bounding box.
+    units : {None, "mm", "cm", "in", "pt", "px"}
+        None keeps the drawing's user units (its ``viewBox`` coordinates); a unit
+        converts to that physical unit through the document's ``width``/``height``
+        (at 96 px per inch when the document gives no physical size).
+    mode : {"auto", "fill", "outline"}
+        ``auto`` reads the filled shapes if they enclose any area, and the outline of all
+        visible shapes otherwise (an outline drawing's strokes must then be unfilled,
+        ``fill="none"``, as CAD exports write them; or pass ``mode="outline"``).
+
+    Returns
+    -------
+    Region
+        With the identity frame (the drawing lies in the plane z = 0).
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        If the file is empty or not SVG, has nothing to mesh (no visible shape, no area,
+        or no loop that closes: the message gives the open ends), or an argument is bad.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, pds_plugin as pds
+    >>> svg = pathlib.Path(tempfile.mkdtemp()) / "ring.svg"
+    >>> _ = svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20">'
+    ...                    '<path fill-rule="evenodd" d="M0 0H20V20H0Z M5 5H15V15H5Z"/></svg>')
+    >>> region = pds.load_svg(svg)
+    >>> region.area, region.betti
+    (300.0, (1, 1))
+    """
+    if mode not in ("auto", "fill", "outline"):
+        raise ValueError(f"mode must be 'auto', 'fill' or 'outline', got {mode!r}")
+    if units is not None and units not in _UNITS:
+        raise ValueError(f"units must be None (the drawing's user units) or one of "
+                         f"{_UNITS}, got {units!r}")
+    document, name = _parse(path)
+    matrix = _output_matrix(document, units)
+    shapes = _visible_shapes(document)
+    if not shapes:
+        raise ValueError(f"{name} has no visible shapes: nothing to mesh")
+    tolerance = _tolerance(tolerance, shapes, matrix)
+    step = tolerance / np.linalg.norm(matrix[:, :2], 2)  # the tolerance in svgelements units
+    geometry = shapely.Polygon()
+    if mode != "outline":
+        geometry = _fill([shape for shape in shapes if _is_filled(shape)], matrix, step)
+        if geometry.is_empty and mode == "fill":
+            raise ValueError(f"the filled shapes of {name} enclose no area: nothing to mesh "
+                             f"(for an outline drawing use mode='outline')")
+    if geometry.is_empty:
+        geometry = _outline(shapes, matrix, step, tolerance, name)
+    return Region.from_shapely(geometry)
+
+
+def _parse(path):
+    import svgelements
+
+    name = os.fspath(path)
+    if not os.path.isfile(name):
+        raise FileNotFoundError(f"no such SVG file: {name!r}")
+    if os.path.getsize(name) == 0:
+        raise ValueError(f"the SVG file {name!r} is empty")
+    try:
+        document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
+    except Exception as error:  # the XML parser raises several kinds
+        raise ValueError(f"cannot read {name!r} as SVG ({error})") from error
+    if not isinstance(document, svgelements.SVG):
+        raise ValueError(f"{name!r} has no <svg> element: it is not an SVG drawing")
+    return document, repr(name)
+
+
+def _output_matrix(document, units) -> np.ndarray:
+    """2x3 affine map from svgelements pixels to output coordinates, y flipped."""
+    import svgelements
+
+    if units is None:  # undo the viewBox -> viewport map: back to user units
+        view = svgelements.Matrix(document.viewbox_transform)
+        view.inverse()
+        matrix = np.array([[view.a, view.c, view.e], [view.b, view.d, view.f]])
+    else:
+        pixels = svgelements.Length(f"1{units}").value(ppi=96.0)  # svgelements' own factor
+        matrix = np.hstack([np.eye(2) / pixels, np.zeros((2, 1))])
+    sized = document.viewbox is not None or {"width", "height"} <= set(document.values)
+    page = _apply(matrix, [[0, 0], [document.width, document.height]]) if sized else np.zeros((2, 2))
+    flip = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, page[:, 1].sum()], [0.0, 0.0, 1.0]])
+    return (flip @ np.vstack([matrix, [0.0, 0.0, 1.0]]))[:2]
+
+
+def _apply(matrix, points) -> np.ndarray:
+    return np.asarray(points, dtype=float) @ matrix[:, :2].T + matrix[:, 2]
+
+
+def _visible_shapes(document) -> list:
+    import svgelements
+
+    return [element for element in document.elements()
+            if isinstance(element, svgelements.Shape)
+            and element.values.get("visibility") not in ("hidden", "collapse")]
+
+
+def _tolerance(tolerance, shapes, matrix) -> float:
+    if tolerance is not None:
+        tolerance = float(tolerance)
+        if not (np.isfinite(tolerance) and tolerance > 0):
+            raise ValueError(f"tolerance must be a positive number, got {tolerance!r}")
+        return tolerance
+    boxes = np.array([box for box in (shape.bbox() for shape in shapes) if box is not None], float)
+    corners = _apply(matrix, boxes.reshape(-1, 2)) if len(boxes) else np.zeros((1, 2))
+    diagonal = np.linalg.norm(np.ptp(corners, axis=0))
+    if not diagonal > 0:
+        raise ValueError("the drawing has zero size: nothing to mesh")
+    return RELATIVE_TOLERANCE * diagonal
+
+
+def _is_filled(shape) -> bool:
+    return shape.fill is not None and shape.fill.value is not None
+
+
+def _fill(shapes, matrix, step):
+    from . import fill_geometry
+
+    return shapely.union_all([
+        fill_geometry([_apply(matrix, points) for points in _flatten(shape, step)],
+                      shape.values.get("fill-rule", "nonzero"))
+        for shape in shapes])
+
+
+def _outline(shapes, matrix, step, tolerance, name):
+    from . import outline_geometry
+
+    chains = [_apply(matrix, points) for shape in shapes for points in _flatten(shape, step)]
+    geometry, open_ends = outline_geometry(chains, tolerance)
+    where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
+    where += ", ..." if len(open_ends) > 5 else ""
+    if geometry.is_empty:
+        raise ValueError(
+            f"no closed loop in the outline drawing {name}: nothing to mesh"
+            + (f"; {len(open_ends)} stroke end(s) meet no other stroke within the tolerance "
+               f"{tolerance:.3g}, at {where}; pass a larger tolerance" if len(open_ends) else ""))
+    if len(open_ends):
+        warnings.warn(f"{len(open_ends)} stroke end(s) of {name} meet no other stroke within "
+                      f"the tolerance {tolerance:.3g}, at {where}; the open strokes are ignored "
+                      f"(pass a larger tolerance to join them)", UserWarning, stacklevel=3)
+    return geometry
+
+
+def _flatten(shape, step):
+    """Yield the points (k, 2) of each subpath of a shape, flattened to ``step``.
+
+    A closed subpath ends on its first point; fill rules close the others implicitly.
+    """
+    import svgelements
+
+    path = abs(svgelements.Path(shape))  # a copy with its transform applied to the segments
+    for subpath in path.as_subpaths():
+        segments = list(subpath)
+        if not segments:
+            continue
+        points = [np.asarray([segments[0].end], dtype=float)]  # the Move's point
+        points += [_points(segment, step) for segment in segments[1:]]
+        points = np.concatenate(points)
+        points = points[np.r_[True, np.any(points[1:] != points[:-1], axis=1)]]
+        if len(points) >= 2:
+            yield points
+
+
+def _points(segment, step) -> np.ndarray:
+    """The points after the start of one segment, the chords within ``step`` of the curve.
+
+    On a parameter interval of length h a chord deviates from the curve by at most
+    h² max|B''| / 8, so ``ceil(sqrt(max|B''| / (8 step)))`` uniform intervals suffice.
+    """
+    import svgelements
+
+    if isinstance(segment, svgelements.Arc):
+        return _arc_points(segment, step)
+    if isinstance(segment, svgelements.QuadraticBezier):
+        p = np.array([segment.start, segment.control, segment.end], dtype=float)
+        bound = 2 * np.linalg.norm(p[0] - 2 * p[1] + p[2])
+    elif isinstance(segment, svgelements.CubicBezier):
+        p = np.array([segment.start, segment.control1, segment.control2, segment.end], dtype=float)
+        bound = 6 * np.linalg.norm(p[:2] - 2 * p[1:3] + p[2:], axis=1).max()
+    else:  # Line, Close: straight
+        return np.asarray([segment.end], dtype=float)
+    return np.asarray(segment.npoint(_steps(bound, step)), dtype=float)
+
+
+def _arc_points(arc, step) -> np.ndarray:
+    """Points of an elliptical arc, evaluated on its conjugate radii.
+
+    svgelements keeps a transformed arc as its centre and the images ``prx``, ``pry`` of
+    two perpendicular radii, which a skew leaves non-perpendicular (its own evaluation
+    assumes them perpendicular). ``c + u cos θ + v sin θ`` is exact for any affine image,
+    and svgelements negates ``sweep`` under reflections, when ``det[u v]`` turns negative.
+    """
+    center = np.array(arc.center, dtype=float)
+    radii = np.array([arc.prx, arc.pry], dtype=float).T - center[:, None]  # columns u, v
+    determinant = np.linalg.det(radii)
+    if arc.sweep == 0 or not abs(determinant) > 0:  # degenerate: a straight segment
+        return np.asarray([arc.end], dtype=float)
+    cosine, sine = np.linalg.solve(radii, np.array(arc.start, dtype=float) - center)
+    sweep = arc.sweep * np.sign(determinant)
+    theta = np.arctan2(sine, cosine) + sweep * _steps(np.linalg.norm(radii, 2) * sweep**2, step)
+    points = center + np.column_stack([np.cos(theta), np.sin(theta)]) @ radii.T
+    points[-1] = arc.end
+    return points
+
+
+def _steps(bound, step) -> np.ndarray:
+    """Parameters in (0, 1] of the chord ends for a curve with max|B''| <= bound."""
+    count = max(1, int(np.ceil(np.sqrt(bound / (8 * step)))))
+    return np.linspace(0, 1, count + 1)[1:]
