@@ -1,0 +1,308 @@
+"""Topology of a mesh against its region: Betti numbers, and what was lost or merged.
+
+Theorem 2 of the paper promises ``|C| ~ R`` when alpha is small enough; this module
+checks it on the actual mesh. The Betti numbers of the triangle complex ``|C|`` are
+``b0`` (connected components of triangles joined through shared vertices) and
+``b1 = b0 - χ`` (holes), ``χ = V - E + F`` over the vertices, edges and faces used by
+triangles. They are compared with the region's overall and per region component, and
+each disagreement is located in region coordinates: a hole filled, two holes merged, a
+hole opened to the outside or split in two, components joined across a gap, a component
+broken or lost, a notch of the outline closed off into a hole.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from shapely.geometry import Polygon
+
+__all__ = ["ComponentTopology", "TopologyReport", "topology_report", "mesh_betti", "ring_owners"]
+
+
+@dataclass(frozen=True)
+class ComponentTopology:
+    """Betti numbers of one region component and of the mesh parts lying on it."""
+
+    component: int
+    betti_region: tuple[int, int]
+    betti_mesh: tuple[int, int]
+    ok: bool
+
+
+@dataclass(frozen=True)
+class TopologyReport:
+    """Topology of a mesh compared with its region.
+
+    Attributes
+    ----------
+    betti_mesh, betti_region : tuple of int
+        ``(b0, b1)``: components and holes.
+    per_component : tuple of ComponentTopology
+        One entry per region component, in ``region.geometry.geoms`` order. Its mesh
+        numbers count the mesh components with a vertex on that region component, and
+        their holes.
+    topology_ok : bool
+        True when every component matches and no hole is lost, merged, opened or split.
+    problems : tuple of str
+        One readable sentence per defect, located in region coordinates, with the alpha
+        that would keep the feature.
+    """
+
+    betti_mesh: tuple[int, int]
+    betti_region: tuple[int, int]
+    per_component: tuple[ComponentTopology, ...]
+    topology_ok: bool
+    problems: tuple[str, ...]
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values."""
+        return asdict(self)
+
+    def __str__(self) -> str:
+        verdict = "ok" if self.topology_ok else "MISMATCH"
+        lines = [f"topology {verdict}: mesh (b0, b1) = {self.betti_mesh}, "
+                 f"region = {self.betti_region}"]
+        return "\n".join(lines + [f"  - {p}" for p in self.problems])
+
+
+def ring_owners(region) -> list[tuple[int, int | None]]:
+    """``(component, hole)`` of each ring in ``region.rings`` (hole None for an outline)."""
+    return [(c, h) for c, polygon in enumerate(region.geometry.geoms)
+            for h in (None, *range(len(polygon.interiors)))]
+
+
+def mesh_betti(faces: np.ndarray, n_vertices: int):
+    """Component label per vertex (-1 if unused) and ``(b0, b1)`` per mesh component.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square_ring = np.array([[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7],
+    ...                         [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+    >>> labels, betti = mesh_betti(square_ring, 8)
+    >>> betti.tolist()
+    [[1, 1]]
+    """
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    pairs = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    keys = np.unique(pairs[:, 0] * n_vertices + pairs[:, 1])
+    edges = np.stack([keys // n_vertices, keys % n_vertices], axis=1)
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
+                       shape=(n_vertices, n_vertices))
+    used = np.unique(faces)
+    _, component = np.unique(connected_components(graph, directed=False)[1][used],
+                             return_inverse=True)
+    labels = np.full(n_vertices, -1, dtype=np.int64)
+    labels[used] = component
+    count = int(component.max()) + 1 if len(used) else 0
+    chi = (np.bincount(component, minlength=count)
+           - np.bincount(labels[edges[:, 0]], minlength=count)
+           + np.bincount(labels[faces[:, 0]], minlength=count))
+    return labels, np.stack([np.ones(count, dtype=np.int64), 1 - chi], axis=1)
+
+
+def topology_report(mesh) -> TopologyReport:
+    """Compare the topology of ``mesh`` (a PlanarMesh) with that of its region.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Point
+    >>> import pds_plugin as pds
+    >>> disc_with_hole = Point(0, 0).buffer(1).difference(Point(0, 0).buffer(0.3))
+    >>> region = pds.Region.from_shapely(disc_with_hole)
+    >>> topology_report(pds.mesh_region(region, alpha=0.1)).topology_ok
+    True
+    >>> report = topology_report(pds.mesh_region(region, alpha=0.4))
+    >>> report.betti_mesh, report.betti_region
+    ((1, 0), (1, 1))
+    >>> print(report.problems[0])         # doctest: +ELLIPSIS
+    hole 0 of component 0 at (0, 0), about 0.6 wide, is filled by the mesh; ...
+    """
+    return _Comparison(mesh).report()
+
+
+class _Comparison:
+    """The mesh's parts and holes matched with the region's."""
+
+    def __init__(self, mesh):
+        self.region = mesh.region
+        self.vertices = np.asarray(mesh.vertices, dtype=float)
+        self.faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+        self.alpha = float(mesh.alpha)
+        self.labels, self.betti = mesh_betti(self.faces, len(self.vertices))
+        self.components = list(self.region.geometry.geoms)
+        tree = shapely.STRtree(self.components)
+        nearest = tree.query_nearest(shapely.points(self.vertices), all_matches=False)
+        self.owner = np.empty(len(self.vertices), dtype=np.int64)
+        self.owner[nearest[0]] = nearest[1]               # region component of each vertex
+        triangles = shapely.polygons(self.vertices[self.faces])
+        self.covered = shapely.coverage_union_all(triangles) if len(self.faces) else Polygon()
+        self.centroids = self.vertices[self.faces].mean(axis=1)
+        self.problems = []          # (component, sentence)
+
+    def report(self) -> TopologyReport:
+        parts = self._match_components()
+        if len(self.faces):
+            self._match_holes({c for c, ps in enumerate(parts) if not ps})
+        per_component = []
+        for c, (polygon, pieces) in enumerate(zip(self.components, parts)):
+            region_betti = (1, len(polygon.interiors))
+            mesh_betti = (len(pieces), int(self.betti[sorted(pieces), 1].sum()) if pieces else 0)
+            clean = all(pc != c for pc, _ in self.problems)
+            per_component.append(ComponentTopology(c, region_betti, mesh_betti,
+                                                   clean and region_betti == mesh_betti))
+        betti_mesh = (len(self.betti), int(self.betti[:, 1].sum()) if len(self.betti) else 0)
+        ok = (betti_mesh == self.region.betti and not self.problems
+              and all(p.ok for p in per_component))
+        return TopologyReport(betti_mesh=betti_mesh, betti_region=self.region.betti,
+                              per_component=tuple(per_component), topology_ok=ok,
+                              problems=tuple(text for _, text in self.problems))
+
+    def _problem(self, component, text):
+        self.problems.append((component, text))
+
+    # components -----------------------------------------------------------------------
+
+    def _match_components(self) -> list[set[int]]:
+        """Mesh components on each region component; reports lost, broken and joined ones."""
+        used = self.labels >= 0
+        pairs = np.unique(np.stack([self.labels[used], self.owner[used]], axis=1), axis=0)
+        parts = [set(pairs[pairs[:, 1] == c, 0].tolist()) for c in range(len(self.components))]
+        for c, pieces in enumerate(parts):
+            if not pieces:
+                self._lost_component(c)
+            elif len(pieces) > 1 and all(np.count_nonzero(pairs[:, 0] == m) == 1 for m in pieces):
+                self._broken_component(c, sorted(pieces))
+        joining = np.flatnonzero(np.bincount(pairs[:, 0], minlength=len(self.betti)) > 1)
+        for m in joining:
+            self._joined_components(sorted(pairs[pairs[:, 0] == m, 1].tolist()))
+        return parts
+
+    def _lost_component(self, c):
+        polygon = self.components[c]
+        centre, radius = _inscribed(polygon)
+        self._problem(c, f"component {c} at {_xy(centre)} (area {polygon.area:.4g}, about "
+                         f"{2 * radius:.4g} wide) has no triangle: it is lost; keep it with "
+                         f"alpha <= {radius / 2:.4g}")
+
+    def _broken_component(self, c, pieces):
+        shapes = [self._covered_by(self.labels[self.faces[:, 0]] == m) for m in pieces]
+        line = shapely.shortest_line(shapes[0], shapely.union_all(shapes[1:]))
+        where = np.asarray(line.interpolate(0.5, normalized=True).coords[0])
+        width = 2 * self.components[c].boundary.distance(shapely.Point(where))
+        self._problem(c, f"component {c} is broken into {len(pieces)} pieces near {_xy(where)}: "
+                         f"the material there (about {width:.4g} thick) is not spanned by "
+                         f"triangles; keep it with alpha <= {width / 4:.4g}")
+
+    def _joined_components(self, comps):
+        a, b = comps[0], comps[1]
+        line = shapely.shortest_line(self.components[a], self.components[b])
+        where = np.asarray(line.interpolate(0.5, normalized=True).coords[0])
+        names = ", ".join(str(c) for c in comps[:-1]) + f" and {comps[-1]}"
+        self._problem(a, f"components {names} are joined by triangles across the gap near "
+                         f"{_xy(where)} ({line.length:.4g} wide between {a} and {b}); keep "
+                         f"them apart with alpha <= {line.length / 4:.4g}")
+
+    def _covered_by(self, mask):
+        return shapely.coverage_union_all(shapely.polygons(self.vertices[self.faces[mask]]))
+
+    # holes ------------------------------------------------------------------------------
+
+    def _match_holes(self, lost_components):
+        region_holes = [(c, h, Polygon(ring)) for c, polygon in enumerate(self.components)
+                        for h, ring in enumerate(polygon.interiors)]
+        mesh_holes = [Polygon(ring) for part in shapely.get_parts(self.covered)
+                      for ring in part.interiors]
+        hole_of_region = [self._mesh_place(_inscribed(shape.difference(self.region.geometry))[0],
+                                           mesh_holes) for _, _, shape in region_holes]
+        hole_of_mesh = [self._region_place(_inscribed(shape.difference(self.covered))[0],
+                                           [s for _, _, s in region_holes]) for shape in mesh_holes]
+        for k, ((c, h, shape), place) in enumerate(zip(region_holes, hole_of_region)):
+            if c in lost_components:
+                continue
+            name = f"hole {h} of component {c}"
+            if place == "covered":
+                centre, radius = _inscribed(shape.difference(self.region.geometry))
+                self._problem(c, f"{name} at {_xy(centre)}, about {2 * radius:.4g} wide, is "
+                                 f"filled by the mesh; keep it with alpha <= {radius / 2:.4g}")
+            elif place == "outside":
+                self._wall(c, f"{name} is opened to the outside", shape.exterior,
+                           self.components[c].exterior)
+            else:
+                for k2 in range(k):
+                    if hole_of_region[k2] == place:
+                        c2, h2, shape2 = region_holes[k2]
+                        self._wall(c, f"{name} is merged with hole {h2} of component {c2}",
+                                   shape.exterior, shape2.exterior)
+                        break
+        for index, (shape, place) in enumerate(zip(mesh_holes, hole_of_mesh)):
+            centre = _inscribed(shape.difference(self.covered))[0]
+            if place == "material":
+                c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - centre, axis=1))])
+                self._problem(c, f"the mesh leaves an uncovered hole inside component {c} at "
+                                 f"{_xy(centre)} (the sampling does not cover the region there)")
+            elif place == "outside":
+                self._bridge("a notch of the outline is closed off into a hole", shape,
+                             fallback=centre)
+            elif hole_of_region[place] != index:
+                c, h, hole = region_holes[place]
+                self._bridge(f"hole {h} of component {c} is split in two", hole, fallback=centre,
+                             inside=True)
+
+    def _mesh_place(self, point, mesh_holes):
+        """'covered', a mesh hole index, or 'outside' (the unbounded part of the complement)."""
+        if self.covered.covers(shapely.Point(point)):
+            return "covered"
+        return _innermost(point, mesh_holes, default="outside")
+
+    def _region_place(self, point, region_holes):
+        if self.region.geometry.covers(shapely.Point(point)):
+            return "material"
+        return _innermost(point, region_holes, default="outside")
+
+    def _wall(self, c, what, ring_a, ring_b):
+        line = shapely.shortest_line(ring_a, ring_b)
+        where = np.asarray(line.interpolate(0.5, normalized=True).coords[0])
+        t = line.length
+        self._problem(c, f"{what}: the wall near {_xy(where)} ({t:.4g} thick) is broken; "
+                         f"keep it with alpha <= {t / 4:.4g}")
+
+    def _bridge(self, what, shape, fallback, inside=False):
+        """Locate the triangles that lie outside the region near ``shape``: the bridge."""
+        outside = ~shapely.contains_xy(self.region.geometry, *self.centroids.T)
+        near = outside & shapely.dwithin(shape, shapely.points(self.centroids), 0 if inside else self.alpha)
+        if near.any():
+            depth = self.region.geometry.boundary.distance(shapely.points(self.centroids[near]))
+            where, width = self.centroids[near][np.argmax(depth)], 2 * depth.max()
+            c = int(self.owner[self.faces[near][np.argmax(depth), 0]])
+            self._problem(c, f"{what}: triangles bridge the passage near {_xy(where)} (about "
+                             f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
+        else:
+            c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - fallback, axis=1))])
+            self._problem(c, f"{what} near {_xy(fallback)}")
+
+
+def _inscribed(shape):
+    """Centre (2,) and radius of the largest circle inside a polygonal shape."""
+    line = shapely.maximum_inscribed_circle(shape)
+    coords = np.asarray(line.coords)
+    return coords[0], float(line.length)
+
+
+def _innermost(point, shapes, default):
+    """Index of the smallest shape containing ``point``, else ``default``."""
+    if not shapes:
+        return default
+    inside = shapely.contains_xy(np.asarray(shapes, dtype=object), point[0], point[1])
+    if not inside.any():
+        return default
+    areas = np.where(inside, shapely.area(np.asarray(shapes, dtype=object)), np.inf)
+    return int(np.argmin(areas))
+
+
+def _xy(point) -> str:
+    return f"({float(point[0]):.4g}, {float(point[1]):.4g})"

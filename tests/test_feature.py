@@ -1,0 +1,218 @@
+"""feature_size and suggest_alpha: hand-computed widths, the adjacency rule, a brute-force
+oracle for the spatial search, and the sample budget."""
+
+import itertools
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+import shapely.affinity
+from hypothesis import given, settings, strategies as st
+from shapely.geometry import Point, Polygon, box
+
+from pds_plugin import Region, feature_size, suggest_alpha
+from pds_plugin.feature import ADJACENT_TURNING
+from pds_plugin.sampling import estimate_samples
+
+
+def region(geometry):
+    return Region.from_shapely(geometry)
+
+
+def on_boundary(reg, points):
+    return shapely.distance(reg.geometry.boundary, shapely.points(points)).max()
+
+
+def test_ring_wall_thickness_is_the_distance_between_its_circles():
+    outer, inner = Point(0, 0).buffer(1.0, quad_segs=64), Point(0, 0).buffer(0.8, quad_segs=64)
+    ring = region(outer.difference(inner))
+    fs = feature_size(ring)
+    assert fs.value == pytest.approx(outer.exterior.distance(inner.exterior), rel=1e-12)
+    assert 0.2 * math.cos(math.pi / 256) - 1e-3 < fs.value <= 0.2
+    assert fs.kind == "wall"
+    assert {f.hole for f in fs.features} == {None, 0}
+
+
+@pytest.mark.parametrize("gap", [0.01, 0.25, 3.0])
+def test_two_squares_at_a_known_distance(gap):
+    # squares of side 5, so the gap (< 5) is the smallest feature
+    fs = feature_size(region(box(0, 0, 5, 5).union(box(5 + gap, 2, 10 + gap, 7))))
+    assert fs.value == pytest.approx(gap, rel=1e-12)
+    assert fs.kind == "gap"
+    assert sorted(f.component for f in fs.features) == [0, 1]
+    assert np.linalg.norm(fs.points[0] - fs.points[1]) == pytest.approx(gap, rel=1e-12)
+
+
+@pytest.mark.parametrize("width", [0.05, 0.3, 0.9])
+def test_slot_width(width):
+    # a slot 1.5 deep cut down from the top of a 4 x 3 plate; all walls are >= 1.5 thick
+    plate = region(box(0, 0, 4, 3).difference(box(1.5, 1.5, 1.5 + width, 4)))
+    fs = feature_size(plate)
+    assert fs.value == pytest.approx(width, rel=1e-12)
+    assert fs.kind == "gap"
+    assert on_boundary(plate, fs.points) < 1e-12
+
+
+def test_hole_to_hole_and_hole_to_outline_walls():
+    plate = box(0, 0, 10, 10).difference(box(1, 1, 4, 9)).difference(box(4.15, 1, 8, 9))
+    fs = feature_size(region(plate))
+    assert fs.value == pytest.approx(0.15, rel=1e-12)
+    assert (fs.kind, sorted(f.hole for f in fs.features)) == ("wall", [0, 1])
+    fs = feature_size(region(box(0, 0, 10, 10).difference(box(0.07, 1, 8, 9))))
+    assert fs.value == pytest.approx(0.07, rel=1e-12) and fs.kind == "wall"
+    assert {f.hole for f in fs.features} == {None, 0}
+
+
+@pytest.mark.parametrize("segments", [32, 256, 4096])
+def test_a_finely_segmented_circle_is_not_penalised(segments):
+    # the chord spanning 150 degrees of arc, whatever the tessellation
+    r = 2.0
+    fs = feature_size(region(Point(0, 0).buffer(r, quad_segs=segments // 4)))
+    step = 2 * math.pi / segments
+    assert 2 * r * math.sin((ADJACENT_TURNING - step) / 2) - 1e-9 <= fs.value
+    assert fs.value <= 2 * r * math.sin(ADJACENT_TURNING / 2) + 1e-9
+
+
+def test_hole_circles_give_about_their_radius_and_the_smaller_one_wins():
+    disc = Point(0, 0).buffer(10, quad_segs=64)
+    big, small = Point(-4, 0).buffer(4, quad_segs=64), Point(5, 0).buffer(1, quad_segs=64)
+    fs = feature_size(region(disc.difference(big).difference(small)))
+    assert fs.features[0].hole == fs.features[1].hole == 1
+    assert 2 * math.sin((ADJACENT_TURNING - 2 * math.pi / 256) / 2) - 1e-9 <= fs.value
+    assert fs.value <= 2 * math.sin(ADJACENT_TURNING / 2) + 1e-9
+
+
+def test_sharp_v_notch_is_measured_at_its_opening_not_at_its_tip():
+    # notch from (4, 10) down to the apex (5, 2) and back up to (6, 10): the legs meet at
+    # the apex (one feature); the nearest other feature is the opening corner (6, 10),
+    # at distance |(-1, 8) x (1, 8)| / |(1, 8)| = 16 / sqrt(65) from the other leg
+    notch = Polygon([(0, 0), (10, 0), (10, 10), (6, 10), (5, 2), (4, 10), (0, 10)])
+    expected = 16 / math.sqrt(65)
+    assert feature_size(region(notch)).value == pytest.approx(expected, rel=1e-12)
+    # splitting the legs and edges into collinear pieces changes nothing
+    split = region(shapely.segmentize(notch, 0.05))
+    assert len(split.segments) > 400
+    assert feature_size(split).value == pytest.approx(expected, rel=1e-9)
+
+
+def test_collinear_splits_are_one_feature():
+    fs = feature_size(region(shapely.segmentize(box(0, 0, 3, 1), 0.01)))
+    assert fs.value == pytest.approx(1.0, rel=1e-12)
+
+
+def test_a_triangle_falls_back_to_its_smallest_altitude():
+    fs = feature_size(region(Polygon([(0, 0), (4, 0), (0, 1)])))
+    assert fs.value == pytest.approx(4 / math.hypot(4, 1), rel=1e-12)
+
+
+def test_features_name_the_segments_that_hold_the_points():
+    plate = region(box(0, 0, 4, 3).difference(box(1.5, 0.5, 1.8, 4)))
+    fs = feature_size(plate)
+    for feature, point in zip(fs.features, fs.points):
+        ring = plate.rings[feature.ring]
+        a, b = ring[feature.segment], ring[(feature.segment + 1) % len(ring)]
+        assert shapely.LineString([a, b]).distance(Point(point)) < 1e-12
+        assert feature.point == tuple(point)
+    assert "gap of width 0.3" in str(fs) and "outline of component 0" in str(fs)
+
+
+def test_touching_boundaries_have_no_usable_alpha():
+    # a hole touching the outline at one point is valid, but no alpha can keep them apart
+    touching = region(box(0, 0, 4, 4).difference(Polygon([(0, 2), (2, 1), (2, 3)])))
+    assert feature_size(touching).value == 0
+    with pytest.raises(ValueError, match="touches itself"):
+        suggest_alpha(touching)
+
+
+def test_bad_input():
+    with pytest.raises(TypeError, match="Region"):
+        feature_size(box(0, 0, 1, 1))
+
+
+def test_suggest_alpha_is_half_the_lfs_and_respects_the_budget():
+    plate = region(box(0, 0, 4, 3).difference(box(1.5, 0.5, 1.8, 4)))
+    assert suggest_alpha(plate) == pytest.approx(0.3 / 4, rel=1e-12)
+    budget = int(estimate_samples(plate, 0.3 / 4) / 10)
+    with pytest.warns(UserWarning, match="gap of width 0.3"):
+        capped = suggest_alpha(plate, max_samples=budget)
+    assert capped > 0.3 / 4
+    assert estimate_samples(plate, capped) == pytest.approx(budget, rel=1e-9)
+
+
+# --- the spatial search against a brute-force reading of the definition ----------------
+
+def brute_force(reg):
+    """Minimum distance over all non-adjacent segment pairs, straight from the rule."""
+    rings = []
+    for ring in reg.rings:
+        into, out = ring - np.roll(ring, 1, 0), np.roll(ring, -1, 0) - ring
+        turn = np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0], (into * out).sum(1))
+        keep = np.abs(turn) > 1e-7
+        rings.append((ring[keep], np.abs(turn[keep])))
+    best = math.inf
+    segments = [(r, k) for r, (ring, _) in enumerate(rings) for k in range(len(ring))]
+    for (r1, i), (r2, j) in itertools.combinations(segments, 2):
+        ring, turn = rings[r1]
+        n = len(ring)
+        if r1 == r2:
+            forward = turn[i + 1:j + 1].sum()
+            backward = turn.sum() - forward
+            if j - i in (1, n - 1) or min(forward, backward) < ADJACENT_TURNING:
+                continue
+        a = shapely.LineString([ring[i], ring[(i + 1) % n]])
+        other = rings[r2][0]
+        b = shapely.LineString([other[j], other[(j + 1) % len(other)]])
+        best = min(best, a.distance(b))
+    return best
+
+
+@st.composite
+def regions(draw):
+    """Unions of boxes and discs with holes cut out: several components, thin walls."""
+    coords = st.floats(0, 10, allow_nan=False).map(lambda v: round(v, 2))
+    sizes = st.floats(0.3, 4).map(lambda v: round(v, 2))
+    shape = st.tuples(st.booleans(), coords, coords, sizes, sizes)
+
+    def make(is_disc, x, y, w, h):
+        return Point(x, y).buffer(w / 2, quad_segs=draw(st.integers(2, 12))) if is_disc \
+            else box(x, y, x + w, y + h)
+
+    solid = shapely.union_all([make(*s) for s in draw(st.lists(shape, min_size=1, max_size=4))])
+    for s in draw(st.lists(shape, max_size=3)):
+        solid = solid.difference(make(*s))
+    solid = shapely.set_precision(solid, 1e-6)
+    parts = [p for p in shapely.get_parts(solid) if p.geom_type == "Polygon" and p.area > 0.05]
+    if not parts or not shapely.MultiPolygon(parts).is_valid:
+        from hypothesis import reject
+        reject()
+    return Region.from_shapely(shapely.MultiPolygon(parts))
+
+
+@settings(max_examples=40, deadline=None)
+@given(regions())
+def test_spatial_search_equals_brute_force(reg):
+    if len(reg.segments) > 250:
+        reg = Region.from_shapely(reg.geometry.simplify(0.05))
+    expected = brute_force(reg)
+    fs = feature_size(reg)
+    if math.isinf(expected):         # no non-adjacent pair: the altitude fallback
+        assert fs.value > 0
+    else:
+        assert fs.value == pytest.approx(expected, rel=1e-9, abs=1e-12)
+    assert np.linalg.norm(fs.points[0] - fs.points[1]) == pytest.approx(fs.value, abs=1e-12)
+    assert on_boundary(reg, fs.points) < 1e-9
+
+
+def test_scales_linearly():
+    plate = box(0, 0, 10, 10).difference(Point(3, 3).buffer(2)).difference(box(6, 1, 6.4, 9))
+    small = feature_size(region(plate)).value
+    big = feature_size(region(shapely.affinity.scale(plate, 1000, 1000, origin=(0, 0)))).value
+    assert big == pytest.approx(1000 * small, rel=1e-9)
+
+
+def test_no_warning_within_the_budget():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        suggest_alpha(region(box(0, 0, 1, 1)))
