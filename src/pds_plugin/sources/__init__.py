@@ -4,11 +4,11 @@
   or a mesh file (anything ``trimesh`` reads: STL, OBJ, PLY, OFF, 3MF, GLB) with planes;
 - :func:`load_svg` reads the filled shapes, or the outline drawing, of an SVG file.
 
-A solid backend (:mod:`.trimesh`, :mod:`.manifold`) is a small module with three functions:
-``load(solid)``, ``arrays(solid) -> (vertices, faces)`` and ``cut(solid, origin, normal,
-to_2d) -> chains``. Everything else (the plane, its 2D frame, the checks, and the assembly
-of the cut curves into polygons) lives here, so one plane gives the same 2D coordinates
-whichever backend cuts it. The heavy libraries are imported inside the backends only.
+A solid's source module (:mod:`.trimesh`, :mod:`.manifold`) turns it into a float64
+``trimesh.Trimesh``; everything else (the plane, its 2D frame, the checks, the exact cut
+and the assembly of the cut curves into polygons) is shared here, so one plane gives the
+same 2D coordinates whichever library the solid comes from. The heavy libraries are
+imported inside the source modules only.
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ from .svg import load_svg
 
 __all__ = ["section", "sections", "load_svg"]
 
-# Backends by the library their solids come from: (module, class name, backend module).
-_BACKENDS = (("trimesh", "Trimesh", "trimesh"), ("manifold3d", "Manifold", "manifold"))
+# Source modules by the library their solids come from: (library, class name, module).
+_SOLIDS = (("trimesh", "Trimesh", "trimesh"), ("manifold3d", "Manifold", "manifold"))
 
 
 def section(solid, plane_origin, plane_normal) -> Region:
@@ -108,7 +108,7 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     >>> box = trimesh.creation.box(extents=(2, 2, 2))
     >>> [round(r.area, 9) for r in pds.sections(box, (0, 0, 1), count=3)]
     [4.0, 4.0, 4.0]
-    >>> [r.frame[2, 3] for r in pds.sections(box, (0, 0, 1), offsets=[-0.5, 0.5])]
+    >>> [float(r.frame[2, 3]) for r in pds.sections(box, (0, 0, 1), offsets=[-0.5, 0.5])]
     [-0.5, 0.5]
     """
     origin, normal = _plane((0.0, 0.0, 0.0) if plane_origin is None else plane_origin,
@@ -119,12 +119,12 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
 
 
 class _Solid:
-    """A solid loaded once by its backend, cut by as many planes as asked."""
+    """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
 
     def __init__(self, solid):
-        self.backend = _backend_of(solid)
-        self.solid = self.backend.load(solid)
-        self.vertices, self.faces = self.backend.arrays(self.solid)
+        self.mesh = _source_of(solid).load(solid)
+        self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
+        self.faces = np.asarray(self.mesh.faces)
         if not np.isfinite(self.vertices).all():
             raise ValueError("the solid has NaN or infinite vertex coordinates; clean the mesh first")
         self.scale = float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
@@ -134,29 +134,15 @@ class _Solid:
         return (self.vertices - origin) @ normal
 
     def cut(self, origin, normal) -> Region:
-        from trimesh.constants import tol
-        from trimesh.geometry import plane_transform
+        from .trimesh import cut
 
-        heights = self.heights(origin, normal)
-        on_plane = np.abs(heights) <= tol.merge
-        flat = on_plane[self.faces].all(axis=1)
+        to_2d, to_3d = _frames(origin, normal)
+        local = self.vertices @ to_2d[:3, :3].T + to_2d[:3, 3]   # z: height above the plane
         offset = float(origin @ normal)
-        if flat.any():
-            raise ValueError(
-                f"the plane lies on {int(flat.sum())} face(s) of the solid (normal·x = {offset:.9g}), "
-                f"so the section is ambiguous; offset the plane slightly along the normal, "
-                f"e.g. by ±{1e-6 * self.scale:.3g}")
-        if not (heights.min() < -tol.merge and heights.max() > tol.merge):
-            low, high = offset + heights.min(), offset + heights.max()
-            raise ValueError(
-                f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
-                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside that range")
-        to_2d = plane_transform(origin, normal)
-        to_3d = np.eye(4)
-        to_3d[:3, :3] = to_2d[:3, :3].T
-        to_3d[:3, 3] = origin
-        chains = self.backend.cut(self.solid, origin, normal, to_2d)
-        geometry, open_ends = outline_geometry(chains, tolerance=1e-9 * self.scale)
+        self._check_plane(local[:, 2], offset)
+        # the intersections' rounding is relative to the coordinates' magnitude
+        snap = max(1e-9 * self.scale, 1e-12 * np.abs(local[:, :2]).max())
+        geometry, open_ends = outline_geometry(list(cut(local, self.faces)), tolerance=snap)
         if len(open_ends):
             where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
                               _lift(open_ends[:5], to_3d))
@@ -171,16 +157,43 @@ class _Solid:
                 f"material (it passes through a gap between parts); move the plane")
         return Region.from_shapely(geometry, frame=to_3d)
 
+    def _check_plane(self, heights, offset) -> None:
+        """Refuse a plane that lies on a face or misses the solid (heights: of the vertices)."""
+        from trimesh.constants import tol
 
-def _backend_of(solid):
+        flat = (np.abs(heights) <= tol.merge)[self.faces].all(axis=1)
+        if flat.any():
+            raise ValueError(
+                f"the plane lies on {int(flat.sum())} face(s) of the solid (normal·x = {offset:.9g}), "
+                f"so the section is ambiguous; offset the plane slightly along the normal, "
+                f"e.g. by ±{1e-6 * self.scale:.3g}")
+        if not (heights.min() < -tol.merge and heights.max() > tol.merge):
+            low, high = offset + heights.min(), offset + heights.max()
+            raise ValueError(
+                f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
+                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside that range")
+
+
+def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
+    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0) and its exact inverse."""
+    from trimesh.geometry import plane_transform
+
+    to_2d = plane_transform(origin, normal)
+    to_3d = np.eye(4)
+    to_3d[:3, :3] = to_2d[:3, :3].T   # a rotation: its inverse is its transpose
+    to_3d[:3, 3] = origin             # (0, 0) is the plane origin
+    return to_2d, to_3d
+
+
+def _source_of(solid):
     from importlib import import_module
 
     if isinstance(solid, (str, os.PathLike)):
         return import_module(".trimesh", __name__)
-    for library, class_name, backend in _BACKENDS:
+    for library, class_name, source in _SOLIDS:
         module = sys.modules.get(library)  # a solid's library is imported already
         if module is not None and isinstance(solid, getattr(module, class_name)):
-            return import_module(f".{backend}", __name__)
+            return import_module(f".{source}", __name__)
     raise TypeError(f"cannot cut a {type(solid).__name__}: give a trimesh.Trimesh, a "
                     f"manifold3d.Manifold or the path of a mesh file")
 
@@ -217,9 +230,12 @@ def _offsets(offsets, count, heights) -> np.ndarray:
             raise ValueError(f"count must be a positive integer, got {count!r}")
         low, high = heights.min(), heights.max()
         return low + (np.arange(count) + 0.5) * (high - low) / count
-    offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
-    if offsets.ndim != 1 or not len(offsets) or not np.isfinite(offsets).all():
-        raise ValueError(f"offsets must be a non-empty list of finite numbers, got {offsets}")
+    try:
+        offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
+    except (TypeError, ValueError):
+        offsets = None
+    if offsets is None or offsets.ndim != 1 or not len(offsets) or not np.isfinite(offsets).all():
+        raise ValueError(f"offsets must be a non-empty list of finite numbers, got {offsets!r}")
     return offsets
 
 

@@ -1,8 +1,11 @@
-"""Section backend for ``manifold3d.Manifold`` solids.
+"""Section source for ``manifold3d.Manifold`` solids.
 
-The solid is moved so that the plane becomes z = 0 (in float64) and sliced there with
-``Manifold.slice``; used through :func:`pds_plugin.section`, which shares the plane checks
-and the assembly of the cut curves with the trimesh backend (:mod:`pds_plugin.sources`).
+The solid is read through ``Manifold.to_mesh64`` (float64) and cut by the same exact
+plane-edge intersections as a trimesh solid (:mod:`pds_plugin.sources.trimesh`), so one
+plane gives the same region, bit for bit, with either library. ``Manifold.slice`` is not
+used: in manifold3d 3.5 its contours come back rounded to float32 (a unit cube moved by
+0.2 slices at 0.2000000029802322), and it returns a face lying on the plane at the bottom
+of a solid but not at its top.
 """
 
 from __future__ import annotations
@@ -11,15 +14,16 @@ import numpy as np
 
 
 def load(manifold):
-    """Check that the Manifold is valid and not empty, and return it.
+    """The solid as a ``trimesh.Trimesh`` with float64 vertices, after checking it.
 
     Raises
     ------
     ValueError
-        If ``manifold.status()`` reports an error (e.g. it was built from a mesh that is
-        not a closed manifold) or the solid is empty.
+        If ``manifold.status()`` reports an error (it was built from a mesh that is not
+        a closed, oriented 2-manifold) or the solid is empty.
     """
     import manifold3d
+    import trimesh
 
     status = manifold.status()
     if status != manifold3d.Error.NoError:
@@ -28,16 +32,6 @@ def load(manifold):
                          f"(e.g. with trimesh.repair or MeshLab) before making the Manifold")
     if manifold.is_empty():
         raise ValueError("the Manifold is empty: there is no solid to cut")
-    return manifold
-
-
-def arrays(manifold) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (n, 3) float64 and faces (m, 3) int of the solid, via ``Mesh64``."""
     mesh = manifold.to_mesh64()
-    return np.asarray(mesh.vert_properties[:, :3], dtype=np.float64), np.asarray(mesh.tri_verts)
-
-
-def cut(manifold, origin, normal, to_2d) -> list[np.ndarray]:
-    """The closed contours of the section, as chains in the plane's 2D frame."""
-    contours = manifold.transform(to_2d[:3, :]).slice(0.0).to_polygons()
-    return [np.vstack([ring, ring[:1]]) for ring in map(np.asarray, contours) if len(ring)]
+    return trimesh.Trimesh(np.asarray(mesh.vert_properties[:, :3], dtype=np.float64),
+                           np.asarray(mesh.tri_verts, dtype=np.int64), process=False)

@@ -1,7 +1,8 @@
-"""Section backend for ``trimesh.Trimesh`` solids and mesh files (STL, OBJ, PLY, OFF, 3MF, GLB).
+"""Section source for ``trimesh.Trimesh`` solids and mesh files (STL, OBJ, PLY, OFF, 3MF, GLB).
 
-Used through :func:`pds_plugin.section`; the plane checks and the assembly of the cut
-segments into polygons are shared with the manifold3d backend (:mod:`pds_plugin.sources`).
+``load`` gives the mesh to cut and ``cut`` intersects it with a plane; used through
+:func:`pds_plugin.section`, which checks the plane and assembles the segments into
+polygons (:mod:`pds_plugin.sources`). Manifold solids are cut here too, in float64.
 """
 
 from __future__ import annotations
@@ -43,15 +44,16 @@ def load(solid):
     return mesh
 
 
-def arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (n, 3) float64 and faces (m, 3) int of the mesh."""
-    return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces)
+def cut(vertices, faces) -> np.ndarray:
+    """The segments (m, 2, 2) where the plane z = 0 cuts a mesh given in the plane's frame.
 
-
-def cut(mesh, origin, normal, to_2d) -> list[np.ndarray]:
-    """The segments where the plane cuts the mesh, as (2, 2) chains in the plane's 2D frame."""
+    Intersections are computed in float64 by trimesh's ``mesh_plane``, on coordinates
+    relative to the plane so that rounding stays relative to the part's size; a vertex
+    within ``trimesh.tol.merge`` of the plane counts as on it.
+    """
+    import trimesh
     from trimesh.intersections import mesh_plane
 
-    lines = mesh_plane(mesh, plane_normal=normal, plane_origin=origin)
-    xy = np.asarray(lines, dtype=np.float64).reshape(-1, 3) @ to_2d[:2, :3].T + to_2d[:2, 3]
-    return list(xy.reshape(-1, 2, 2))
+    local = trimesh.Trimesh(vertices, faces, process=False, validate=False)
+    lines = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0], plane_origin=[0.0, 0.0, 0.0])
+    return np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)[:, :, :2]

@@ -1,0 +1,243 @@
+"""section / sections on trimesh solids and mesh files: topology, closed-form areas, frames, errors."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from pds_plugin import section, sections
+
+DATA = Path("/work/shared/data")
+SEGMENTS = 64
+
+
+def polygon_area(radius, n=SEGMENTS):
+    """Area of the regular n-gon inscribed in a circle: the section of a faceted cylinder."""
+    return n / 2 * radius**2 * math.sin(2 * math.pi / n)
+
+
+def cylinder(radius, height=2.0):
+    return trimesh.creation.cylinder(radius=radius, height=height, sections=SEGMENTS)
+
+
+def nested_part():
+    """A ring (r 3..4), an island in its hole (r 1..2) with a hole, and a separate block."""
+    block = trimesh.creation.box(extents=(1, 1, 2)).apply_translation([6, 0, 0])
+    part = cylinder(4).difference(cylinder(3, 3)).union(cylinder(2)).difference(cylinder(1, 3))
+    return part.union(block)
+
+
+def data_file(name):
+    path = DATA / name
+    if not path.is_file():
+        pytest.skip(f"{path} is not available")
+    return path
+
+
+def lift_rings(region):
+    return np.concatenate([region.to_3d(ring) for ring in region.rings])
+
+
+# --- topology and areas ---
+
+def test_islands_in_holes_and_several_components():
+    region = section(nested_part(), plane_origin=(0, 0, 0.3), plane_normal=(0, 0, 1))
+    assert region.betti == (3, 2)   # ring, island, block; the ring's hole, the island's hole
+    exact = polygon_area(4) - polygon_area(3) + polygon_area(2) - polygon_area(1) + 1
+    assert region.area == pytest.approx(exact, rel=1e-6)   # trimesh booleans round to float32
+
+
+def test_oblique_plane_through_a_cube():
+    angle = math.radians(30)
+    normal = (0, math.sin(angle), math.cos(angle))   # tilted about x: a 1 x 1/cos(30°) rectangle
+    region = section(trimesh.creation.box(), (0, 0, 0), normal)
+    assert region.betti == (1, 0)
+    assert region.area == pytest.approx(1 / math.cos(angle), rel=1e-12)
+
+
+def test_frame_maps_the_section_back_onto_the_plane_and_the_surface():
+    mesh = nested_part()
+    origin, normal = np.array([0.3, -0.2, 0.1]), np.array([0.2, -0.5, 1.0])
+    region = section(mesh, origin, normal)
+    xyz = lift_rings(region)
+    unit = normal / np.linalg.norm(normal)
+    assert np.abs((xyz - origin) @ unit).max() < 1e-12
+    _, distance, _ = trimesh.proximity.closest_point(mesh, xyz)
+    assert distance.max() < 1e-9
+    assert np.allclose(region.frame[:3, :3] @ region.frame[:3, :3].T, np.eye(3), atol=1e-15)
+    assert np.array_equal(region.frame[:3, 3], origin)   # the 2D origin is the plane origin
+
+
+def test_same_plane_same_coordinates():
+    mesh = nested_part()
+    first = section(mesh, (0, 0, 0.3), (0, 0, 2))
+    second = section(mesh.copy(), [0.0, 0.0, 0.3], np.array([0, 0, 5.0]))
+    assert np.array_equal(first.frame, second.frame)
+    assert first.geometry.equals_exact(second.geometry, tolerance=0)
+
+
+def test_the_input_mesh_is_not_modified():
+    mesh = nested_part()
+    vertices, faces = mesh.vertices.copy(), mesh.faces.copy()
+    section(mesh, (0, 0, 0.3), (0, 0, 1))
+    assert np.array_equal(mesh.vertices, vertices) and np.array_equal(mesh.faces, faces)
+
+
+@pytest.mark.parametrize("suffix", ["stl", "obj", "ply", "off", "3mf", "glb"])
+def test_mesh_files(tmp_path, suffix):
+    path = tmp_path / f"part.{suffix}"
+    nested_part().export(path)
+    region = section(path, (0, 0, 0.3), (0, 0, 1))
+    assert region.betti == (3, 2)
+    assert region.area == pytest.approx(polygon_area(4) - polygon_area(3) + polygon_area(2)
+                                        - polygon_area(1) + 1, rel=1e-6)  # STL stores float32
+
+
+def test_featuretype_stl_mid_height():
+    path = data_file("featuretype.STL")
+    z = trimesh.load_mesh(path).bounds[:, 2].mean()
+    region = section(str(path), (0, 0, z), (0, 0, 1))
+    assert region.betti == (2, 8)
+
+
+def test_angle_block_stl_mid_height():
+    path = data_file("angle_block.STL")
+    z = trimesh.load_mesh(path).bounds[:, 2].mean()
+    assert section(path, (0, 0, z), (0, 0, 1)).betti[0] == 1
+
+
+# --- several planes ---
+
+def test_sections_by_count_are_mid_slab_planes_with_shared_axes():
+    mesh = cylinder(2, height=4).apply_translation([0, 0, 1])   # z in [-1, 3]
+    regions = sections(mesh, (0, 0, 1), count=4)
+    assert [r.frame[2, 3] for r in regions] == pytest.approx([-0.5, 0.5, 1.5, 2.5])
+    assert all(np.array_equal(r.frame[:3, :2], regions[0].frame[:3, :2]) for r in regions)
+    assert all(r.area == pytest.approx(polygon_area(2), rel=1e-12) for r in regions)
+    assert [r.frame[2, 3] for r in sections(mesh, (0, 0, 1), count=1)] == pytest.approx([1.0])
+
+
+def test_sections_by_offsets_from_an_origin():
+    mesh = trimesh.creation.box(extents=(2, 2, 2))
+    regions = sections(mesh, (0, 0, -1), offsets=[0.5, 1.5], plane_origin=(0, 0, 0.7))
+    assert [r.frame[2, 3] for r in regions] == pytest.approx([0.2, -0.8])
+    assert [r.area for r in regions] == pytest.approx([4, 4])
+
+
+@pytest.mark.parametrize("keywords, message", [
+    ({}, "either offsets"), ({"offsets": [0], "count": 2}, "either offsets"),
+    ({"count": 0}, "positive integer"), ({"count": 2.5}, "positive integer"),
+    ({"offsets": []}, "non-empty"), ({"offsets": [0, float("nan")]}, "finite"),
+])
+def test_sections_bad_arguments(keywords, message):
+    with pytest.raises(ValueError, match=message):
+        sections(trimesh.creation.box(), (0, 0, 1), **keywords)
+
+
+def test_sections_report_the_plane_that_misses():
+    with pytest.raises(ValueError, match=r"misses the solid.*\[-0.5, 0.5\]"):
+        sections(trimesh.creation.box(), (0, 0, 1), offsets=[0, 0.75])
+
+
+# --- errors ---
+
+def test_plane_misses_the_solid_gives_the_extent():
+    mesh = trimesh.creation.box(extents=(1, 1, 4)).apply_translation([0, 0, 10])
+    with pytest.raises(ValueError, match=r"misses the solid.*normal·x = 0\b.*\[8, 12\]"):
+        section(mesh, (0, 0, 0), (0, 0, 1))
+
+
+@pytest.mark.parametrize("z", [0.5, -0.5, 0.5 - 1e-9])
+def test_plane_on_a_face_is_refused_with_advice(z):
+    with pytest.raises(ValueError, match="lies on 2 face.*offset the plane"):
+        section(trimesh.creation.box(), (0, 0, z), (0, 0, 1))
+
+
+def test_plane_on_an_inner_step_face_is_refused():
+    steps = trimesh.creation.box(extents=(2, 1, 1)).union(
+        trimesh.creation.box(extents=(1, 1, 1)).apply_translation([0.5, 0, 1]))
+    with pytest.raises(ValueError, match="lies on .* face"):
+        section(steps, (0, 0, 0.5), (0, 0, 1))
+
+
+def test_open_mesh_gives_the_open_ends():
+    box = trimesh.creation.box()
+    side = np.flatnonzero(np.isclose(box.triangles_center[:, 0], -0.5))[0]   # one face at x = -0.5
+    open_box = trimesh.Trimesh(box.vertices, np.delete(box.faces, side, axis=0), process=False)
+    corners = box.vertices[box.faces[side]]
+    with pytest.raises(ValueError, match=r"is open: the mesh is not watertight.*open end") as error:
+        section(open_box, (0, 0, 0.1), (0, 0, 1))
+    ends = np.array([[float(v) for v in point.split(", ")] for point in
+                     __import__("re").findall(r"\(([-\d.e]+, [-\d.e]+, [-\d.e]+)\)", str(error.value))])
+    assert len(ends) == 2
+    assert np.allclose(ends[:, 0], -0.5) and np.allclose(ends[:, 2], 0.1)        # on the gap
+    assert (ends[:, 1] >= corners[:, 1].min() - 1e-9).all() and (ends[:, 1] <= corners[:, 1].max() + 1e-9).all()
+
+
+def test_open_mesh_is_fine_where_the_plane_does_not_meet_the_gap():
+    box = trimesh.creation.box()
+    top = np.flatnonzero(np.isclose(box.triangles_center[:, 2], 0.5))
+    open_box = trimesh.Trimesh(box.vertices, np.delete(box.faces, top, axis=0), process=False)
+    assert section(open_box, (0, 0, 0), (0, 0, 1)).area == pytest.approx(1)
+
+
+def test_plane_through_a_gap_between_parts():
+    parts = trimesh.util.concatenate([trimesh.creation.box(),
+                                      trimesh.creation.box().apply_translation([3, 0, 0])])
+    with pytest.raises(ValueError, match="cuts no material"):
+        section(parts, (1.5, 0, 0), (1, 0, 0))
+
+
+@pytest.mark.parametrize("origin, normal, error, message", [
+    ((0, 0, 0), (0, 0, 0), ValueError, "zero vector"),
+    ((0, 0, float("nan")), (0, 0, 1), ValueError, "plane_origin has NaN"),
+    ((0, 0, 0), (0, float("inf"), 1), ValueError, "plane_normal has NaN or infinite"),
+    ((0, 0), (0, 0, 1), ValueError, "3 numbers"),
+    ((0, 0, 0), "up", TypeError, "plane_normal must be 3 numbers"),
+])
+def test_bad_planes(origin, normal, error, message):
+    with pytest.raises(error, match=message):
+        section(trimesh.creation.box(), origin, normal)
+
+
+def test_missing_empty_and_unreadable_files(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no such mesh file"):
+        section(tmp_path / "absent.stl", (0, 0, 0), (0, 0, 1))
+    empty = tmp_path / "empty.stl"
+    empty.write_bytes(b"")
+    with pytest.raises(ValueError, match="is empty"):
+        section(empty, (0, 0, 0), (0, 0, 1))
+    garbage = tmp_path / "garbage.stl"
+    garbage.write_text("this is not a mesh")
+    with pytest.raises(ValueError, match="has no triangles"):
+        section(garbage, (0, 0, 0), (0, 0, 1))
+    unknown = tmp_path / "part.xyz"
+    unknown.write_text("not a mesh")
+    with pytest.raises(ValueError, match="cannot read .* STL, OBJ, PLY"):
+        section(unknown, (0, 0, 0), (0, 0, 1))
+    cloud = tmp_path / "cloud.ply"
+    trimesh.PointCloud(np.random.default_rng(0).random((10, 3))).export(cloud)
+    with pytest.raises(ValueError, match="has no triangles"):
+        section(cloud, (0, 0, 0.5), (0, 0, 1))
+
+
+def test_unsupported_solid_type():
+    with pytest.raises(TypeError, match="cannot cut a list"):
+        section([[0, 0, 0]], (0, 0, 0), (0, 0, 1))
+
+
+def test_small_part_far_from_the_origin_cut_obliquely_closes():
+    """Intersections are computed relative to the plane, so rounding scales with the part."""
+    centre = np.array([123456.789, -234567.891, 34567.8])
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=1e-3).apply_translation(centre)
+    region = section(ball, centre, (0.3, -0.7, 0.5))
+    assert region.betti == (1, 0)
+    assert 0.95 * math.pi * 1e-6 < region.area < math.pi * 1e-6
+    assert np.abs(np.linalg.norm(lift_rings(region) - centre, axis=1) - 1e-3).max() < 2e-5
+
+
+def test_offsets_that_are_not_numbers():
+    with pytest.raises(ValueError, match="offsets must be"):
+        sections(trimesh.creation.box(), (0, 0, 1), offsets=["middle"])
