@@ -1,0 +1,141 @@
+"""The solid alpha-complex of a planar point set, built locally.
+
+Every triangle of the solid alpha-complex has circumradius <= alpha, so its edges are
+at most 2 alpha long and its circumcircle holds no other point within alpha of its
+centre. With the points binned in cells of side alpha, each point's triangles are found
+among its neighbours within 2 alpha and checked against the points of 3x3 cells, with no
+global Delaunay triangulation: linear time, in parallel over the points.
+
+The empty-circle test is exact. A floating-point test with a proven error bound settles
+almost every case; the rest are redone in rational arithmetic, and ties (four or more
+cocircular points) are broken by symbolic perturbation (Edelsbrunner and Mücke's
+simulation of simplicity, a lifting perturbation that decreases with the point index).
+The result is always part of one Delaunay triangulation: no overlaps, every edge shared
+by at most two triangles.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+
+from . import _complex_kernels as kern
+from .sampling import check_alpha
+
+__all__ = ["solid_alpha_complex"]
+
+_MAX_CELLS = 200_000_000
+
+
+def solid_alpha_complex(points, alpha: float) -> np.ndarray:
+    """The triangles of the Delaunay triangulation of ``points`` with circumradius
+    ``<= alpha``, counter-clockwise, as an (M, 3) int64 array.
+
+    Isolated edges and points are dropped: the result is the set of triangles, in an
+    order that depends only on the input.
+
+    Parameters
+    ----------
+    points : (N, 2) array_like of float
+        Distinct, finite points.
+    alpha : float
+        The largest circumradius kept.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    >>> solid_alpha_complex(square, 0.75).tolist()    # cocircular: one diagonal, consistently
+    [[0, 1, 2], [0, 2, 3]]
+    >>> len(solid_alpha_complex(square, 0.7))         # circumradius 0.707 > 0.7
+    0
+    """
+    points = _checked_points(points)
+    alpha = check_alpha(alpha)
+    if len(points) < 3:
+        return np.empty((0, 3), np.int64)
+    h = alpha
+    x0, y0 = points.min(axis=0)
+    nx = int((points[:, 0].max() - x0) / h) + 1
+    ny = int((points[:, 1].max() - y0) / h) + 1
+    if nx * ny > _MAX_CELLS:
+        raise ValueError(f"the points span {nx * ny:.3g} cells of side alpha={alpha:.6g} "
+                         f"(the limit is {_MAX_CELLS:.0e}); use a larger alpha or split the "
+                         "point set into parts that are far apart")
+    order, start = kern.bin_points(points, x0, y0, h, nx, ny)
+    binned = points[order]                       # cell by cell: local memory access
+    _check_distinct(binned, order, start)
+    max_neighbours = 64
+    while True:
+        faces, flags, complete = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
+                                                    max_neighbours)
+        if complete:
+            break
+        max_neighbours *= 4
+    unsure = np.flatnonzero(flags == kern.UNSURE)
+    if len(unsure):
+        keep = np.ones(len(faces), bool)
+        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny)
+                        for f in faces[unsure]]
+        faces = faces[keep]
+    return order[faces]
+
+
+def _checked_points(points) -> np.ndarray:
+    try:
+        points = np.array(points, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError("points must be an (N, 2) array of numbers") from None
+    if points.ndim != 2 or points.shape[1] != 2:
+        raise ValueError(f"points must be an (N, 2) array, got shape {points.shape}")
+    if not np.isfinite(points).all():
+        raise ValueError("points contain NaN or infinite coordinates")
+    return np.ascontiguousarray(points)
+
+
+def _check_distinct(binned, order, start):
+    """Duplicate points make the Delaunay triangulation undefined: refuse them."""
+    p, q = kern.first_duplicate(binned, start)
+    if p >= 0:
+        i, j = sorted((int(order[p]), int(order[q])))
+        raise ValueError(f"points {i} and {j} are the same point {tuple(binned[p].tolist())}; "
+                         "remove duplicates first (e.g. numpy.unique(points, axis=0))")
+
+
+def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny) -> bool:
+    """The empty-circle test of one counter-clockwise face (positions in ``binned``), in
+    exact arithmetic, ties broken by the points' original indices ``order``."""
+    a, b, c = (binned[v] for v in face)
+    # circumcentre (floating point is fine here: it only selects the cells to look in)
+    bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
+    cross = 2.0 * (bx * cy - by * cx)
+    ux = a[0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
+    uy = a[1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
+    ix, iy = int(np.floor((ux - x0) / h)), int(np.floor((uy - y0) / h))
+    corners = [(binned[v], int(order[v])) for v in face]
+    for jy in range(max(iy - 1, 0), min(iy + 2, ny)):
+        for jx in range(max(ix - 1, 0), min(ix + 2, nx)):
+            for m in range(start[jy * nx + jx], start[jy * nx + jx + 1]):
+                if m not in face and _inside_perturbed(*corners, (binned[m], int(order[m]))):
+                    return False
+    return True
+
+
+def _inside_perturbed(a, b, c, d) -> bool:
+    """Is point d inside the circle through counter-clockwise a, b, c? Each argument is
+    (xy, index). Exact; ties are broken by lifting each point by -eps**index (the
+    smaller the index, the larger the perturbation)."""
+    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = ((tuple(map(Fraction, xy)), i) for xy, i in (a, b, c, d))
+    adx, ady = pa[0] - pd[0], pa[1] - pd[1]
+    bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
+    cdx, cdy = pc[0] - pd[0], pc[1] - pd[1]
+    bc = bdx * cdy - bdy * cdx
+    ca = cdx * ady - cdy * adx
+    ab = adx * bdy - ady * bdx
+    det = (adx * adx + ady * ady) * bc + (bdx * bdx + bdy * bdy) * ca + (cdx * cdx + cdy * cdy) * ab
+    if det != 0:
+        return det > 0
+    # d's coefficient, bc + ca + ab, is twice the triangle's area: never zero
+    coefficient = {ia: -bc, ib: -ca, ic: -ab, id_: bc + ca + ab}
+    return next(coefficient[i] > 0 for i in sorted(coefficient) if coefficient[i] != 0)

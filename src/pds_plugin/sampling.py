@@ -1,0 +1,268 @@
+"""Maximal Poisson disc sampling of a planar region.
+
+The sampling is built in three stages, each conditioned on the samples before it, with
+the Euclidean distance between *all* samples respected (across narrow gaps and between
+components):
+
+1. **Feature corners.** Boundary vertices where the outline turns by at least
+   ``feature_angle`` degrees, sharpest first, wherever the Poisson condition allows.
+2. **Boundary.** The boundary is cut into pieces shorter than ``alpha``. Visiting them
+   in random order, the part of each piece farther than ``alpha`` from every sample is
+   computed exactly and a sample is placed uniformly in it. A sample covers its whole
+   piece, so one pass gives a maximal sampling of the boundary curves.
+3. **Interior.** Dart throwing on a grid of cells of side < alpha/√2 (one sample per
+   cell at most), then the adaptive refinement of Ebeida et al. (2012): cells not yet
+   covered by a single disc are split in four, children covered by one disc or outside
+   the region are dropped, and a dart is thrown in each child, until no child is left
+   or children are smaller than ``1e-10 * alpha`` (so the coverage radius is alpha to
+   that tolerance).
+
+Every random number comes from ``numpy.random.default_rng(seed)`` in a fixed order, so
+the same region, alpha and seed give the same samples bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from . import _sampling_kernels as kern
+from .region import Region
+
+__all__ = ["Samples", "poisson_disc", "estimate_samples", "DEFAULT_MAX_SAMPLES"]
+
+DEFAULT_MAX_SAMPLES = 5_000_000
+"""Refuse samplings expected to exceed this many samples (about 1 GB of working memory)."""
+
+_MAX_GRID_CELLS = 200_000_000
+_PHASE1_PASSES = 6
+_RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
+
+
+@dataclass(frozen=True)
+class Samples:
+    """A Poisson disc sampling: ``points`` (N, 2) and ``on_boundary`` (N,) bool."""
+
+    points: np.ndarray
+    on_boundary: np.ndarray
+    alpha: float
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+
+def estimate_samples(region: Region, alpha: float) -> float:
+    """About how many samples a maximal sampling of ``region`` with radius ``alpha`` has:
+    ``0.7 * area / alpha² + perimeter / alpha``.
+
+    >>> from shapely.geometry import box
+    >>> round(estimate_samples(Region.from_shapely(box(0, 0, 1, 1)), 0.01))
+    7400
+    """
+    return 0.7 * region.area / alpha**2 + region.perimeter / alpha
+
+
+def _largest_alpha(region: Region, max_samples: int) -> float:
+    """The alpha at which estimate_samples equals max_samples."""
+    a, p = 0.7 * region.area, region.perimeter
+    return (p + math.sqrt(p * p + 4 * max_samples * a)) / (2 * max_samples)
+
+
+def check_alpha(alpha) -> float:
+    """``alpha`` as a float, or a ValueError saying why it can't be a radius."""
+    try:
+        alpha = float(alpha)
+    except (TypeError, ValueError):
+        raise TypeError(f"alpha must be a positive number, got {alpha!r}") from None
+    if not math.isfinite(alpha) or alpha <= 0:
+        raise ValueError(f"alpha must be a positive finite number, got {alpha}")
+    return alpha
+
+
+def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
+                 max_samples: int = DEFAULT_MAX_SAMPLES,
+                 feature_angle: float = 30.0) -> Samples:
+    """Maximal Poisson disc sampling of ``region`` with radius ``alpha``.
+
+    Every two samples are at least ``alpha`` apart, every point of the region is within
+    ``alpha`` of a sample, and the boundary is sampled first (see the module docstring).
+
+    Parameters
+    ----------
+    region : Region
+    alpha : float
+        The disc radius, in the region's units.
+    seed : int
+        Seed of the random generator; the same seed gives the same samples.
+    max_samples : int
+        Refuse (with a ValueError giving the estimate and the largest acceptable alpha)
+        when about more samples than this would be made.
+    feature_angle : float
+        Boundary vertices where the outline turns by at least this many degrees are
+        sampled first, as feature points.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> region = Region.from_shapely(box(0, 0, 1, 1))
+    >>> samples = poisson_disc(region, 0.1, seed=1)
+    >>> bool(samples.on_boundary.any()), samples.points.shape[1]
+    (True, 2)
+    """
+    if not isinstance(region, Region):
+        raise TypeError(f"expected a pds_plugin.Region, got {type(region).__name__}; "
+                        "make one with Region.from_shapely(polygon)")
+    alpha = check_alpha(alpha)
+    expected = estimate_samples(region, alpha)
+    if expected > max_samples:
+        raise ValueError(
+            f"alpha={alpha:.6g} would make about {expected:.3g} samples, more than "
+            f"max_samples={max_samples}; use alpha >= {_largest_alpha(region, max_samples):.6g} "
+            "or raise max_samples")
+    rng = np.random.default_rng(seed)
+    sampler = _Sampler(region, alpha)
+    sampler.add_corners(feature_angle)
+    sampler.add_boundary(rng)
+    n_boundary = sampler.count
+    sampler.add_interior(rng)
+    points = sampler.points[:sampler.count].copy()
+    on_boundary = np.zeros(len(points), bool)
+    on_boundary[:n_boundary] = True
+    return Samples(points, on_boundary, alpha)
+
+
+class _Sampler:
+    """The state of one sampling: grid of cells, cell status, samples so far."""
+
+    def __init__(self, region: Region, alpha: float):
+        self.region = region
+        self.alpha = alpha
+        self.s = alpha / math.sqrt(2) * (1 - 1e-9)   # cell side: < alpha/√2, one sample per cell
+        xmin, ymin, xmax, ymax = region.bounds
+        self.x0, self.y0 = xmin - 0.5 * self.s, ymin - 0.5 * self.s
+        self.nx = int((xmax - self.x0) / self.s) + 2
+        self.ny = int((ymax - self.y0) / self.s) + 2
+        if self.nx * self.ny > _MAX_GRID_CELLS:
+            raise ValueError(
+                f"the region's bounding box spans {self.nx * self.ny:.3g} grid cells at "
+                f"alpha={alpha:.6g} (the limit is {_MAX_GRID_CELLS:.0e}); use a larger alpha "
+                "or mesh the far-apart parts of the region separately")
+        self.status = kern.classify_cells(region.segments, self.x0, self.y0, self.s,
+                                          self.nx, self.ny)
+        self.grid = np.full((self.ny, self.nx), -1, np.int32)
+        self.covered = np.zeros((self.ny * kern.SUB, self.nx * kern.SUB), bool)
+        capacity = int(np.count_nonzero(self.status))
+        self.points = np.empty((capacity, 2))
+        self.count = 0
+        self.geometry = region.geometry
+        shapely.prepare(self.geometry)
+
+    def _insert(self, candidates):
+        self.count = kern.insert_where_free(np.ascontiguousarray(candidates, float), self.grid,
+                                            self.covered, self.points, self.count, self.alpha,
+                                            self.x0, self.y0, self.s)
+
+    def add_corners(self, feature_angle: float):
+        corners, turns = [], []
+        for ring in self.region.rings:
+            incoming = ring - np.roll(ring, 1, axis=0)
+            outgoing = np.roll(ring, -1, axis=0) - ring
+            turn = np.abs(np.arctan2(incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0],
+                                     np.einsum("ij,ij->i", incoming, outgoing)))
+            sharp = turn >= np.radians(feature_angle)
+            corners.append(ring[sharp])
+            turns.append(turn[sharp])
+        corners, turns = np.concatenate(corners), np.concatenate(turns)
+        self._insert(corners[np.argsort(-turns, kind="stable")])
+
+    def add_boundary(self, rng):
+        seg = self.region.segments
+        vec = seg[:, 1] - seg[:, 0]
+        seg_len = np.hypot(vec[:, 0], vec[:, 1])
+        pieces = np.maximum(np.ceil(seg_len / self.s), 1).astype(np.int64)
+        owner = np.repeat(np.arange(len(seg)), pieces)
+        first = np.cumsum(pieces) - pieces
+        fraction = (np.arange(len(owner)) - first[owner]) / pieces[owner]
+        start = seg[owner, 0] + fraction[:, None] * vec[owner]
+        length = seg_len[owner] / pieces[owner]
+        direction = vec[owner] / seg_len[owner, None]
+        order = rng.permutation(len(owner))
+        u = rng.random(len(owner))
+        self.count = kern.sample_boundary_pieces(
+            start, direction, length, order, u, self.grid, self.covered, self.points, self.count,
+            self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s)
+
+    def add_interior(self, rng):
+        nx, s = self.nx, self.s
+        # stage 1: dart passes over the open level-0 cells, sorted by phase group; each
+        # dart goes to a random sub-cell of its cell that no disc covers yet
+        cells = np.flatnonzero(self.status.ravel())
+        group = (cells // nx % 3) * 3 + cells % nx % 3
+        by_group = np.argsort(group, kind="stable")
+        cells, group = cells[by_group], group[by_group]
+        width, h = self.covered.shape[1], s / kern.SUB
+        for _ in range(_PHASE1_PASSES):
+            choice = kern.pick_open_subcells(cells, rng.random(len(cells)), self.grid, self.covered)
+            still_open = choice >= 0
+            cells, group, choice = cells[still_open], group[still_open], choice[still_open]
+            if len(cells) == 0:
+                return
+            darts = np.column_stack([choice % width, choice // width]) + rng.random((len(cells), 2))
+            darts = np.array([self.x0, self.y0]) + darts * h
+            self.count = kern.dart_pass(cells, np.searchsorted(group, np.arange(10)),
+                                        rng.permutation(9), darts, self._in_region(cells, darts),
+                                        self.grid, self.covered, self.points, self.count,
+                                        self.alpha, self.x0, self.y0, s)
+        # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
+        # four at each level, until none is left
+        parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered)
+        level = int(np.log2(kern.SUB))
+        while len(parent):
+            size = s / 2**level
+            bx, by = self._box(parent, sub_x, sub_y, level)
+            keep = self._uncovered(parent, bx, by, size)
+            on_edge = keep & (self.status.ravel()[parent] == kern.BOUNDARY)
+            keep[on_edge] = shapely.intersects(
+                self.geometry, shapely.box(bx[on_edge], by[on_edge],
+                                           bx[on_edge] + size, by[on_edge] + size))
+            order = self._phase_order(parent[keep], rng)
+            parent, sub_x, sub_y, bx, by = (a[keep][order] for a in (parent, sub_x, sub_y, bx, by))
+            darts = np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size
+            self.count = kern.throw_darts(darts, self._in_region(parent, darts), self.grid,
+                                          self.covered, self.points, self.count, self.alpha,
+                                          self.x0, self.y0, s)
+            keep = self._uncovered(parent, bx, by, size)
+            if size / 2 < _RESOLUTION * self.alpha:
+                break
+            level += 1
+            parent = np.repeat(parent[keep], 4)
+            sub_x = 2 * np.repeat(sub_x[keep], 4) + np.tile([0, 1, 0, 1], len(parent) // 4)
+            sub_y = 2 * np.repeat(sub_y[keep], 4) + np.tile([0, 0, 1, 1], len(parent) // 4)
+
+    def _phase_order(self, parent, rng):
+        """Order of children: phase groups in random order, parents row-major inside a
+        group, children of one parent in random order."""
+        group_rank = rng.permutation(9)
+        group = (parent // self.nx % 3) * 3 + parent % self.nx % 3
+        shuffled = rng.permutation(len(parent))
+        key = group_rank[group] * (self.nx * self.ny) + parent
+        return shuffled[np.argsort(key[shuffled], kind="stable")]
+
+    def _box(self, cells, sub_x, sub_y, level):
+        """Lower-left corners of the level-``level`` children (sub_x, sub_y) of cells."""
+        size = self.s / 2**level
+        return (self.x0 + (cells % self.nx) * self.s + sub_x * size,
+                self.y0 + (cells // self.nx) * self.s + sub_y * size)
+
+    def _uncovered(self, cells, bx, by, size):
+        return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.points, self.alpha)
+
+    def _in_region(self, cells, darts):
+        """True for darts in the region; only darts in boundary cells need the test."""
+        inside = np.ones(len(cells), bool)
+        on_edge = self.status.ravel()[cells] == kern.BOUNDARY
+        inside[on_edge] = shapely.contains_xy(self.geometry, darts[on_edge, 0], darts[on_edge, 1])
+        return inside
