@@ -10,7 +10,7 @@ import trimesh
 from pds_plugin import section, sections
 
 m3 = pytest.importorskip("manifold3d")
-DATA = Path("/work/shared/data")
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
 SEGMENTS = 64
 
 

@@ -11,8 +11,7 @@ import shapely
 
 from pds_plugin import load_svg
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
-DATA = DATA if DATA.is_dir() else Path("/work/shared/data")
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
 
 
 def write(tmp_path, body, attributes='viewBox="0 0 100 100"', name="drawing.svg"):
@@ -349,3 +348,21 @@ def test_polygon_svg_matches_the_shoelace_area_of_its_vertices():
     region = load_svg(path)
     assert region.betti == (1, 0)
     assert region.area == pytest.approx(exact, rel=1e-9)
+
+
+# --- the arrangement helpers behind the fill rules and the outline nesting ---
+
+def test_winding_numbers_agree_with_point_in_polygon():
+    from pds_plugin.sources import winding_numbers
+
+    rng = np.random.default_rng(3)
+    angles = np.sort(rng.uniform(0, 2 * np.pi, 40))
+    star = np.column_stack([np.cos(angles), np.sin(angles)]) * rng.uniform(0.3, 1, (40, 1))
+    polygon = shapely.Polygon(star)
+    assert polygon.is_valid and shapely.is_ccw(polygon.exterior)
+    points = np.vstack([rng.uniform(-1.1, 1.1, (4000, 2)), star, (star + np.roll(star, 1, 0)) / 2])
+    segments = np.stack([star, np.roll(star, -1, axis=0)], axis=1)
+    inside = shapely.contains_xy(polygon, points[:4000, 0], points[:4000, 1])
+    assert np.array_equal(winding_numbers(points[:4000], segments), inside.astype(int))
+    assert np.array_equal(winding_numbers(points[:4000], segments[:, ::-1]), -inside.astype(int))
+    assert set(winding_numbers(points, segments).tolist()) <= {0, 1}   # vertices, edges: once

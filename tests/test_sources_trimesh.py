@@ -9,7 +9,7 @@ import trimesh
 
 from pds_plugin import section, sections
 
-DATA = Path("/work/shared/data")
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
 SEGMENTS = 64
 
 

@@ -249,7 +249,9 @@ def winding_numbers(points, segments) -> np.ndarray:
     """Winding number of each point about closed curves given as oriented segments.
 
     Counts the signed crossings of the ray from each point towards +x, with the
-    half-open rule on y so that a vertex on the ray counts once.
+    half-open rule on y so that a vertex on the ray counts once. Only the segments whose
+    bounding box meets a ray are examined (an STRtree query), so the cost grows with the
+    number of crossings, not with points x segments.
 
     Parameters
     ----------
@@ -269,16 +271,18 @@ def winding_numbers(points, segments) -> np.ndarray:
     [2, 0]
     """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
-    a, b = np.asarray(segments, dtype=float).reshape(-1, 2, 2).transpose(1, 0, 2)
-    result = np.zeros(len(points), dtype=np.int64)
-    step = max(1, 2_000_000 // max(len(a), 1))  # bounds the (points x segments) memory
-    for start in range(0, len(points), step):
-        x, y = points[start:start + step, :1], points[start:start + step, 1:]
-        left = (b[:, 0] - a[:, 0]) * (y - a[:, 1]) - (x - a[:, 0]) * (b[:, 1] - a[:, 1])
-        up = (a[:, 1] <= y) & (y < b[:, 1]) & (left > 0)
-        down = (b[:, 1] <= y) & (y < a[:, 1]) & (left < 0)
-        result[start:start + step] = up.sum(axis=1) - down.sum(axis=1)
-    return result
+    segments = np.asarray(segments, dtype=float).reshape(-1, 2, 2)
+    if not len(points) or not len(segments):
+        return np.zeros(len(points), dtype=np.int64)
+    end = segments[:, :, 0].max() + 1.0
+    rays = shapely.linestrings(np.stack([points, np.column_stack(
+        [np.full(len(points), end), points[:, 1]])], axis=1))
+    point, segment = shapely.STRtree(shapely.linestrings(segments)).query(rays)
+    (x, y), (a, b) = points[point].T, segments[segment].transpose(1, 0, 2)
+    left = (b[:, 0] - a[:, 0]) * (y - a[:, 1]) - (x - a[:, 0]) * (b[:, 1] - a[:, 1])
+    up = (a[:, 1] <= y) & (y < b[:, 1]) & (left > 0)
+    down = (b[:, 1] <= y) & (y < a[:, 1]) & (left < 0)
+    return np.bincount(point, weights=up.astype(float) - down, minlength=len(points)).astype(np.int64)
 
 
 def fill_geometry(rings, rule: str = "nonzero"):
