@@ -111,3 +111,17 @@ def test_plane_on_a_face_is_refused_at_top_and_bottom_alike(z):
 def test_plane_misses_a_manifold():
     with pytest.raises(ValueError, match=r"misses the solid.*\[-1, 1\]"):
         section(m3.Manifold.cube((2, 2, 2), center=True), (5, 0, 0), (1, 0, 0))
+
+
+def test_example_runs_on_its_builtin_part(tmp_path):
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "section_manifold.py"
+    spec = importlib.util.spec_from_file_location("section_manifold_example", path)
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    example.STL = tmp_path / "absent.STL"          # force the built-in part
+    example.main(tmp_path)
+    written = trimesh.load_mesh(tmp_path / "section_manifold.ply")
+    normal = np.array([0.0, 1.0, 0.3]) / np.linalg.norm([0.0, 1.0, 0.3])
+    assert len(written.faces) > 0 and np.abs(written.vertices @ normal).max() < 1e-12

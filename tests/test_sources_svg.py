@@ -366,3 +366,19 @@ def test_winding_numbers_agree_with_point_in_polygon():
     assert np.array_equal(winding_numbers(points[:4000], segments), inside.astype(int))
     assert np.array_equal(winding_numbers(points[:4000], segments[:, ::-1]), -inside.astype(int))
     assert set(winding_numbers(points, segments).tolist()) <= {0, 1}   # vertices, edges: once
+
+
+def test_example_runs_on_its_builtin_drawing(tmp_path):
+    import importlib.util
+
+    import trimesh
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "svg_drawing.py"
+    spec = importlib.util.spec_from_file_location("svg_drawing_example", path)
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    example.DATA = tmp_path / "absent"              # only the built-in drawing
+    example.main(tmp_path)
+    written = trimesh.load_mesh(tmp_path / "builtin_drawing.ply")
+    assert len(written.faces) > 0
+    assert written.bounds[:, :2].ravel().tolist() == pytest.approx([10, 10, 105, 70], abs=1.5)

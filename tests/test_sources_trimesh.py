@@ -241,3 +241,16 @@ def test_small_part_far_from_the_origin_cut_obliquely_closes():
 def test_offsets_that_are_not_numbers():
     with pytest.raises(ValueError, match="offsets must be"):
         sections(trimesh.creation.box(), (0, 0, 1), offsets=["middle"])
+
+
+def test_example_runs_on_its_builtin_part(tmp_path):
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "section_trimesh.py"
+    spec = importlib.util.spec_from_file_location("section_trimesh_example", path)
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    example.STL = tmp_path / "absent.STL"          # force the built-in part
+    example.main(tmp_path)
+    written = trimesh.load_mesh(tmp_path / "section_trimesh.ply")
+    assert len(written.faces) > 0 and np.abs(written.vertices[:, 2]).max() < 1e-12

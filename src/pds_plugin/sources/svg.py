@@ -34,8 +34,9 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     - **outline** drawings (CAD, DXF and laser-cutting exports: unfilled strokes whose
       ends meet): the strokes are joined into closed loops where their ends are closer
       than ``tolerance``, and the loops are nested by containment (even-odd), so a loop
-      inside a part is a hole and a loop inside a hole is an island. Ends that meet
-      nothing are reported in a warning with their coordinates.
+      inside a part is a hole and a loop inside a hole is an island. Strokes are read
+      as centre lines (their width is ignored); curves drawn twice count once. Ends
+      that meet nothing are reported in a warning with their coordinates.
 
     ``<defs>``, ``<clipPath>``, ``<pattern>``, ``display:none`` and ``visibility:hidden``
     content are skipped, text and images are ignored. The y axis is flipped (SVG points
