@@ -34,6 +34,8 @@ _PUBLIC = {
     "auto_mesh": "feature",
     "topology_report": "topology",
     "TopologyReport": "topology",
+    "multiresolution": "multires",
+    "Resolution": "multires",
     "section": "sources",
     "sections": "sources",
     "load_svg": "sources",

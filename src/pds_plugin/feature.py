@@ -237,18 +237,20 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         if not (np.isfinite(max_alpha) and max_alpha > 0):
             raise ValueError(f"max_alpha must be a positive finite number, got {max_alpha!r}")
         alpha = min(alpha, float(max_alpha))
-    alpha = min(alpha, max(_largest_alpha(region, budget), alpha * refine ** 64))
-    report = None
-    while estimate_samples(region, alpha) <= budget * (1 + 1e-9):
+    smallest = _largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
+    alpha = max(alpha, smallest)
+    while True:
         mesh = mesh_region(region, alpha, seed=seed, max_samples=budget)
         report = topology_report(mesh)
         if report.topology_ok:
             return mesh
-        alpha *= refine
-    lost = f"; at alpha {alpha / refine:.6g}: " + "; ".join(report.problems) if report else ""
-    raise ValueError(f"the {size} needs alpha <= {size.value / 4:.6g}, but the topology is "
-                     f"not recovered within the sample budget of {budget}{lost}; raise "
-                     "max_samples or simplify that feature")
+        if alpha <= smallest:
+            break
+        alpha = max(alpha * refine, smallest)
+    raise ValueError(f"the {size} needs alpha <= {size.value / 4:.6g}, but even alpha "
+                     f"{alpha:.6g}, the smallest the sample budget of {budget} allows, does not "
+                     f"recover the topology: {'; '.join(report.problems)}; raise max_samples "
+                     "or simplify that feature")
 
 
 def _usable_feature_size(region: Region) -> FeatureSize:

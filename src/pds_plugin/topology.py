@@ -139,9 +139,8 @@ class _Comparison:
         nearest = tree.query_nearest(shapely.points(self.vertices), all_matches=False)
         self.owner = np.empty(len(self.vertices), dtype=np.int64)
         self.owner[nearest[0]] = nearest[1]               # region component of each vertex
-        triangles = shapely.polygons(self.vertices[self.faces])
-        self.covered = shapely.coverage_union_all(triangles) if len(self.faces) else Polygon()
-        self.centroids = self.vertices[self.faces].mean(axis=1)
+        self.triangles = shapely.polygons(self.vertices[self.faces])
+        self.covered = shapely.coverage_union_all(self.triangles) if len(self.faces) else Polygon()
         self.problems = []          # (component, sentence)
 
     def report(self) -> TopologyReport:
@@ -213,45 +212,52 @@ class _Comparison:
     # holes ------------------------------------------------------------------------------
 
     def _match_holes(self, lost_components):
+        """Match region holes and mesh holes through their deepest points.
+
+        A region hole is kept when exactly one mesh hole has its deepest point in it. With
+        none, the region hole's own deepest point tells what happened: covered (filled),
+        in a mesh hole centred in another region hole (merged) or outside (opened). With
+        several, the hole is split by triangles bridging a narrow passage.
+        """
         region_holes = [(c, h, Polygon(ring)) for c, polygon in enumerate(self.components)
                         for h, ring in enumerate(polygon.interiors)]
-        mesh_holes = [Polygon(ring) for part in shapely.get_parts(self.covered)
-                      for ring in part.interiors]
-        hole_of_region = [self._mesh_place(_inscribed(shape.difference(self.region.geometry))[0],
-                                           mesh_holes) for _, _, shape in region_holes]
-        hole_of_mesh = [self._region_place(_inscribed(shape.difference(self.covered))[0],
-                                           [s for _, _, s in region_holes]) for shape in mesh_holes]
-        for k, ((c, h, shape), place) in enumerate(zip(region_holes, hole_of_region)):
+        parts = shapely.get_parts(self.covered)
+        mesh_holes = [Polygon(ring) for part in parts for ring in part.interiors]
+        x0, y0, x1, y1 = self.region.bounds
+        frame = shapely.box(x0, y0, x1, y1).buffer(max(x1 - x0, y1 - y0))
+        self.mesh_holes = mesh_holes
+        self.mesh_outside = frame.difference(shapely.union_all(shapely.polygons(
+            shapely.get_exterior_ring(parts))))
+        mesh_centres = [_inscribed(shape.difference(self.covered))[0] for shape in mesh_holes]
+        in_region = [self._region_place(centre, [s for _, _, s in region_holes])
+                     for centre in mesh_centres]
+        for k, (c, h, shape) in enumerate(region_holes):
             if c in lost_components:
                 continue
             name = f"hole {h} of component {c}"
-            if place == "covered":
+            mine = in_region.count(k)
+            if mine >= 2:
+                self._bridge(f"{name} is split into {mine}", shape)
+            elif mine == 0:
                 centre, radius = _inscribed(shape.difference(self.region.geometry))
-                self._problem(c, f"{name} at {_xy(centre)}, about {2 * radius:.4g} wide, is "
-                                 f"filled by the mesh; keep it with alpha <= {radius / 2:.4g}")
-            elif place == "outside":
-                self._wall(c, f"{name} is opened to the outside", shape.exterior,
-                           self.components[c].exterior)
-            else:
-                for k2 in range(k):
-                    if hole_of_region[k2] == place:
-                        c2, h2, shape2 = region_holes[k2]
-                        self._wall(c, f"{name} is merged with hole {h2} of component {c2}",
-                                   shape.exterior, shape2.exterior)
-                        break
-        for index, (shape, place) in enumerate(zip(mesh_holes, hole_of_mesh)):
-            centre = _inscribed(shape.difference(self.covered))[0]
+                place = self._mesh_place(centre, mesh_holes)
+                if place == "covered":
+                    self._problem(c, f"{name} at {_xy(centre)}, about {2 * radius:.4g} wide, is "
+                                     f"filled by the mesh; keep it with alpha <= {radius / 2:.4g}")
+                elif place != "outside" and isinstance(in_region[place], int):
+                    c2, h2, shape2 = region_holes[in_region[place]]
+                    self._wall(c, f"{name} is merged with hole {h2} of component {c2}",
+                               shape.exterior, shape2.exterior)
+                else:
+                    self._wall(c, f"{name} is opened to the outside", shape.exterior,
+                               self.components[c].exterior)
+        for centre, place, shape in zip(mesh_centres, in_region, mesh_holes):
             if place == "material":
                 c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - centre, axis=1))])
                 self._problem(c, f"the mesh leaves an uncovered hole inside component {c} at "
                                  f"{_xy(centre)} (the sampling does not cover the region there)")
             elif place == "outside":
-                self._bridge("a notch of the outline is closed off into a hole", shape,
-                             fallback=centre)
-            elif hole_of_region[place] != index:
-                c, h, hole = region_holes[place]
-                self._bridge(f"hole {h} of component {c} is split in two", hole, fallback=centre,
-                             inside=True)
+                self._bridge("a notch of the outline is closed off into a hole", shape)
 
     def _mesh_place(self, point, mesh_holes):
         """'covered', a mesh hole index, or 'outside' (the unbounded part of the complement)."""
@@ -271,19 +277,32 @@ class _Comparison:
         self._problem(c, f"{what}: the wall near {_xy(where)} ({t:.4g} thick) is broken; "
                          f"keep it with alpha <= {t / 4:.4g}")
 
-    def _bridge(self, what, shape, fallback, inside=False):
-        """Locate the triangles that lie outside the region near ``shape``: the bridge."""
-        outside = ~shapely.contains_xy(self.region.geometry, *self.centroids.T)
-        near = outside & shapely.dwithin(shape, shapely.points(self.centroids), 0 if inside else self.alpha)
-        if near.any():
-            depth = self.region.geometry.boundary.distance(shapely.points(self.centroids[near]))
-            where, width = self.centroids[near][np.argmax(depth)], 2 * depth.max()
-            c = int(self.owner[self.faces[near][np.argmax(depth), 0]])
-            self._problem(c, f"{what}: triangles bridge the passage near {_xy(where)} (about "
-                             f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
-        else:
-            c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - fallback, axis=1))])
-            self._problem(c, f"{what} near {_xy(fallback)}")
+    def _bridge(self, what, shape):
+        """Locate the bridge: triangles near ``shape`` that reach outside the region and
+        join two parts of the mesh's complement (a mesh hole and the outside, or two mesh
+        holes), i.e. that close a passage of the region's complement."""
+        shapely.prepare(self.region.geometry)
+        reaching = self.triangles[~shapely.contains_properly(self.region.geometry, self.triangles)]
+        spill = shapely.get_parts(shapely.union_all(
+            shapely.difference(reaching, self.region.geometry)))
+        spill = spill[(shapely.area(spill) > 0) & shapely.intersects(spill, shape)]
+        if not len(spill):          # no triangle reaches outside: name the place only
+            centre = _inscribed(shape)[0]
+            c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - centre, axis=1))])
+            self._problem(c, f"{what} near {_xy(centre)}")
+            return
+        x0, y0, x1, y1 = self.region.bounds
+        tolerance = 1e-9 * max(x1 - x0, y1 - y0)
+        complement = [*self.mesh_holes, self.mesh_outside]
+        touching = shapely.dwithin(spill[:, None], np.asarray(complement, dtype=object)[None, :],
+                                   tolerance).sum(axis=1)
+        pieces = spill[touching >= 2] if (touching >= 2).any() else spill
+        piece = pieces[np.argmax(shapely.area(pieces))]
+        where = _inscribed(piece)[0]
+        width = 2 * self.region.geometry.boundary.distance(shapely.Point(where))
+        c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - where, axis=1))])
+        self._problem(c, f"{what}: triangles bridge the passage near {_xy(where)} (about "
+                         f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
 
 
 def _inscribed(shape):

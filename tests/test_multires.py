@@ -1,0 +1,81 @@
+"""multiresolution: one certified mesh per alpha, and the paper's Figure 6 claims."""
+
+import runpy
+from pathlib import Path
+
+import pytest
+from shapely.geometry import Point, box
+
+import pds_plugin as pds
+from pds_plugin.multires import Resolution
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def disc_with_hole(radius=0.15):
+    return pds.Region.from_shapely(Point(0, 0).buffer(1).difference(Point(0.5, 0).buffer(radius)))
+
+
+def test_levels_follow_the_alphas_and_carry_their_certificates():
+    region = disc_with_hole()
+    levels = pds.multiresolution(region, [0.4, 0.1, 0.05], seed=3)
+    assert [level.alpha for level in levels] == [0.4, 0.1, 0.05]
+    for level in levels:
+        assert isinstance(level, Resolution)
+        alpha, mesh, certificate = level
+        assert mesh.alpha == alpha and mesh.region is region
+        assert certificate is mesh.certificate()
+        assert certificate.quality_ok            # Theorem 1 at every level
+    assert len(levels[0].mesh.vertices) < len(levels[1].mesh.vertices) < len(levels[2].mesh.vertices)
+
+
+def test_coarse_levels_lose_the_hole_fine_levels_keep_it():
+    # a hole of radius r closes near alpha = r and is kept with alpha <= r/2 (Theorem 2)
+    r = 0.15
+    coarse, fine = pds.multiresolution(disc_with_hole(r), [2 * r, r / 2])
+    assert coarse.certificate.betti_mesh == (1, 0) and not coarse.certificate.topology_ok
+    assert "hole 0 of component 0" in coarse.certificate.topology.problems[0]
+    assert fine.certificate.betti_mesh == (1, 1) and fine.certificate.topology_ok
+    assert "topology lost" in str(coarse) and "topology ok" in str(fine)
+
+
+def test_same_seed_same_levels():
+    region = pds.Region.from_shapely(box(0, 0, 1, 1))
+    a, b = (pds.multiresolution(region, [0.3, 0.1], seed=7) for _ in range(2))
+    assert all((x.mesh.vertices == y.mesh.vertices).all() for x, y in zip(a, b))
+
+
+@pytest.mark.parametrize("alphas, error, match", [
+    ([], ValueError, "empty"),
+    ([0.1, -0.2], ValueError, "positive finite"),
+    ([0.1, float("nan")], ValueError, "positive finite"),
+    (0.1, TypeError, "iterable"),
+    (["coarse"], TypeError, "iterable"),
+])
+def test_bad_alphas(alphas, error, match):
+    with pytest.raises(error, match=match):
+        pds.multiresolution(disc_with_hole(), alphas)
+
+
+def test_the_budget_is_checked_before_any_meshing():
+    with pytest.raises(ValueError, match="alpha 0.0001"):
+        pds.multiresolution(disc_with_hole(), [0.5, 1e-4], max_samples=10_000)
+
+
+def test_bad_region():
+    with pytest.raises(TypeError, match="Region"):
+        pds.multiresolution(box(0, 0, 1, 1), [0.1])
+
+
+def test_figure6_example_reproduces_the_paper(tmp_path):
+    results = runpy.run_path(str(EXAMPLES / "figure6.py"))["main"](tmp_path)
+    (holes_png, (coarse, fine)) = results["two_holes"]
+    # alpha = half the larger radius: only the larger hole; half the smaller: both
+    assert coarse.betti_mesh == (1, 1) and fine.betti_mesh == (1, 2) and fine.topology_ok
+    assert "hole 1 of component 0" in coarse.problems[0] and "filled" in coarse.problems[0]
+    (pipe_png, (coarse, fine)) = results["pipe"]
+    # alpha = half the circles' radius: the pipe closes and splits the hole in two
+    assert coarse.betti_mesh == (1, 2) and "split into 2" in coarse.problems[0]
+    assert fine.betti_mesh == (1, 1) and fine.topology_ok
+    for png in (holes_png, pipe_png):
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

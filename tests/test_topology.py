@@ -1,0 +1,199 @@
+"""Topology of meshes against their regions: Betti numbers of hand-built complexes,
+Theorem 2 on generated regions with alpha <= suggest_alpha, and each kind of defect
+located where it happens when alpha is too large."""
+
+import re
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings, strategies as st
+from shapely.geometry import Point, Polygon, box
+
+import pds_plugin as pds
+from pds_plugin.topology import mesh_betti, topology_report
+
+
+def region(geometry):
+    return pds.Region.from_shapely(geometry)
+
+
+def located(problem):
+    """The first (x, y) named in a problem sentence."""
+    x, y = re.search(r"\((-?[\d.e+-]+), (-?[\d.e+-]+)\)", problem).groups()
+    return np.array([float(x), float(y)])
+
+
+# --- Betti numbers of complexes built by hand ---------------------------------------
+
+SQUARE_RING = np.array([[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6],
+                        [3, 0, 4], [3, 4, 7]])     # outer square 0-3, inner square 4-7
+
+
+def test_betti_of_a_square_annulus():
+    labels, betti = mesh_betti(SQUARE_RING, 8)
+    assert betti.tolist() == [[1, 1]]
+    assert (labels == 0).all()
+
+
+def test_betti_counts_components_joined_through_a_vertex_once():
+    # two triangles sharing only vertex 2 (a pinch): one component, no hole
+    labels, betti = mesh_betti(np.array([[0, 1, 2], [2, 3, 4]]), 5)
+    assert betti.tolist() == [[1, 0]]
+    # and apart, two components; an unused vertex gets label -1
+    labels, betti = mesh_betti(np.array([[0, 1, 2], [3, 4, 5]]), 7)
+    assert betti.tolist() == [[1, 0], [1, 0]]
+    assert labels[6] == -1 and labels[0] != labels[3]
+
+
+def test_betti_of_a_ring_closed_through_a_pinch():
+    # a cycle of 3 triangles, consecutive ones sharing one vertex: one hole
+    faces = np.array([[0, 1, 2], [2, 3, 4], [4, 5, 0]])
+    assert mesh_betti(faces, 6)[1].tolist() == [[1, 1]]
+
+
+def test_betti_of_no_triangles():
+    labels, betti = mesh_betti(np.empty((0, 3), dtype=int), 4)
+    assert betti.shape == (0, 2) and (labels == -1).all()
+
+
+# --- Theorem 2 on generated regions -----------------------------------------------------
+
+@st.composite
+def parts(draw, x0):
+    """One component in the 3 x 3 cell starting at x0: a plate with holes or a thin frame."""
+    kind = draw(st.sampled_from(["plate", "frame", "disc"]))
+    if kind == "frame":
+        wall = draw(st.sampled_from([0.15, 0.25, 0.4]))
+        return box(x0, 0, x0 + 2.5, 2.5).difference(box(x0 + wall, wall, x0 + 2.5 - wall, 2.5 - wall))
+    if kind == "disc":
+        outer = Point(x0 + 1.25, 1.25).buffer(1.25, quad_segs=24)
+        radius = draw(st.sampled_from([0.2, 0.5, 0.9]))
+        return outer.difference(Point(x0 + 1.25, 1.25).buffer(radius, quad_segs=16))
+    plate = box(x0, 0, x0 + 2.5, 2.5)
+    count = draw(st.integers(0, 3))
+    for k in range(count):          # square holes in a row, walls >= 0.2 between them
+        side = draw(st.sampled_from([0.3, 0.45]))
+        left = x0 + 0.2 + 0.75 * k
+        plate = plate.difference(box(left, 0.8, left + side, 0.8 + side))
+    return plate
+
+
+@st.composite
+def generated_regions(draw):
+    gap = draw(st.sampled_from([0.2, 0.5]))
+    count = draw(st.integers(1, 3))
+    shapes = [draw(parts(k * (2.5 + gap))) for k in range(count)]
+    return region(shapely.union_all(shapes))
+
+
+@settings(max_examples=8, deadline=None)
+@given(generated_regions(), st.integers(0, 2**16))
+def test_theorem_2_betti_numbers_match_per_component(reg, seed):
+    alpha = pds.suggest_alpha(reg)
+    for s in (seed, seed + 1):
+        report = topology_report(pds.mesh_region(reg, alpha, seed=s))
+        assert report.topology_ok, report
+        assert report.betti_mesh == reg.betti
+        assert all(c.betti_mesh == c.betti_region == (1, len(p.interiors))
+                   for c, p in zip(report.per_component, reg.geometry.geoms))
+
+
+# --- defects, located ---------------------------------------------------------------
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_gap_narrower_than_alpha_is_flagged_and_named(seed):
+    gap = 0.1
+    two = region(box(0, 0, 3, 3).union(box(3 + gap, 0, 6 + gap, 3)))
+    report = topology_report(pds.mesh_region(two, alpha=gap, seed=seed))
+    assert not report.topology_ok
+    assert report.betti_mesh[0] < 2 and report.betti_region == (2, 0)
+    problem, = [p for p in report.problems if "joined" in p]
+    assert "components 0 and 1" in problem and f"({gap:.4g} wide" in problem
+    assert 3 <= located(problem)[0] <= 3 + gap
+
+
+def test_a_gap_wider_than_twice_alpha_stays_open():
+    two = region(box(0, 0, 3, 3).union(box(3.1, 0, 6.1, 3)))
+    for seed in range(3):
+        assert topology_report(pds.mesh_region(two, alpha=0.05, seed=seed)).topology_ok
+
+
+def test_a_small_hole_is_reported_filled_at_its_centre():
+    disc = region(Point(0, 0).buffer(3).difference(Point(1, 0.5).buffer(0.2, quad_segs=32)))
+    report = topology_report(pds.mesh_region(disc, alpha=0.4, seed=0))
+    assert report.betti_mesh == (1, 0) and not report.topology_ok
+    problem, = report.problems
+    assert "hole 0 of component 0" in problem and "filled" in problem
+    assert np.linalg.norm(located(problem) - [1, 0.5]) < 0.01
+    assert report.per_component[0].betti_mesh == (1, 0)
+    assert report.per_component[0].betti_region == (1, 1)
+
+
+def test_two_holes_merged_through_a_thin_wall():
+    plate = region(box(0, 0, 8, 5).difference(box(1, 1, 3.95, 4)).difference(box(4, 1, 7, 4)))
+    report = topology_report(pds.mesh_region(plate, alpha=0.3, seed=0))
+    assert not report.topology_ok
+    problem, = [p for p in report.problems if "merged" in p]
+    assert "hole 0 of component 0 is merged with hole 1" in problem or \
+        "hole 1 of component 0 is merged with hole 0" in problem
+    assert 3.95 <= located(problem)[0] <= 4 and "0.05 thick" in problem
+
+
+def test_a_hole_opened_to_the_outside():
+    plate = region(box(0, 0, 6, 6).difference(box(0.04, 1, 4, 5)))
+    report = topology_report(pds.mesh_region(plate, alpha=0.3, seed=0))
+    problem, = [p for p in report.problems if "opened" in p]
+    assert located(problem)[0] == pytest.approx(0.02, abs=1e-9)
+
+
+def test_a_component_broken_at_a_thin_neck_and_a_lost_one():
+    dumbbell = box(0, 0, 2, 2).union(box(2, 0.95, 4, 1.0)).union(box(4, 0, 6, 2))
+    speck = box(10, 0, 10.05, 0.05)
+    report = topology_report(pds.mesh_region(region(dumbbell.union(speck)), alpha=0.3, seed=0))
+    broken, = [p for p in report.problems if "broken" in p]
+    assert "component 0 is broken into" in broken and 2 <= located(broken)[0] <= 4
+    lost, = [p for p in report.problems if "lost" in p]
+    assert "component 1" in lost and np.linalg.norm(located(lost) - [10.025, 0.025]) < 0.01
+    assert report.per_component[1].betti_mesh == (0, 0)
+
+
+def test_a_bottle_shaped_notch_closed_off_into_a_hole():
+    # a 2 x 2 cavity reached from outside through a 0.1 wide, 0.5 long neck
+    bottle = box(0, 0, 6, 6).difference(box(2, 2, 4, 4).union(box(2.95, 3.9, 3.05, 6.5)))
+    report = topology_report(pds.mesh_region(region(bottle), alpha=0.3, seed=0))
+    assert report.betti_mesh == (1, 1) and report.betti_region == (1, 0)
+    problem, = report.problems
+    assert "notch of the outline is closed off" in problem
+    assert 2.9 <= located(problem)[0] <= 3.1 and 3.9 <= located(problem)[1] <= 6
+
+
+def test_a_hole_split_by_a_bridge_across_its_pipe():
+    hole = shapely.union_all([Point(-1, 0).buffer(0.5), Point(1, 0).buffer(0.5),
+                              box(-1, -0.05, 1, 0.05)])
+    reg = region(Point(0, 0).buffer(3).difference(hole))
+    report = topology_report(pds.mesh_region(reg, alpha=0.25, seed=0))
+    assert report.betti_mesh == (1, 2)
+    problem, = report.problems
+    assert "hole 0 of component 0 is split into 2" in problem
+    x, y = located(problem)
+    assert -0.5 < x < 0.5 and abs(y) <= 0.05
+
+
+def test_a_mesh_without_triangles_loses_everything():
+    reg = region(box(0, 0, 1, 1))
+    mesh = pds.mesh_region(reg, alpha=5.0)
+    assert len(mesh.faces) == 0
+    report = topology_report(mesh)
+    assert report.betti_mesh == (0, 0) and not report.topology_ok
+    assert "component 0" in report.problems[0] and "lost" in report.problems[0]
+
+
+def test_report_is_plain_data():
+    reg = region(box(0, 0, 2, 2).difference(box(0.5, 0.5, 1.5, 1.5)))
+    report = topology_report(pds.mesh_region(reg, alpha=0.1))
+    data = report.as_dict()
+    assert data["betti_mesh"] == (1, 1) and data["topology_ok"] is True
+    assert data["per_component"][0] == {"component": 0, "betti_region": (1, 1),
+                                        "betti_mesh": (1, 1), "ok": True}
+    assert "topology ok" in str(report)
