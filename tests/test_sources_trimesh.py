@@ -57,6 +57,15 @@ def test_oblique_plane_through_a_cube():
     assert region.area == pytest.approx(1 / math.cos(angle), rel=1e-12)
 
 
+@pytest.mark.parametrize("normal, area", [((0, 0, 1), 2.0), ((1, 1, 0), math.sqrt(2))])
+def test_plane_through_vertices_and_edges(normal, area):
+    """The octahedron |x|+|y|+|z| <= 1 cut through four (or two) of its vertices."""
+    octahedron = trimesh.convex.convex_hull(np.vstack([np.eye(3), -np.eye(3)]))
+    region = section(octahedron, (0, 0, 0), normal)
+    assert region.betti == (1, 0)
+    assert region.area == pytest.approx(area, rel=1e-12)
+
+
 def test_frame_maps_the_section_back_onto_the_plane_and_the_surface():
     mesh = nested_part()
     origin, normal = np.array([0.3, -0.2, 0.1]), np.array([0.2, -0.5, 1.0])
@@ -217,6 +226,10 @@ def test_missing_empty_and_unreadable_files(tmp_path):
     unknown.write_text("not a mesh")
     with pytest.raises(ValueError, match="cannot read .* STL, OBJ, PLY"):
         section(unknown, (0, 0, 0), (0, 0, 1))
+    drawing = tmp_path / "part.svg"
+    drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg"><rect width="1" height="1"/></svg>')
+    with pytest.raises(ValueError, match="2D drawing.*load_svg"):
+        section(drawing, (0, 0, 0), (0, 0, 1))
     cloud = tmp_path / "cloud.ply"
     trimesh.PointCloud(np.random.default_rng(0).random((10, 3))).export(cloud)
     with pytest.raises(ValueError, match="has no triangles"):

@@ -32,6 +32,9 @@ def load(solid):
             raise FileNotFoundError(f"no such mesh file: {path!r}")
         if os.path.getsize(path) == 0:
             raise ValueError(f"the mesh file {path!r} is empty")
+        if path.lower().endswith(".svg"):
+            raise ValueError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
+                             f"pds_plugin.load_svg")
         try:
             mesh = trimesh.load_mesh(path)
         except Exception as error:  # trimesh raises many kinds for unreadable files
