@@ -28,8 +28,8 @@ def builtin_part() -> m3.Manifold:
         return m3.Manifold.cylinder(1.0, radius, circular_segments=96).translate((x, y, -0.25))
 
     slot = m3.Manifold.cube((1.2, 0.3, 1.0)).translate((1.4, 0.85, -0.25))
-    notch = m3.Manifold.extrude(m3.CrossSection([np.array([[3.4, 2.01], [4.01, 1.2], [4.01, 2.01]])]),
-                                1.0).translate((0, 0, -0.25))
+    v_shape = m3.CrossSection([np.array([[3.4, 2.01], [4.01, 1.2], [4.01, 2.01]])])
+    notch = m3.Manifold.extrude(v_shape, 1.0).translate((0, 0, -0.25))
     plate = m3.Manifold.cube((4.0, 2.0, 0.5))
     part = plate - hole(0.7, 1.0, 0.4) - hole(2.6, 1.0, 0.25) - slot - notch
     return part.translate((-2.0, -1.0, -0.25))

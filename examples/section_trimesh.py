@@ -23,7 +23,8 @@ STL = Path(__file__).resolve().parents[2] / "shared" / "data" / "featuretype.STL
 def builtin_part() -> trimesh.Trimesh:
     """A 6 x 3 x 1 plate, a round hole with an island in it, and a square pocket."""
     def cylinder(x, radius, height):
-        return trimesh.creation.cylinder(radius=radius, height=height, sections=96).apply_translation([x, 0, 0])
+        shape = trimesh.creation.cylinder(radius=radius, height=height, sections=96)
+        return shape.apply_translation([x, 0, 0])
 
     plate = trimesh.creation.box(extents=(6, 3, 1))
     pocket = trimesh.creation.box(extents=(1, 1, 2)).apply_translation([1.5, 0, 0])

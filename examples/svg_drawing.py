@@ -2,9 +2,9 @@
 
 Reads ../shared/data/MIL.svg (an outline drawing exported from CAD: loose stroked arcs and
 lines, one of its slots is missing a side, which is reported) and polygon.svg when
-present, and always a built-in filled drawing (a plate with a Bézier edge and two evenodd
-holes, one round, one square with an elliptical island); meshes each at the alpha its feature size suggests and prints
-the certificate.
+present, and always a built-in filled drawing (a plate with a Bézier edge and two
+evenodd holes, one round, one square with an elliptical island); meshes each at the
+alpha its feature size suggests and prints the certificate.
 
     python examples/svg_drawing.py [OUTPUT_DIR]
 """
@@ -17,7 +17,8 @@ import pds_plugin as pds
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 
-BUILTIN = """<svg xmlns="http://www.w3.org/2000/svg" width="120mm" height="80mm" viewBox="0 0 120 80">
+BUILTIN = """<svg xmlns="http://www.w3.org/2000/svg"
+     width="120mm" height="80mm" viewBox="0 0 120 80">
   <g fill-rule="evenodd" transform="translate(10 10)">
     <path d="M 0 0 H 80 C 100 0 100 60 80 60 H 0 Z
              M 15 30 A 10 10 0 1 0 35 30 A 10 10 0 1 0 15 30 Z

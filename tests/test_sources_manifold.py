@@ -65,7 +65,8 @@ def test_backends_agree_on_featuretype_stl():
         pytest.skip(f"{path} is not available")
     mesh = trimesh.load_mesh(path)
     origin = (0, 0, mesh.bounds[:, 2].mean())
-    with_trimesh, with_manifold = section(path, origin, (0, 0, 1)), section(to_manifold(mesh), origin, (0, 0, 1))
+    with_trimesh = section(path, origin, (0, 0, 1))
+    with_manifold = section(to_manifold(mesh), origin, (0, 0, 1))
     assert with_trimesh.betti == with_manifold.betti == (2, 8)
     assert with_manifold.area == pytest.approx(with_trimesh.area, rel=1e-12)
     assert np.array_equal(with_manifold.frame, with_trimesh.frame)
@@ -73,10 +74,11 @@ def test_backends_agree_on_featuretype_stl():
 
 def test_float64_precision_far_from_the_origin():
     """A 1e-6 section 1e5 units away: float32 (Manifold.slice, Mesh) would ruin it."""
-    tiny = m3.Manifold.cube((1e-3, 1e-3, 1e-3), center=True).translate((123456.789, -98765.4321, 5e4))
-    region = section(tiny, (123456.789, -98765.4321, 5e4), (0, 0, 1))
+    far = (123456.789, -98765.4321, 5e4)
+    tiny = m3.Manifold.cube((1e-3, 1e-3, 1e-3), center=True).translate(far)
+    region = section(tiny, far, (0, 0, 1))
     assert region.area == pytest.approx(1e-6, rel=1e-7)
-    assert region.to_3d([[0.0, 0.0]])[0] == pytest.approx([123456.789, -98765.4321, 5e4], abs=1e-9)
+    assert region.to_3d([[0.0, 0.0]])[0] == pytest.approx(far, abs=1e-9)
 
 
 def test_sections_of_a_manifold():
@@ -84,7 +86,8 @@ def test_sections_of_a_manifold():
     regions = sections(cone, (0, 0, 1), count=4)
     heights = [0.5, 1.5, 2.5, 3.5]
     assert [r.frame[2, 3] for r in regions] == pytest.approx(heights)
-    assert [r.area for r in regions] == pytest.approx([polygon_area(2 - z / 2) for z in heights], rel=1e-12)
+    exact = [polygon_area(2 - z / 2) for z in heights]
+    assert [r.area for r in regions] == pytest.approx(exact, rel=1e-12)
 
 
 def test_invalid_manifold_status_is_an_error():

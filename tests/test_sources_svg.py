@@ -57,7 +57,8 @@ def test_circle_vertices_lie_on_the_circle_and_chords_within_tolerance(tmp_path)
 
 def test_default_tolerance_is_1e4_of_the_drawing_diagonal(tmp_path):
     r = 100.0
-    region = load_svg(write(tmp_path, f'<circle cx="0" cy="0" r="{r}"/>', 'viewBox="-100 -100 200 200"'))
+    path = write(tmp_path, f'<circle cx="0" cy="0" r="{r}"/>', 'viewBox="-100 -100 200 200"')
+    region = load_svg(path)
     tolerance = 1e-4 * math.hypot(2 * r, 2 * r)
     ring = region.rings[0]
     sagitta = r - np.linalg.norm((ring + np.roll(ring, -1, axis=0)) / 2, axis=1)
@@ -97,7 +98,8 @@ def test_pentagram_under_both_fill_rules(tmp_path):
     pentagon = 2.5 * inner**2 * math.sin(2 * math.pi / 5)
     d = pentagram(50, 50, R)
     nonzero = load_svg(write(tmp_path, f'<path d="{d}"/>'))
-    evenodd = load_svg(write(tmp_path, f'<g fill-rule="evenodd"><path d="{d}"/></g>', name="eo.svg"))
+    evenodd = load_svg(write(tmp_path, f'<g fill-rule="evenodd"><path d="{d}"/></g>',
+                             name="eo.svg"))
     assert nonzero.area == pytest.approx(star, rel=1e-12)
     assert evenodd.area == pytest.approx(star - pentagon, rel=1e-12)
     assert nonzero.betti == (1, 0)
@@ -194,10 +196,12 @@ def test_units_in_mm_and_the_y_flip(tmp_path):
 
 
 def test_tolerance_is_in_output_units(tmp_path):
-    path = write(tmp_path, '<circle cx="5" cy="5" r="1"/>', 'width="100mm" height="100mm" viewBox="0 0 10 10"')
+    path = write(tmp_path, '<circle cx="5" cy="5" r="1"/>',
+                 'width="100mm" height="100mm" viewBox="0 0 10 10"')
     region = load_svg(path, tolerance=0.01, units="mm")        # a circle of radius 10 mm
     centre = np.array([50.0, 50.0])
-    sagitta = 10 - np.linalg.norm((region.rings[0] + np.roll(region.rings[0], -1, axis=0)) / 2 - centre, axis=1)
+    ring = region.rings[0]
+    sagitta = 10 - np.linalg.norm((ring + np.roll(ring, -1, axis=0)) / 2 - centre, axis=1)
     assert 0.01 / 4 <= sagitta.max() <= 0.01
 
 
@@ -214,7 +218,8 @@ def test_defs_and_hidden_elements_are_skipped_use_is_drawn(tmp_path):
 
 
 def test_overlapping_filled_shapes_are_united(tmp_path):
-    body = '<rect x="0" y="0" width="20" height="20"/><rect x="10" y="10" width="20" height="20" fill="red"/>'
+    body = ('<rect x="0" y="0" width="20" height="20"/>'
+            '<rect x="10" y="10" width="20" height="20" fill="red"/>')
     region = load_svg(write(tmp_path, body))
     assert region.area == pytest.approx(700, rel=1e-12)
     assert region.betti == (1, 0)
@@ -228,7 +233,8 @@ def plate_segments(rng):
     angles = 2 * np.pi * np.arange(64) / 64
     circle = np.column_stack([25 + 10 * np.cos(angles), 30 + 10 * np.sin(angles)])
     squares = [np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
-               for x0, y0, x1, y1 in [(0, 0, 100, 60), (45, 5, 95, 55), (55, 15, 85, 45), (65, 25, 75, 35)]]
+               for x0, y0, x1, y1 in [(0, 0, 100, 60), (45, 5, 95, 55), (55, 15, 85, 45),
+                                      (65, 25, 75, 35)]]
     loops = [circle, *squares]
     segments = np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], axis=1) for r in loops])
     segments = np.concatenate([segments, segments[:3]])               # a few drawn twice
@@ -262,7 +268,8 @@ def test_outline_arcs_join_into_a_ring_and_mode_can_be_forced(tmp_path):
     region = load_svg(write(tmp_path, body), tolerance=1e-3)
     assert region.betti == (1, 1)
     assert abs(region.area - math.pi * (40**2 - 20**2)) <= flattening_bound(2 * math.pi * 60, 1e-3)
-    filled = write(tmp_path, f'<path fill-rule="evenodd" d="{circle_path(50, 50, 40)} {circle_path(50, 50, 20)}"/>'
+    ring = f"{circle_path(50, 50, 40)} {circle_path(50, 50, 20)}"
+    filled = write(tmp_path, f'<path fill-rule="evenodd" d="{ring}"/>'
                    f'<circle cx="50" cy="50" r="10" fill="none" stroke="black"/>', name="both.svg")
     assert load_svg(filled, tolerance=1e-3).betti == (1, 1)                   # auto: fill
     assert load_svg(filled, tolerance=1e-3, mode="outline").betti == (2, 1)   # island r=10 too

@@ -126,7 +126,8 @@ class _Solid:
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
         if not np.isfinite(self.vertices).all():
-            raise ValueError("the solid has NaN or infinite vertex coordinates; clean the mesh first")
+            raise ValueError("the solid has NaN or infinite vertex coordinates; "
+                             "clean the mesh first")
         self.scale = float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
 
     def heights(self, origin, normal) -> np.ndarray:
@@ -164,14 +165,15 @@ class _Solid:
         flat = (np.abs(heights) <= tol.merge)[self.faces].all(axis=1)
         if flat.any():
             raise ValueError(
-                f"the plane lies on {int(flat.sum())} face(s) of the solid (normal·x = {offset:.9g}), "
-                f"so the section is ambiguous; offset the plane slightly along the normal, "
-                f"e.g. by ±{1e-6 * self.scale:.3g}")
+                f"the plane lies on {int(flat.sum())} face(s) of the solid "
+                f"(normal·x = {offset:.9g}), so the section is ambiguous; offset the plane "
+                f"slightly along the normal, e.g. by ±{1e-6 * self.scale:.3g}")
         if not (heights.min() < -tol.merge and heights.max() > tol.merge):
             low, high = offset + heights.min(), offset + heights.max()
             raise ValueError(
                 f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
-                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside that range")
+                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside "
+                f"that range")
 
 
 def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
@@ -282,7 +284,8 @@ def winding_numbers(points, segments) -> np.ndarray:
     left = (b[:, 0] - a[:, 0]) * (y - a[:, 1]) - (x - a[:, 0]) * (b[:, 1] - a[:, 1])
     up = (a[:, 1] <= y) & (y < b[:, 1]) & (left > 0)
     down = (b[:, 1] <= y) & (y < a[:, 1]) & (left < 0)
-    return np.bincount(point, weights=up.astype(float) - down, minlength=len(points)).astype(np.int64)
+    crossings = up.astype(float) - down
+    return np.bincount(point, weights=crossings, minlength=len(points)).astype(np.int64)
 
 
 def fill_geometry(rings, rule: str = "nonzero"):
@@ -324,10 +327,11 @@ def fill_geometry(rings, rule: str = "nonzero"):
 def outline_geometry(chains, tolerance: float):
     """Polygons bounded by loose curves: join, nest by even-odd containment, find open ends.
 
-    Points closer than ``tolerance`` are merged, so chain ends meet and curves drawn twice
-    coincide; the curves are then noded (duplicates merged, crossings split), the faces they bound are found, and a face is filled when
-    it is nested inside an odd number of loops, so holes, islands in holes and holes of
-    islands come out right whatever the curves' order and direction.
+    Points closer than ``tolerance`` are merged, so chain ends meet and curves drawn
+    twice coincide; the curves are then noded (duplicates merged, crossings split), the
+    faces they bound are found, and a face is filled when it is nested inside an odd
+    number of loops, so holes, islands in holes and holes of islands come out right
+    whatever the curves' order and direction.
 
     Parameters
     ----------

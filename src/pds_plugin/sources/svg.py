@@ -135,7 +135,8 @@ def _output_matrix(document, units) -> np.ndarray:
         pixels = svgelements.Length(f"1{units}").value(ppi=96.0)  # svgelements' own factor
         matrix = np.hstack([np.eye(2) / pixels, np.zeros((2, 1))])
     sized = document.viewbox is not None or {"width", "height"} <= set(document.values)
-    page = _apply(matrix, [[0, 0], [document.width, document.height]]) if sized else np.zeros((2, 2))
+    corners = [[0.0, 0.0], [document.width, document.height]] if sized else np.zeros((2, 2))
+    page = _apply(matrix, corners) if sized else corners
     flip = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, page[:, 1].sum()], [0.0, 0.0, 1.0]])
     return (flip @ np.vstack([matrix, [0.0, 0.0, 1.0]]))[:2]
 
