@@ -58,7 +58,9 @@ def test_plot_samples_draws_outline_samples_and_discs(mesh, region):
     np.testing.assert_array_equal(discs.get_offsets(), mesh.vertices)
     np.testing.assert_allclose(discs.get_widths(), 2 * mesh.alpha)   # diameters: radius alpha
     assert len(ax.get_legend().get_texts()) == 4
-    assert not collections_of(plot_samples(mesh), EllipseCollection)
+    plain = plot_samples(mesh, markersize=30)
+    assert not collections_of(plain, EllipseCollection)
+    assert all((c.get_sizes() == 30).all() for c in collections_of(plain, PathCollection))
 
 
 def test_plot_mesh_colours_every_triangle_by_aspect_ratio(mesh):
@@ -116,9 +118,9 @@ def test_plot_multiresolution_strip(region, tmp_path):
     figure = plot_multiresolution(meshes, tmp_path / "strip.png", dpi=60)
     assert (tmp_path / "strip.png").stat().st_size > 10_000
     panels = figure.axes[:3]
-    assert [ax.get_title().split("\n")[0] for ax in panels] == ["α = 0.4", "α = 0.2", "α = 0.1"]
+    assert [ax.get_title().split("\n")[0] for ax in panels] == ["α = 0.1", "α = 0.4", "α = 0.2"]
     counts = [len(collections_of(ax, PolyCollection)[0].get_paths()) for ax in panels]
-    assert counts == [len(m.faces) for m in sorted(meshes, key=lambda m: -m.alpha)]
+    assert counts == [len(m.faces) for m in meshes]       # figure.axes[i] shows meshes[i]
     assert len(figure.axes) == 4                   # one shared colorbar
     interactive = plot_multiresolution(meshes[:1])
     assert plt.fignum_exists(interactive.number)

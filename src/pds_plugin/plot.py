@@ -89,12 +89,13 @@ def _square_view(ax, region):
     ax.set_aspect("equal")
 
 
-def plot_samples(mesh, discs: bool = False, ax=None):
+def plot_samples(mesh, discs: bool = False, ax=None, markersize: float | None = None):
     """Draw the region's outline and the samples, boundary samples marked.
 
     With ``discs=True`` every sample also gets its disc of radius ``alpha`` (one
     EllipseCollection, fast for 10⁵ samples): by maximality the discs cover the region,
-    and by the Poisson condition no disc contains another sample.
+    and by the Poisson condition no disc contains another sample. ``markersize`` is the
+    scatter size in points² (by default smaller for many samples; raise it for a zoom).
 
     Returns
     -------
@@ -114,7 +115,7 @@ def plot_samples(mesh, discs: bool = False, ax=None):
 
     points, on_boundary = np.asarray(mesh.vertices), np.asarray(mesh.on_boundary, dtype=bool)
     handles = [_draw_outline(ax, mesh.region)]
-    size = 12 if len(points) < 2000 else 3
+    size = markersize if markersize is not None else (12 if len(points) < 2000 else 3)
     handles.append(ax.scatter(*points[~on_boundary].T, s=size, c="tab:blue", linewidths=0,
                               zorder=4, label=f"interior samples ({np.count_nonzero(~on_boundary)})"))
     handles.append(ax.scatter(*points[on_boundary].T, s=size, c="tab:orange", linewidths=0,
@@ -259,7 +260,7 @@ def plot_report(mesh, path, discs: bool = False, dpi: int = 120):
 
 
 def plot_multiresolution(meshes, path=None, dpi: int = 120):
-    """Draw several meshes of one region side by side, coarse to fine, one colorbar.
+    """Draw several meshes of one region side by side, one colorbar for all.
 
     The paper's multiresolution view (Figure 6): each panel shows the mesh at its
     ``alpha``, coloured by aspect ratio, with the region's outline on top so that the
@@ -268,7 +269,8 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
     Parameters
     ----------
     meshes : sequence of PlanarMesh
-        Drawn in decreasing ``alpha`` order.
+        Drawn left to right in the order given (coarse to fine reads best), so
+        ``figure.axes[i]`` shows ``meshes[i]``; the colorbar is the last Axes.
     path : str or Path, optional
         Write the image there (standalone figure); otherwise open a pyplot figure.
 
@@ -283,7 +285,7 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
     >>> region = pds.Region.from_shapely(box(0, 0, 1, 1))
     >>> figure = plot_multiresolution([pds.mesh_region(region, a) for a in (0.3, 0.1)])
     """
-    meshes = sorted(meshes, key=lambda mesh: -mesh.alpha)
+    meshes = list(meshes)
     if not meshes:
         raise ValueError("plot_multiresolution needs at least one mesh")
     for mesh in meshes:
