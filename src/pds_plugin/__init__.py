@@ -39,6 +39,8 @@ _PUBLIC = {
     "section": "sources",
     "sections": "sources",
     "load_svg": "sources",
+    "add_section_meshes": "meshlab",
+    "meshlab_quality": "meshlab",
 }
 
 __all__ = sorted(_PUBLIC)
