@@ -30,7 +30,8 @@ def builtin_part() -> pymeshlab.Mesh:
         return m3.Manifold.cylinder(1.0, radius, circular_segments=64).translate((x, y, -0.25))
 
     slot = m3.Manifold.cube((1.2, 0.3, 1.0)).translate((1.4, 0.85, -0.25))
-    part = m3.Manifold.cube((4.0, 2.0, 0.5)) - cylinder(0.7, 1.0, 0.4) - cylinder(3.3, 1.0, 0.25) - slot
+    plate = m3.Manifold.cube((4.0, 2.0, 0.5))
+    part = plate - cylinder(0.7, 1.0, 0.4) - cylinder(3.3, 1.0, 0.25) - slot
     mesh = part.to_mesh64()
     return pymeshlab.Mesh(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts))
 
@@ -63,7 +64,8 @@ def main(out_dir: Path) -> None:
 
     middle = added[len(added) // 2]
     counts = meshlab_quality(middle.mesh, bins=8, range=(RADIUS_RATIO_BOUND, 1.0)).counts
-    print(f"histogram of 2r/R over [{RADIUS_RATIO_BOUND:.3f}, 1] for {middle.name!r}: {counts.tolist()}")
+    print(f"histogram of 2r/R over [{RADIUS_RATIO_BOUND:.3f}, 1] for {middle.name!r}: "
+          f"{counts.tolist()}")
 
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "meshlab_section.ply"

@@ -95,7 +95,8 @@ def test_obj_round_trip_through_trimesh_and_pymeshlab(mesh, tmp_path, suffix):
 
 @pytest.mark.parametrize("name", ["plate.stl", "plate", "plate.ply.gz"])
 def test_unknown_suffix_names_it_and_the_supported_ones(mesh, tmp_path, name):
-    with pytest.raises(ValueError, match=r"cannot export to .*supported suffixes are .*\.obj, \.ply"):
+    message = r"cannot export to .*supported suffixes are .*\.obj, \.ply"
+    with pytest.raises(ValueError, match=message):
         export(mesh, tmp_path / name)
     assert not (tmp_path / name).exists()
 

@@ -106,7 +106,8 @@ def test_meshlab_quality_leaves_the_meshset_unchanged(mesh):
     ms = to_meshset(mesh)
     measured = meshlab_quality(ms)
     np.testing.assert_allclose(measured.radius_ratio, radius_ratio(mesh.quality()), rtol=1e-9)
-    np.testing.assert_array_equal(ms.current_mesh().face_scalar_array(), mesh.quality().aspect_ratio)
+    np.testing.assert_array_equal(ms.current_mesh().face_scalar_array(),
+                                  mesh.quality().aspect_ratio)
     assert ms.mesh_number() == 1
 
 
@@ -222,7 +223,8 @@ def test_featuretype_sections_in_a_meshset():
         pytest.skip(f"{path} is absent")
     ms = pymeshlab.MeshSet()
     ms.load_new_mesh(str(path))
-    zmin, zmax = ms.current_mesh().bounding_box().min()[2], ms.current_mesh().bounding_box().max()[2]
+    bbox = ms.current_mesh().bounding_box()
+    zmin, zmax = bbox.min()[2], bbox.max()[2]
     added = add_section_meshes(ms, 0.05, plane_origin=(0, 0, (zmin + zmax) / 2))
     section = added[0].mesh
     assert section.region.betti == (2, 8)         # data/README.md: 2 components, 8 holes

@@ -25,8 +25,9 @@ __all__ = ["to_meshset", "add_section_meshes", "SectionMesh", "meshlab_quality",
            "MeshLabQuality", "radius_ratio", "RADIUS_RATIO_BOUND", "silenced"]
 
 RADIUS_RATIO_BOUND = 2 * np.sqrt(3) - 3
-"""Theorem 1 in MeshLab's terms: the normalised ``2r/R`` of the worst certified triangle
-(angles 30°, 30°, 120°) is 8·sin²(15°)·sin(60°) = 2√3 − 3 ≈ 0.464 (equilateral = 1)."""
+"""Theorem 1 in MeshLab's terms: the normalised ``2r/R`` of the worst certified
+triangle (angles 30°, 30°, 120°) is 8·sin²(15°)·sin(60°) = 2√3 − 3 ≈ 0.464
+(equilateral = 1)."""
 
 
 def _pymeshlab():
@@ -244,8 +245,8 @@ def radius_ratio(quality) -> np.ndarray:
 class MeshLabQuality:
     """What :func:`meshlab_quality` measured with MeshLab's own filters."""
 
-    radius_ratio: np.ndarray   # (M,) per face, normalised 2r/R (equilateral 1, certified >= 2√3-3)
-    statistics: dict           # get_scalar_statistics_per_face: avg, max, med, min, stddev, variance
+    radius_ratio: np.ndarray   # (M,) per face, 2r/R: equilateral 1, certified >= 2√3-3
+    statistics: dict           # avg, max, med, min, stddev, variance of radius_ratio
     bin_edges: np.ndarray      # (bins + 1,) histogram edges over ``range`` (MeshLab's, ~1e-8 off)
     counts: np.ndarray         # (bins,) faces per bin
     below: int                 # faces under range[0] (MeshLab's underflow bin)
@@ -289,7 +290,8 @@ def meshlab_quality(mesh_or_meshset, bins: int = 20, range=(0.0, 1.0)) -> MeshLa
     """
     lo, hi = (float(v) for v in range)
     if not (isinstance(bins, (int, np.integer)) and bins > 0 and lo < hi):
-        raise ValueError(f"need bins > 0 and range[0] < range[1], got bins={bins!r}, range={range!r}")
+        raise ValueError(f"need bins > 0 and range[0] < range[1], "
+                         f"got bins={bins!r}, range={range!r}")
     pm = _pymeshlab()
     work = pm.MeshSet()
     if isinstance(mesh_or_meshset, pm.MeshSet):

@@ -116,10 +116,10 @@ def plot_samples(mesh, discs: bool = False, ax=None, markersize: float | None = 
     points, on_boundary = np.asarray(mesh.vertices), np.asarray(mesh.on_boundary, dtype=bool)
     handles = [_draw_outline(ax, mesh.region)]
     size = markersize if markersize is not None else (12 if len(points) < 2000 else 3)
-    handles.append(ax.scatter(*points[~on_boundary].T, s=size, c="tab:blue", linewidths=0,
-                              zorder=4, label=f"interior samples ({np.count_nonzero(~on_boundary)})"))
-    handles.append(ax.scatter(*points[on_boundary].T, s=size, c="tab:orange", linewidths=0,
-                              zorder=5, label=f"boundary samples ({np.count_nonzero(on_boundary)})"))
+    for where, colour, name in ((~on_boundary, "tab:blue", "interior"),
+                                (on_boundary, "tab:orange", "boundary")):
+        handles.append(ax.scatter(*points[where].T, s=size, c=colour, linewidths=0, zorder=4,
+                                  label=f"{name} samples ({np.count_nonzero(where)})"))
     if discs:
         style = dict(facecolor="tab:blue", edgecolor="tab:blue", alpha=0.12, linewidth=0.5)
         diameter = np.full(len(points), 2 * mesh.alpha)
@@ -142,8 +142,9 @@ def _draw_mesh(ax, mesh):
 
     _checked_faces(mesh)
     aspect = mesh.quality().aspect_ratio
+    cmap = matplotlib.colormaps[_CMAP].with_extremes(over=_OVER)
     triangles = PolyCollection(np.asarray(mesh.vertices)[np.asarray(mesh.faces)],
-                               array=aspect, cmap=matplotlib.colormaps[_CMAP].with_extremes(over=_OVER),
+                               array=aspect, cmap=cmap,
                                norm=Normalize(ASPECT_EQUILATERAL, ASPECT_BOUND),
                                edgecolors="black", linewidths=0.15 if len(aspect) < 20000 else 0.0)
     ax.add_collection(triangles)
