@@ -4,6 +4,7 @@ oracle for the spatial search, and the sample budget."""
 import itertools
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,8 +13,10 @@ import shapely.affinity
 from hypothesis import given, settings, strategies as st
 from shapely.geometry import Point, Polygon, box
 
+import pds_plugin as pds
 from pds_plugin import Region, feature_size, suggest_alpha
-from pds_plugin.feature import ADJACENT_TURNING
+from pds_plugin.feature import ADJACENT_TURNING, auto_mesh
+from pds_plugin.topology import topology_report
 from pds_plugin.sampling import estimate_samples
 
 
@@ -216,3 +219,57 @@ def test_no_warning_within_the_budget():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         suggest_alpha(region(box(0, 0, 1, 1)))
+
+
+# --- auto_mesh ----------------------------------------------------------------------
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+
+def test_auto_mesh_refines_a_coarse_start_until_the_topology_is_right():
+    disc = region(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.15)))
+    mesh = auto_mesh(disc, max_alpha=1.0, seed=2)
+    assert mesh.certificate().topology_ok
+    steps = math.log(mesh.alpha) / math.log(0.7)
+    assert steps == pytest.approx(round(steps)) and round(steps) >= 1
+    # the level before it still lost the hole
+    coarser = topology_report(pds.mesh_region(disc, mesh.alpha / 0.7, seed=2))
+    assert not coarser.topology_ok
+
+
+def test_auto_mesh_names_the_feature_when_the_budget_runs_out():
+    hairline = region(box(0, 0, 5, 5).union(box(5.001, 0, 10.001, 5)))
+    with pytest.raises(ValueError, match=r"gap of width 0.001 .* needs alpha <= 0.00025.*"
+                                         r"components 0 and 1 are joined"):
+        auto_mesh(hairline, max_samples=2000)
+
+
+@pytest.mark.parametrize("bad", [0, -1, float("inf"), float("nan")])
+def test_auto_mesh_rejects_bad_max_alpha(bad):
+    with pytest.raises(ValueError, match="max_alpha"):
+        auto_mesh(region(box(0, 0, 1, 1)), max_alpha=bad)
+
+
+def data_section(name):
+    path = DATA / name
+    if not path.exists():
+        pytest.skip(f"{path} is not available")
+    if name.endswith(".svg"):
+        return pds.load_svg(path)
+    import trimesh
+    solid = trimesh.load(path)
+    middle = solid.bounds.mean(axis=0)
+    return pds.section(solid, plane_origin=middle, plane_normal=[0, 0, 1])
+
+
+@pytest.mark.parametrize("name, betti", [("featuretype.STL", (2, 8)), ("MIL.svg", (1, 8))])
+def test_auto_mesh_recovers_the_topology_of_real_parts(name, betti):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # the SVG has two open strokes, reported
+        reg = data_section(name)
+    assert reg.betti == betti
+    mesh = auto_mesh(reg)
+    certificate = mesh.certificate()
+    assert certificate.topology_ok and certificate.betti_mesh == betti
+    assert certificate.quality_ok
+    assert mesh.alpha == pytest.approx(feature_size(reg).value / 4)

@@ -205,38 +205,59 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
 
 def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
               max_samples: int | None = None, refine: float = 0.7):
-    """Mesh ``region`` with the largest alpha whose mesh has the region's topology.
+    """Mesh ``region`` with an alpha whose mesh has the region's topology, verified.
 
-    Starts from :func:`suggest_alpha` (or ``max_alpha`` if smaller), meshes, checks the
-    topology with :func:`pds_plugin.topology.topology_report`, and multiplies alpha by
-    ``refine`` until the Betti numbers of every component match and no hole is lost,
-    merged or split.
+    Starts from ``max_alpha`` if given (the coarsest mesh the caller accepts), else from
+    :func:`suggest_alpha`; meshes, checks the topology with
+    :func:`pds_plugin.topology.topology_report`, and multiplies alpha by ``refine`` until
+    every component's Betti numbers match and no hole is lost, merged, opened or split.
+    The first alpha that passes is kept, so from ``max_alpha`` this finds the coarsest
+    verified mesh of the series ``max_alpha·refine^k``.
+
+    Parameters
+    ----------
+    region : Region
+    seed : int
+    max_alpha : float, optional
+        The first alpha to try.
+    max_samples : int, optional
+        Sample budget (default: the sampler's); alpha never goes below the value that
+        fills it.
+    refine : float
+        Factor in (0, 1) applied to alpha after each failed check.
+
+    Returns
+    -------
+    PlanarMesh
+        Its ``certificate().topology_ok`` is True.
 
     Raises
     ------
     ValueError
-        If the next alpha would need more than ``max_samples`` samples; the message names
-        the feature that needs a smaller alpha, that alpha, and what the last mesh lost.
+        If the topology is still wrong at the smallest alpha the budget allows; the
+        message names the feature that needs a smaller alpha, that alpha, and what the
+        last mesh lost and where.
 
     Examples
     --------
     >>> from shapely.geometry import Point
     >>> from pds_plugin import Region
     >>> region = Region.from_shapely(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.2)))
-    >>> mesh = auto_mesh(region)
-    >>> mesh.certificate().betti_mesh == region.betti
-    True
+    >>> mesh = auto_mesh(region, max_alpha=1.0)
+    >>> mesh.certificate().topology_ok, mesh.alpha < 0.2
+    (True, True)
     """
     from .mesh import mesh_region
     if not 0 < refine < 1:
         raise ValueError(f"refine must lie in (0, 1), got {refine!r}")
     budget = DEFAULT_MAX_SAMPLES if max_samples is None else int(max_samples)
     size = _usable_feature_size(region)
-    alpha = size.value / 4
-    if max_alpha is not None:
-        if not (np.isfinite(max_alpha) and max_alpha > 0):
-            raise ValueError(f"max_alpha must be a positive finite number, got {max_alpha!r}")
-        alpha = min(alpha, float(max_alpha))
+    if max_alpha is None:
+        alpha = size.value / 4
+    elif np.isfinite(max_alpha) and max_alpha > 0:
+        alpha = float(max_alpha)
+    else:
+        raise ValueError(f"max_alpha must be a positive finite number, got {max_alpha!r}")
     smallest = _largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
     alpha = max(alpha, smallest)
     while True:
@@ -247,10 +268,10 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         if alpha <= smallest:
             break
         alpha = max(alpha * refine, smallest)
-    raise ValueError(f"the {size} needs alpha <= {size.value / 4:.6g}, but even alpha "
-                     f"{alpha:.6g}, the smallest the sample budget of {budget} allows, does not "
-                     f"recover the topology: {'; '.join(report.problems)}; raise max_samples "
-                     "or simplify that feature")
+    raise ValueError(f"the {size} needs alpha <= {size.value / 4:.6g}, but alpha "
+                     f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
+                     f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
+                     "that feature")
 
 
 def _usable_feature_size(region: Region) -> FeatureSize:
@@ -300,18 +321,25 @@ class _Boundary:
         return same & (self.forward_adjacent(i, j) | self.backward_adjacent(i, j))
 
     def closest_nonadjacent(self):
-        """``(distance, (i, j), (p, q))`` over non-adjacent segment pairs, or None."""
+        """``(distance, (i, j), (p, q))`` over non-adjacent segment pairs, or None.
+
+        Runs of segments whose bounding boxes come within ``radius`` of each other are
+        paired through an STRtree; ``radius`` grows until a non-adjacent pair is found
+        within it, which makes the minimum exact.
+        """
         chunks, first, last = self._chunks()
         tree = shapely.STRtree(chunks)
-        span = np.ptp(np.concatenate([self.p0, self.p1]), axis=0).max()
+        boxes = shapely.bounds(chunks)
+        x0, y0, x1, y1 = boxes.T
+        span = max(x1.max() - x0.min(), y1.max() - y0.min())
         radius = 4 * np.median(np.linalg.norm(self.p1 - self.p0, axis=1))
         best = None
         while best is None or best[0] > radius:
             if best is not None:
                 radius = best[0]
-            a, b = tree.query(chunks, predicate="dwithin", distance=radius)
+            a, b = tree.query(shapely.box(x0 - radius, y0 - radius, x1 + radius, y1 + radius))
             keep = a <= b
-            best = self._best_of_chunk_pairs(chunks, first, last, a[keep], b[keep])
+            best = self._best_of_chunk_pairs(chunks, boxes, first, last, a[keep], b[keep])
             if best is None:
                 if radius > 2 * span:
                     return None
@@ -332,7 +360,7 @@ class _Boundary:
         xy = np.where(end, self.p1[segment], self.p0[segment])
         return shapely.linestrings(xy, indices=chunk), first, last
 
-    def _best_of_chunk_pairs(self, chunks, first, last, a, b):
+    def _best_of_chunk_pairs(self, chunks, boxes, first, last, a, b):
         same_ring = self.ring_of[first[a]] == self.ring_of[first[b]]
         a0, a1, b0, b1 = first[a], last[a], first[b], last[b]
         # along each direction turning grows with the index distance, so the farthest
@@ -341,13 +369,19 @@ class _Boundary:
         all_adjacent = distinct & (self.forward_adjacent(a0, b1) | self.backward_adjacent(a1, b0))
         none_adjacent = ~same_ring | (distinct & ~self.forward_adjacent(a1, b0)
                                       & ~self.backward_adjacent(a0, b1))
+        # prune by bounding boxes: their gap bounds a pair's distance from below, and the
+        # distance between the first vertices of two non-adjacent runs from above
+        lower = np.hypot(*np.maximum(0, np.maximum(boxes[a, :2] - boxes[b, 2:],
+                                                   boxes[b, :2] - boxes[a, 2:])).T)
+        upper = np.linalg.norm(self.p0[a0] - self.p0[b0], axis=1)[none_adjacent]
+        near = lower <= (upper.min() if len(upper) else np.inf)
         candidates = []
-        whole = none_adjacent
+        whole = none_adjacent & near
         if whole.any():
             d = shapely.distance(chunks[a[whole]], chunks[b[whole]])
             k = np.argmin(d)
             candidates.append((d[k], a[whole][k], b[whole][k]))
-        mixed = ~all_adjacent & ~none_adjacent
+        mixed = ~all_adjacent & ~none_adjacent & near
         if mixed.any():
             i, j = _expand(first[a[mixed]], last[a[mixed]], first[b[mixed]], last[b[mixed]])
             keep = (i < j) & ~self.adjacent(np.minimum(i, j), np.maximum(i, j))

@@ -13,6 +13,7 @@ broken or lost, a notch of the outline closed off into a hole.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -88,21 +89,32 @@ def mesh_betti(faces: np.ndarray, n_vertices: int):
     [[1, 1]]
     """
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    pairs = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    keys = np.unique(pairs[:, 0] * n_vertices + pairs[:, 1])
-    edges = np.stack([keys // n_vertices, keys % n_vertices], axis=1)
+    edges, _ = _edges(faces, n_vertices)
     graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
                        shape=(n_vertices, n_vertices))
-    used = np.unique(faces)
-    _, component = np.unique(connected_components(graph, directed=False)[1][used],
-                             return_inverse=True)
-    labels = np.full(n_vertices, -1, dtype=np.int64)
-    labels[used] = component
-    count = int(component.max()) + 1 if len(used) else 0
-    chi = (np.bincount(component, minlength=count)
+    component = connected_components(graph, directed=False)[1]
+    used = np.zeros(n_vertices, dtype=bool)
+    used[faces.ravel()] = True
+    present = np.zeros(n_vertices, dtype=bool)
+    present[component[used]] = True
+    labels = np.where(used, (np.cumsum(present) - 1)[component], -1)
+    count = int(present.sum())
+    chi = (np.bincount(labels[used], minlength=count)
            - np.bincount(labels[edges[:, 0]], minlength=count)
            + np.bincount(labels[faces[:, 0]], minlength=count))
     return labels, np.stack([np.ones(count, dtype=np.int64), 1 - chi], axis=1)
+
+
+def _edges(faces: np.ndarray, n_vertices: int):
+    """The undirected edges of the triangles ``(E, 2)``, and the boundary edges (used by
+    one triangle only) directed as in that triangle, so the mesh lies on their left."""
+    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    keys = directed.min(axis=1) * n_vertices + directed.max(axis=1)
+    order = np.argsort(keys, kind="stable")
+    first = np.flatnonzero(np.diff(keys[order], prepend=-1))
+    counts = np.diff(first, append=len(keys))
+    edges = np.sort(directed[order[first]], axis=1)
+    return edges, directed[order[first[counts == 1]]]
 
 
 def topology_report(mesh) -> TopologyReport:
@@ -135,12 +147,8 @@ class _Comparison:
         self.alpha = float(mesh.alpha)
         self.labels, self.betti = mesh_betti(self.faces, len(self.vertices))
         self.components = list(self.region.geometry.geoms)
-        tree = shapely.STRtree(self.components)
-        nearest = tree.query_nearest(shapely.points(self.vertices), all_matches=False)
-        self.owner = np.empty(len(self.vertices), dtype=np.int64)
-        self.owner[nearest[0]] = nearest[1]               # region component of each vertex
-        self.triangles = shapely.polygons(self.vertices[self.faces])
-        self.covered = shapely.coverage_union_all(self.triangles) if len(self.faces) else Polygon()
+        self.owner = _owners(self.region, self.vertices)
+        self.covered = _union(self.vertices, self.faces)
         self.problems = []          # (component, sentence)
 
     def report(self) -> TopologyReport:
@@ -160,6 +168,10 @@ class _Comparison:
         return TopologyReport(betti_mesh=betti_mesh, betti_region=self.region.betti,
                               per_component=tuple(per_component), topology_ok=ok,
                               problems=tuple(text for _, text in self.problems))
+
+    @cached_property
+    def triangles(self):
+        return shapely.polygons(self.vertices[self.faces])
 
     def _problem(self, component, text):
         self.problems.append((component, text))
@@ -303,6 +315,46 @@ class _Comparison:
         c = int(self.owner[np.argmin(np.linalg.norm(self.vertices - where, axis=1))])
         self._problem(c, f"{what}: triangles bridge the passage near {_xy(where)} (about "
                          f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
+
+
+def _union(vertices, faces):
+    """The union of the triangles, from their boundary edges alone.
+
+    The boundary edges cut the plane into faces (``shapely.polygonize``); a face is
+    covered by the mesh when its counter-clockwise exterior runs along a boundary edge in
+    that edge's own direction (the mesh lies left of its boundary edges).
+    """
+    if not len(faces):
+        return Polygon()
+    _, boundary = _edges(faces, len(vertices))
+    pieces = shapely.get_parts(shapely.polygonize(shapely.linestrings(vertices[boundary])))
+    pieces = shapely.orient_polygons(pieces)
+    first = shapely.get_coordinates(shapely.get_exterior_ring(pieces), return_index=True)
+    starts = np.flatnonzero(np.diff(first[1], prepend=-1))
+    begin, end = first[0][starts], first[0][starts + 1]
+    edges = np.concatenate([vertices[boundary].reshape(-1, 4), np.hstack([begin, end])])
+    _, same = np.unique(edges, axis=0, return_inverse=True)
+    covered = np.isin(same[len(boundary):], same[:len(boundary)])
+    return shapely.union_all(pieces[covered])
+
+
+def _owners(region, points) -> np.ndarray:
+    """Index of the region component holding each point (for points that rounding puts
+    just outside, the component of the nearest boundary segment)."""
+    components = region.geometry.geoms
+    if len(components) == 1:
+        return np.zeros(len(points), dtype=np.int64)
+    owner = np.full(len(points), -1, dtype=np.int64)
+    for c, polygon in enumerate(components):
+        owner[(owner < 0) & shapely.intersects_xy(polygon, *points.T)] = c
+    stray = np.flatnonzero(owner < 0)
+    if len(stray):
+        segment_owner = np.repeat([c for c, _ in ring_owners(region)],
+                                  [len(ring) for ring in region.rings])
+        tree = shapely.STRtree(shapely.linestrings(region.segments))
+        nearest = tree.query_nearest(shapely.points(points[stray]), all_matches=False)
+        owner[stray[nearest[0]]] = segment_owner[nearest[1]]
+    return owner
 
 
 def _inscribed(shape):
