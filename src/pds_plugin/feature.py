@@ -6,7 +6,7 @@ size (distance to the medial axis) is zero at every corner of a polygon, so for 
 polygons of CAD sections this module measures the feature size of the boundary as a
 straight-line graph instead, in the spirit of Ruppert's local feature size:
 
-*the smallest distance between two non-adjacent pieces of the boundary.*
+*the smallest distance* ``d`` *between two non-adjacent pieces of the boundary.*
 
 Collinear vertices are ignored (a straight edge split into pieces is one feature). Two
 segments of the same ring are **adjacent** when they share a vertex, or when one can walk
@@ -17,9 +17,9 @@ between two boundary parts), a gap (between two components, a hole and the outli
 the two sides of a slot) is measured by its width. On a circle of radius ``r`` the rule
 measures the chord that spans 150° of arc, ``2·r·sin 75° ≈ 1.93·r``, nearly the diameter.
 
-So ``d`` is about twice the paper's local feature size: the medial axis runs midway
-between two features at distance ``d``, and through the centre of a circle. Hence
-:func:`suggest_alpha` returns ``½·LFS = d/4``.
+So ``d`` is about twice the paper's local feature size (LFS): the medial axis runs
+midway between two features at distance ``d``, and through the centre of a circle.
+Hence :func:`suggest_alpha` returns ``½·LFS = d/4``.
 """
 
 from __future__ import annotations
@@ -120,8 +120,8 @@ def feature_size(region: Region) -> FeatureSize:
 
     See the module documentation for the adjacency rule. The result is exact for polygons
     (segment-to-segment distances) and is found through a spatial index over runs of
-    consecutive segments, so sections with thousands of boundary vertices take
-    milliseconds.
+    consecutive segments: about 10 ms for a CAD section of 800 segments, 0.15 s for
+    6,500.
 
     A region without two non-adjacent segments is a triangle, up to collinear vertices and
     slight bends; its feature size is then its smallest altitude (the distance from a
@@ -153,7 +153,8 @@ def feature_size(region: Region) -> FeatureSize:
     if found is None:
         found = boundary.smallest_altitude()
     distance, (i, j), (p, q) = found
-    features = (boundary.describe(i, p, ring_owners(region)), boundary.describe(j, q, ring_owners(region)))
+    owners = ring_owners(region)
+    features = (boundary.describe(i, p, owners), boundary.describe(j, q, owners))
     middle = (p + q) / 2
     inside = bool(shapely.intersects_xy(region.geometry, middle[0], middle[1]))
     points = np.array([p, q])
@@ -168,11 +169,10 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
     Theorem 2 asks ``alpha <= ½ min LFS(∂R)``. Between two boundary features at distance
     ``d`` (:func:`feature_size`) the medial axis runs midway, so ``LFS ≈ d/2`` and the
     suggestion is ``alpha = ½·(d/2) = d/4``: half the feature size in the paper's sense.
-    This keeps a wall of thickness ``t`` four radii thick (at ``t = 2·alpha`` no interior
-    sample fits in the wall and no triangle of circumradius ``<= alpha`` spans it), a gap
-    of width ``g`` open (bridging it takes ``g <= (1 + √3/2)·alpha``), and a circular hole
-    of radius ``r`` open (``alpha ≈ r/2`` as in the paper's Figure 6; it closes near
-    ``alpha = r``).
+    A gap of width ``g`` then stays open (triangles of circumradius ``<= alpha`` can
+    bridge it only when ``g <= (1 + √3/2)·alpha``), and so does a circular hole of radius
+    ``r``: ``alpha ≈ 0.48·r`` (the paper's Figure 6 uses ``r/2``), while the hole closes
+    near ``alpha = r`` -- which ``d/2 ≈ 0.97·r`` would not avoid.
 
     Parameters
     ----------
@@ -191,8 +191,8 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
     0.05
     """
     size = _usable_feature_size(region)
-    alpha = size.value / 4
-    budget = DEFAULT_MAX_SAMPLES if max_samples is None else int(max_samples)
+    alpha = size.lfs / 2
+    budget = _budget(max_samples)
     if estimate_samples(region, alpha) <= budget:
         return alpha
     capped = _largest_alpha(region, budget)
@@ -250,10 +250,10 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     from .mesh import mesh_region
     if not 0 < refine < 1:
         raise ValueError(f"refine must lie in (0, 1), got {refine!r}")
-    budget = DEFAULT_MAX_SAMPLES if max_samples is None else int(max_samples)
+    budget = _budget(max_samples)
     size = _usable_feature_size(region)
     if max_alpha is None:
-        alpha = size.value / 4
+        alpha = size.lfs / 2
     elif np.isfinite(max_alpha) and max_alpha > 0:
         alpha = float(max_alpha)
     else:
@@ -268,10 +268,19 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         if alpha <= smallest:
             break
         alpha = max(alpha * refine, smallest)
-    raise ValueError(f"the {size} needs alpha <= {size.value / 4:.6g}, but alpha "
+    raise ValueError(f"the {size} needs alpha <= {size.lfs / 2:.6g}, but alpha "
                      f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
                      f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
                      "that feature")
+
+
+def _budget(max_samples) -> int:
+    if max_samples is None:
+        return DEFAULT_MAX_SAMPLES
+    if isinstance(max_samples, bool) or not isinstance(max_samples, (int, np.integer)) \
+            or max_samples < 1:
+        raise ValueError(f"max_samples must be a positive integer, got {max_samples!r}")
+    return int(max_samples)
 
 
 def _usable_feature_size(region: Region) -> FeatureSize:

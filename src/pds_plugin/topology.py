@@ -132,7 +132,7 @@ def topology_report(mesh) -> TopologyReport:
     >>> report.betti_mesh, report.betti_region
     ((1, 0), (1, 1))
     >>> print(report.problems[0])         # doctest: +ELLIPSIS
-    hole 0 of component 0 at (0, 0), about 0.6 wide, is filled by the mesh; ...
+    hole 0 of component 0 at (0, 0), about 0.599... wide, is filled by the mesh; keep it with alpha <= 0.149...
     """
     return _Comparison(mesh).report()
 
