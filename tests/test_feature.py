@@ -273,3 +273,12 @@ def test_auto_mesh_recovers_the_topology_of_real_parts(name, betti):
     assert certificate.topology_ok and certificate.betti_mesh == betti
     assert certificate.quality_ok
     assert mesh.alpha == pytest.approx(feature_size(reg).value / 4)
+
+
+@pytest.mark.parametrize("bad", [0, -3, 2.5, "many", True])
+def test_bad_sample_budgets(bad):
+    square = region(box(0, 0, 1, 1))
+    with pytest.raises(ValueError, match="max_samples must be a positive integer"):
+        suggest_alpha(square, max_samples=bad)
+    with pytest.raises(ValueError, match="max_samples must be a positive integer"):
+        auto_mesh(square, max_samples=bad)

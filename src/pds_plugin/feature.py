@@ -204,7 +204,7 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
 
 
 def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
-              max_samples: int | None = None, refine: float = 0.7):
+              refine: float = 0.7, **sampling_options):
     """Mesh ``region`` with an alpha whose mesh has the region's topology, verified.
 
     Starts from ``max_alpha`` if given (the coarsest mesh the caller accepts), else from
@@ -220,11 +220,11 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     seed : int
     max_alpha : float, optional
         The first alpha to try.
-    max_samples : int, optional
-        Sample budget (default: the sampler's); alpha never goes below the value that
-        fills it.
     refine : float
         Factor in (0, 1) applied to alpha after each failed check.
+    **sampling_options
+        Passed to :func:`pds_plugin.mesh_region`; ``max_samples`` is also the budget
+        below whose alpha the refinement stops.
 
     Returns
     -------
@@ -250,7 +250,7 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     from .mesh import mesh_region
     if not 0 < refine < 1:
         raise ValueError(f"refine must lie in (0, 1), got {refine!r}")
-    budget = _budget(max_samples)
+    budget = _budget(sampling_options.pop("max_samples", None))
     size = _usable_feature_size(region)
     if max_alpha is None:
         alpha = size.lfs / 2
@@ -261,7 +261,7 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     smallest = _largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
     alpha = max(alpha, smallest)
     while True:
-        mesh = mesh_region(region, alpha, seed=seed, max_samples=budget)
+        mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
         report = topology_report(mesh)
         if report.topology_ok:
             return mesh
