@@ -11,7 +11,6 @@ import sys
 from pathlib import Path
 
 import shapely
-from matplotlib.collections import PathCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 from shapely import affinity
@@ -58,15 +57,12 @@ def main(out_dir: Path = OUT, coarse: float = 0.12, fine: float = 0.03) -> dict:
     axes[1].set_title(f"(b) coarse: α = {coarse}, {len(meshes[coarse].vertices)} samples")
     plot_samples(meshes[fine], ax=axes[2])
     axes[2].set_title(f"(c) fine: α = {fine}, {len(meshes[fine].vertices)} samples")
-    plot_samples(meshes[fine], discs=True, ax=axes[3])
+    plot_samples(meshes[fine], discs=True, ax=axes[3], markersize=25)
     # zoom on the lower edge of the comedy mask's left eye, eight discs across
     (x, y), half = (0.65, 0.16), 4 * fine
     axes[3].set_xlim(x - half, x + half)
     axes[3].set_ylim(y - half, y + half)
     axes[3].set_title("(d) zoom on the red square: Poisson discs")
-    for dots in axes[3].collections:
-        if isinstance(dots, PathCollection):        # the sample markers
-            dots.set_sizes([25])
     axes[2].add_patch(Rectangle((x - half, y - half), 2 * half, 2 * half, fill=False,
                                 edgecolor="tab:red", linewidth=1.5, zorder=6))
     for ax in axes[1:3]:
