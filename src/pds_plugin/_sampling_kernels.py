@@ -212,61 +212,66 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
 
 
 @njit(cache=True)
-def dart_pass(cells, group_start, group_order, darts, inside, grid, covered, points, count,
-              alpha, x0, y0, s):
-    """One dart per cell, ``darts[k]`` in ``cells[k]``, accepted where it is in the
-    region (``inside``), its cell has no sample and the Poisson condition holds.
+def throw_darts(darts, cell, rank, ok, grid, covered, head, points, count, alpha, x0, y0, s):
+    """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
+    each that is in the region (``ok``) and at least alpha from every sample so far.
 
-    ``cells`` is sorted by phase group (Wei 2008: the 9 classes ``(iy % 3, ix % 3)``,
-    ``cells[group_start[g]:group_start[g + 1]]``), row-major inside a group. Groups are
-    visited in ``group_order``. Darts of one group are more than alpha apart, so the
-    order inside a group does not matter, and the row-major order keeps memory access
-    local. Returns the new sample count.
+    Thrown in random order they would cost a cache miss each, so the same result is
+    computed cell by cell instead: it is the lexicographically first maximal
+    independent set of the conflict graph (darts closer than alpha) by rank. Darts
+    are given sorted by their level-0 ``cell``; sweeps in that order accept a dart
+    once every conflicting dart of lower rank is rejected, and reject it as soon as
+    a conflicting dart is accepted. ``head`` (one entry per cell, all -1) is scratch
+    space: the first dart of each cell while this runs. Returns the new sample count.
     """
-    alpha2 = alpha * alpha
-    nx = grid.shape[1]
-    for g in group_order:
-        for k in range(group_start[g], group_start[g + 1]):
-            iy, ix = cells[k] // nx, cells[k] % nx
-            if grid[iy, ix] >= 0 or not inside[k]:
-                continue
-            x, y = darts[k, 0], darts[k, 1]
-            if _free(x, y, grid, points, alpha2, x0, y0, s):
-                count = _place(x, y, grid, covered, points, count, alpha2, x0, y0, s)
-    return count
-
-
-@njit(cache=True)
-def throw_darts(darts, ok, grid, covered, points, count, alpha, x0, y0, s):
-    """Accept, in order, each dart that is in the region (``ok``), lands in an open
-    cell and keeps the Poisson condition. Returns the new count."""
+    UNDECIDED, ACCEPTED, REJECTED = 0, 1, 2
     alpha2 = alpha * alpha
     ny, nx = grid.shape
-    for k in range(darts.shape[0]):
-        if not ok[k]:
-            continue
-        x, y = darts[k, 0], darts[k, 1]
-        ix, iy = _cell_of(x, y, x0, y0, s, nx, ny)
-        if grid[iy, ix] < 0 and _free(x, y, grid, points, alpha2, x0, y0, s):
-            count = _place(x, y, grid, covered, points, count, alpha2, x0, y0, s)
+    m = darts.shape[0]
+    for d in range(m - 1, -1, -1):
+        head[cell[d]] = d
+    state = np.full(m, REJECTED, np.int8)
+    todo = np.empty(m, np.int64)
+    n_todo = 0
+    for d in range(m):
+        if ok[d] and _free(darts[d, 0], darts[d, 1], grid, points, alpha2, x0, y0, s):
+            state[d] = UNDECIDED
+            todo[n_todo] = d
+            n_todo += 1
+    while n_todo:
+        kept = 0
+        for t in range(n_todo):
+            d = todo[t]
+            iy, ix = cell[d] // nx, cell[d] % nx
+            blocked = False
+            for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+                for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+                    c = jy * nx + jx
+                    e = head[c]
+                    while 0 <= e < m and cell[e] == c:
+                        if e == d or state[e] == REJECTED:
+                            e += 1
+                            continue
+                        dx = darts[e, 0] - darts[d, 0]
+                        dy = darts[e, 1] - darts[d, 1]
+                        if dx * dx + dy * dy < alpha2:
+                            if state[e] == ACCEPTED:
+                                state[d] = REJECTED
+                            elif rank[e] < rank[d]:
+                                blocked = True
+                        e += 1
+            if state[d] == UNDECIDED:
+                if blocked:
+                    todo[kept] = d
+                    kept += 1
+                else:
+                    state[d] = ACCEPTED
+        n_todo = kept
+    for d in range(m):
+        head[cell[d]] = -1
+        if state[d] == ACCEPTED:
+            count = _place(darts[d, 0], darts[d, 1], grid, covered, points, count, alpha2, x0, y0, s)
     return count
-
-
-@njit(cache=True)
-def _box_covered(ix, iy, x_lo, y_lo, size, grid, points, alpha2):
-    """True if one sample disc contains the box [x_lo, x_lo+size]² of level-0 cell (ix, iy)."""
-    ny, nx = grid.shape
-    x_hi, y_hi = x_lo + size, y_lo + size
-    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
-        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
-            q = grid[jy, jx]
-            if q >= 0:
-                qx, qy = points[q, 0], points[q, 1]
-                fx = max(abs(qx - x_lo), abs(qx - x_hi))   # farthest corner
-                fy = max(abs(qy - y_lo), abs(qy - y_hi))
-                if fx * fx + fy * fy <= alpha2:
-                    return True
-    return False
 
 
 @njit(cache=True)
@@ -297,8 +302,25 @@ def open_subcells(status, grid, covered):
 
 
 @njit(cache=True)
+def _box_covered(ix, iy, x_lo, y_lo, size, grid, points, alpha2):
+    """True if one sample disc contains the box [x_lo, x_lo+size]² of level-0 cell (ix, iy)."""
+    ny, nx = grid.shape
+    x_hi, y_hi = x_lo + size, y_lo + size
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+            q = grid[jy, jx]
+            if q >= 0:
+                qx, qy = points[q, 0], points[q, 1]
+                fx = max(abs(qx - x_lo), abs(qx - x_hi))   # farthest corner
+                fy = max(abs(qy - y_lo), abs(qy - y_hi))
+                if fx * fx + fy * fy <= alpha2:
+                    return True
+    return False
+
+
+@njit(cache=True)
 def uncovered_boxes(parent, bx, by, size, grid, points, alpha):
-    """For boxes [bx, bx+size]x[by, by+size] inside level-0 cells ``parent``: True
+    """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
     where no single sample disc contains the whole box."""
     alpha2 = alpha * alpha
     nx = grid.shape[1]

@@ -38,7 +38,7 @@ DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples (about 1 GB of working memory)."""
 
 _MAX_GRID_CELLS = 200_000_000
-_PHASE1_PASSES = 6
+_PHASE1_PASSES = 3
 _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
 
 
@@ -154,6 +154,7 @@ class _Sampler:
                                           self.nx, self.ny)
         self.grid = np.full((self.ny, self.nx), -1, np.int32)
         self.covered = np.zeros((self.ny * kern.SUB, self.nx * kern.SUB), bool)
+        self.head = np.full(self.ny * self.nx, -1, np.int64)     # scratch of throw_darts
         capacity = int(np.count_nonzero(self.status))
         self.points = np.empty((capacity, 2))
         self.count = 0
@@ -179,43 +180,25 @@ class _Sampler:
         self._insert(corners[np.argsort(-turns, kind="stable")])
 
     def add_boundary(self, rng):
-        seg = self.region.segments
-        vec = seg[:, 1] - seg[:, 0]
-        seg_len = np.hypot(vec[:, 0], vec[:, 1])
-        pieces = np.maximum(np.ceil(seg_len / self.s), 1).astype(np.int64)
-        owner = np.repeat(np.arange(len(seg)), pieces)
-        first = np.cumsum(pieces) - pieces
-        fraction = (np.arange(len(owner)) - first[owner]) / pieces[owner]
-        start = seg[owner, 0] + fraction[:, None] * vec[owner]
-        length = seg_len[owner] / pieces[owner]
-        direction = vec[owner] / seg_len[owner, None]
-        order = rng.permutation(len(owner))
-        u = rng.random(len(owner))
+        start, direction, length = self.region.boundary_pieces(self.s)
+        order = rng.permutation(len(start))
+        u = rng.random(len(start))
         self.count = kern.sample_boundary_pieces(
             start, direction, length, order, u, self.grid, self.covered, self.points, self.count,
             self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s)
 
     def add_interior(self, rng):
-        nx, s = self.nx, self.s
-        # stage 1: dart passes over the open level-0 cells, sorted by phase group; each
-        # dart goes to a random sub-cell of its cell that no disc covers yet
+        s = self.s
+        # stage 1: dart passes over the level-0 cells in random order; each dart goes to
+        # a random sub-cell of its cell that no disc covers yet
         cells = np.flatnonzero(self.status.ravel())
-        group = (cells // nx % 3) * 3 + cells % nx % 3
-        by_group = np.argsort(group, kind="stable")
-        cells, group = cells[by_group], group[by_group]
         width, h = self.covered.shape[1], s / kern.SUB
         for _ in range(_PHASE1_PASSES):
             choice = kern.pick_open_subcells(cells, rng.random(len(cells)), self.grid, self.covered)
-            still_open = choice >= 0
-            cells, group, choice = cells[still_open], group[still_open], choice[still_open]
-            if len(cells) == 0:
-                return
-            darts = np.column_stack([choice % width, choice // width]) + rng.random((len(cells), 2))
-            darts = np.array([self.x0, self.y0]) + darts * h
-            self.count = kern.dart_pass(cells, np.searchsorted(group, np.arange(10)),
-                                        rng.permutation(9), darts, self._in_region(cells, darts),
-                                        self.grid, self.covered, self.points, self.count,
-                                        self.alpha, self.x0, self.y0, s)
+            cells, choice = cells[choice >= 0], choice[choice >= 0]
+            darts = np.column_stack([choice % width, choice // width])
+            darts = np.array([self.x0, self.y0]) + (darts + rng.random((len(cells), 2))) * h
+            self._throw(cells, darts, rng)
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
         parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered)
@@ -228,12 +211,8 @@ class _Sampler:
             keep[on_edge] = shapely.intersects(
                 self.geometry, shapely.box(bx[on_edge], by[on_edge],
                                            bx[on_edge] + size, by[on_edge] + size))
-            order = self._phase_order(parent[keep], rng)
-            parent, sub_x, sub_y, bx, by = (a[keep][order] for a in (parent, sub_x, sub_y, bx, by))
-            darts = np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size
-            self.count = kern.throw_darts(darts, self._in_region(parent, darts), self.grid,
-                                          self.covered, self.points, self.count, self.alpha,
-                                          self.x0, self.y0, s)
+            parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
+            self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
             keep = self._uncovered(parent, bx, by, size)
             if size / 2 < _RESOLUTION * self.alpha:
                 break
@@ -241,15 +220,6 @@ class _Sampler:
             parent = np.repeat(parent[keep], 4)
             sub_x = 2 * np.repeat(sub_x[keep], 4) + np.tile([0, 1, 0, 1], len(parent) // 4)
             sub_y = 2 * np.repeat(sub_y[keep], 4) + np.tile([0, 0, 1, 1], len(parent) // 4)
-
-    def _phase_order(self, parent, rng):
-        """Order of children: phase groups in random order, parents row-major inside a
-        group, children of one parent in random order."""
-        group_rank = rng.permutation(9)
-        group = (parent // self.nx % 3) * 3 + parent % self.nx % 3
-        shuffled = rng.permutation(len(parent))
-        key = group_rank[group] * (self.nx * self.ny) + parent
-        return shuffled[np.argsort(key[shuffled], kind="stable")]
 
     def _box(self, cells, sub_x, sub_y, level):
         """Lower-left corners of the level-``level`` children (sub_x, sub_y) of cells."""
@@ -266,3 +236,10 @@ class _Sampler:
         on_edge = self.status.ravel()[cells] == kern.BOUNDARY
         inside[on_edge] = shapely.contains_xy(self.geometry, darts[on_edge, 0], darts[on_edge, 1])
         return inside
+
+    def _throw(self, cells, darts, rng):
+        """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
+        ``cells`` is sorted)."""
+        self.count = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
+                                      self._in_region(cells, darts), self.grid, self.covered,
+                                      self.head, self.points, self.count, self.alpha, self.x0, self.y0, self.s)
