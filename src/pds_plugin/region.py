@@ -80,17 +80,9 @@ class Region:
         multi = MultiPolygon(polygons)
         if not multi.is_valid:
             if not repair:
-                raise ValueError(f"invalid region geometry: {shapely.is_valid_reason(multi)}; "
-                                 "fix the outline or pass repair=True (shapely.make_valid)")
-            polygons = _polygons_of(shapely.make_valid(multi))
-        flat = [p for p in polygons if not p.area > 0]
-        if flat:
-            if not repair:
-                where = flat[0].representative_point() if not flat[0].is_empty else None
-                at = f" near ({where.x:.6g}, {where.y:.6g})" if where is not None else ""
-                raise ValueError(f"region has {len(flat)} zero-area part(s){at}; "
-                                 "remove them or pass repair=True to drop them")
-            polygons = [p for p in polygons if p.area > 0]
+                raise ValueError(_invalidity(polygons))
+            multi = shapely.make_valid(multi)
+        polygons = [p for p in _polygons_of(multi) if p.area > 0]
         if not polygons:
             raise ValueError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(MultiPolygon(polygons))
@@ -114,6 +106,21 @@ class Region:
     def segments(self) -> np.ndarray:
         """All boundary segments as an (m, 2, 2) array ``[[x0, y0], [x1, y1]]``."""
         return np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], axis=1) for r in self.rings])
+
+    def boundary_pieces(self, max_length: float):
+        """The boundary cut into straight pieces no longer than ``max_length``.
+
+        Returns ``(start, direction, length)``: (P, 2) start points, (P, 2) unit
+        directions and (P,) lengths, segment by segment in ring order.
+        """
+        seg = self.segments
+        vec = seg[:, 1] - seg[:, 0]
+        seg_len = np.hypot(vec[:, 0], vec[:, 1])
+        count = np.maximum(np.ceil(seg_len / max_length), 1).astype(np.int64)
+        owner = np.repeat(np.arange(len(seg)), count)
+        step = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+        start = seg[owner, 0] + (step / count[owner])[:, None] * vec[owner]
+        return start, vec[owner] / seg_len[owner, None], seg_len[owner] / count[owner]
 
     @property
     def area(self) -> float:
@@ -157,6 +164,17 @@ def _polygons_of(geometry) -> list[Polygon]:
     if others and not (polygons or nested):
         raise TypeError(f"expected polygons, got {others[0].geom_type}: a region needs area")
     return polygons + nested
+
+
+def _invalidity(polygons) -> str:
+    """Why these polygons do not make a valid region, and what to do."""
+    flat = [p for p in polygons if shapely.make_valid(p).area == 0]
+    if flat:
+        x, y = shapely.get_coordinates(flat[0].exterior)[:-1].mean(axis=0)
+        return (f"region has {len(flat)} zero-area part(s), one near ({x:.6g}, {y:.6g}); "
+                "remove them or pass repair=True to drop them")
+    return (f"invalid region geometry: {shapely.is_valid_reason(MultiPolygon(polygons))}; "
+            "fix the outline or pass repair=True (shapely.make_valid)")
 
 
 def _checked_frame(frame) -> np.ndarray:
