@@ -8,9 +8,9 @@ import numpy as np
 
 __all__ = ["Quality", "triangle_quality", "ASPECT_BOUND", "ASPECT_EQUILATERAL"]
 
-ASPECT_EQUILATERAL = 4 / np.sqrt(3)
+ASPECT_EQUILATERAL = float(4 / np.sqrt(3))
 """L²/A of the equilateral triangle, the smallest possible aspect ratio."""
-ASPECT_BOUND = 4 * np.sqrt(3)
+ASPECT_BOUND = float(4 * np.sqrt(3))
 """Theorem 1: no triangle of the solid alpha-complex of a PDS exceeds this L²/A."""
 
 

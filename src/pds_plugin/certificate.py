@@ -1,0 +1,259 @@
+"""The certificate of a mesh: what the paper promises, measured exactly on the result.
+
+- **Separation**: the smallest distance between samples. The closest pair is always a
+  Delaunay edge, so it is the shortest edge of the Delaunay triangulation DT(P).
+- **Coverage gap**: the largest distance from a point of the region to its nearest
+  sample. On a polygonal region it peaks at a Voronoi vertex inside the region (the
+  circumcentre of a Delaunay triangle), where a Voronoi edge crosses the boundary, or at a
+  boundary vertex; the last two are found exactly along every boundary piece (see
+  ``_certificate_kernels``).
+- **Quality** (Theorem 1): the largest aspect ratio L²/A against 4√3, and the angles.
+- **Topology** (Theorem 2): Betti numbers of mesh and region, see :mod:`.topology`.
+
+DT(P) is never built whole. The solid alpha-complex T holds its triangles of
+circumradius <= alpha; every other Delaunay triangle has all three vertices on the
+boundary of T (a vertex inside T has its whole Delaunay star in T) or in no triangle of
+T. Those vertices B are few, so DT(B) is cheap, and its triangles whose circumcircle
+holds no sample are exactly the Delaunay triangles missing from T.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.spatial import Delaunay, QhullError, cKDTree
+
+from ._certificate_kernels import boundary_gaps
+from .quality import ASPECT_BOUND
+from .topology import TopologyReport, topology_report
+
+__all__ = ["Certificate", "certify", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
+
+SEPARATION_TOL = 1e-12   # relative tolerances of the verdicts
+COVERAGE_TOL = 1e-9
+QUALITY_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """Measured guarantees of a :class:`~pds_plugin.PlanarMesh`.
+
+    Distances are ratios to ``alpha``; ``ok`` holds when the sampling is a maximal
+    Poisson disc sampling (separation >= 1, coverage gap <= 1), every triangle meets
+    Theorem 1, every sample is used, the mesh is manifold and its topology is the
+    region's.
+    """
+
+    alpha: float
+    samples: int
+    triangles: int
+    min_separation: float          # min distance between samples / alpha
+    coverage_gap: float            # max distance from the region to the samples / alpha
+    coverage_gap_at: tuple         # where the coverage gap peaks (region coordinates)
+    max_aspect_ratio: float        # L²/A, at most 4√3 by Theorem 1
+    min_angle: float               # degrees, at least 30 by Theorem 1
+    max_angle: float               # degrees, at most 120 by Theorem 1
+    isolated_samples: int          # samples in no triangle
+    nonmanifold_vertices: int      # vertices where two fans of triangles touch
+    area_ratio: float              # mesh area / region area
+    topology: TopologyReport
+
+    aspect_bound = ASPECT_BOUND
+
+    @property
+    def betti_mesh(self) -> tuple[int, int]:
+        return self.topology.betti_mesh
+
+    @property
+    def betti_region(self) -> tuple[int, int]:
+        return self.topology.betti_region
+
+    @property
+    def sampling_ok(self) -> bool:
+        """Poisson (separation >= alpha) and maximal (coverage gap <= alpha)."""
+        return (self.min_separation >= 1 - SEPARATION_TOL
+                and self.coverage_gap <= 1 + COVERAGE_TOL)
+
+    @property
+    def quality_ok(self) -> bool:
+        """Theorem 1: aspect ratio <= 4√3 and angles in [30°, 120°]."""
+        if self.triangles == 0:
+            return True
+        return (self.max_aspect_ratio <= ASPECT_BOUND * (1 + QUALITY_TOL)
+                and self.min_angle >= 30 * (1 - QUALITY_TOL)
+                and self.max_angle <= 120 * (1 + QUALITY_TOL))
+
+    @property
+    def topology_ok(self) -> bool:
+        return self.topology.topology_ok
+
+    @property
+    def ok(self) -> bool:
+        return (self.sampling_ok and self.quality_ok and self.topology_ok
+                and self.isolated_samples == 0 and self.nonmanifold_vertices == 0)
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values, verdicts included."""
+        values = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        values["coverage_gap_at"] = list(self.coverage_gap_at)
+        values["topology"] = self.topology.as_dict()
+        values.update(aspect_bound=ASPECT_BOUND, betti_mesh=self.betti_mesh,
+                      betti_region=self.betti_region, sampling_ok=self.sampling_ok,
+                      quality_ok=self.quality_ok, topology_ok=self.topology_ok, ok=self.ok)
+        return values
+
+    def __str__(self) -> str:
+        def mark(good):
+            return "ok" if good else "FAILED"
+        return "\n".join([
+            f"certificate: {mark(self.ok)} (alpha={self.alpha:.6g}, {self.samples} samples, "
+            f"{self.triangles} triangles)",
+            f"  separation   min {self.min_separation:.9f} alpha (>= 1)      {mark(self.min_separation >= 1 - SEPARATION_TOL)}",
+            f"  coverage gap max {self.coverage_gap:.9f} alpha (<= 1)      {mark(self.coverage_gap <= 1 + COVERAGE_TOL)}",
+            f"  aspect ratio max {self.max_aspect_ratio:.6f} (<= 4√3 = {ASPECT_BOUND:.6f})  {mark(self.quality_ok)}",
+            f"  angles       [{self.min_angle:.3f}°, {self.max_angle:.3f}°] (within [30°, 120°])",
+            f"  isolated samples {self.isolated_samples}, non-manifold vertices "
+            f"{self.nonmanifold_vertices}, area ratio {self.area_ratio:.6f}",
+            "  " + str(self.topology).replace("\n", "\n  "),
+        ])
+
+
+def certify(mesh) -> Certificate:
+    """Measure the certificate of ``mesh`` (see the module docstring).
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> cert = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 2, 1)), 0.1).certificate()
+    >>> cert.min_separation >= 1, cert.coverage_gap <= 1, cert.max_aspect_ratio <= cert.aspect_bound
+    (True, True, True)
+    """
+    points, faces, alpha = mesh.vertices, mesh.faces, mesh.alpha
+    quality = mesh.quality()
+    rim_edges = _boundary_edges(faces, len(points))
+    extra = _delaunay_triangles_outside(points, faces, rim_edges)
+    all_faces = np.concatenate([faces, extra])
+    gap, gap_at = _coverage_gap(mesh, extra)
+    used = np.zeros(len(points), bool)
+    used[faces.ravel()] = True
+    return Certificate(
+        alpha=alpha, samples=len(points), triangles=len(faces),
+        min_separation=_shortest_edge(points, all_faces) / alpha,
+        coverage_gap=gap / alpha, coverage_gap_at=tuple(float(v) for v in gap_at),
+        max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
+        min_angle=float(quality.angles.min(initial=180.0)),
+        max_angle=float(quality.angles.max(initial=0.0)),
+        isolated_samples=int(np.count_nonzero(~used)),
+        nonmanifold_vertices=_nonmanifold_vertices(rim_edges, len(points)),
+        area_ratio=float(quality.area.sum() / mesh.region.area),
+        topology=topology_report(mesh),
+    )
+
+
+def _boundary_edges(faces, n_vertices):
+    """(K, 2) edges that belong to exactly one triangle."""
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    key = np.sort(np.minimum(edges[:, 0], edges[:, 1]) * n_vertices + np.maximum(edges[:, 0], edges[:, 1]))
+    first = np.ones(len(key), bool)
+    first[1:] = key[1:] != key[:-1]
+    starts = np.flatnonzero(first)
+    single = key[starts[np.diff(np.append(starts, len(key))) == 1]]
+    return np.column_stack([single // n_vertices, single % n_vertices])
+
+
+def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:
+    """Vertices on more than two boundary edges: two fans of triangles meet there."""
+    return int(np.count_nonzero(np.bincount(boundary_edges.ravel(), minlength=n_vertices) > 2))
+
+
+def _circumcircles(points, faces):
+    a, b, c = (points[faces[:, k]] for k in range(3))
+    b, c = b - a, c - a
+    b2, c2 = (b * b).sum(axis=1), (c * c).sum(axis=1)
+    cross = 2.0 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        centre = np.column_stack([c[:, 1] * b2 - b[:, 1] * c2, b[:, 0] * c2 - c[:, 0] * b2]) / cross[:, None]
+    return a + centre, np.hypot(centre[:, 0], centre[:, 1])
+
+
+def _delaunay_triangles_outside(points, faces, rim_edges) -> np.ndarray:
+    """The Delaunay triangles of ``points`` that are not in ``faces`` (see module doc)."""
+    rim = np.ones(len(points), bool)
+    rim[faces.ravel()] = False           # vertices in no triangle...
+    rim[rim_edges.ravel()] = True        # ...and those on the complex's boundary
+    rim = np.flatnonzero(rim)
+    if len(rim) < 3:
+        return np.empty((0, 3), np.int64)
+    try:
+        local = Delaunay(points[rim]).simplices
+    except QhullError:            # all collinear: no triangle at all
+        return np.empty((0, 3), np.int64)
+    candidates = rim[local]
+    centre, radius = _circumcircles(points, candidates)
+    nearest, _ = cKDTree(points).query(centre)
+    return candidates[nearest >= radius * (1 - 1e-9)]
+
+
+def _shortest_edge(points, faces) -> float:
+    if len(faces) == 0:
+        if len(points) < 2:
+            return np.inf
+        return float(cKDTree(points).query(points, k=2)[0][:, 1].min())
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    return float(np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1).min())
+
+
+def _coverage_gap(mesh, extra):
+    """The largest distance from the region to the samples, and where it is."""
+    region, points = mesh.region, mesh.vertices
+    geometry = region.geometry
+    shapely.prepare(geometry)
+    best, best_at = _boundary_gap(region, points, mesh.alpha)
+    # Voronoi vertices of the missing Delaunay triangles that lie in the region
+    centre, radius = _circumcircles(points, extra)
+    inside = shapely.intersects_xy(geometry, centre[:, 0], centre[:, 1])
+    if inside.any():
+        k = np.flatnonzero(inside)[np.argmax(radius[inside])]
+        if radius[k] > best:
+            best, best_at = radius[k], centre[k]
+    # those of the complex: the largest circumradius above `best` whose centre is in the region
+    centre, radius = _circumcircles(points, mesh.faces)
+    larger = np.flatnonzero(radius > best)
+    larger = larger[np.argsort(-radius[larger])]
+    for chunk in np.array_split(larger, len(larger) // 4096 + 1):
+        inside = shapely.intersects_xy(geometry, centre[chunk, 0], centre[chunk, 1])
+        if inside.any():
+            k = chunk[np.argmax(inside)]
+            best, best_at = radius[k], centre[k]
+            break
+    return float(best), np.asarray(best_at, float)
+
+
+def _boundary_gap(region, points, alpha):
+    """Largest distance to the samples along the boundary, exact: candidates within
+    ``reach`` of a piece settle every point whose nearest sample is nearer than ``reach``;
+    pieces whose gap exceeds it are redone with a larger reach."""
+    start, direction, length = region.boundary_pieces(alpha)
+    tree = cKDTree(points)
+    middle = start + 0.5 * length[:, None] * direction
+    gap = np.full(len(start), np.inf)
+    where = np.zeros(len(start))
+    todo = np.arange(len(start))
+    reach = 2.0 * alpha
+    while len(todo):
+        near = tree.query_ball_point(middle[todo], 0.5 * length[todo] + reach)
+        sizes = np.fromiter(map(len, near), np.int64, len(near))
+        cand_start = np.concatenate([[0], np.cumsum(sizes)])
+        cand = np.fromiter((i for group in near for i in group), np.int64, cand_start[-1])
+        gap[todo], where[todo] = boundary_gaps(start[todo], direction[todo], length[todo],
+                                               cand_start, cand, points)
+        settled = gap[todo] <= reach
+        if sizes.max(initial=0) == len(points):
+            break
+        todo = todo[~settled]
+        reach *= 4.0
+    p = int(np.argmax(gap))
+    return gap[p], start[p] + where[p] * direction[p]
