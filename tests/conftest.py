@@ -1,0 +1,59 @@
+"""Shared fixtures and the independent oracles the tests compare against."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+from scipy.spatial import Delaunay, cKDTree
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+
+def shared_file(name: str) -> Path:
+    """A file of ../shared/data, or skip the test when it is absent."""
+    path = DATA / name
+    if not path.exists():
+        pytest.skip(f"{path} not available")
+    return path
+
+
+def delaunay_alpha_faces(points, alpha):
+    """Oracle: scipy's (Qhull) Delaunay triangles with circumradius <= alpha."""
+    if len(points) < 3:
+        return np.empty((0, 3), int)
+    tri = Delaunay(points).simplices
+    a, b, c = (points[tri[:, k]] for k in range(3))
+    ab, ac, bc = b - a, c - a, c - b
+    cross = np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
+    with np.errstate(divide="ignore"):
+        radius = (np.linalg.norm(ab, axis=1) * np.linalg.norm(ac, axis=1)
+                  * np.linalg.norm(bc, axis=1) / (2 * cross))
+    return tri[radius <= alpha]
+
+
+def face_set(faces):
+    return set(map(tuple, np.sort(np.asarray(faces), axis=1).tolist()))
+
+
+def min_distance(points):
+    return cKDTree(points).query(points, k=2)[0][:, 1].min()
+
+
+def probe_gap(geometry, points, spacing):
+    """Oracle: the largest distance to the samples over probes of the region: every
+    Voronoi vertex (scipy) inside it, and the boundary at ``spacing``. A lower bound of
+    the true coverage gap, within ``spacing`` of it."""
+    tree = cKDTree(points)
+    probes = [shapely.get_coordinates(shapely.segmentize(geometry.boundary, spacing))]
+    if len(points) >= 3:
+        tri = Delaunay(points)
+        a, b, c = (points[tri.simplices[:, k]] for k in range(3))
+        b, c = b - a, c - a
+        d = 2 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
+        ux = (c[:, 1] * (b ** 2).sum(1) - b[:, 1] * (c ** 2).sum(1)) / d
+        uy = (b[:, 0] * (c ** 2).sum(1) - c[:, 0] * (b ** 2).sum(1)) / d
+        centres = a + np.column_stack([ux, uy])
+        probes.append(centres[shapely.intersects_xy(geometry, centres[:, 0], centres[:, 1])])
+    probes = np.concatenate(probes)
+    return tree.query(probes)[0].max()

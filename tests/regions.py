@@ -1,0 +1,51 @@
+"""Hypothesis strategies for the regions the theorems are tested on."""
+
+import numpy as np
+import shapely
+from hypothesis import strategies as st
+from shapely import affinity
+from shapely.geometry import Point, Polygon, box
+
+import pds_plugin as pds
+
+
+@st.composite
+def star_polygons(draw):
+    """Random star-shaped polygons: sorted angles, random radii."""
+    n = draw(st.integers(5, 24))
+    angles = np.sort(draw(st.lists(st.floats(0, 2 * np.pi, exclude_max=True), min_size=n,
+                                   max_size=n, unique=True)))
+    radii = draw(st.lists(st.floats(0.3, 1.0), min_size=n, max_size=n))
+    polygon = Polygon(np.column_stack([radii * np.cos(angles), radii * np.sin(angles)]))
+    return polygon if polygon.is_valid and polygon.area > 0.05 else box(-1, -1, 1, 1)
+
+
+@st.composite
+def box_unions(draw):
+    """Unions of boxes and discs minus smaller holes: several components, holes, slots."""
+    def shapes(count, lo, hi):
+        return st.lists(st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(lo, hi),
+                                  st.floats(lo, hi), st.booleans()), min_size=1, max_size=count)
+
+    def make(x, y, w, h, disc):
+        return Point(x, y).buffer(w / 2, quad_segs=8) if disc else box(x, y, x + w, y + h)
+
+    solid = shapely.unary_union([make(*s) for s in draw(shapes(4, 0.3, 1.0))])
+    holes = shapely.unary_union([make(*s) for s in draw(shapes(3, 0.05, 0.4))])
+    region = shapely.make_valid(solid.difference(holes))
+    polygons = [p for p in shapely.get_parts(region) if p.geom_type == "Polygon" and p.area > 1e-3]
+    return shapely.MultiPolygon(polygons) if polygons else box(0, 0, 1, 1)
+
+
+def wedge(angle_degrees, length=1.0):
+    """A triangle with a corner of the given angle at the origin."""
+    a = np.radians(angle_degrees)
+    return Polygon([(0, 0), (length, 0), (length * np.cos(a), length * np.sin(a))])
+
+
+def slotted_plate(slot_width):
+    """A plate with a slot cut in from one side."""
+    return box(0, 0, 2, 1).difference(box(0.5, 0.3, 2.5, 0.3 + slot_width))
+
+
+regions = st.one_of(star_polygons(), box_unions()).map(pds.Region.from_shapely)

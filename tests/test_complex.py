@@ -1,0 +1,99 @@
+"""solid_alpha_complex: exactly the Delaunay triangles of circumradius <= alpha."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from shapely.geometry import box
+
+import pds_plugin as pds
+from conftest import delaunay_alpha_faces, face_set
+
+
+def signed_areas(points, faces):
+    a, b, c = (points[faces[:, k]] for k in range(3))
+    return 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+
+
+def assert_valid_triangulation(points, faces):
+    """Counter-clockwise, every edge in at most two triangles, no overlap (the areas add
+    up to the area of the union, which shapely computes independently)."""
+    import shapely
+    assert (signed_areas(points, faces) > 0).all()
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    assert np.unique(edges, axis=0, return_counts=True)[1].max(initial=0) <= 2
+    union = shapely.union_all(shapely.polygons(points[faces]))
+    assert np.isclose(union.area, signed_areas(points, faces).sum(), rtol=1e-9)
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(3, 400), seed=st.integers(0, 2**32 - 1), scale=st.floats(0.3, 3.0))
+def test_equals_the_delaunay_oracle_on_random_points(n, seed, scale):
+    points = np.random.default_rng(seed).random((n, 2))
+    alpha = scale / np.sqrt(n)
+    faces = pds.solid_alpha_complex(points, alpha)
+    assert face_set(faces) == face_set(delaunay_alpha_faces(points, alpha))
+    assert_valid_triangulation(points, faces)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), alpha=st.floats(0.03, 0.1))
+def test_equals_the_oracle_on_poisson_samples(seed, alpha):
+    region = pds.Region.from_shapely(box(0, 0, 1, 1).difference(box(0.3, 0.3, 0.5, 0.6)))
+    points = pds.poisson_disc(region, alpha, seed=seed).points
+    faces = pds.solid_alpha_complex(points, alpha)
+    assert face_set(faces) == face_set(delaunay_alpha_faces(points, alpha))
+
+
+@pytest.mark.parametrize("shape", [(7, 9), (20, 3)])
+def test_cocircular_lattice_gives_one_valid_triangulation(shape):
+    """Every square of a lattice has four cocircular corners: ties must be broken the
+    same way by all four triangles, so the squares are split, never doubled."""
+    points = np.stack(np.meshgrid(np.arange(shape[0]), np.arange(shape[1])), -1).reshape(-1, 2)
+    points = points.astype(float) * 0.1
+    faces = pds.solid_alpha_complex(points, 0.1 / np.sqrt(2) * 1.0001)
+    assert len(faces) == 2 * (shape[0] - 1) * (shape[1] - 1)
+    assert_valid_triangulation(points, faces)
+    assert np.isclose(signed_areas(points, faces).sum(), 0.01 * (shape[0] - 1) * (shape[1] - 1))
+
+
+def test_twelve_cocircular_points_are_split_once():
+    angles = np.arange(12) * np.pi / 6
+    ring = np.column_stack([np.cos(angles), np.sin(angles)])
+    faces = pds.solid_alpha_complex(ring, 1.0001)         # every triangle has R = 1
+    assert len(faces) == 10
+    assert_valid_triangulation(ring, faces)
+    assert len(pds.solid_alpha_complex(ring, 0.99)) == 0
+
+
+def test_output_is_deterministic_and_counter_clockwise():
+    points = np.random.default_rng(1).random((500, 2))
+    a = pds.solid_alpha_complex(points, 0.08)
+    b = pds.solid_alpha_complex(points.copy(), 0.08)
+    assert np.array_equal(a, b) and a.dtype == np.int64
+    assert (signed_areas(points, a) > 0).all()
+
+
+def test_input_is_not_modified():
+    points = np.random.default_rng(2).random((100, 2))
+    before = points.copy()
+    pds.solid_alpha_complex(points, 0.2)
+    assert np.array_equal(points, before)
+
+
+def test_too_few_points_give_no_triangle():
+    assert pds.solid_alpha_complex(np.zeros((2, 2)) + [[0, 0], [1, 0]], 1.0).shape == (0, 3)
+
+
+@pytest.mark.parametrize("points, message", [
+    (np.zeros((4, 3)), r"\(N, 2\) array"),
+    ([[0, 0], [1, 0], [np.nan, 1]], "NaN or infinite"),
+    ([[0, 0], [1, 0], [0, 1], [1, 0]], "points 1 and 3 are the same point"),
+])
+def test_bad_points_are_refused(points, message):
+    with pytest.raises(ValueError, match=message):
+        pds.solid_alpha_complex(points, 1.0)
+
+
+def test_bad_alpha_is_refused():
+    with pytest.raises(ValueError, match="alpha must be a positive finite number"):
+        pds.solid_alpha_complex(np.random.default_rng(0).random((5, 2)), -1)

@@ -1,0 +1,76 @@
+"""Region: validation with clear errors, repair, orientation, Betti numbers, frame."""
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
+
+import pds_plugin as pds
+
+
+def test_rings_are_oriented_and_open():
+    region = pds.Region.from_shapely(Polygon([(0, 0), (0, 4), (4, 4), (4, 0)],
+                                             [[(1, 1), (2, 1), (2, 2), (1, 2)]]))
+    outer, hole = region.rings
+    assert shapely.is_ccw(shapely.linearrings(outer)) and not shapely.is_ccw(shapely.linearrings(hole))
+    assert not np.array_equal(outer[0], outer[-1])
+    assert region.betti == (1, 1) and region.area == 15.0 and region.perimeter == 20.0
+
+
+def test_several_components_and_an_island_in_a_hole():
+    ring = box(0, 0, 10, 10).difference(box(2, 2, 8, 8))
+    region = pds.Region.from_shapely(MultiPolygon([ring, box(4, 4, 6, 6), box(20, 0, 21, 1)]))
+    assert region.betti == (3, 1)
+
+
+@pytest.mark.parametrize("geometry, message", [
+    (Polygon(), "empty"),
+    (Polygon([(0, 0), (1, 0), (np.nan, 1)]), "NaN or infinite"),
+    (Polygon([(0, 0), (2, 2), (2, 0), (0, 2)]), r"Self-intersection\[1 1\].*repair=True"),
+    (MultiPolygon([box(0, 0, 2, 2), box(1, 1, 3, 3)]), "invalid region geometry"),
+])
+def test_bad_geometry_is_refused_with_the_reason(geometry, message):
+    with pytest.raises(ValueError, match=message):
+        pds.Region.from_shapely(geometry)
+
+
+def test_zero_area_part_is_refused_and_located():
+    flat = Polygon([(5, 5), (6, 5), (7, 5)])
+    with pytest.raises(ValueError, match=r"zero-area part.*near \(6, 5\)"):
+        pds.Region.from_shapely(shapely.GeometryCollection([box(0, 0, 1, 1), flat]))
+
+
+def test_repair_uses_make_valid_and_keeps_both_lobes():
+    bowtie = Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+    region = pds.Region.from_shapely(bowtie, repair=True)
+    assert region.betti == (2, 0) and region.area == pytest.approx(2.0)   # buffer(0) gives 1.0
+
+
+@pytest.mark.parametrize("thing", [LineString([(0, 0), (1, 1)]), Point(0, 0), "square", None])
+def test_things_without_area_are_not_regions(thing):
+    with pytest.raises(TypeError, match="expected"):
+        pds.Region.from_shapely(thing)
+
+
+def test_frame_must_be_a_finite_4x4_matrix():
+    with pytest.raises(ValueError, match="4x4"):
+        pds.Region.from_shapely(box(0, 0, 1, 1), frame=np.eye(3))
+    frame = np.eye(4)
+    frame[:3, 3] = [1, 2, 3]
+    region = pds.Region.from_shapely(box(0, 0, 1, 1), frame=frame)
+    assert np.allclose(region.to_3d([[1, 1]]), [[2, 3, 3]])
+
+
+def test_the_callers_geometry_is_not_modified():
+    polygon = Polygon([(0, 0), (0, 1), (1, 1), (1, 0)])           # clockwise
+    before = shapely.get_coordinates(polygon).copy()
+    pds.mesh_region(pds.Region.from_shapely(polygon), 0.3)
+    assert np.array_equal(shapely.get_coordinates(polygon), before)
+    assert not shapely.is_prepared(polygon)
+
+
+def test_boundary_pieces_cover_the_boundary_in_short_steps():
+    region = pds.Region.from_shapely(box(0, 0, 3, 1).difference(Point(1, 0.5).buffer(0.3)))
+    start, direction, length = region.boundary_pieces(0.1)
+    assert length.max() <= 0.1 and np.isclose(length.sum(), region.perimeter)
+    assert np.allclose(np.linalg.norm(direction, axis=1), 1.0)
