@@ -39,6 +39,7 @@ _PUBLIC = {
     "section": "sources",
     "sections": "sources",
     "load_svg": "sources",
+    "demo_part": "demo",
     "add_section_meshes": "meshlab",
     "meshlab_quality": "meshlab",
 }
