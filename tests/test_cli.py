@@ -1,0 +1,302 @@
+"""The pds-mesh command, run as a user runs it (a subprocess) and through main(argv).
+
+Inputs: the built-in demo part (its section area is known in closed form) written as an
+STL, small hand-made broken inputs, and ../shared/data when present.
+"""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+from conftest import shared_file
+from pds_plugin.cli import main
+from pds_plugin.demo import THICKNESS, demo_part, demo_section_area
+from pds_plugin.quality import ASPECT_BOUND
+
+PREFIX = "pds-mesh: error: "
+
+
+def run(*args, cwd=None):
+    """``python -m pds_plugin.cli ARGS`` in a subprocess (what the pds-mesh script runs)."""
+    return subprocess.run([sys.executable, "-m", "pds_plugin.cli", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd, timeout=120)
+
+
+@pytest.fixture(scope="module")
+def part_stl(tmp_path_factory):
+    mesh = demo_part().to_mesh64()
+    path = tmp_path_factory.mktemp("part") / "part.stl"
+    trimesh.Trimesh(mesh.vert_properties[:, :3], mesh.tri_verts).export(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def open_stl(tmp_path_factory):
+    """A box with its +x side removed: not watertight where a z plane cuts it."""
+    box = trimesh.creation.box(extents=(2, 2, 2))
+    path = tmp_path_factory.mktemp("open") / "open.stl"
+    box.update_faces(box.face_normals[:, 0] < 0.5)
+    box.export(path)
+    return path
+
+
+def load_report(path):
+    return json.loads(path.read_text())["sections"]
+
+
+def read_ply_quality(path):
+    mesh = trimesh.load_mesh(path, process=False)
+    return mesh, mesh.metadata["_ply_raw"]["face"]["data"]["quality"]
+
+
+def one_error_line(stderr):
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1, stderr
+    assert lines[0].startswith(PREFIX), stderr
+    return lines[0]
+
+
+# --- as a user runs it ---------------------------------------------------------------
+
+def test_help_explains_the_options_with_examples():
+    result = run("--help")
+    assert result.returncode == 0
+    for text in ("--alpha", "--plane-origin", "--slices", "--jobs", "examples:",
+                 "pds-mesh demo", "OUT_000.ply"):
+        assert text in result.stdout
+
+
+def test_demo_writes_a_certified_mesh_report_and_picture(tmp_path):
+    out = tmp_path / "demo"
+    result = run("demo", "-o", out)
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == ""
+    assert "certificate  ok" in result.stdout and "4√3" in result.stdout
+    [entry] = load_report(out / "report.json")
+    certificate = entry["certificate"]
+    assert certificate["ok"] and certificate["topology_ok"]
+    assert certificate["max_aspect_ratio"] <= ASPECT_BOUND
+    assert entry["region"]["area"] == pytest.approx(demo_section_area(), rel=1e-9)
+    mesh, quality = read_ply_quality(out / "section.ply")
+    assert len(mesh.faces) == entry["triangles"] and len(mesh.vertices) == entry["samples"]
+    assert quality.max() <= ASPECT_BOUND
+    # the file's triangles cover the section as the certificate measured
+    assert mesh.area / demo_section_area() == pytest.approx(certificate["area_ratio"], rel=1e-9)
+    assert (out / "section.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    solid = trimesh.load_mesh(out / "part.stl")
+    assert solid.is_watertight and solid.volume == pytest.approx(
+        demo_section_area() * THICKNESS, rel=1e-6)
+
+
+def test_section_of_a_mesh_file_end_to_end(part_stl, tmp_path):
+    out, report, picture = tmp_path / "cut.ply", tmp_path / "r.json", tmp_path / "cut.png"
+    result = run(part_stl, "-o", out, "--axis", "z", "--at", "0.1", "--alpha", "0.15",
+                 "--report", report, "--plot", picture, "--discs")
+    assert result.returncode == 0, result.stderr
+    assert "cut.ply" in result.stdout
+    [entry] = load_report(report)
+    # an STL stores float32 coordinates: the area is exact to about 1e-7
+    assert entry["region"]["area"] == pytest.approx(demo_section_area(), rel=1e-6)
+    assert entry["plane"] == {"origin": [0.0, 0.0, 0.1], "normal": [0.0, 0.0, 1.0]}
+    certificate = entry["certificate"]
+    assert certificate["min_separation"] >= 1 - 1e-12
+    assert certificate["coverage_gap"] <= 1 + 1e-9
+    assert certificate["max_aspect_ratio"] <= certificate["aspect_bound"] == ASPECT_BOUND
+    assert entry["quality"]["aspect_max"] == certificate["max_aspect_ratio"]
+    mesh, quality = read_ply_quality(out)
+    np.testing.assert_allclose(mesh.vertices[:, 2], 0.1, atol=1e-12)    # in the plane
+    assert quality.max() == pytest.approx(certificate["max_aspect_ratio"], rel=1e-12)
+    assert picture.read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize("args, code, words", [
+    (["missing.stl", "-o", "out.ply", "--axis", "z", "--alpha", "0.1"], 1, "no such file"),
+    (["missing.stl", "-o", "out.ply", "--axis", "z", "--alpha", "-1"], 2, "alpha"),
+])
+def test_errors_are_one_line_without_traceback(tmp_path, args, code, words):
+    result = run(*args, cwd=tmp_path)
+    assert result.returncode == code
+    assert words in one_error_line(result.stderr)
+    assert result.stdout == ""
+
+
+# --- through main(argv) ----------------------------------------------------------
+
+def test_slices_are_numbered_and_evenly_spaced(part_stl, tmp_path, capsys):
+    out, report = tmp_path / "slice.ply", tmp_path / "r.json"
+    assert main([part_stl, "-o", out, "--plane-normal", "-2,0,0", "--slices", "3",
+                 "--alpha", "0.12", "--report", report]) == 0
+    assert capsys.readouterr().err == ""                 # no progress bar off a terminal
+    entries = load_report(report)
+    assert [e["output"] for e in entries] == [str(tmp_path / f"slice_{i:03d}.ply")
+                                              for i in range(3)]
+    # the middles of three equal slabs of the plate's extent [-2, 2] along the unit normal
+    assert all(e["plane"]["normal"] == [-1.0, 0.0, 0.0] for e in entries)
+    offsets = [np.dot(e["plane"]["origin"], e["plane"]["normal"]) for e in entries]
+    np.testing.assert_allclose(offsets, [-4 / 3, 0, 4 / 3], atol=1e-12)
+    for entry in entries:
+        mesh = trimesh.load_mesh(entry["output"], process=False)
+        assert len(mesh.faces) == entry["triangles"]
+        np.testing.assert_allclose(mesh.vertices[:, 0], np.dot(entry["plane"]["origin"],
+                                                               [1, 0, 0]), atol=1e-12)
+        assert entry["certificate"]["quality_ok"]
+
+
+def test_parallel_jobs_give_identical_files_and_reports(part_stl, tmp_path, capsys):
+    reports = {}
+    for jobs in (1, 2):
+        folder = tmp_path / f"jobs{jobs}"
+        folder.mkdir()
+        assert main([part_stl, "-o", folder / "s.obj", "--axis", "y", "--at", "-0.4,0,0.7",
+                     "--alpha", "0.1", "--jobs", jobs, "--report", folder / "r.json",
+                     "--quiet"]) == 0
+        reports[jobs] = load_report(folder / "r.json")
+    assert capsys.readouterr().out == ""                 # --quiet
+    for one, two in zip(reports[1], reports[2]):
+        assert open(one["output"], "rb").read() == open(two["output"], "rb").read()
+        one.pop("output"), two.pop("output")
+        assert one == two
+    assert len(reports[1]) == 3
+
+
+def test_auto_alpha_keeps_every_hole(part_stl, tmp_path, capsys):
+    report = tmp_path / "r.json"
+    assert main([part_stl, "-o", tmp_path / "m.ply", "--axis", "z", "--alpha", "auto",
+                 "--report", report]) == 0
+    [entry] = load_report(report)
+    assert entry["alpha_mode"] == "auto"
+    assert entry["certificate"]["topology_ok"]
+    assert entry["certificate"]["betti_mesh"] == entry["region"]["betti"] == [1, 3]
+    assert entry["alpha"] <= entry["feature_size"]["value"] / 4
+    assert "(auto)" in capsys.readouterr().out
+
+
+def test_too_large_alpha_warns_which_hole_is_lost_and_the_alpha_to_keep_it(part_stl,
+                                                                           tmp_path, capsys):
+    assert main([part_stl, "-o", tmp_path / "m.ply", "--axis", "z", "--alpha", "0.4"]) == 0
+    failed, *problems = capsys.readouterr().err.splitlines()
+    assert failed == f"pds-mesh: warning: {tmp_path / 'm.ply'}: certificate FAILED (topology)"
+    assert problems and all(p.startswith("pds-mesh: warning: ") for p in problems)
+    assert any("hole" in p and "alpha <=" in p for p in problems)
+
+
+def test_featuretype_auto_mid_section_has_2_components_and_8_holes(tmp_path, capsys):
+    stl = shared_file("featuretype.STL")
+    report = tmp_path / "r.json"
+    assert main([stl, "-o", tmp_path / "ft.ply", "--axis", "z", "--alpha", "auto",
+                 "--report", report]) == 0
+    [entry] = load_report(report)
+    assert entry["region"]["betti"] == [2, 8]            # ../shared/data/README.md
+    assert entry["certificate"]["ok"]
+    assert entry["certificate"]["betti_mesh"] == [2, 8]
+
+
+def test_mil_svg_needs_no_plane_and_reports_lost_holes(tmp_path, capsys):
+    svg = shared_file("MIL.svg")
+    report = tmp_path / "r.json"
+    assert main([svg, "-o", tmp_path / "mil.ply", "--alpha", "40", "--report", report]) == 0
+    [entry] = load_report(report)
+    assert entry["region"]["betti"] == [1, 8]            # ../shared/data/README.md
+    assert entry["plane"] == {"origin": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0]}
+    certificate = entry["certificate"]
+    assert certificate["sampling_ok"] and certificate["quality_ok"]
+    assert not certificate["topology_ok"]                # 40 is too coarse for small holes
+    assert "keep it with alpha <=" in capsys.readouterr().err
+
+
+def test_svg_with_holes_through_main(tmp_path, capsys):
+    svg = tmp_path / "ring.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20">'
+                   '<path fill-rule="evenodd" d="M0 0H20V20H0Z M5 5H15V15H5Z"/></svg>')
+    report = tmp_path / "r.json"
+    assert main([svg, "-o", tmp_path / "ring.ply", "--alpha", "1", "--report", report]) == 0
+    [entry] = load_report(report)
+    assert entry["region"]["area"] == 300.0 and entry["region"]["betti"] == [1, 1]
+    assert entry["certificate"]["ok"]
+
+
+@pytest.fixture
+def bad_inputs(tmp_path, part_stl, open_stl):
+    (tmp_path / "garbage.stl").write_text("this is not a mesh\n")
+    (tmp_path / "notes.txt").write_text("hello\n")
+    (tmp_path / "empty.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" '
+                                        'viewBox="0 0 10 10"></svg>')
+    return {"part": part_stl, "open": open_stl, "dir": tmp_path,
+            "garbage": tmp_path / "garbage.stl", "txt": tmp_path / "notes.txt",
+            "svg": tmp_path / "empty.svg", "missing": tmp_path / "missing.stl"}
+
+
+@pytest.mark.parametrize("what, args, code, words", [
+    ("missing file", ["{missing}", "--axis", "z"], 1, "no such file"),
+    ("a directory", ["{dir}", "--axis", "z"], 1, "is a directory"),
+    ("unreadable mesh", ["{garbage}", "--axis", "z"], 1, "no triangles"),
+    ("unknown format", ["{txt}", "--axis", "z"], 1, "not supported"),
+    ("zero normal", ["{part}", "--plane-normal", "0,0,0"], 2, "zero vector"),
+    ("unparsable plane", ["{part}", "--plane-normal", "0,a,1"], 2, "comma-separated"),
+    ("two numbers", ["{part}", "--plane-origin", "0,1", "--axis", "z"], 2, "three"),
+    ("no plane", ["{part}"], 1, "--axis or --plane-normal"),
+    ("plane misses", ["{part}", "--axis", "z", "--at", "3"], 1, "misses the solid"),
+    ("open mesh", ["{open}", "--axis", "z"], 1, "not watertight"),
+    ("empty svg", ["{svg}"], 1, "nothing to mesh"),
+    ("svg and plane", ["{svg}", "--axis", "z"], 1, "already planar"),
+    ("slices and origin", ["{part}", "--axis", "z", "--slices", "2", "--plane-origin",
+                           "0,0,0"], 1, "--slices"),
+    ("slices and at", ["{part}", "--axis", "z", "--slices", "2", "--at", "0"], 2,
+     "not allowed with"),
+    ("zero slices", ["{part}", "--axis", "z", "--slices", "0"], 2, "positive integer"),
+])
+def test_bad_inputs_get_one_clear_line(bad_inputs, capsys, what, args, code, words):
+    args = [a.format(**bad_inputs) for a in args]
+    out = bad_inputs["dir"] / "out.ply"
+    assert main([*args, "-o", out, "--alpha", "0.2"]) == code, what
+    captured = capsys.readouterr()
+    assert words in one_error_line(captured.err), what
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("alpha", ["0", "-0.5", "abc", "nan", "inf"])
+def test_bad_alpha_is_a_usage_error(part_stl, tmp_path, capsys, alpha):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", f"--alpha={alpha}"]) == 2
+    assert "positive number or 'auto'" in one_error_line(capsys.readouterr().err)
+
+
+def test_too_many_samples_passes_the_estimate_and_the_largest_alpha(part_stl, tmp_path,
+                                                                    capsys):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "1e-6"]) == 1
+    line = one_error_line(capsys.readouterr().err)
+    assert "samples" in line and "alpha >=" in line
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "0.05",
+                 "--max-samples", "100"]) == 1
+    assert "max_samples=100" in one_error_line(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("output, plot, words", [
+    ("out.stl", None, "output suffix"),
+    ("nowhere/out.ply", None, "does not exist"),
+    ("out.ply", "picture.xyz", "picture suffix"),
+])
+def test_bad_outputs_are_refused_before_meshing(part_stl, tmp_path, capsys, output, plot,
+                                                words):
+    args = [part_stl, "-o", tmp_path / output, "--axis", "z", "--alpha", "0.1"]
+    assert main(args + (["--plot", tmp_path / plot] if plot else [])) == 1
+    assert words in one_error_line(capsys.readouterr().err)
+
+
+def test_an_alpha_too_large_for_any_triangle_names_the_section(part_stl, tmp_path, capsys):
+    out = tmp_path / "s.ply"
+    assert main([part_stl, "-o", out, "--axis", "z", "--at", "-0.1,0.1", "--alpha", "50"]) == 1
+    line = one_error_line(capsys.readouterr().err)
+    assert str(tmp_path / "s_000.ply") in line and "no triangles" in line
+
+
+def test_the_input_is_never_overwritten(tmp_path, capsys):
+    box = tmp_path / "box.ply"
+    trimesh.creation.box().export(box)
+    before = box.read_bytes()
+    assert main([box, "-o", box, "--axis", "z", "--alpha", "0.1"]) == 1
+    assert "overwrite the input" in one_error_line(capsys.readouterr().err)
+    assert box.read_bytes() == before
