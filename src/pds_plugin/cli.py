@@ -486,8 +486,9 @@ def _demo(args) -> int:
         f"  {report}  quality statistics and certificate",
         f"  {task.plot}  samples with discs, mesh by aspect ratio, histogram",
         "",
-        f"next: pds-mesh {solid} -o {out / 'cut.ply'} --axis y --slices 3 --alpha auto "
-        f"--plot {out / 'cut.png'}",
+        "next, a finer mesh, and one too coarse (its certificate says which holes it lost):",
+        f"  pds-mesh {solid} -o {out / 'fine.ply'} --axis z --alpha 0.03",
+        f"  pds-mesh {solid} -o {out / 'coarse.ply'} --axis z --alpha 0.3",
     ]))
     return 0
 
