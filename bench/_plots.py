@@ -1,0 +1,93 @@
+"""The benchmark's figures: time against vertex count, and aspect-ratio tails."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pds_plugin.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+
+MAX_POINTS = 200_000   # aspect ratios drawn per curve (a random subset beyond this)
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def time_vs_vertices(rows, path: Path) -> Path | None:
+    """Log-log wall time against vertex count on the unit squares, one line per peer;
+    pds_plugin's parts dashed; scipy's extrapolated times as open markers."""
+    squares = [row for row in rows if row.case.key == "square" and row.ok and row.metrics]
+    if not squares:
+        return None
+    plt = _pyplot()
+    figure, ax = plt.subplots(figsize=(8, 5.5))
+    for key in dict.fromkeys(row.peer.key for row in squares):
+        mine = sorted((row for row in squares if row.peer.key == key),
+                      key=lambda row: row.metric("vertices"))
+        # an extrapolated time belongs to the count it was extrapolated to
+        x = [row.measured_points * row.scale if row.scale != 1 else row.metric("vertices")
+             for row in mine]
+        y = [row.time for row in mine]
+        extrapolated = any(row.scale != 1 for row in mine)
+        ax.plot(x, y, "o-", mfc="none" if extrapolated else None, **_style(key),
+                label=mine[0].peer.label + (" (extrapolated)" if extrapolated else ""))
+        if key == "pds":
+            for part, style in (("sampling", ":"), ("complex", "--"), ("certificate", "-.")):
+                ax.plot(x, [row.times[part] for row in mine], style, color="0.4", lw=1,
+                        label=f"pds_plugin {part}")
+    ax.set(xscale="log", yscale="log", xlabel="mesh vertices", ylabel="wall time (s)",
+           title="Unit square: time against vertex count (one run, each peer in a fresh process)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small", loc="upper left")
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+    return path
+
+
+def aspect_tails(rows, case_names, path: Path) -> Path | None:
+    """For each named case, the share of each peer's triangles with aspect ratio L²/A
+    above x (log scale), with Theorem 1's bound 4√3 marked."""
+    panels = [[row for row in rows if row.case.name == name and row.ok
+               and len(row.metric("aspect", ())) > 0] for name in case_names]
+    panels = [panel for panel in panels if panel]
+    if not panels:
+        return None
+    plt = _pyplot()
+    figure, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 5), squeeze=False)
+    for ax, panel in zip(axes[0], panels):
+        floor = 0.5 / max(len(row.metric("aspect")) for row in panel)
+        for row in panel:
+            values = np.sort(_subsample(row.metric("aspect")))
+            values = values[np.isfinite(values)]
+            share = 1 - np.arange(len(values)) / len(values)
+            ax.step(values, share, where="post", label=row.peer.label, **_style(row.peer.key))
+        ax.axvline(ASPECT_BOUND, color="k", ls="--", lw=1)
+        ax.text(ASPECT_BOUND, 1.5 * floor, " 4√3 (Theorem 1)", fontsize="small")
+        ax.set(xscale="log", yscale="log", xlim=(ASPECT_EQUILATERAL, None), ylim=(floor, 1.1),
+               xlabel="aspect ratio L²/A", ylabel="share of triangles with L²/A > x",
+               title=panel[0].case.name)
+        ax.grid(True, which="both", alpha=0.3)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    figure.legend(handles, labels, loc="lower center", ncol=3, fontsize="small")
+    figure.tight_layout(rect=(0, 0.14, 1, 1))
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+    return path
+
+
+def _style(key: str) -> dict:
+    """pds_plugin drawn black, thick and on top; the peers in the default colours."""
+    return {"color": "k", "lw": 2.5, "zorder": 10} if key == "pds" else {}
+
+
+def _subsample(values, size: int = MAX_POINTS) -> np.ndarray:
+    values = np.asarray(values)
+    if len(values) <= size:
+        return values
+    return np.random.default_rng(0).choice(values, size, replace=False)

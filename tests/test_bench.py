@@ -1,0 +1,135 @@
+"""The benchmark harness (bench/peers.py): its measures against closed forms and an
+independent oracle, each peer on a tiny region (peers not installed are skipped), its
+isolation of timeouts and crashes, and one end-to-end run on a tiny configuration."""
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+from scipy.spatial import cKDTree
+from shapely.geometry import Point, box
+
+import pds_plugin as pds
+from pds_plugin.quality import ASPECT_BOUND
+from pds_plugin.sampling import estimate_samples
+
+from conftest import probe_gap
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+import _isolate  # noqa: E402
+import _metrics  # noqa: E402
+import _regions  # noqa: E402
+import _runners  # noqa: E402
+import peers  # noqa: E402
+
+SQUARE = pds.Region.from_shapely(box(0, 0, 1, 1))
+PLATE = pds.Region.from_shapely(
+    box(0, 0, 2, 1).difference(Point(0.6, 0.5).buffer(0.25, quad_segs=16)))
+PLATE_ALPHA = 0.09
+
+
+def installed(peer):
+    missing = [name for name in peer.needs if importlib.util.find_spec(name) is None]
+    if missing:
+        pytest.skip(f"{', '.join(missing)} not installed")
+
+
+def test_alpha_for_inverts_the_sample_estimate():
+    for region, count in ((SQUARE, 10_000), (PLATE, 3_000), (_regions.two_holes(), 50_000)):
+        alpha = _regions.alpha_for(region, count)
+        assert estimate_samples(region, alpha) == pytest.approx(count, rel=1e-12)
+
+
+def test_coverage_gap_closed_forms():
+    corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    # the centre is farthest from the corners; with the centre added, the edge midpoints
+    assert _metrics.coverage_gap(SQUARE, corners, 0.5) == pytest.approx(math.sqrt(0.5), rel=1e-12)
+    with_centre = np.vstack([corners, [0.5, 0.5]])
+    assert _metrics.coverage_gap(SQUARE, with_centre, 0.5) == pytest.approx(0.5, rel=1e-12)
+
+
+def test_coverage_gap_agrees_with_the_test_oracle():
+    points = np.random.default_rng(4).random((300, 2)) * [2, 1]
+    points = points[shapely.contains_xy(PLATE.geometry, points[:, 0], points[:, 1])]
+    spacing = PLATE_ALPHA / _metrics.PROBES_PER_ALPHA
+    ours = _metrics.coverage_gap(PLATE, points, PLATE_ALPHA)
+    oracle = probe_gap(PLATE.geometry, points, spacing)
+    assert ours == pytest.approx(oracle, abs=spacing)
+
+
+def test_hausdorff_of_an_inset_square():
+    inner = np.array([[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]])
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    distance = _metrics.boundary_hausdorff(SQUARE, inner, faces, 0.05)
+    assert distance == pytest.approx(0.1 * math.sqrt(2))
+
+
+def test_topology_and_manifold_counts():
+    # a square annulus of 8 triangles: one component, one hole
+    ring = np.array([[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6],
+                     [3, 0, 4], [3, 4, 7]])
+    assert _metrics.betti_numbers(ring, 8) == (1, 1)
+    assert _metrics.nonmanifold_edges(ring) == 0
+    assert len(_metrics.boundary_edges(ring)) == 8
+    fan = np.array([[0, 1, 2], [0, 1, 3], [0, 1, 4]])          # three triangles on edge 0-1
+    assert _metrics.nonmanifold_edges(fan) == 1
+
+
+@pytest.mark.parametrize("key", list(_runners.PEERS))
+def test_peer_meshes_a_plate_with_a_hole(key):
+    peer = _runners.PEERS[key]
+    installed(peer)
+    target = 600                   # above the count Triangle reaches with no area limit
+    run = peer.run(PLATE, PLATE_ALPHA, target, _runners.Options(scipy_points=100))
+    assert run.times["total"] > 0 and run.peak_mb > 0
+    assert run.faces.min() >= 0 and run.faces.max() < len(run.vertices)
+    m = _metrics.measure(PLATE, run.vertices, run.faces, run.alpha, run.samples)
+    if key == "pds":              # Theorem 1 and maximality, measured independently
+        assert m["coverage_gap"] <= 1 + 1e-9 and m["max_aspect"] <= ASPECT_BOUND * (1 + 1e-9)
+        assert m["topology_ok"] and run.info["certificate_ok"]
+    if key.startswith(("triangle", "gmsh")):   # conforming meshers keep the boundary exactly
+        assert m["area_ratio"] == pytest.approx(1, abs=1e-9)
+        assert m["hausdorff"] == pytest.approx(0, abs=1e-9) and m["topology_ok"]
+        assert m["min_angle"] >= {"triangle-pq30": 30, "triangle-pq33": 33}.get(key, 0)
+    if key.startswith("triangle"):     # sized by untimed trials to the target count
+        assert abs(len(run.vertices) - target) <= 0.1 * target
+    if key in ("scipy", "meshlab"):    # Poisson disc: no two samples closer than the radius
+        assert cKDTree(run.samples).query(run.samples, k=2)[0][:, 1].min() >= run.alpha * (1 - 1e-6)
+    if key == "scipy":                 # capped at 100 samples: run at a coarser alpha
+        assert run.alpha > PLATE_ALPHA
+
+
+def test_timeout_and_crash_become_rows():
+    options = _runners.Options()
+    slow = _isolate.run_isolated("pds", SQUARE, 0.1, 100, options, timeout=0.01)
+    assert slow.status == "timeout" and "0.01 s" in slow.message
+    broken = _isolate.run_isolated("no-such-peer", SQUARE, 0.1, 100, options, timeout=60)
+    assert broken.status == "failed" and "KeyError" in broken.message
+
+
+def test_command_line_rejects_bad_arguments(capsys):
+    for argv in (["--regions", "square,moon"], ["--timeout", "0"], ["--sizes", "many"],
+                 ["--peers", "ansys"]):
+        with pytest.raises(SystemExit):
+            peers.parse(argv)
+    assert "choose from" in capsys.readouterr().err
+
+
+def test_tiny_run_writes_the_report_and_figures(tmp_path):
+    out = tmp_path / "benchmarks.md"
+    peers.main(["--sizes", "300", "--regions", "square", "--peers", "scipy,triangle-pq30",
+                "--scipy-points", "150", "--no-startup", "--out", str(out)])
+    text = out.read_text()
+    for section in ("## Machine", "## Targets", "### unit square 300",
+                    "## pds_plugin's parts", "## How each number is obtained"):
+        assert section in text
+    for peer in ("pds", "scipy", "triangle-pq30"):
+        label = _runners.PEERS[peer].label
+        assert text.count(f"| {label} |") + text.count(f"| **{label}** |") == 1
+    assert "‡ measured" in text            # scipy above its cap is extrapolated, and says so
+    assert (tmp_path / "bench_time_vs_vertices.png").stat().st_size > 0
+    assert (tmp_path / "bench_aspect_ratio.png").stat().st_size > 0
