@@ -21,7 +21,10 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Polygon
 
-__all__ = ["ComponentTopology", "TopologyReport", "topology_report", "mesh_betti", "ring_owners"]
+from ._mesh_kernels import edges_of
+
+__all__ = ["ComponentTopology", "TopologyReport", "topology_report", "mesh_betti", "mesh_edges",
+           "ring_owners"]
 
 
 @dataclass(frozen=True)
@@ -89,7 +92,7 @@ def mesh_betti(faces: np.ndarray, n_vertices: int):
     [[1, 1]]
     """
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    edges, _ = _edges(faces, n_vertices)
+    edges, _ = mesh_edges(faces, n_vertices)
     graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
                        shape=(n_vertices, n_vertices))
     component = connected_components(graph, directed=False)[1]
@@ -105,16 +108,11 @@ def mesh_betti(faces: np.ndarray, n_vertices: int):
     return labels, np.stack([np.ones(count, dtype=np.int64), 1 - chi], axis=1)
 
 
-def _edges(faces: np.ndarray, n_vertices: int):
+def mesh_edges(faces: np.ndarray, n_vertices: int):
     """The undirected edges of the triangles ``(E, 2)``, and the boundary edges (used by
     one triangle only) directed as in that triangle, so the mesh lies on their left."""
-    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    keys = directed.min(axis=1) * n_vertices + directed.max(axis=1)
-    order = np.argsort(keys, kind="stable")
-    first = np.flatnonzero(np.diff(keys[order], prepend=-1))
-    counts = np.diff(first, append=len(keys))
-    edges = np.sort(directed[order[first]], axis=1)
-    return edges, directed[order[first[counts == 1]]]
+    edges, uses = edges_of(np.asarray(faces, dtype=np.int64).reshape(-1, 3), n_vertices)
+    return edges, edges[uses == 1]
 
 
 def topology_report(mesh) -> TopologyReport:
@@ -181,7 +179,9 @@ class _Comparison:
     def _match_components(self) -> list[set[int]]:
         """Mesh components on each region component; reports lost, broken and joined ones."""
         used = self.labels >= 0
-        pairs = np.unique(np.stack([self.labels[used], self.owner[used]], axis=1), axis=0)
+        n_owner = len(self.components)
+        pairs = np.unique(self.labels[used] * n_owner + self.owner[used])
+        pairs = np.column_stack([pairs // n_owner, pairs % n_owner])
         parts = [set(pairs[pairs[:, 1] == c, 0].tolist()) for c in range(len(self.components))]
         for c, pieces in enumerate(parts):
             if not pieces:
@@ -326,7 +326,7 @@ def _union(vertices, faces):
     """
     if not len(faces):
         return Polygon()
-    _, boundary = _edges(faces, len(vertices))
+    _, boundary = mesh_edges(faces, len(vertices))
     pieces = shapely.get_parts(shapely.polygonize(shapely.linestrings(vertices[boundary])))
     pieces = shapely.orient_polygons(pieces)
     first = shapely.get_coordinates(shapely.get_exterior_ring(pieces), return_index=True)
