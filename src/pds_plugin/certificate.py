@@ -26,8 +26,9 @@ import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from ._certificate_kernels import boundary_gaps
+from ._geometry_kernels import circumcircles
 from .quality import ASPECT_BOUND
-from .topology import TopologyReport, topology_report
+from .topology import TopologyReport, mesh_edges, topology_report
 
 __all__ = ["Certificate", "certify", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
 
@@ -131,17 +132,18 @@ def certify(mesh) -> Certificate:
     >>> cert.min_separation >= 1, cert.coverage_gap <= 1, cert.max_aspect_ratio <= cert.aspect_bound
     (True, True, True)
     """
-    points, faces, alpha = mesh.vertices, mesh.faces, mesh.alpha
+    points, alpha = mesh.vertices, mesh.alpha
+    faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     quality = mesh.quality()
-    rim_edges = _boundary_edges(faces, len(points))
-    extra = _delaunay_triangles_outside(points, faces, rim_edges)
-    all_faces = np.concatenate([faces, extra])
-    gap, gap_at = _coverage_gap(mesh, extra)
+    tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
+    rim_edges = mesh_edges(faces, len(points))[1]
+    extra = _delaunay_triangles_outside(points, faces, rim_edges, tree)
+    gap, gap_at = _coverage_gap(mesh, faces, extra, tree)
     used = np.zeros(len(points), bool)
     used[faces.ravel()] = True
     return Certificate(
         alpha=alpha, samples=len(points), triangles=len(faces),
-        min_separation=_shortest_edge(points, all_faces) / alpha,
+        min_separation=_shortest_edge(points, quality, extra, tree) / alpha,
         coverage_gap=gap / alpha, coverage_gap_at=tuple(float(v) for v in gap_at),
         max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
         min_angle=float(quality.angles.min(initial=180.0)),
@@ -153,33 +155,12 @@ def certify(mesh) -> Certificate:
     )
 
 
-def _boundary_edges(faces, n_vertices):
-    """(K, 2) edges that belong to exactly one triangle."""
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    key = np.sort(np.minimum(edges[:, 0], edges[:, 1]) * n_vertices + np.maximum(edges[:, 0], edges[:, 1]))
-    first = np.ones(len(key), bool)
-    first[1:] = key[1:] != key[:-1]
-    starts = np.flatnonzero(first)
-    single = key[starts[np.diff(np.append(starts, len(key))) == 1]]
-    return np.column_stack([single // n_vertices, single % n_vertices])
-
-
 def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:
     """Vertices on more than two boundary edges: two fans of triangles meet there."""
     return int(np.count_nonzero(np.bincount(boundary_edges.ravel(), minlength=n_vertices) > 2))
 
 
-def _circumcircles(points, faces):
-    a, b, c = (points[faces[:, k]] for k in range(3))
-    b, c = b - a, c - a
-    b2, c2 = (b * b).sum(axis=1), (c * c).sum(axis=1)
-    cross = 2.0 * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        centre = np.column_stack([c[:, 1] * b2 - b[:, 1] * c2, b[:, 0] * c2 - c[:, 0] * b2]) / cross[:, None]
-    return a + centre, np.hypot(centre[:, 0], centre[:, 1])
-
-
-def _delaunay_triangles_outside(points, faces, rim_edges) -> np.ndarray:
+def _delaunay_triangles_outside(points, faces, rim_edges, tree) -> np.ndarray:
     """The Delaunay triangles of ``points`` that are not in ``faces`` (see module doc)."""
     rim = np.ones(len(points), bool)
     rim[faces.ravel()] = False           # vertices in no triangle...
@@ -192,35 +173,37 @@ def _delaunay_triangles_outside(points, faces, rim_edges) -> np.ndarray:
     except QhullError:            # all collinear: no triangle at all
         return np.empty((0, 3), np.int64)
     candidates = rim[local]
-    centre, radius = _circumcircles(points, candidates)
-    nearest, _ = cKDTree(points).query(centre)
+    centre, radius = circumcircles(points, candidates)
+    flat = ~np.isfinite(radius)              # Qhull's slivers on collinear points
+    candidates, centre, radius = candidates[~flat], centre[~flat], radius[~flat]
+    nearest, _ = tree.query(centre)
     return candidates[nearest >= radius * (1 - 1e-9)]
 
 
-def _shortest_edge(points, faces) -> float:
-    if len(faces) == 0:
-        if len(points) < 2:
-            return np.inf
-        return float(cKDTree(points).query(points, k=2)[0][:, 1].min())
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    return float(np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1).min())
+def _shortest_edge(points, quality, extra, tree) -> float:
+    """The closest pair of samples is a Delaunay edge: of the complex or of ``extra``."""
+    if len(quality.edge_lengths) + len(extra) == 0:
+        return float(tree.query(points, k=2)[0][:, 1].min()) if len(points) > 1 else np.inf
+    extra_edges = points[extra] - points[np.roll(extra, 1, axis=1)]
+    return float(min(quality.edge_lengths.min(initial=np.inf),
+                     np.linalg.norm(extra_edges, axis=2).min(initial=np.inf)))
 
 
-def _coverage_gap(mesh, extra):
+def _coverage_gap(mesh, faces, extra, tree):
     """The largest distance from the region to the samples, and where it is."""
     region, points = mesh.region, mesh.vertices
     geometry = region.geometry
     shapely.prepare(geometry)
-    best, best_at = _boundary_gap(region, points, mesh.alpha)
+    best, best_at = _boundary_gap(region, points, mesh.alpha, tree)
     # Voronoi vertices of the missing Delaunay triangles that lie in the region
-    centre, radius = _circumcircles(points, extra)
+    centre, radius = circumcircles(points, extra)
     inside = shapely.intersects_xy(geometry, centre[:, 0], centre[:, 1])
     if inside.any():
         k = np.flatnonzero(inside)[np.argmax(radius[inside])]
         if radius[k] > best:
             best, best_at = radius[k], centre[k]
     # those of the complex: the largest circumradius above `best` whose centre is in the region
-    centre, radius = _circumcircles(points, mesh.faces)
+    centre, radius = circumcircles(points, faces)
     larger = np.flatnonzero(radius > best)
     larger = larger[np.argsort(-radius[larger])]
     for chunk in np.array_split(larger, len(larger) // 4096 + 1):
@@ -232,12 +215,11 @@ def _coverage_gap(mesh, extra):
     return float(best), np.asarray(best_at, float)
 
 
-def _boundary_gap(region, points, alpha):
+def _boundary_gap(region, points, alpha, tree):
     """Largest distance to the samples along the boundary, exact: candidates within
     ``reach`` of a piece settle every point whose nearest sample is nearer than ``reach``;
     pieces whose gap exceeds it are redone with a larger reach."""
     start, direction, length = region.boundary_pieces(alpha)
-    tree = cKDTree(points)
     middle = start + 0.5 * length[:, None] * direction
     gap = np.full(len(start), np.inf)
     where = np.zeros(len(start))

@@ -68,23 +68,10 @@ def triangle_quality(vertices: np.ndarray, faces: np.ndarray) -> Quality:
     >>> bool(np.isclose(q.aspect_ratio[0], ASPECT_EQUILATERAL)), np.round(q.angles, 6).tolist()
     (True, [[60.0, 60.0, 60.0]])
     """
-    corners = np.asarray(vertices, dtype=float)[np.asarray(faces)]        # (M, 3, d)
-    # edge i is opposite corner i
-    edges = np.roll(corners, -1, axis=1) - np.roll(corners, 1, axis=1)     # (M, 3, d)
-    lengths = np.linalg.norm(edges, axis=2)
-    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
-    ab, ac = b - a, c - a
-    if corners.shape[2] == 2:
-        area = 0.5 * np.abs(ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
-    else:
-        area = 0.5 * np.linalg.norm(np.cross(ab, ac), axis=1)
-    longest = lengths.max(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        aspect = np.where(area > 0, longest**2 / area, np.inf)
-        # law of cosines, clipped against rounding
-        l0, l1, l2 = lengths[:, 0], lengths[:, 1], lengths[:, 2]
-        cos = np.stack([(l1**2 + l2**2 - l0**2) / (2 * l1 * l2),
-                        (l2**2 + l0**2 - l1**2) / (2 * l2 * l0),
-                        (l0**2 + l1**2 - l2**2) / (2 * l0 * l1)], axis=1)
-    angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    from ._geometry_kernels import triangle_measures
+    vertices = np.ascontiguousarray(vertices, dtype=float)
+    faces = np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3)
+    lengths, area, angles = triangle_measures(vertices, faces)
+    with np.errstate(divide="ignore"):
+        aspect = np.where(area > 0, lengths.max(axis=1, initial=0) ** 2 / area, np.inf)
     return Quality(aspect_ratio=aspect, angles=angles, edge_lengths=lengths, area=area)
