@@ -8,7 +8,7 @@ disc contains sub-cell (i, j) whole.
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 OUTSIDE, INSIDE, BOUNDARY = 0, 1, 2
 SUB = 4
@@ -105,26 +105,35 @@ def _place(x, y, grid, covered, points, count, alpha2, x0, y0, s):
     return count + 1
 
 
-@njit(cache=True)
-def pick_open_subcells(cells, u, grid, covered):
-    """For each cell without a sample, a uniformly chosen sub-cell not yet covered
-    (``u`` in [0, 1)), as its flat sub-cell index; -1 where the cell is closed."""
+@njit(cache=True, parallel=True)
+def darts_in_open_subcells(cells, u, grid, covered, x0, y0, s):
+    """For each cell without a sample, a dart uniform in one of its sub-cells that no
+    disc covers yet, the sub-cell chosen uniformly (``u`` (n, 3) in [0, 1)).
+    Returns (darts, is_open); closed cells get no dart."""
     nx = grid.shape[1]
-    choice = np.full(cells.shape[0], -1, np.int64)
-    free = np.empty(SUB * SUB, np.int64)
-    for k in range(cells.shape[0]):
+    h = s / SUB
+    darts = np.empty((cells.shape[0], 2))
+    is_open = np.zeros(cells.shape[0], np.bool_)
+    for k in prange(cells.shape[0]):
         iy, ix = cells[k] // nx, cells[k] % nx
         if grid[iy, ix] >= 0:
             continue
-        m = 0
+        free = 0
+        for j in range(iy * SUB, iy * SUB + SUB):
+            for i in range(ix * SUB, ix * SUB + SUB):
+                free += not covered[j, i]
+        if free == 0:
+            continue
+        pick = int(u[k, 0] * free)
         for j in range(iy * SUB, iy * SUB + SUB):
             for i in range(ix * SUB, ix * SUB + SUB):
                 if not covered[j, i]:
-                    free[m] = j * covered.shape[1] + i
-                    m += 1
-        if m:
-            choice[k] = free[int(u[k] * m)]
-    return choice
+                    if pick == 0:
+                        darts[k, 0] = x0 + (i + u[k, 1]) * h
+                        darts[k, 1] = y0 + (j + u[k, 2]) * h
+                    pick -= 1
+        is_open[k] = True
+    return darts, is_open
 
 
 @njit(cache=True)
@@ -211,6 +220,55 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
     return count
 
 
+@njit(cache=True, parallel=True)
+def _open_darts(darts, ok, grid, points, alpha2, x0, y0, s):
+    """True for darts in the region and at least alpha from every sample."""
+    result = np.empty(darts.shape[0], np.bool_)
+    for d in prange(darts.shape[0]):
+        result[d] = ok[d] and _free(darts[d, 0], darts[d, 1], grid, points, alpha2, x0, y0, s)
+    return result
+
+
+@njit(cache=True)
+def _each_conflict(d, darts, cell, state, head, alpha2, nx, ny, out):
+    """Count the open darts closer than alpha to open dart d; list them in ``out`` if
+    it is not empty."""
+    m = darts.shape[0]
+    found = 0
+    iy, ix = cell[d] // nx, cell[d] % nx
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+            c = jy * nx + jx
+            e = head[c]
+            while 0 <= e < m and cell[e] == c:
+                if e != d and state[e] == 0:
+                    dx = darts[e, 0] - darts[d, 0]
+                    dy = darts[e, 1] - darts[d, 1]
+                    if dx * dx + dy * dy < alpha2:
+                        if out.shape[0]:
+                            out[found] = e
+                        found += 1
+                e += 1
+    return found
+
+
+@njit(cache=True, parallel=True)
+def _conflicts(todo, darts, cell, state, head, alpha2, nx, ny):
+    """The conflict lists of the open darts ``todo``, in CSR form over all darts."""
+    m = darts.shape[0]
+    degree = np.zeros(m + 1, np.int64)
+    nothing = np.empty(0, np.int64)
+    for t in prange(todo.shape[0]):
+        d = todo[t]
+        degree[d + 1] = _each_conflict(d, darts, cell, state, head, alpha2, nx, ny, nothing)
+    degree = np.cumsum(degree)
+    conflict = np.empty(degree[m], np.int64)
+    for t in prange(todo.shape[0]):
+        d = todo[t]
+        _each_conflict(d, darts, cell, state, head, alpha2, nx, ny, conflict[degree[d]:degree[d + 1]])
+    return degree, conflict
+
+
 @njit(cache=True)
 def throw_darts(darts, cell, rank, ok, grid, covered, head, points, count, alpha, x0, y0, s):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
@@ -219,10 +277,10 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, count, alpha
     Thrown in random order they would cost a cache miss each, so the same result is
     computed cell by cell instead: it is the lexicographically first maximal
     independent set of the conflict graph (darts closer than alpha) by rank. Darts
-    are given sorted by their level-0 ``cell``; sweeps in that order accept a dart
-    once every conflicting dart of lower rank is rejected, and reject it as soon as
-    a conflicting dart is accepted. ``head`` (one entry per cell, all -1) is scratch
-    space: the first dart of each cell while this runs. Returns the new sample count.
+    are given sorted by their level-0 ``cell``. A first sweep lists each dart's
+    conflicts; later sweeps accept a dart once every conflicting dart of lower rank is
+    rejected, and reject it as soon as a conflicting dart is accepted. ``head`` (one
+    entry per cell, all -1) is scratch space. Returns the new sample count.
     """
     UNDECIDED, ACCEPTED, REJECTED = 0, 1, 2
     alpha2 = alpha * alpha
@@ -230,36 +288,23 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, count, alpha
     m = darts.shape[0]
     for d in range(m - 1, -1, -1):
         head[cell[d]] = d
-    state = np.full(m, REJECTED, np.int8)
-    todo = np.empty(m, np.int64)
-    n_todo = 0
-    for d in range(m):
-        if ok[d] and _free(darts[d, 0], darts[d, 1], grid, points, alpha2, x0, y0, s):
-            state[d] = UNDECIDED
-            todo[n_todo] = d
-            n_todo += 1
+    state = np.where(_open_darts(darts, ok, grid, points, alpha2, x0, y0, s),
+                     UNDECIDED, REJECTED).astype(np.int8)
+    todo = np.flatnonzero(state == UNDECIDED)
+    degree, conflict = _conflicts(todo, darts, cell, state, head, alpha2, nx, ny)
+    n_todo = todo.shape[0]
     while n_todo:
         kept = 0
         for t in range(n_todo):
             d = todo[t]
-            iy, ix = cell[d] // nx, cell[d] % nx
             blocked = False
-            for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
-                for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
-                    c = jy * nx + jx
-                    e = head[c]
-                    while 0 <= e < m and cell[e] == c:
-                        if e == d or state[e] == REJECTED:
-                            e += 1
-                            continue
-                        dx = darts[e, 0] - darts[d, 0]
-                        dy = darts[e, 1] - darts[d, 1]
-                        if dx * dx + dy * dy < alpha2:
-                            if state[e] == ACCEPTED:
-                                state[d] = REJECTED
-                            elif rank[e] < rank[d]:
-                                blocked = True
-                        e += 1
+            for q in range(degree[d], degree[d + 1]):
+                e = conflict[q]
+                if state[e] == ACCEPTED:
+                    state[d] = REJECTED
+                    break
+                if state[e] == UNDECIDED and rank[e] < rank[d]:
+                    blocked = True
             if state[d] == UNDECIDED:
                 if blocked:
                     todo[kept] = d
@@ -318,14 +363,14 @@ def _box_covered(ix, iy, x_lo, y_lo, size, grid, points, alpha2):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def uncovered_boxes(parent, bx, by, size, grid, points, alpha):
     """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
     where no single sample disc contains the whole box."""
     alpha2 = alpha * alpha
     nx = grid.shape[1]
     keep = np.empty(parent.shape[0], np.bool_)
-    for k in range(parent.shape[0]):
+    for k in prange(parent.shape[0]):
         keep[k] = not _box_covered(parent[k] % nx, parent[k] // nx, bx[k], by[k], size,
                                    grid, points, alpha2)
     return keep

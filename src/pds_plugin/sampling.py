@@ -192,13 +192,11 @@ class _Sampler:
         # stage 1: dart passes over the level-0 cells in random order; each dart goes to
         # a random sub-cell of its cell that no disc covers yet
         cells = np.flatnonzero(self.status.ravel())
-        width, h = self.covered.shape[1], s / kern.SUB
         for _ in range(_PHASE1_PASSES):
-            choice = kern.pick_open_subcells(cells, rng.random(len(cells)), self.grid, self.covered)
-            cells, choice = cells[choice >= 0], choice[choice >= 0]
-            darts = np.column_stack([choice % width, choice // width])
-            darts = np.array([self.x0, self.y0]) + (darts + rng.random((len(cells), 2))) * h
-            self._throw(cells, darts, rng)
+            darts, is_open = kern.darts_in_open_subcells(cells, rng.random((len(cells), 3)),
+                                                         self.grid, self.covered, self.x0, self.y0, s)
+            cells = cells[is_open]
+            self._throw(cells, darts[is_open], rng)
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
         parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered)
