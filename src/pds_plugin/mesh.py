@@ -85,12 +85,15 @@ class PlanarMesh:
                 f"alpha={self.alpha:.6g})")
 
 
-def mesh_region(region: Region, alpha: float, seed: int = 0, **sampling_options) -> PlanarMesh:
+def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> PlanarMesh:
     """Sample ``region`` with a maximal Poisson disc sampling of radius ``alpha`` and
     mesh the samples with the solid alpha-complex of the same radius.
 
     By Theorem 1 of the paper every triangle then has aspect ratio L²/A ≤ 4√3 (all
-    angles in [30°, 120°]); :meth:`PlanarMesh.certificate` measures it.
+    angles in [30°, 120°]); :meth:`PlanarMesh.certificate` measures it. With
+    ``alpha="auto"`` the radius comes from the region's feature size and is lowered
+    until the mesh has the region's topology (see :func:`pds_plugin.auto_mesh`, which
+    takes the same keywords).
 
     Examples
     --------
@@ -100,6 +103,9 @@ def mesh_region(region: Region, alpha: float, seed: int = 0, **sampling_options)
     >>> mesh.certificate().ok
     True
     """
+    if isinstance(alpha, str) and alpha == "auto":
+        from .feature import auto_mesh
+        return auto_mesh(region, seed=seed, **sampling_options)
     samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
