@@ -5,8 +5,8 @@ sections to the same MeshSet with one call, check their quality with MeshLab's o
 filters, and save one section as a PLY with per-face quality (open it in MeshLab and
 colour by quality: Filters > Color Creation > Colorize by face quality).
 
-Uses ../shared/data/featuretype.STL when present, else a built-in plate with holes and
-a slot made with manifold3d.
+Uses ../shared/data/featuretype.STL when present, else the demo part (a plate with
+holes, a slot and a notch made with manifold3d).
 
     python examples/meshlab_workflow.py [OUTPUT_DIR]
 """
@@ -17,22 +17,15 @@ from pathlib import Path
 import numpy as np
 import pymeshlab
 
+import pds_plugin as pds
 from pds_plugin.meshlab import RADIUS_RATIO_BOUND, add_section_meshes, meshlab_quality
 
 STL = Path(__file__).resolve().parents[2] / "shared" / "data" / "featuretype.STL"
 
 
 def builtin_part() -> pymeshlab.Mesh:
-    """A 4 x 2 x 0.5 plate with two round holes and a slot (manifold3d booleans)."""
-    import manifold3d as m3
-
-    def cylinder(x, y, radius):
-        return m3.Manifold.cylinder(1.0, radius, circular_segments=64).translate((x, y, -0.25))
-
-    slot = m3.Manifold.cube((1.2, 0.3, 1.0)).translate((1.4, 0.85, -0.25))
-    plate = m3.Manifold.cube((4.0, 2.0, 0.5))
-    part = plate - cylinder(0.7, 1.0, 0.4) - cylinder(3.3, 1.0, 0.25) - slot
-    mesh = part.to_mesh64()
+    """The part of ``pds-mesh demo`` (:func:`pds_plugin.demo_part`) as a pymeshlab mesh."""
+    mesh = pds.demo_part().to_mesh64()
     return pymeshlab.Mesh(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts))
 
 

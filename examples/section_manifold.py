@@ -1,7 +1,7 @@
 """Certified mesh of an oblique section of a manifold3d solid.
 
-Builds a CAD part with manifold3d booleans (a plate with two round holes, a slot and a
-sharp V notch), or reads ../shared/data/featuretype.STL into a Manifold (in float64,
+Takes the demo part (``pds_plugin.demo_part()``: a manifold3d plate with two round holes,
+a slot and a sharp V notch), or reads ../shared/data/featuretype.STL into a Manifold (in float64,
 through Mesh64) when present, cuts it with a tilted plane, meshes the section, prints
 the certificate, and shows that the 2D frame is the plane's own: the same plane cut
 from the same solid as a trimesh mesh gives the same coordinates, and the frame lifts
@@ -22,19 +22,6 @@ import pds_plugin as pds
 STL = Path(__file__).resolve().parents[2] / "shared" / "data" / "featuretype.STL"
 
 
-def builtin_part() -> m3.Manifold:
-    """A 4 x 2 x 0.5 plate with two holes, a slot and a sharp notch, centred at 0."""
-    def hole(x, y, radius):
-        return m3.Manifold.cylinder(1.0, radius, circular_segments=96).translate((x, y, -0.25))
-
-    slot = m3.Manifold.cube((1.2, 0.3, 1.0)).translate((1.4, 0.85, -0.25))
-    v_shape = m3.CrossSection([np.array([[3.4, 2.01], [4.01, 1.2], [4.01, 2.01]])])
-    notch = m3.Manifold.extrude(v_shape, 1.0).translate((0, 0, -0.25))
-    plate = m3.Manifold.cube((4.0, 2.0, 0.5))
-    part = plate - hole(0.7, 1.0, 0.4) - hole(2.6, 1.0, 0.25) - slot - notch
-    return part.translate((-2.0, -1.0, -0.25))
-
-
 def from_file(path: Path) -> m3.Manifold:
     mesh = trimesh.load_mesh(path)
     return m3.Manifold(m3.Mesh64(vert_properties=np.asarray(mesh.vertices, np.float64),
@@ -42,7 +29,7 @@ def from_file(path: Path) -> m3.Manifold:
 
 
 def main(out_dir: Path) -> None:
-    solid = from_file(STL) if STL.exists() else builtin_part()
+    solid = from_file(STL) if STL.exists() else pds.demo_part()
     print(f"solid: {STL.name if STL.exists() else 'built-in plate'}, {solid.num_tri()} triangles, "
           f"status {solid.status().name}")
     vertices = np.asarray(solid.to_mesh64().vert_properties)[:, :3]
