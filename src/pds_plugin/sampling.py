@@ -37,7 +37,7 @@ __all__ = ["Samples", "poisson_disc", "estimate_samples", "DEFAULT_MAX_SAMPLES"]
 DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples (about 1 GB of working memory)."""
 
-_MAX_GRID_CELLS = 200_000_000
+_MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
 _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
 
