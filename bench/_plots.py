@@ -82,8 +82,11 @@ def aspect_tails(rows, case_names, path: Path) -> Path | None:
 
 
 def _style(key: str) -> dict:
-    """pds_plugin drawn black, thick and on top; the peers in the default colours."""
-    return {"color": "k", "lw": 2.5, "zorder": 10} if key == "pds" else {}
+    """pds_plugin drawn black, thick and on top (1 thread: grey); the peers in the
+    default colours."""
+    if key == "pds":
+        return {"color": "k", "lw": 2.5, "zorder": 10}
+    return {"color": "0.45", "lw": 1.5, "zorder": 9} if key == "pds-1thread" else {}
 
 
 def _subsample(values, size: int = MAX_POINTS) -> np.ndarray:

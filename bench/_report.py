@@ -101,7 +101,7 @@ def _notes(row: Row) -> str:
     if row.scale != 1:
         notes.append(f"‡ measured {row.times['total']:.3g} s for {row.measured_points:,} samples "
                      f"at {row.alpha / row.case.alpha:.3g}α, scaled ×{row.scale:.3g} (linear)")
-    if row.peer.key == "pds":
+    if row.peer.ours:
         notes.append(f"certificate {'ok' if row.info.get('certificate_ok') else 'FAILED'} "
                      f"(gap {row.info.get('certificate_gap', math.nan):.6f})")
     if "switches" in row.info:
@@ -117,22 +117,23 @@ def _notes(row: Row) -> str:
 
 
 def _parts(rows) -> str:
-    pds_rows = [row for row in rows if row.peer.key == "pds" and row.ok]
+    pds_rows = [row for row in rows if row.peer.ours and row.ok]
     if not pds_rows:
         return ""
     scipy = {row.case.name: row for row in rows if row.peer.key == "scipy" and row.ok}
     lines = ["## pds_plugin's parts, timed apart\n",
              "mesh_region = poisson_disc + solid_alpha_complex; the parts are timed in a "
              "second call in the same process (same seed, same samples).\n",
-             "| region | samples | mesh_region (s) | sampling (s) | samples/s | complex (s) | "
-             "certificate (s) | certificate / mesh | peak MiB meshing / with certificate | "
-             "scipy PoissonDisk points/s | throughput × scipy |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| region | threads | samples | mesh_region (s) | sampling (s) | samples/s | "
+             "complex (s) | certificate (s) | certificate / mesh | peak MiB meshing / with "
+             "certificate | scipy PoissonDisk points/s | throughput × scipy |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for row in pds_rows:
         other = scipy.get(row.case.name)
         rate, other_rate = sampling_rate(row), sampling_rate(other) if other else math.nan
         lines.append(
-            f"| {row.case.name} | {row.metric('vertices'):,} | {_g(row.time)} | "
+            f"| {row.case.name} | {row.peer.env.get('NUMBA_NUM_THREADS', 'default')} | "
+            f"{row.metric('vertices'):,} | {_g(row.time)} | "
             f"{_g(row.times['sampling'])} | {rate:,.0f} | {_g(row.times['complex'])} | "
             f"{_g(row.times['certificate'])} | {_g(row.times['certificate'] / row.time)} | "
             f"{row.peak_mb:.0f} / {row.info.get('peak_mb_with_certificate', math.nan):.0f} | "
@@ -174,21 +175,27 @@ def _method(timeout) -> str:
   child first runs the peer once on a tiny square (imports, numba cache loading, library
   start-up: not timed; start-up is measured separately above), then on the region. A
   peer that crashes or exceeds the {timeout:g} s limit (`--timeout`) gets a row saying so
-  and the run goes on.
+  and the run goes on. pds_plugin's child gets three times the limit: it meshes,
+  certifies, then samples and meshes again to time the parts apart. A run shorter than
+  1 s is repeated (up to 3 runs, every peer alike) and the fastest kept, as `timeit`
+  does: on a shared machine the slowest runs measure the neighbours.
 - **Time** is wall time (`time.perf_counter`) of the peer's own work: building its input
   from the region's rings, meshing, and reading the mesh back as arrays. **× pds** is
-  that time over pds_plugin's `mesh_region` time on the same region. pds_plugin's
-  solid alpha-complex runs its numba kernel in parallel on the available cores; Triangle,
-  gmsh (`General.NumThreads` left at 1), MeshLab and scipy run on one core.
+  that time over pds_plugin's `mesh_region` time on the same region. pds_plugin runs
+  some numba kernels in parallel on the available cores (numba's default threading);
+  the "1 thread" row is the same code with `NUMBA_NUM_THREADS=1`. Triangle, gmsh
+  (`General.NumThreads` left at 1), MeshLab and scipy run on one core.
 - **‡ scipy's PoissonDisk** is pure-Python Bridson (a few thousand points/s), so above
   `--scipy-points` samples it runs on the same region at a coarser alpha
   (alpha·√(target/cap)); its time is scaled **linearly** in the sample count to
   pds_plugin's count on that region. Its gap, quality and topology are measured at the
   alpha it ran at. Its sampling throughput counts every point it made in the bounding box.
-- **Peak MiB** is the child process's peak resident set (`ru_maxrss`), read right after
-  the peer's meshing, so it includes the interpreter and the libraries (C allocations
-  too, which `tracemalloc` would miss). For pds_plugin it is read before the certificate;
-  the figure with the certificate is in the parts table.
+- **Peak MiB** is the child process's peak resident set (`VmHWM` of /proc/self/status),
+  read right after the peer's meshing, so it includes the interpreter and the libraries
+  (C allocations too, which `tracemalloc` would miss). Not `ru_maxrss`: Linux carries it
+  over from the forking parent through exec, so every child would report at least the
+  parent's size. For pds_plugin it is read before the certificate; the figure with the
+  certificate is in the parts table.
 - **Triangle** gets `pq30` / `pq33` with the max-area switch (`a`, written in fixed
   point: `a4e-05` would read as `a4` + `e`) tuned by untimed trial runs to pds_plugin's
   vertex count; hole points are one per piece of (convex hull − region).

@@ -45,11 +45,28 @@ class Peer:
     run: Callable
     needs: tuple = ()            # modules that must be importable
     install: str = 'pip install "pds_plugin[bench]"'
+    env: dict = field(default_factory=dict)   # environment of its child process
+
+    @property
+    def ours(self) -> bool:
+        """True for pds_plugin itself (in any thread setting)."""
+        return self.run is run_pds
 
 
 def peak_rss_mb() -> float:
-    """Peak resident set size of this process so far, in MiB (ru_maxrss: KiB on Linux,
-    bytes on macOS)."""
+    """Peak resident set size of this process's address space so far, in MiB.
+
+    Linux: ``VmHWM`` of /proc/self/status. Not ``ru_maxrss``: the kernel carries it over
+    from the forking parent through exec, so a child of a 500 MB parent reports at least
+    500 MB whatever it does itself. Elsewhere ``ru_maxrss`` (KiB; bytes on macOS).
+    """
+    try:
+        with open("/proc/self/status") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 2**10
+    except OSError:
+        pass
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return rss / 2**20 if sys.platform == "darwin" else rss / 2**10
 
@@ -307,6 +324,8 @@ def _gmsh_geometry(geo, region, size: float) -> None:
 
 PEERS = {peer.key: peer for peer in [
     Peer("pds", "pds_plugin mesh_region", run_pds, ("pds_plugin",)),
+    Peer("pds-1thread", "pds_plugin mesh_region, 1 thread", run_pds, ("pds_plugin",),
+         env={"NUMBA_NUM_THREADS": "1"}),
     Peer("scipy", "scipy PoissonDisk + Delaunay α", run_scipy, ("scipy",)),
     Peer("meshlab", "MeshLab Poisson-disk + 2D α", _meshlab_filtered(seeded=False),
          ("pymeshlab", "trimesh")),
@@ -320,4 +339,5 @@ PEERS = {peer.key: peer for peer in [
     Peer("gmsh-frontal", "gmsh Frontal-Delaunay (6), size α", _gmsh(6), ("gmsh",)),
 ]}
 """Every peer, in table order. pds_plugin runs first on each region: its vertex count is
-the target the others are sized for."""
+the target the others are sized for. Its 1-thread twin shows what numba's threads give
+(or cost, on a busy machine)."""

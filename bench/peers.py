@@ -108,7 +108,9 @@ def _run(key, case, target, options, timeout) -> Outcome:
     absent = [name for name in peer.needs if importlib.util.find_spec(name) is None]
     if absent:
         return Outcome("skipped", f"{', '.join(absent)} not installed ({peer.install})")
-    return run_isolated(key, case.region, case.alpha, target, options, timeout)
+    # pds_plugin's child meshes, certifies, then samples and meshes again (its parts)
+    limit = 3 * timeout if peer.ours else timeout
+    return run_isolated(key, case.region, case.alpha, target, options, limit, peer.env)
 
 
 def _aspect_cases(found) -> list[str]:
