@@ -314,9 +314,18 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, count, alpha
         n_todo = kept
     for d in range(m):
         head[cell[d]] = -1
-        if state[d] == ACCEPTED:
-            count = _place(darts[d, 0], darts[d, 1], grid, covered, points, count, alpha2, x0, y0, s)
-    return count
+    accepted = np.flatnonzero(state == ACCEPTED)
+    _place_all(darts[accepted], grid, covered, points, count, alpha2, x0, y0, s)
+    return count + accepted.shape[0]
+
+
+@njit(cache=True, parallel=True)
+def _place_all(new, grid, covered, points, count, alpha2, x0, y0, s):
+    """Add the samples ``new``, at most one per cell and alpha apart, as samples count,
+    count + 1, ... Each writes its own cell and point; the sub-cells two discs both
+    cover are only ever set to True, so the result does not depend on the order."""
+    for k in prange(new.shape[0]):
+        _place(new[k, 0], new[k, 1], grid, covered, points, count + k, alpha2, x0, y0, s)
 
 
 @njit(cache=True)
