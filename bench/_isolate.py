@@ -61,9 +61,11 @@ def run_isolated(peer_key: str, region, alpha: float, target: int, options,
                                      env={**os.environ, **(env or {})})
             try:
                 code = child.wait(timeout=timeout)
-            except subprocess.TimeoutExpired:
+            except BaseException as stop:        # the time limit, or Ctrl-C: no orphans
                 os.killpg(child.pid, signal.SIGKILL)
                 child.wait()
+                if not isinstance(stop, subprocess.TimeoutExpired):
+                    raise
                 return Outcome("timeout", f"over the {timeout:g} s limit")
         if code != 0:
             stderr = (folder / "stderr.txt").read_text(errors="replace")

@@ -25,7 +25,7 @@ def time_vs_vertices(rows, path: Path) -> Path | None:
     if not squares:
         return None
     plt = _pyplot()
-    figure, ax = plt.subplots(figsize=(8, 5.5))
+    figure, ax = plt.subplots(figsize=(11, 5.5))
     for key in dict.fromkeys(row.peer.key for row in squares):
         mine = sorted((row for row in squares if row.peer.key == key),
                       key=lambda row: row.metric("vertices"))
@@ -34,7 +34,7 @@ def time_vs_vertices(rows, path: Path) -> Path | None:
              for row in mine]
         y = [row.time for row in mine]
         extrapolated = any(row.scale != 1 for row in mine)
-        ax.plot(x, y, "o-", mfc="none" if extrapolated else None, **_style(key),
+        ax.plot(x, y, marker="o", mfc="none" if extrapolated else None, **_style(key),
                 label=mine[0].peer.label + (" (extrapolated)" if extrapolated else ""))
         if key == "pds":
             for part, style in (("sampling", ":"), ("complex", "--"), ("certificate", "-.")):
@@ -43,7 +43,7 @@ def time_vs_vertices(rows, path: Path) -> Path | None:
     ax.set(xscale="log", yscale="log", xlabel="mesh vertices", ylabel="wall time (s)",
            title="Unit square: time against vertex count (one run, each peer in a fresh process)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize="small", loc="upper left")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0)
     figure.tight_layout()
     figure.savefig(path, dpi=110)
     plt.close(figure)
@@ -52,14 +52,16 @@ def time_vs_vertices(rows, path: Path) -> Path | None:
 
 def aspect_tails(rows, case_names, path: Path) -> Path | None:
     """For each named case, the share of each peer's triangles with aspect ratio L²/A
-    above x (log scale), with Theorem 1's bound 4√3 marked."""
-    panels = [[row for row in rows if row.case.name == name and row.ok
+    above x (log scale), with Theorem 1's bound 4√3 marked. Rows that only change a
+    peer's environment (pds_plugin on 1 thread: the same mesh) are left out."""
+    panels = [[row for row in rows if row.case.name == name and row.ok and row.peer.env == {}
                and len(row.metric("aspect", ())) > 0] for name in case_names]
     panels = [panel for panel in panels if panel]
     if not panels:
         return None
     plt = _pyplot()
-    figure, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 5), squeeze=False)
+    figure, axes = plt.subplots(1, len(panels), figsize=(max(6.5 * len(panels), 11), 5),
+                                squeeze=False)
     for ax, panel in zip(axes[0], panels):
         floor = 0.5 / max(len(row.metric("aspect")) for row in panel)
         for row in panel:
@@ -81,12 +83,18 @@ def aspect_tails(rows, case_names, path: Path) -> Path | None:
     return path
 
 
+COLOURS = {"scipy": "tab:blue", "meshlab": "tab:orange", "meshlab-seeded": "tab:green",
+           "meshlab-alpha-shape": "tab:red", "triangle-pq30": "tab:purple",
+           "triangle-pq33": "tab:brown", "gmsh-delaunay": "tab:pink", "gmsh-frontal": "tab:olive"}
+
+
 def _style(key: str) -> dict:
-    """pds_plugin drawn black, thick and on top (1 thread: grey); the peers in the
-    default colours."""
+    """pds_plugin black, thick and on top (1 thread: grey, dashed); each peer its colour."""
     if key == "pds":
         return {"color": "k", "lw": 2.5, "zorder": 10}
-    return {"color": "0.45", "lw": 1.5, "zorder": 9} if key == "pds-1thread" else {}
+    if key == "pds-1thread":
+        return {"color": "0.5", "lw": 1.5, "ls": "--", "zorder": 9}
+    return {"color": COLOURS.get(key)}
 
 
 def _subsample(values, size: int = MAX_POINTS) -> np.ndarray:

@@ -19,10 +19,11 @@ from typing import Callable
 import numpy as np
 import shapely
 
+
 @dataclass(frozen=True)
 class Options:
     seed: int = 0
-    scipy_points: int = 20_000   # largest sample count scipy's PoissonDisk is asked for
+    scipy_points: int = 10_000   # largest sample count scipy's PoissonDisk is asked for
 
 
 @dataclass
@@ -176,13 +177,13 @@ def _meshlab_samples(region, alpha, seeded: bool):
         meshset.add_mesh(pm.Mesh(vertex_matrix=np.column_stack([vertices, np.zeros(len(vertices))]),
                                  face_matrix=faces), "region")
         triangulated = perf_counter()
-        options = {}
+        seeding = {}
         if seeded:
             seeds = boundary_seeds(region, alpha)
             meshset.add_mesh(pm.Mesh(np.column_stack([seeds, np.zeros(len(seeds))])), "seeds")
             meshset.set_current_mesh(0)
-            options = {"refineflag": True, "refinemesh": 1}
-        meshset.generate_sampling_poisson_disk(radius=pm.PureValue(alpha), **options)
+            seeding = {"refineflag": True, "refinemesh": 1}
+        meshset.generate_sampling_poisson_disk(radius=pm.PureValue(alpha), **seeding)
     sampled = perf_counter()
     return meshset, {"triangulate": triangulated - start, "sampling": sampled - triangulated}
 
@@ -210,9 +211,10 @@ def run_meshlab_alpha_shape(region, alpha, target, options):
     meshset, times = _meshlab_samples(region, alpha, seeded=True)
     with silenced():
         meshset.generate_alpha_shape(alpha=pm.PureValue(alpha), filtering="Alpha Complex")
-        measures = meshset.get_topological_measures()
-    done = perf_counter()
     shape = meshset.current_mesh()
+    done = perf_counter()
+    with silenced():
+        measures = meshset.get_topological_measures()
     total = done - start
     return Run(np.asarray(shape.vertex_matrix()[:, :2], float),
                shape.face_matrix().astype(np.int64), alpha, peak_mb=peak_rss_mb(),
@@ -312,14 +314,16 @@ def _gmsh(algorithm: int):
 
 
 def _gmsh_geometry(geo, region, size: float) -> None:
-    """One plane surface per component: its exterior and hole rings as curve loops."""
+    """One plane surface per component: its exterior and hole rings as curve loops
+    (``region.rings`` lists each component's exterior, then its holes)."""
+    def loop(ring):
+        points = [geo.addPoint(x, y, 0.0, size) for x, y in ring]
+        lines = [geo.addLine(a, b) for a, b in zip(points, points[1:] + points[:1])]
+        return geo.addCurveLoop(lines)
+
+    rings = iter(region.rings)
     for polygon in region.geometry.geoms:
-        loops = []
-        for ring in (polygon.exterior, *polygon.interiors):
-            points = [geo.addPoint(x, y, 0.0, size) for x, y in shapely.get_coordinates(ring)[:-1]]
-            lines = [geo.addLine(a, b) for a, b in zip(points, points[1:] + points[:1])]
-            loops.append(geo.addCurveLoop(lines))
-        geo.addPlaneSurface(loops)
+        geo.addPlaneSurface([loop(next(rings)) for _ in range(1 + len(polygon.interiors))])
 
 
 PEERS = {peer.key: peer for peer in [
