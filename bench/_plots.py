@@ -20,22 +20,20 @@ def _pyplot():
 
 def time_vs_vertices(rows, path: Path) -> Path | None:
     """Log-log wall time against vertex count on the unit squares, one line per peer;
-    pds_plugin's parts dashed; scipy's extrapolated times as open markers."""
+    pds_plugin's parts in thin grey; extrapolated times (scipy) as open markers."""
     squares = [row for row in rows if row.case.key == "square" and row.ok and row.metrics]
     if not squares:
         return None
     plt = _pyplot()
     figure, ax = plt.subplots(figsize=(11, 5.5))
     for key in dict.fromkeys(row.peer.key for row in squares):
-        mine = sorted((row for row in squares if row.peer.key == key),
-                      key=lambda row: row.metric("vertices"))
-        # an extrapolated time belongs to the count it was extrapolated to
-        x = [row.measured_points * row.scale if row.scale != 1 else row.metric("vertices")
-             for row in mine]
-        y = [row.time for row in mine]
-        extrapolated = any(row.scale != 1 for row in mine)
-        ax.plot(x, y, marker="o", mfc="none" if extrapolated else None, **_style(key),
-                label=mine[0].peer.label + (" (extrapolated)" if extrapolated else ""))
+        mine = sorted((row for row in squares if row.peer.key == key), key=_plotted_count)
+        x, y = [_plotted_count(row) for row in mine], [row.time for row in mine]
+        scaled = [row.scale != 1 for row in mine]
+        line, = ax.plot(x, y, marker="o", **_style(key), label=mine[0].peer.label
+                        + (" (open marker: extrapolated)" if any(scaled) else ""))
+        ax.plot(np.compress(scaled, x), np.compress(scaled, y), "o", mfc="white",
+                color=line.get_color(), zorder=line.get_zorder())
         if key == "pds":
             for part, style in (("sampling", ":"), ("complex", "--"), ("certificate", "-.")):
                 ax.plot(x, [row.times[part] for row in mine], style, color="0.4", lw=1,
@@ -81,6 +79,12 @@ def aspect_tails(rows, case_names, path: Path) -> Path | None:
     figure.savefig(path, dpi=110)
     plt.close(figure)
     return path
+
+
+def _plotted_count(row) -> float:
+    """The vertex count a row's time belongs to: an extrapolated time belongs to the
+    count it was extrapolated to."""
+    return row.measured_points * row.scale if row.scale != 1 else row.metric("vertices")
 
 
 COLOURS = {"scipy": "tab:blue", "meshlab": "tab:orange", "meshlab-seeded": "tab:green",

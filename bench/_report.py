@@ -15,14 +15,15 @@ COLUMNS = ("peer", "time (s)", "× pds", "peak MiB", "vertices", "triangles", "m
            "Hausdorff / α", "notes")
 
 
-def write(path: Path, *, command: str, machine: dict, load_end, versions: dict, startup,
+def write(path: Path, *, command: str, machine: dict, load_end, load_peak: float,
+          versions: dict, startup,
           targets: list[Target], rows: list[Row], missing: list[str], figures: list[Path],
           timeout: float) -> Path:
     parts = [
         "# Benchmarks: pds_plugin against the meshers users pick today\n",
         f"Written by `{command}` on {machine['date']} (commit `{machine['commit']}`). "
         "Do not edit by hand: run the command again to refresh every number.\n",
-        _machine(machine, load_end, versions),
+        _machine(machine, load_end, load_peak, versions),
         _targets(targets),
         *(_region(rows, name, timeout) for name in dict.fromkeys(row.case.name for row in rows)),
         _parts(rows),
@@ -36,18 +37,19 @@ def write(path: Path, *, command: str, machine: dict, load_end, versions: dict, 
     return path
 
 
-def _machine(machine, load_end, versions) -> str:
+def _machine(machine, load_end, load_peak, versions) -> str:
     load = " ".join(f"{v:.2f}" for v in machine["load"])
     load_after = " ".join(f"{v:.2f}" for v in load_end)
-    # the run itself keeps about one core busy: more than that at the end, or anything
-    # at the start, is other work
-    busy = machine["load"][0] > 0.5 or load_end[0] > 1.5
+    # the run keeps about one core busy itself (two in numba's parallel kernels): a
+    # 1-minute load above 1 before it starts, or above 2 while it runs, is other work
+    busy = machine["load"][0] > 1 or load_peak > 2
     lines = [
         "## Machine\n",
         f"- CPU: {machine['cpu']}, {machine['cores']} logical cores; "
         f"RAM {machine['ram_gb']:.1f} GiB; {machine['os']}; Python {machine['python']}",
-        f"- Load average (1, 5, 15 min) at the start: {load}; at the end: {load_after} "
-        "(this run itself keeps about one core busy)."
+        f"- Load average (1, 5, 15 min) at the start: {load}; at the end: {load_after}; "
+        f"highest 1-min load read after each peer: {load_peak:.2f} (this run itself keeps "
+        "about one core busy)."
         + (" **Other work shared the cores during this run**: absolute times are inflated; "
            "ratios within a region are fairer, as its peers ran back to back." if busy else ""),
         "- Versions: " + ", ".join(f"{name} {version or 'not installed'}"

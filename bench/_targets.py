@@ -70,7 +70,9 @@ def _speed(goal, at, pds, peer, factor, timeout) -> Target:
     if not peer.ok:
         return Target(name, goal, f"{peer.peer.label} failed: {peer.message}", None)
     ratio = peer.time / pds.time
-    per_vertex = ratio * pds.metric("vertices") / peer.metric("vertices")
+    # an extrapolated time is already for pds_plugin's vertex count
+    count = peer.measured_points * peer.scale if peer.scale != 1 else peer.metric("vertices")
+    per_vertex = ratio * pds.metric("vertices") / count
     note = " (extrapolated)" if peer.scale != 1 else ""
     return Target(name, goal, f"{ratio:.3g}×{note}: {peer.time:.3g} s vs pds {pds.time:.3g} s "
                   f"{at}; per vertex {per_vertex:.3g}×", ratio >= factor)

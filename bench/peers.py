@@ -73,13 +73,13 @@ def parse(argv=None) -> argparse.Namespace:
 def main(argv=None) -> Path:
     """Run the benchmark and write the report; returns the report's path."""
     args = parse(argv)
-    command = "python bench/peers.py " + shlex.join(sys.argv[1:] if argv is None else argv)
+    command = shlex.join(["python", "bench/peers.py", *(sys.argv[1:] if argv is None else argv)])
     start = machine()
     print(f"{start['cpu']}, {start['cores']} cores, load {start['load']}", flush=True)
     measured_startup = None if args.no_startup else startup()
     options = Options(seed=args.seed, scipy_points=args.scipy_points)
     found, missing = cases(args.sizes, args.region_size, args.regions)
-    rows = []
+    rows, loads = [], []
     for case in found:
         target = round(case.expected)
         for key in args.peers:
@@ -88,6 +88,7 @@ def main(argv=None) -> Path:
                 target = len(outcome.vertices)
             row = collect(case, PEERS[key], outcome, target)
             rows.append(row)
+            loads.append(os.getloadavg()[0])
             print(f"{case.name:55s} {PEERS[key].label:48s} {row.status:8s} "
                   f"{row.time:9.3f} s {row.message}", flush=True)
     args.out.parent.mkdir(parents=True, exist_ok=True)
@@ -96,6 +97,7 @@ def main(argv=None) -> Path:
         aspect_tails(rows, _aspect_cases(found), args.out.with_name("bench_aspect_ratio.png")))
         if figure is not None]
     report = write(args.out, command=command, machine=start, load_end=os.getloadavg(),
+                   load_peak=max(loads, default=float("nan")),
                    versions=versions(), startup=measured_startup,
                    targets=evaluate(rows, measured_startup, args.timeout), rows=rows,
                    missing=missing, figures=figures, timeout=args.timeout)

@@ -25,7 +25,9 @@ sys.path.insert(0, str(BENCH))
 import _isolate  # noqa: E402
 import _metrics  # noqa: E402
 import _regions  # noqa: E402
+import _rows  # noqa: E402
 import _runners  # noqa: E402
+import _targets  # noqa: E402
 import peers  # noqa: E402
 
 SQUARE = pds.Region.from_shapely(box(0, 0, 1, 1))
@@ -103,6 +105,17 @@ def test_peer_meshes_a_plate_with_a_hole(key):
         assert cKDTree(run.samples).query(run.samples, k=2)[0][:, 1].min() >= run.alpha * (1 - 1e-6)
     if key == "scipy":                 # capped at 100 samples: run at a coarser alpha
         assert run.alpha > PLATE_ALPHA
+
+
+def test_an_extrapolated_time_is_compared_at_pds_plugins_vertex_count():
+    case = _regions.Case("square", "unit square", SQUARE, 0.01, 7400.0)
+    pds_row = _rows.Row(case, _runners.PEERS["pds"], "ok", time=2.0, metrics={"vertices": 7000})
+    # scipy measured 350 s for 700 samples, scaled x10 to pds_plugin's 7000 samples
+    scipy_row = _rows.Row(case, _runners.PEERS["scipy"], "ok", time=3500.0, scale=10.0,
+                          measured_points=700, metrics={"vertices": 700})
+    target = _targets._speed("goal", "here", pds_row, scipy_row, 300, timeout=120)
+    assert target.holds and "1.75e+03×" in target.measured
+    assert "per vertex 1.75e+03×" in target.measured
 
 
 def test_timeout_and_crash_become_rows():
