@@ -1,7 +1,7 @@
 """Benchmark pds_plugin against the meshers users pick today, in one command.
 
-    python bench/peers.py                 # full run: squares of 10k, 100k, 1M; ~30 min
-    python bench/peers.py --quick         # small sizes only, a smoke run of a few minutes
+    python bench/peers.py                 # full run: squares of 10k, 100k, 1M; ~35 min
+    python bench/peers.py --quick         # small sizes only, a smoke run (~10 min)
 
 Runs pds_plugin, scipy's PoissonDisk pipeline, MeshLab (pymeshlab), Shewchuk's Triangle
 and gmsh on the same regions in one run, each peer in a fresh process under a time
