@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 import shapely
-from shapely.geometry import Point, box
+from shapely.geometry import Point, Polygon, box
 
 import pds_plugin as pds
 from conftest import min_distance, probe_gap
@@ -84,3 +84,13 @@ def test_certificate_of_a_mesh_whose_samples_fill_no_triangle():
     cert = mesh.certificate()
     assert cert.triangles == 0 and cert.coverage_gap <= 1 and cert.isolated_samples == len(mesh.vertices)
     assert shapely.intersects_xy(region.geometry, *np.array(cert.coverage_gap_at))
+
+
+def test_a_bridged_notch_is_measured_outside_the_region():
+    notch = Polygon([(0.45, 1), (0.5, 0.4), (0.55, 1)])          # a 9.5° V cut from the top
+    region = pds.Region.from_shapely(box(0, 0, 1, 1).difference(notch))
+    plain = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.1).certificate()
+    bridged = pds.mesh_region(region, 0.1, seed=1).certificate()
+    assert plain.outside_area_ratio < 1e-12 and plain.outside_distance < 1e-9
+    assert bridged.outside_area_ratio > 0 and bridged.outside_distance > 0.2
+    assert bridged.outside_distance * 0.1 <= 0.6 * np.hypot(0.05, 0.6)   # within the notch

@@ -28,7 +28,7 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 from ._certificate_kernels import boundary_gaps
 from ._geometry_kernels import circumcircles
 from .quality import ASPECT_BOUND
-from .topology import TopologyReport, mesh_edges, topology_report
+from .topology import TopologyReport, mesh_edges, mesh_union, topology_report
 
 __all__ = ["Certificate", "certify", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
 
@@ -59,6 +59,8 @@ class Certificate:
     isolated_samples: int          # samples in no triangle
     nonmanifold_vertices: int      # vertices where two fans of triangles touch
     area_ratio: float              # mesh area / region area
+    outside_area_ratio: float      # mesh area outside the region / region area
+    outside_distance: float        # farthest point of the mesh from the region / alpha (to 1/20)
     topology: TopologyReport
 
     aspect_bound = ASPECT_BOUND
@@ -117,6 +119,8 @@ class Certificate:
             f"  angles       [{self.min_angle:.3f}°, {self.max_angle:.3f}°] (within [30°, 120°])",
             f"  isolated samples {self.isolated_samples}, non-manifold vertices "
             f"{self.nonmanifold_vertices}, area ratio {self.area_ratio:.6f}",
+            f"  outside the region: {self.outside_area_ratio:.3g} of its area, at most "
+            f"{self.outside_distance:.3g} alpha away",
             "  " + str(self.topology).replace("\n", "\n  "),
         ])
 
@@ -151,8 +155,22 @@ def certify(mesh) -> Certificate:
         isolated_samples=int(np.count_nonzero(~used)),
         nonmanifold_vertices=_nonmanifold_vertices(rim_edges, len(points)),
         area_ratio=float(quality.area.sum() / mesh.region.area),
+        **_outside(mesh, faces),
         topology=topology_report(mesh),
     )
+
+
+def _outside(mesh, faces) -> dict:
+    """How much of the mesh lies outside the region, and how far: the solid
+    alpha-complex can bridge notches narrower than alpha (Theorem 2 assumes alpha <= ½
+    LFS, which a sharp reflex corner breaks). The distance is measured at points every
+    alpha/20 along the outline of the outside parts."""
+    region = mesh.region.geometry
+    outside = shapely.difference(mesh_union(mesh.vertices, faces), region)
+    probes = shapely.get_coordinates(shapely.segmentize(shapely.boundary(outside), mesh.alpha / 20))
+    far = shapely.distance(region, shapely.points(probes)).max(initial=0.0)
+    return {"outside_area_ratio": float(outside.area / region.area),
+            "outside_distance": float(far / mesh.alpha)}
 
 
 def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:

@@ -24,7 +24,7 @@ from shapely.geometry import Polygon
 from ._mesh_kernels import edges_of
 
 __all__ = ["ComponentTopology", "TopologyReport", "topology_report", "mesh_betti", "mesh_edges",
-           "ring_owners"]
+           "mesh_union", "ring_owners"]
 
 
 @dataclass(frozen=True)
@@ -146,7 +146,7 @@ class _Comparison:
         self.labels, self.betti = mesh_betti(self.faces, len(self.vertices))
         self.components = list(self.region.geometry.geoms)
         self.owner = _owners(self.region, self.vertices)
-        self.covered = _union(self.vertices, self.faces)
+        self.covered = mesh_union(self.vertices, self.faces)
         self.problems = []          # (component, sentence)
 
     def report(self) -> TopologyReport:
@@ -317,7 +317,7 @@ class _Comparison:
                          f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
 
 
-def _union(vertices, faces):
+def mesh_union(vertices, faces):
     """The union of the triangles, from their boundary edges alone.
 
     The boundary edges cut the plane into faces (``shapely.polygonize``); a face is
