@@ -1,13 +1,21 @@
 """Shared fixtures and the independent oracles the tests compare against."""
 
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 import shapely
+from hypothesis import settings
 from scipy.spatial import Delaunay, cKDTree
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+# CI replays the same examples every run, so a red run is reproducible; locally
+# hypothesis explores new ones each time.
+settings.register_profile("ci", derandomize=True)
+if os.environ.get("CI"):
+    settings.load_profile("ci")
 
 
 def shared_file(name: str) -> Path:
