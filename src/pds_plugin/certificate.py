@@ -28,7 +28,7 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 from ._certificate_kernels import boundary_gaps
 from ._geometry_kernels import circumcircles
 from .quality import ASPECT_BOUND
-from .topology import TopologyReport, mesh_edges, mesh_union, topology_report
+from .topology import TopologyReport, topology_report
 
 __all__ = ["Certificate", "certify", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
 
@@ -140,7 +140,7 @@ def certify(mesh) -> Certificate:
     faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     quality = mesh.quality()
     tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
-    rim_edges = mesh_edges(faces, len(points))[1]
+    rim_edges = mesh.edges[1]
     extra = _delaunay_triangles_outside(points, faces, rim_edges, tree)
     gap, gap_at = _coverage_gap(mesh, faces, extra, tree)
     used = np.zeros(len(points), bool)
@@ -155,18 +155,18 @@ def certify(mesh) -> Certificate:
         isolated_samples=int(np.count_nonzero(~used)),
         nonmanifold_vertices=_nonmanifold_vertices(rim_edges, len(points)),
         area_ratio=float(quality.area.sum() / mesh.region.area),
-        **_outside(mesh, faces),
+        **_outside(mesh),
         topology=topology_report(mesh),
     )
 
 
-def _outside(mesh, faces) -> dict:
+def _outside(mesh) -> dict:
     """How much of the mesh lies outside the region, and how far: the solid
     alpha-complex can bridge notches narrower than alpha (Theorem 2 assumes alpha <= ½
     LFS, which a sharp reflex corner breaks). The distance is measured at points every
     alpha/20 along the outline of the outside parts."""
     region = mesh.region.geometry
-    outside = shapely.difference(mesh_union(mesh.vertices, faces), region)
+    outside = shapely.difference(mesh.outline, region)
     probes = shapely.get_coordinates(shapely.segmentize(shapely.boundary(outside), mesh.alpha / 20))
     far = shapely.distance(region, shapely.points(probes)).max(initial=0.0)
     return {"outside_area_ratio": float(outside.area / region.area),

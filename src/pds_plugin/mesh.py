@@ -10,6 +10,7 @@ from .complex import solid_alpha_complex
 from .quality import Quality, triangle_quality
 from .region import Region
 from .sampling import poisson_disc
+from .topology import mesh_edges, mesh_union
 
 __all__ = ["PlanarMesh", "mesh_region"]
 
@@ -43,6 +44,17 @@ class PlanarMesh:
     def vertices_3d(self) -> np.ndarray:
         """(N, 3) vertices in the region's plane in 3D, through ``region.frame``."""
         return self.region.to_3d(self.vertices)
+
+    @cached_property
+    def edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(edges, boundary_edges)``: the undirected edges (E, 2) of the triangles, and
+        those used by one triangle only, directed with the mesh on their left."""
+        return mesh_edges(self.faces, len(self.vertices))
+
+    @cached_property
+    def outline(self):
+        """The union of the triangles, as shapely geometry."""
+        return mesh_union(self.vertices, self.edges[1])
 
     def quality(self) -> Quality:
         """Per-triangle aspect ratio L²/A, angles and edge lengths, with ``stats()`` and

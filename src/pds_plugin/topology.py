@@ -79,8 +79,11 @@ def ring_owners(region) -> list[tuple[int, int | None]]:
             for h in (None, *range(len(polygon.interiors)))]
 
 
-def mesh_betti(faces: np.ndarray, n_vertices: int):
+def mesh_betti(faces: np.ndarray, n_vertices: int, edges: np.ndarray | None = None):
     """Component label per vertex (-1 if unused) and ``(b0, b1)`` per mesh component.
+
+    ``edges``, the undirected edges of the triangles, are found from ``faces`` when not
+    given (see :func:`mesh_edges`).
 
     Examples
     --------
@@ -92,7 +95,8 @@ def mesh_betti(faces: np.ndarray, n_vertices: int):
     [[1, 1]]
     """
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    edges, _ = mesh_edges(faces, n_vertices)
+    if edges is None:
+        edges = mesh_edges(faces, n_vertices)[0]
     graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
                        shape=(n_vertices, n_vertices))
     component = connected_components(graph, directed=False)[1]
@@ -143,10 +147,10 @@ class _Comparison:
         self.vertices = np.asarray(mesh.vertices, dtype=float)
         self.faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
         self.alpha = float(mesh.alpha)
-        self.labels, self.betti = mesh_betti(self.faces, len(self.vertices))
+        self.labels, self.betti = mesh_betti(self.faces, len(self.vertices), mesh.edges[0])
         self.components = list(self.region.geometry.geoms)
         self.owner = _owners(self.region, self.vertices)
-        self.covered = mesh_union(self.vertices, self.faces)
+        self.covered = mesh.outline
         self.problems = []          # (component, sentence)
 
     def report(self) -> TopologyReport:
@@ -317,16 +321,16 @@ class _Comparison:
                          f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
 
 
-def mesh_union(vertices, faces):
-    """The union of the triangles, from their boundary edges alone.
+def mesh_union(vertices, boundary):
+    """The union of the triangles, from their ``boundary`` edges alone (directed with the
+    mesh on their left, as :func:`mesh_edges` gives them).
 
     The boundary edges cut the plane into faces (``shapely.polygonize``); a face is
     covered by the mesh when its counter-clockwise exterior runs along a boundary edge in
     that edge's own direction (the mesh lies left of its boundary edges).
     """
-    if not len(faces):
+    if not len(boundary):
         return Polygon()
-    _, boundary = mesh_edges(faces, len(vertices))
     pieces = shapely.get_parts(shapely.polygonize(shapely.linestrings(vertices[boundary])))
     pieces = shapely.orient_polygons(pieces)
     first = shapely.get_coordinates(shapely.get_exterior_ring(pieces), return_index=True)
