@@ -1,7 +1,7 @@
 """What the table measures on every mesh, the same way for every peer.
 
 Nothing here trusts the mesher: quality comes from :func:`pds_plugin.triangle_quality`,
-topology from the Euler characteristic (:func:`pds_plugin.topology.mesh_betti`), and the
+topology from the Euler characteristic (:func:`pds_plugin.mesh.mesh_betti`), and the
 coverage gap and boundary distance from independent computations with scipy and shapely
 (not from pds_plugin's certificate, which the pds rows are checked against).
 """
@@ -12,8 +12,8 @@ import numpy as np
 import shapely
 from scipy.spatial import Delaunay, cKDTree
 
-from pds_plugin.quality import ASPECT_BOUND, triangle_quality
-from pds_plugin.topology import mesh_betti
+from pds_plugin.analysis.quality import ASPECT_BOUND, triangle_quality
+from pds_plugin.mesh import mesh_betti
 
 PROBES_PER_ALPHA = 50
 """Boundary probes per length alpha: distances are then exact to alpha / 100."""

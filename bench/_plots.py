@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pds_plugin.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+from pds_plugin.analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
 
 MAX_POINTS = 200_000   # aspect ratios drawn per curve (a random subset beyond this)
 

@@ -211,7 +211,7 @@ def _method(timeout) -> str:
   alpha filter** every non-pds sampler gets: scipy Delaunay triangles with circumradius
   ≤ alpha whose centroid is in the region. The `generate_alpha_shape` row is what a
   MeshLab user tries instead: qhull in 3D on planar points.
-- **Quality** (`pds_plugin.quality.triangle_quality`): angles in degrees, aspect ratio
+- **Quality** (`pds_plugin.analysis.quality.triangle_quality`): angles in degrees, aspect ratio
   L²/A (longest edge squared over area; 4/√3 ≈ 2.31 equilateral, Theorem 1 bound
   4√3 ≈ 6.93); "> 4√3" is the share of triangles above the bound (+1e-9 relative).
 - **gap / α** (samplers only): the largest distance from the region to the samples,
@@ -220,7 +220,7 @@ def _method(timeout) -> str:
   distances of boundary probes every α/{PROBES_PER_ALPHA} (exact to α/{2 * PROBES_PER_ALPHA}).
   It must be ≤ 1 for the alpha-complex to have no pinholes.
 - **Betti (b0, b1)**: components and holes of the mesh from its Euler characteristic
-  (`pds_plugin.topology.mesh_betti`); ✓ when equal to the region's. With overlapping
+  (`pds_plugin.mesh.mesh_betti`); ✓ when equal to the region's. With overlapping
   triangles (MeshLab's alpha shape) the Euler count is meaningless: b1 goes negative.
 - **area ratio**: mesh area / region area. **Hausdorff / α**: between the region's
   boundary and the mesh's boundary edges (pinholes included), both probed every

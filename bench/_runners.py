@@ -164,7 +164,7 @@ def _meshlab_samples(region, alpha, seeded: bool):
     import pymeshlab as pm
     import trimesh
 
-    from pds_plugin.meshlab import silenced
+    from pds_plugin.silence import silenced
 
     start = perf_counter()
     parts = [trimesh.creation.triangulate_polygon(polygon, engine="manifold")
@@ -205,7 +205,7 @@ def run_meshlab_alpha_shape(region, alpha, target, options):
     samples. It is qhull in 3D (with joggle) on planar points: overlapping triangles."""
     import pymeshlab as pm
 
-    from pds_plugin.meshlab import silenced
+    from pds_plugin.silence import silenced
 
     start = perf_counter()
     meshset, times = _meshlab_samples(region, alpha, seeded=True)

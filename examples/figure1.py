@@ -17,7 +17,7 @@ from shapely import affinity
 from shapely.geometry import Point
 
 import pds_plugin as pds
-from pds_plugin.plot import plot_samples
+from pds_plugin.sinks.plot import plot_samples
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 

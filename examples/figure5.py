@@ -14,7 +14,7 @@ from matplotlib.figure import Figure
 from shapely.geometry import box
 
 import pds_plugin as pds
-from pds_plugin.plot import plot_histogram, plot_mesh
+from pds_plugin.sinks.plot import plot_histogram, plot_mesh
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 

@@ -23,7 +23,7 @@ import shapely
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin.plot import plot_multiresolution
+from pds_plugin.sinks.plot import plot_multiresolution
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 

@@ -18,7 +18,8 @@ import numpy as np
 import pymeshlab
 
 import pds_plugin as pds
-from pds_plugin.meshlab import RADIUS_RATIO_BOUND, add_section_meshes, meshlab_quality
+from pds_plugin.sinks.meshlab import RADIUS_RATIO_BOUND, meshlab_quality
+from pds_plugin.workflows import add_section_meshes
 
 STL = Path(__file__).resolve().parents[2] / "shared" / "data" / "featuretype.STL"
 

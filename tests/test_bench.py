@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin.quality import ASPECT_BOUND
+from pds_plugin.analysis.quality import ASPECT_BOUND
 from pds_plugin.sampling import estimate_samples
 
 from conftest import probe_gap

@@ -14,8 +14,8 @@ import trimesh
 
 from conftest import shared_file
 from pds_plugin.cli import main
-from pds_plugin.demo import THICKNESS, demo_part, demo_section_area
-from pds_plugin.quality import ASPECT_BOUND
+from pds_plugin.sources.demo import THICKNESS, demo_part, demo_section_area
+from pds_plugin.analysis.quality import ASPECT_BOUND
 
 PREFIX = "pds-mesh: error: "
 
@@ -300,3 +300,44 @@ def test_the_input_is_never_overwritten(tmp_path, capsys):
     assert main([box, "-o", box, "--axis", "z", "--alpha", "0.1"]) == 1
     assert "overwrite the input" in one_error_line(capsys.readouterr().err)
     assert box.read_bytes() == before
+
+
+# --- commands: pds-mesh mesh / demo, the mesh command by default ----------------------
+
+def test_mesh_command_is_the_default(part_stl, tmp_path, capsys):
+    args = ["-o", None, "--axis", "z", "--alpha", "0.2", "-q"]
+    explicit, implicit = tmp_path / "explicit.ply", tmp_path / "implicit.ply"
+    assert main(["mesh", part_stl, *[explicit if a is None else a for a in args]]) == 0
+    assert main([part_stl, *[implicit if a is None else a for a in args]]) == 0
+    assert explicit.read_bytes() == implicit.read_bytes()
+
+
+def test_a_file_named_demo_is_an_input_of_the_mesh_command(part_stl, tmp_path, capsys,
+                                                            monkeypatch):
+    (tmp_path / "demo").write_bytes(part_stl.read_bytes())
+    monkeypatch.chdir(tmp_path)
+    # the file is read as the input (trimesh needs a suffix to know an STL, so it says
+    # so), not taken for the demo command
+    assert main(["mesh", "demo", "-o", "cut.ply", "--axis", "z", "--alpha", "0.2"]) == 1
+    assert "cannot read 'demo' as a mesh" in one_error_line(capsys.readouterr().err)
+    assert not (tmp_path / "pds-demo").exists()
+
+
+def test_each_command_has_its_help(capsys):
+    assert main(["mesh", "--help"]) == 0
+    assert "--plane-normal" in capsys.readouterr().out
+    assert main(["demo", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "built-in CAD part" in out and "--alpha" not in out
+    assert main(["demo", "--alpha", "1"]) == 2
+    assert "unrecognized arguments: --alpha" in capsys.readouterr().err
+
+
+def test_a_bug_keeps_its_traceback(part_stl, tmp_path, monkeypatch):
+    from pds_plugin.cli import mesh as mesh_command
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("a bug, not bad input")
+    monkeypatch.setattr(mesh_command, "mesh_region", broken)
+    with pytest.raises(ZeroDivisionError, match="a bug"):
+        main([part_stl, "-o", tmp_path / "x.ply", "--axis", "z", "--alpha", "0.2"])

@@ -5,7 +5,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from pds_plugin.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+from pds_plugin.analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

@@ -6,8 +6,8 @@ import trimesh
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin import export as export_module
-from pds_plugin.export import export, register_writer, to_trimesh, writers
+from pds_plugin.sinks import files as export_module
+from pds_plugin.sinks.files import export, register_writer, to_trimesh, writers
 
 # a CAD-like placement: tilted plane, coordinates of a few hundred units, where float32
 # storage would move vertices by ~1e-5

@@ -15,8 +15,9 @@ from shapely.geometry import Point, Polygon, box
 
 import pds_plugin as pds
 from pds_plugin import Region, feature_size, suggest_alpha
-from pds_plugin.feature import ADJACENT_TURNING, auto_mesh
-from pds_plugin.topology import topology_report
+from pds_plugin.analysis.feature import ADJACENT_TURNING
+from pds_plugin.pipeline import auto_mesh
+from pds_plugin.analysis.topology import topology_report
 from pds_plugin.sampling import estimate_samples
 
 

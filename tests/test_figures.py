@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pds_plugin.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+from pds_plugin.analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

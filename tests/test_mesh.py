@@ -6,7 +6,7 @@ from hypothesis import given, settings, strategies as st
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin.quality import ASPECT_BOUND
+from pds_plugin.analysis.quality import ASPECT_BOUND
 from regions import regions, wedge
 
 

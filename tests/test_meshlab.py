@@ -12,11 +12,13 @@ import trimesh
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin.quality import ASPECT_BOUND
+from pds_plugin.analysis.quality import ASPECT_BOUND
 
 pymeshlab = pytest.importorskip("pymeshlab")
-from pds_plugin.meshlab import (  # noqa: E402
-    RADIUS_RATIO_BOUND, add_section_meshes, meshlab_quality, radius_ratio, silenced, to_meshset)
+from pds_plugin.silence import silenced  # noqa: E402
+from pds_plugin.sinks.meshlab import (  # noqa: E402
+    RADIUS_RATIO_BOUND, meshlab_quality, radius_ratio, to_meshset)
+from pds_plugin.workflows import add_section_meshes  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 

@@ -7,14 +7,14 @@ import pytest
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+from pds_plugin.analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
 
 matplotlib = pytest.importorskip("matplotlib")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import (  # noqa: E402
     EllipseCollection, LineCollection, PathCollection, PolyCollection)
 
-from pds_plugin.plot import (  # noqa: E402
+from pds_plugin.sinks.plot import (  # noqa: E402
     plot_histogram, plot_mesh, plot_multiresolution, plot_report, plot_samples)
 
 

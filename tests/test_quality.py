@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from pds_plugin.quality import ASPECT_BOUND, ASPECT_EQUILATERAL, triangle_quality
+from pds_plugin.analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL, triangle_quality
 
 
 def test_equilateral_triangle():

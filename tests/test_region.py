@@ -74,3 +74,18 @@ def test_boundary_pieces_cover_the_boundary_in_short_steps():
     start, direction, length = region.boundary_pieces(0.1)
     assert length.max() <= 0.1 and np.isclose(length.sum(), region.perimeter)
     assert np.allclose(np.linalg.norm(direction, axis=1), 1.0)
+
+
+def test_ring_owners_name_the_component_and_hole_of_each_ring():
+    ring = box(0, 0, 10, 10).difference(box(2, 2, 4, 4)).difference(box(6, 6, 8, 8))
+    region = pds.Region.from_shapely(MultiPolygon([ring, box(20, 0, 21, 1)]))
+    assert region.ring_owners == ((0, None), (0, 0), (0, 1), (1, None))
+    assert len(region.ring_owners) == len(region.rings)
+
+
+def test_turning_angles_of_a_ring_sum_to_one_turn_with_the_region_on_the_left():
+    from pds_plugin.region import turning_angles
+
+    outer, hole = pds.Region.from_shapely(Point(0, 0).buffer(2).difference(Point(0, 0).buffer(1))).rings
+    assert turning_angles(outer).sum() == pytest.approx(2 * np.pi, rel=1e-12)
+    assert turning_angles(hole).sum() == pytest.approx(-2 * np.pi, rel=1e-12)

@@ -360,7 +360,7 @@ def test_polygon_svg_matches_the_shoelace_area_of_its_vertices():
 # --- the arrangement helpers behind the fill rules and the outline nesting ---
 
 def test_winding_numbers_agree_with_point_in_polygon():
-    from pds_plugin.sources import winding_numbers
+    from pds_plugin.sources.polygons import winding_numbers
 
     rng = np.random.default_rng(3)
     angles = np.sort(rng.uniform(0, 2 * np.pi, 40))

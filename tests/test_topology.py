@@ -11,7 +11,8 @@ from hypothesis import given, settings, strategies as st
 from shapely.geometry import Point, Polygon, box
 
 import pds_plugin as pds
-from pds_plugin.topology import mesh_betti, topology_report
+from pds_plugin.mesh import mesh_betti
+from pds_plugin.analysis.topology import topology_report
 
 
 def region(geometry):

@@ -15,7 +15,7 @@ Every public name is imported on first use, so ``import pds_plugin`` stays fast.
 
 from importlib import import_module
 
-__version__ = "0.1.0"
+from ._version import __version__
 
 _PUBLIC = {
     "Region": "region",
@@ -23,25 +23,31 @@ _PUBLIC = {
     "poisson_disc": "sampling",
     "solid_alpha_complex": "complex",
     "PlanarMesh": "mesh",
-    "mesh_region": "mesh",
-    "Quality": "quality",
-    "triangle_quality": "quality",
-    "Certificate": "certificate",
-    "certify": "certificate",
-    "feature_size": "feature",
-    "FeatureSize": "feature",
-    "suggest_alpha": "feature",
-    "auto_mesh": "feature",
-    "topology_report": "topology",
-    "TopologyReport": "topology",
-    "multiresolution": "multires",
-    "Resolution": "multires",
-    "section": "sources",
-    "sections": "sources",
-    "load_svg": "sources",
-    "demo_part": "demo",
-    "add_section_meshes": "meshlab",
-    "meshlab_quality": "meshlab",
+    "Quality": "analysis.quality",
+    "triangle_quality": "analysis.quality",
+    "feature_size": "analysis.feature",
+    "FeatureSize": "analysis.feature",
+    "topology_report": "analysis.topology",
+    "TopologyReport": "analysis.topology",
+    "Certificate": "analysis.certificate",
+    "certify": "analysis.certificate",
+    "mesh_region": "pipeline",
+    "suggest_alpha": "pipeline",
+    "auto_mesh": "pipeline",
+    "multiresolution": "pipeline",
+    "Resolution": "pipeline",
+    "section_report": "pipeline",
+    "section": "sources.solids",
+    "sections": "sources.solids",
+    "load_svg": "sources.svg",
+    "demo_part": "sources.demo",
+    "meshlab_quality": "sinks.meshlab",
+    "add_section_meshes": "workflows",
+    "silenced": "silence",
+    **{name: "errors" for name in ("PdsError", "ArgumentError", "ArgumentTypeError",
+                                   "RegionError", "SourceError", "SectionError", "BudgetError",
+                                   "TopologyError", "EmptyMeshError",
+                                   "MissingDependencyError")},
 }
 
 __all__ = sorted(_PUBLIC)

@@ -21,7 +21,8 @@ from fractions import Fraction
 import numpy as np
 
 from . import _complex_kernels as kern
-from .sampling import check_alpha
+from ._checks import check_alpha
+from .errors import ArgumentError, ArgumentTypeError, BudgetError
 
 __all__ = ["solid_alpha_complex"]
 
@@ -60,7 +61,7 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
     nx = int((points[:, 0].max() - x0) / h) + 1
     ny = int((points[:, 1].max() - y0) / h) + 1
     if nx * ny > _MAX_CELLS:
-        raise ValueError(f"the points span {nx * ny:.3g} cells of side alpha={alpha:.6g} "
+        raise BudgetError(f"the points span {nx * ny:.3g} cells of side alpha={alpha:.6g} "
                          f"(the limit is {_MAX_CELLS:.0e}); use a larger alpha or split the "
                          "point set into parts that are far apart")
     order, start = kern.bin_points(points, x0, y0, h, nx, ny)
@@ -86,11 +87,11 @@ def _checked_points(points) -> np.ndarray:
     try:
         points = np.array(points, dtype=float)
     except (TypeError, ValueError):
-        raise TypeError("points must be an (N, 2) array of numbers") from None
+        raise ArgumentTypeError("points must be an (N, 2) array of numbers") from None
     if points.ndim != 2 or points.shape[1] != 2:
-        raise ValueError(f"points must be an (N, 2) array, got shape {points.shape}")
+        raise ArgumentError(f"points must be an (N, 2) array, got shape {points.shape}")
     if not np.isfinite(points).all():
-        raise ValueError("points contain NaN or infinite coordinates")
+        raise ArgumentError("points contain NaN or infinite coordinates")
     return np.ascontiguousarray(points)
 
 
@@ -99,7 +100,7 @@ def _check_distinct(binned, order, start):
     p, q = kern.first_duplicate(binned, start)
     if p >= 0:
         i, j = sorted((int(order[p]), int(order[q])))
-        raise ValueError(f"points {i} and {j} are the same point {tuple(binned[p].tolist())}; "
+        raise ArgumentError(f"points {i} and {j} are the same point {tuple(binned[p].tolist())}; "
                          "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 
 

@@ -1,95 +1,164 @@
-"""PlanarMesh: the triangle mesh of a region, and mesh_region, which makes it."""
+"""PlanarMesh: the triangle mesh of a region, and its combinatorics.
+
+The mesh owns what is computed from its faces alone (edges, boundary edges, the outline
+they bound, connected components and Betti numbers), each once, as named cached
+attributes. Its measurements, certificate and writers live in the layers above
+(:mod:`pds_plugin.analysis`, :mod:`pds_plugin.sinks`); the methods of the same names
+here are the public shortcuts to them (see DESIGN.md §4).
+"""
 
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from shapely.geometry import Polygon
 
-from .complex import solid_alpha_complex
-from .quality import Quality, triangle_quality
-from .region import Region
-from .sampling import poisson_disc
-from .topology import mesh_edges, mesh_union
+from ._mesh_kernels import edges_of
+from .region import Region, lift
 
-__all__ = ["PlanarMesh", "mesh_region"]
+if TYPE_CHECKING:
+    import pymeshlab
+    import trimesh
+
+    from .analysis.certificate import Certificate
+    from .analysis.quality import Quality
+
+__all__ = ["PlanarMesh", "mesh_edges", "mesh_betti", "mesh_union"]
 
 
 class PlanarMesh:
     """A triangle mesh of a :class:`Region`, in the region's 2D coordinates.
 
+    The arrays are copies of those given (the caller's stay as they were), read-only.
+
+    Parameters
+    ----------
+    vertices : (N, 2) array_like of float
+    faces : (M, 3) array_like of int
+    on_boundary : (N,) array_like of bool
+    region : Region
+    alpha : float
+
     Attributes
     ----------
     vertices : (N, 2) float ndarray
         The Poisson disc samples.
-    faces : (M, 3) int ndarray
+    faces : (M, 3) int64 ndarray
         Counter-clockwise triangles of the solid alpha-complex.
     on_boundary : (N,) bool ndarray
         True for samples placed on the region's boundary.
     region : Region
+        The region the mesh was made of.
     alpha : float
         The radius used for both the sampling and the complex.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from shapely.geometry import box
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> corners = [[0, 0], [1, 0], [1, 1], [0, 1]]
+    >>> mesh = PlanarMesh(corners, [[0, 1, 2], [0, 2, 3]], [True] * 4, square, 0.75)
+    >>> mesh.edges.tolist(), mesh.boundary_edges.tolist()
+    ([[0, 1], [2, 0], [3, 0], [1, 2], [2, 3]], [[0, 1], [3, 0], [1, 2], [2, 3]])
+    >>> mesh.betti, mesh.outline.area
+    ((1, 0), 1.0)
     """
 
     def __init__(self, vertices, faces, on_boundary, region: Region, alpha: float):
-        self.vertices = vertices
-        self.faces = faces
-        self.on_boundary = on_boundary
+        self.vertices = np.array(vertices, dtype=float).reshape(-1, 2)
+        self.faces = np.array(faces, dtype=np.int64).reshape(-1, 3)
+        self.on_boundary = np.array(on_boundary, dtype=bool).reshape(-1)
         self.region = region
         self.alpha = float(alpha)
-        for array in (vertices, faces, on_boundary):
+        for array in (self.vertices, self.faces, self.on_boundary):
             array.setflags(write=False)
 
     @cached_property
     def vertices_3d(self) -> np.ndarray:
         """(N, 3) vertices in the region's plane in 3D, through ``region.frame``."""
-        return self.region.to_3d(self.vertices)
+        return lift(self.vertices, self.region.frame)
 
     @cached_property
-    def edges(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(edges, boundary_edges)``: the undirected edges (E, 2) of the triangles, and
-        those used by one triangle only, directed with the mesh on their left."""
+    def _edges(self) -> tuple[np.ndarray, np.ndarray]:
         return mesh_edges(self.faces, len(self.vertices))
+
+    @property
+    def edges(self) -> np.ndarray:
+        """(E, 2) int64: the undirected edges of the triangles, each once."""
+        return self._edges[0]
+
+    @property
+    def boundary_edges(self) -> np.ndarray:
+        """(B, 2) int64: the edges used by one triangle only, directed as in that triangle
+        (so the mesh lies on their left)."""
+        return self._edges[1]
 
     @cached_property
     def outline(self):
-        """The union of the triangles, as shapely geometry."""
-        return mesh_union(self.vertices, self.edges[1])
+        """The union of the triangles, as shapely geometry (from :attr:`boundary_edges`)."""
+        return mesh_union(self.vertices, self.boundary_edges)
+
+    @cached_property
+    def _components(self) -> tuple[np.ndarray, np.ndarray]:
+        return mesh_betti(self.faces, len(self.vertices), self.edges)
+
+    @property
+    def vertex_component(self) -> np.ndarray:
+        """(N,) int64: the mesh component (triangles joined through shared vertices) of
+        each vertex, -1 for a vertex in no triangle."""
+        return self._components[0]
+
+    @property
+    def component_betti(self) -> np.ndarray:
+        """(C, 2) int64: ``(b0, b1)`` of each mesh component, so ``b0`` is 1."""
+        return self._components[1]
+
+    @property
+    def betti(self) -> tuple[int, int]:
+        """``(b0, b1)`` of the whole mesh: its components and its holes."""
+        per_component = self.component_betti
+        return (len(per_component), int(per_component[:, 1].sum()) if len(per_component) else 0)
 
     def quality(self) -> Quality:
         """Per-triangle aspect ratio L²/A, angles and edge lengths, with ``stats()`` and
-        ``histogram()``. Computed once and cached."""
+        ``histogram()`` (see :func:`pds_plugin.triangle_quality`). Computed once."""
         return self._quality
 
     @cached_property
     def _quality(self) -> Quality:
+        from .analysis.quality import triangle_quality
         return triangle_quality(self.vertices, self.faces)
 
-    def certificate(self):
-        """The measured guarantees of this mesh (see :class:`pds_plugin.Certificate`).
-
-        Computed once and cached.
-        """
+    def certificate(self) -> Certificate:
+        """The measured guarantees of this mesh (see :func:`pds_plugin.certify`).
+        Computed once."""
         return self._certificate
 
     @cached_property
-    def _certificate(self):
-        from .certificate import certify
+    def _certificate(self) -> Certificate:
+        from .analysis.certificate import certify
         return certify(self)
 
-    def to_trimesh(self):
-        """The mesh in 3D as a ``trimesh.Trimesh``, with face attribute ``aspect_ratio``."""
-        from .export import to_trimesh
+    def to_trimesh(self) -> trimesh.Trimesh:
+        """The mesh in 3D as a ``trimesh.Trimesh`` (see :func:`pds_plugin.sinks.files.to_trimesh`)."""
+        from .sinks.files import to_trimesh
         return to_trimesh(self)
 
-    def to_meshset(self):
-        """A ``pymeshlab.MeshSet`` holding the mesh, face quality = aspect ratio."""
-        from .meshlab import to_meshset
+    def to_meshset(self) -> pymeshlab.MeshSet:
+        """A ``pymeshlab.MeshSet`` holding the mesh (see :func:`pds_plugin.sinks.meshlab.to_meshset`)."""
+        from .sinks.meshlab import to_meshset
         return to_meshset(self)
 
     def export(self, path) -> None:
-        """Write the mesh in 3D: binary PLY with per-face quality, or OBJ, by suffix."""
-        from .export import export
+        """Write the mesh in 3D: binary PLY with per-face quality, or OBJ, by suffix (see
+        :func:`pds_plugin.sinks.files.export`)."""
+        from .sinks.files import export
         export(self, path)
 
     def __repr__(self) -> str:
@@ -97,27 +166,112 @@ class PlanarMesh:
                 f"alpha={self.alpha:.6g})")
 
 
-def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> PlanarMesh:
-    """Sample ``region`` with a maximal Poisson disc sampling of radius ``alpha`` and
-    mesh the samples with the solid alpha-complex of the same radius.
+def mesh_edges(faces, n_vertices: int) -> tuple[np.ndarray, np.ndarray]:
+    """The undirected edges of triangles, and their boundary edges.
 
-    By Theorem 1 of the paper every triangle then has aspect ratio L²/A ≤ 4√3 (all
-    angles in [30°, 120°]); :meth:`PlanarMesh.certificate` measures it. With
-    ``alpha="auto"`` the radius comes from the region's feature size and is lowered
-    until the mesh has the region's topology (see :func:`pds_plugin.auto_mesh`, which
-    takes the same keywords).
+    Parameters
+    ----------
+    faces : (M, 3) array_like of int
+    n_vertices : int
+
+    Returns
+    -------
+    edges : (E, 2) int64 ndarray
+        Each undirected edge once (grouped by smaller vertex; directed as in one of its
+        triangles).
+    boundary_edges : (B, 2) int64 ndarray
+        The edges used by one triangle only, directed as in that triangle, so the mesh
+        lies on their left.
 
     Examples
     --------
-    >>> from shapely.geometry import box
-    >>> import pds_plugin as pds
-    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.1, seed=0)
-    >>> mesh.certificate().ok
-    True
+    >>> edges, boundary = mesh_edges([[0, 1, 2]], 3)
+    >>> edges.tolist(), boundary.tolist()
+    ([[0, 1], [2, 0], [1, 2]], [[0, 1], [2, 0], [1, 2]])
     """
-    if isinstance(alpha, str) and alpha == "auto":
-        from .feature import auto_mesh
-        return auto_mesh(region, seed=seed, **sampling_options)
-    samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
-    faces = solid_alpha_complex(samples.points, alpha)
-    return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
+    edges, uses = edges_of(np.asarray(faces, dtype=np.int64).reshape(-1, 3), n_vertices)
+    return edges, edges[uses == 1]
+
+
+def mesh_betti(faces, n_vertices: int, edges: np.ndarray | None = None):
+    """Component label per vertex (-1 if unused) and ``(b0, b1)`` per mesh component.
+
+    Components are triangles joined through shared vertices; ``b1 = b0 - χ`` with
+    ``χ = V - E + F`` over the vertices, edges and faces used by triangles.
+
+    Parameters
+    ----------
+    faces : (M, 3) array_like of int
+    n_vertices : int
+    edges : (E, 2) ndarray, optional
+        The undirected edges of the triangles; found from ``faces`` when not given
+        (see :func:`mesh_edges`).
+
+    Returns
+    -------
+    labels : (n_vertices,) int64 ndarray
+    betti : (C, 2) int64 ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square_ring = np.array([[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7],
+    ...                         [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+    >>> labels, betti = mesh_betti(square_ring, 8)
+    >>> betti.tolist()
+    [[1, 1]]
+    """
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    if edges is None:
+        edges = mesh_edges(faces, n_vertices)[0]
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
+                       shape=(n_vertices, n_vertices))
+    component = connected_components(graph, directed=False)[1]
+    used = np.zeros(n_vertices, dtype=bool)
+    used[faces.ravel()] = True
+    present = np.zeros(n_vertices, dtype=bool)
+    present[component[used]] = True
+    labels = np.where(used, (np.cumsum(present) - 1)[component], -1)
+    count = int(present.sum())
+    chi = (np.bincount(labels[used], minlength=count)
+           - np.bincount(labels[edges[:, 0]], minlength=count)
+           + np.bincount(labels[faces[:, 0]], minlength=count))
+    return labels, np.stack([np.ones(count, dtype=np.int64), 1 - chi], axis=1)
+
+
+def mesh_union(vertices, boundary):
+    """The union of the triangles, from their ``boundary`` edges alone (directed with the
+    mesh on their left, as :func:`mesh_edges` gives them).
+
+    The boundary edges cut the plane into faces (``shapely.polygonize``); a face is
+    covered by the mesh when its counter-clockwise exterior runs along a boundary edge in
+    that edge's own direction (the mesh lies left of its boundary edges).
+
+    Parameters
+    ----------
+    vertices : (N, 2) ndarray
+    boundary : (B, 2) int ndarray
+        Directed boundary edges.
+
+    Returns
+    -------
+    shapely Polygon or MultiPolygon (empty without boundary edges)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    >>> mesh_union(square, np.array([[0, 1], [1, 2], [2, 3], [3, 0]])).area
+    1.0
+    """
+    if not len(boundary):
+        return Polygon()
+    pieces = shapely.get_parts(shapely.polygonize(shapely.linestrings(vertices[boundary])))
+    pieces = shapely.orient_polygons(pieces)
+    first = shapely.get_coordinates(shapely.get_exterior_ring(pieces), return_index=True)
+    starts = np.flatnonzero(np.diff(first[1], prepend=-1))
+    begin, end = first[0][starts], first[0][starts + 1]
+    edges = np.concatenate([vertices[boundary].reshape(-1, 4), np.hstack([begin, end])])
+    _, same = np.unique(edges, axis=0, return_inverse=True)
+    covered = np.isin(same[len(boundary):], same[:len(boundary)])
+    return shapely.union_all(pieces[covered])

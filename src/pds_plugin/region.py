@@ -1,4 +1,6 @@
-"""The planar region to mesh: validated shapely geometry plus its 3D frame."""
+"""The planar region to mesh: validated shapely geometry plus its 3D frame, and the facts
+about it that the layers above share (its rings and their owners, turning angles, the
+one 2D -> 3D lift)."""
 
 from __future__ import annotations
 
@@ -8,7 +10,9 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-__all__ = ["Region"]
+from .errors import ArgumentError, ArgumentTypeError, RegionError
+
+__all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region"]
 
 
 class Region:
@@ -35,7 +39,7 @@ class Region:
 
     def __init__(self, geometry: MultiPolygon, frame: np.ndarray):
         self.geometry = geometry
-        self.frame = frame
+        self.frame = np.array(frame, dtype=float)      # a copy: the caller's stays writable
         self.frame.setflags(write=False)
 
     @classmethod
@@ -51,13 +55,19 @@ class Region:
             Mend invalid geometry with ``shapely.make_valid`` (never ``buffer(0)``,
             which drops lobes) and drop zero-area parts, instead of raising.
 
+        Returns
+        -------
+        Region
+
         Raises
         ------
-        TypeError
+        ArgumentTypeError
             If ``geometry`` is not a polygonal shapely geometry.
-        ValueError
+        RegionError
             If it is empty, has non-finite coordinates, is invalid (the message gives
             shapely's reason and location) or has zero-area parts, and ``repair`` is off.
+        ArgumentError
+            If ``frame`` is not a finite 4x4 matrix.
 
         Examples
         --------
@@ -66,25 +76,25 @@ class Region:
         >>> Region.from_shapely(bowtie)
         Traceback (most recent call last):
         ...
-        ValueError: invalid region geometry: Self-intersection[1 1]; fix the outline or pass repair=True (shapely.make_valid)
+        pds_plugin.errors.RegionError: invalid region geometry: Self-intersection[1 1]; fix the outline or pass repair=True (shapely.make_valid)
         >>> Region.from_shapely(bowtie, repair=True).betti
         (2, 0)
         """
         polygons = _polygons_of(geometry)
         coords = shapely.get_coordinates(geometry)
         if not np.isfinite(coords).all():
-            raise ValueError("region geometry has NaN or infinite coordinates; "
+            raise RegionError("region geometry has NaN or infinite coordinates; "
                              "clean the input coordinates first")
         if not polygons:
-            raise ValueError("region geometry is empty: there is nothing to mesh")
+            raise RegionError("region geometry is empty: there is nothing to mesh")
         multi = MultiPolygon(polygons)
         if not multi.is_valid:
             if not repair:
-                raise ValueError(_invalidity(polygons))
+                raise RegionError(_invalidity(polygons))
             multi = shapely.make_valid(multi)
         polygons = [p for p in _polygons_of(multi) if p.area > 0]
         if not polygons:
-            raise ValueError("region geometry has no area after repair: there is nothing to mesh")
+            raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(MultiPolygon(polygons))
         return cls(geometry, _checked_frame(frame))
 
@@ -122,8 +132,15 @@ class Region:
         start = seg[owner, 0] + (step / count[owner])[:, None] * vec[owner]
         return start, vec[owner] / seg_len[owner, None], seg_len[owner] / count[owner]
 
+    @cached_property
+    def ring_owners(self) -> tuple[tuple[int, int | None], ...]:
+        """``(component, hole)`` of each ring in :attr:`rings` (hole None for an outline)."""
+        return tuple((c, h) for c, polygon in enumerate(self.geometry.geoms)
+                     for h in (None, *range(len(polygon.interiors))))
+
     @property
     def area(self) -> float:
+        """The region's area."""
         return float(self.geometry.area)
 
     @property
@@ -133,6 +150,7 @@ class Region:
 
     @property
     def perimeter(self) -> float:
+        """The total length of the boundary rings."""
         return float(self.geometry.length)
 
     @property
@@ -142,9 +160,8 @@ class Region:
                 sum(len(p.interiors) for p in self.geometry.geoms))
 
     def to_3d(self, xy) -> np.ndarray:
-        """Map (n, 2) region coordinates into 3D through :attr:`frame`."""
-        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        return xy @ self.frame[:3, :2].T + self.frame[:3, 3]
+        """Map (n, 2) region coordinates into 3D through :attr:`frame` (see :func:`lift`)."""
+        return lift(xy, self.frame)
 
     def __repr__(self) -> str:
         b0, b1 = self.betti
@@ -154,7 +171,7 @@ class Region:
 
 def _polygons_of(geometry) -> list[Polygon]:
     if not isinstance(geometry, shapely.Geometry):
-        raise TypeError(f"expected a shapely Polygon or MultiPolygon, got {type(geometry).__name__}")
+        raise ArgumentTypeError(f"expected a shapely Polygon or MultiPolygon, got {type(geometry).__name__}")
     parts = shapely.get_parts(geometry)
     polygons = [p for p in parts if isinstance(p, Polygon) and not p.is_empty]
     nested = [q for p in parts if isinstance(p, (MultiPolygon, shapely.GeometryCollection))
@@ -162,7 +179,7 @@ def _polygons_of(geometry) -> list[Polygon]:
     others = [p for p in parts if not isinstance(p, (Polygon, MultiPolygon, shapely.GeometryCollection))
               and not p.is_empty]
     if others and not (polygons or nested):
-        raise TypeError(f"expected polygons, got {others[0].geom_type}: a region needs area")
+        raise ArgumentTypeError(f"expected polygons, got {others[0].geom_type}: a region needs area")
     return polygons + nested
 
 
@@ -182,5 +199,122 @@ def _checked_frame(frame) -> np.ndarray:
         return np.eye(4)
     frame = np.array(frame, dtype=float)
     if frame.shape != (4, 4) or not np.isfinite(frame).all():
-        raise ValueError(f"frame must be a finite 4x4 matrix, got shape {frame.shape}")
+        raise ArgumentError(f"frame must be a finite 4x4 matrix, got shape {frame.shape}")
     return frame
+
+
+def lift(xy, frame) -> np.ndarray:
+    """Map (n, 2) plane coordinates into 3D through a 4x4 ``frame`` (2D -> 3D).
+
+    Parameters
+    ----------
+    xy : (n, 2) array_like
+    frame : (4, 4) array_like
+        Maps ``(x, y, 0, 1)`` into 3D, as :attr:`Region.frame`.
+
+    Returns
+    -------
+    (n, 3) float ndarray
+
+    Examples
+    --------
+    >>> frame = np.eye(4)
+    >>> frame[2, 3] = 5.0          # the plane z = 5
+    >>> lift([[1, 2]], frame).tolist()
+    [[1.0, 2.0, 5.0]]
+    """
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    frame = np.asarray(frame)
+    return xy @ frame[:3, :2].T + frame[:3, 3]
+
+
+def plane_label(frame) -> str:
+    """A short name of the plane a 2D -> 3D ``frame`` maps onto.
+
+    ``"z=0.5"`` for a plane normal to a coordinate axis (either direction), else
+    ``"n=(a, b, c) d=0.5"`` for the plane ``n·x = d``.
+
+    Parameters
+    ----------
+    frame : (4, 4) array_like
+        As :attr:`Region.frame`: its third column is the plane's unit normal, its fourth
+        the plane's origin.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> frame = np.eye(4)
+    >>> frame[2, 3] = 0.5
+    >>> plane_label(frame)
+    'z=0.5'
+    >>> frame[:3, 2] = (np.sqrt(0.5), 0, np.sqrt(0.5))
+    >>> plane_label(frame)
+    'n=(0.7071, 0, 0.7071) d=0.353553'
+    """
+    frame = np.asarray(frame)
+    normal, origin = frame[:3, 2], frame[:3, 3]
+    axis = int(np.argmax(np.abs(normal)))
+    if np.isclose(abs(normal[axis]), 1.0, rtol=0, atol=1e-12):
+        return f"{'xyz'[axis]}={origin[axis] + 0.0:.6g}"
+    return f"n=({', '.join(f'{c + 0.0:.4g}' for c in normal)}) d={normal @ origin:.6g}"
+
+
+def turning_angles(ring: np.ndarray) -> np.ndarray:
+    """Signed turning angle (radians) at each vertex of a closed ring: at vertex k, from
+    segment k-1 (into it) to segment k (out of it); positive turns left.
+
+    Parameters
+    ----------
+    ring : (k, 2) ndarray
+        The ring's vertices without the closing duplicate, as :attr:`Region.rings`.
+
+    Returns
+    -------
+    (k,) float ndarray
+        In ``[-pi, pi]``.
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    >>> np.degrees(turning_angles(square)).tolist()
+    [90.0, 90.0, 90.0, 90.0]
+    """
+    out = np.roll(ring, -1, axis=0) - ring
+    into = ring - np.roll(ring, 1, axis=0)
+    cross = into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0]
+    dot = (into * out).sum(axis=1)
+    return np.arctan2(cross, dot)
+
+
+def require_region(value, who: str) -> Region:
+    """``value`` itself if it is a :class:`Region`, else a clear error.
+
+    Parameters
+    ----------
+    value : object
+    who : str
+        The function that needs the Region, for the message.
+
+    Returns
+    -------
+    Region
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a Region.
+
+    Examples
+    --------
+    >>> require_region("a square", "poisson_disc")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: poisson_disc needs a pds_plugin.Region, got str; make one with Region.from_shapely(polygon)
+    """
+    if not isinstance(value, Region):
+        raise ArgumentTypeError(f"{who} needs a pds_plugin.Region, got {type(value).__name__}; "
+                                "make one with Region.from_shapely(polygon)")
+    return value

@@ -30,9 +30,11 @@ import numpy as np
 import shapely
 
 from . import _sampling_kernels as kern
-from .region import Region
+from ._checks import check_alpha
+from .errors import BudgetError
+from .region import Region, require_region, turning_angles
 
-__all__ = ["Samples", "poisson_disc", "estimate_samples", "DEFAULT_MAX_SAMPLES"]
+__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "DEFAULT_MAX_SAMPLES"]
 
 DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples (about 1 GB of working memory)."""
@@ -65,21 +67,28 @@ def estimate_samples(region: Region, alpha: float) -> float:
     return 0.7 * region.area / alpha**2 + region.perimeter / alpha
 
 
-def _largest_alpha(region: Region, max_samples: int) -> float:
-    """The alpha at which estimate_samples equals max_samples."""
+def largest_alpha(region: Region, max_samples: int) -> float:
+    """The alpha at which :func:`estimate_samples` equals ``max_samples``: the smallest
+    radius a sample budget allows.
+
+    Parameters
+    ----------
+    region : Region
+    max_samples : int
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> round(estimate_samples(square, largest_alpha(square, 7400)))
+    7400
+    """
     a, p = 0.7 * region.area, region.perimeter
     return (p + math.sqrt(p * p + 4 * max_samples * a)) / (2 * max_samples)
-
-
-def check_alpha(alpha) -> float:
-    """``alpha`` as a float, or a ValueError saying why it can't be a radius."""
-    try:
-        alpha = float(alpha)
-    except (TypeError, ValueError):
-        raise TypeError(f"alpha must be a positive number, got {alpha!r}") from None
-    if not math.isfinite(alpha) or alpha <= 0:
-        raise ValueError(f"alpha must be a positive finite number, got {alpha}")
-    return alpha
 
 
 def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
@@ -112,15 +121,13 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     >>> bool(samples.on_boundary.any()), samples.points.shape[1]
     (True, 2)
     """
-    if not isinstance(region, Region):
-        raise TypeError(f"expected a pds_plugin.Region, got {type(region).__name__}; "
-                        "make one with Region.from_shapely(polygon)")
+    require_region(region, "poisson_disc")
     alpha = check_alpha(alpha)
     expected = estimate_samples(region, alpha)
     if expected > max_samples:
-        raise ValueError(
+        raise BudgetError(
             f"alpha={alpha:.6g} would make about {expected:.3g} samples, more than "
-            f"max_samples={max_samples}; use alpha >= {_largest_alpha(region, max_samples):.6g} "
+            f"max_samples={max_samples}; use alpha >= {largest_alpha(region, max_samples):.6g} "
             "or raise max_samples")
     rng = np.random.default_rng(seed)
     sampler = _Sampler(region, alpha)
@@ -146,7 +153,7 @@ class _Sampler:
         self.nx = int((xmax - self.x0) / self.s) + 2
         self.ny = int((ymax - self.y0) / self.s) + 2
         if self.nx * self.ny > _MAX_GRID_CELLS:
-            raise ValueError(
+            raise BudgetError(
                 f"the region's bounding box spans {self.nx * self.ny:.3g} grid cells at "
                 f"alpha={alpha:.6g} (the limit is {_MAX_GRID_CELLS:.0e}); use a larger alpha "
                 "or mesh the far-apart parts of the region separately")
@@ -169,10 +176,7 @@ class _Sampler:
     def add_corners(self, feature_angle: float):
         corners, turns = [], []
         for ring in self.region.rings:
-            incoming = ring - np.roll(ring, 1, axis=0)
-            outgoing = np.roll(ring, -1, axis=0) - ring
-            turn = np.abs(np.arctan2(incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0],
-                                     np.einsum("ij,ij->i", incoming, outgoing)))
+            turn = np.abs(turning_angles(ring))
             sharp = turn >= np.radians(feature_angle)
             corners.append(ring[sharp])
             turns.append(turn[sharp])

@@ -12,13 +12,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import SourceError
+
 
 def load(manifold):
     """The solid as a ``trimesh.Trimesh`` with float64 vertices, after checking it.
 
     Raises
     ------
-    ValueError
+    SourceError
         If ``manifold.status()`` reports an error (it was built from a mesh that is not
         a closed, oriented 2-manifold) or the solid is empty.
     """
@@ -27,11 +29,11 @@ def load(manifold):
 
     status = manifold.status()
     if status != manifold3d.Error.NoError:
-        raise ValueError(f"the Manifold is invalid (status {status.name}): it was built from a "
+        raise SourceError(f"the Manifold is invalid (status {status.name}): it was built from a "
                          f"mesh that is not a closed, oriented 2-manifold; repair the mesh "
                          f"(e.g. with trimesh.repair or MeshLab) before making the Manifold")
     if manifold.is_empty():
-        raise ValueError("the Manifold is empty: there is no solid to cut")
+        raise SourceError("the Manifold is empty: there is no solid to cut")
     mesh = manifold.to_mesh64()
     return trimesh.Trimesh(np.asarray(mesh.vert_properties[:, :3], dtype=np.float64),
                            np.asarray(mesh.tri_verts, dtype=np.int64), process=False)

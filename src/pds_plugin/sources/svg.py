@@ -2,7 +2,7 @@
 
 Parsed with svgelements (nested transforms, units, ``<use>``, styles and inherited
 ``fill-rule``); every curve is flattened to an absolute chordal tolerance, and the fill
-rule or the nesting of outline loops is resolved exactly by :mod:`pds_plugin.sources`.
+rule or the nesting of outline loops is resolved exactly by :mod:`.polygons`.
 """
 
 from __future__ import annotations
@@ -13,7 +13,10 @@ import warnings
 import numpy as np
 import shapely
 
+from .._checks import check_positive
+from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from .polygons import fill_geometry, outline_geometry
 
 __all__ = ["load_svg"]
 
@@ -69,9 +72,13 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     ------
     FileNotFoundError
         If the file does not exist.
-    ValueError
-        If the file is empty or not SVG, has nothing to mesh (no visible shape, no area,
-        or no loop that closes: the message gives the open ends), or an argument is bad.
+    SourceError
+        If the file is empty or not SVG.
+    RegionError
+        If it has nothing to mesh (no visible shape, no area, or no loop that closes: the
+        message gives the open ends).
+    ArgumentError
+        If ``tolerance``, ``units`` or ``mode`` is bad.
 
     Examples
     --------
@@ -84,22 +91,22 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     (300.0, (1, 1))
     """
     if mode not in ("auto", "fill", "outline"):
-        raise ValueError(f"mode must be 'auto', 'fill' or 'outline', got {mode!r}")
+        raise ArgumentError(f"mode must be 'auto', 'fill' or 'outline', got {mode!r}")
     if units is not None and units not in _UNITS:
-        raise ValueError(f"units must be None (the drawing's user units) or one of "
+        raise ArgumentError(f"units must be None (the drawing's user units) or one of "
                          f"{_UNITS}, got {units!r}")
     document, name = _parse(path)
     matrix = _output_matrix(document, units)
     shapes = _visible_shapes(document)
     if not shapes:
-        raise ValueError(f"{name} has no visible shapes: nothing to mesh")
+        raise RegionError(f"{name} has no visible shapes: nothing to mesh")
     tolerance = _tolerance(tolerance, shapes, matrix)
     step = tolerance / np.linalg.norm(matrix[:, :2], 2)  # the tolerance in svgelements units
     geometry = shapely.Polygon()
     if mode != "outline":
         geometry = _fill([shape for shape in shapes if _is_filled(shape)], matrix, step)
         if geometry.is_empty and mode == "fill":
-            raise ValueError(f"the filled shapes of {name} enclose no area: nothing to mesh "
+            raise RegionError(f"the filled shapes of {name} enclose no area: nothing to mesh "
                              f"(for an outline drawing use mode='outline')")
     if geometry.is_empty:
         geometry = _outline(shapes, matrix, step, tolerance, name)
@@ -113,13 +120,13 @@ def _parse(path):
     if not os.path.isfile(name):
         raise FileNotFoundError(f"no such SVG file: {name!r}")
     if os.path.getsize(name) == 0:
-        raise ValueError(f"the SVG file {name!r} is empty")
+        raise SourceError(f"the SVG file {name!r} is empty")
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
     except Exception as error:  # the XML parser raises several kinds
-        raise ValueError(f"cannot read {name!r} as SVG ({error})") from error
+        raise SourceError(f"cannot read {name!r} as SVG ({error})") from error
     if not isinstance(document, svgelements.SVG):
-        raise ValueError(f"{name!r} has no <svg> element: it is not an SVG drawing")
+        raise SourceError(f"{name!r} has no <svg> element: it is not an SVG drawing")
     return document, repr(name)
 
 
@@ -155,15 +162,12 @@ def _visible_shapes(document) -> list:
 
 def _tolerance(tolerance, shapes, matrix) -> float:
     if tolerance is not None:
-        tolerance = float(tolerance)
-        if not (np.isfinite(tolerance) and tolerance > 0):
-            raise ValueError(f"tolerance must be a positive number, got {tolerance!r}")
-        return tolerance
+        return check_positive(tolerance, "tolerance")
     boxes = np.array([box for box in (shape.bbox() for shape in shapes) if box is not None], float)
     corners = _apply(matrix, boxes.reshape(-1, 2)) if len(boxes) else np.zeros((1, 2))
     diagonal = np.linalg.norm(np.ptp(corners, axis=0))
     if not diagonal > 0:
-        raise ValueError("the drawing has zero size: nothing to mesh")
+        raise RegionError("the drawing has zero size: nothing to mesh")
     return RELATIVE_TOLERANCE * diagonal
 
 
@@ -172,8 +176,6 @@ def _is_filled(shape) -> bool:
 
 
 def _fill(shapes, matrix, step):
-    from . import fill_geometry
-
     return shapely.union_all([
         fill_geometry([_apply(matrix, points) for points in _flatten(shape, step)],
                       shape.values.get("fill-rule", "nonzero"))
@@ -181,14 +183,12 @@ def _fill(shapes, matrix, step):
 
 
 def _outline(shapes, matrix, step, tolerance, name):
-    from . import outline_geometry
-
     chains = [_apply(matrix, points) for shape in shapes for points in _flatten(shape, step)]
     geometry, open_ends = outline_geometry(chains, tolerance)
     where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
     where += ", ..." if len(open_ends) > 5 else ""
     if geometry.is_empty:
-        raise ValueError(
+        raise RegionError(
             f"no closed loop in the outline drawing {name}: nothing to mesh"
             + (f"; {len(open_ends)} stroke end(s) meet no other stroke within the tolerance "
                f"{tolerance:.3g}, at {where}; pass a larger tolerance" if len(open_ends) else ""))

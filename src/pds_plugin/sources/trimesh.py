@@ -2,7 +2,7 @@
 
 ``load`` gives the mesh to cut and ``cut`` intersects it with a plane; used through
 :func:`pds_plugin.section`, which checks the plane and assembles the segments into
-polygons (:mod:`pds_plugin.sources`). Manifold solids are cut here too, in float64.
+polygons (:mod:`pds_plugin.sources.solids`). Manifold solids are cut here too, in float64.
 """
 
 from __future__ import annotations
@@ -10,6 +10,8 @@ from __future__ import annotations
 import os
 
 import numpy as np
+
+from ..errors import SourceError
 
 
 def load(solid):
@@ -19,7 +21,7 @@ def load(solid):
     ------
     FileNotFoundError
         If the path does not exist.
-    ValueError
+    SourceError
         If the file is empty or holds no triangles trimesh can read, or the mesh has none.
     """
     import trimesh
@@ -31,18 +33,18 @@ def load(solid):
         if not os.path.isfile(path):
             raise FileNotFoundError(f"no such mesh file: {path!r}")
         if os.path.getsize(path) == 0:
-            raise ValueError(f"the mesh file {path!r} is empty")
+            raise SourceError(f"the mesh file {path!r} is empty")
         if path.lower().endswith(".svg"):
-            raise ValueError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
+            raise SourceError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
                              f"pds_plugin.load_svg")
         try:
             mesh = trimesh.load_mesh(path)
         except Exception as error:  # trimesh raises many kinds for unreadable files
-            raise ValueError(f"cannot read {path!r} as a mesh ({error}); give a file trimesh "
+            raise SourceError(f"cannot read {path!r} as a mesh ({error}); give a file trimesh "
                              f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
         name = f"the file {path!r}"
     if len(mesh.faces) == 0:
-        raise ValueError(f"{name} has no triangles (it is empty, a point cloud, or not a mesh "
+        raise SourceError(f"{name} has no triangles (it is empty, a point cloud, or not a mesh "
                          f"format trimesh reads); give a closed triangle mesh")
     return mesh
 

@@ -68,7 +68,7 @@ def triangle_quality(vertices: np.ndarray, faces: np.ndarray) -> Quality:
     >>> bool(np.isclose(q.aspect_ratio[0], ASPECT_EQUILATERAL)), np.round(q.angles, 6).tolist()
     (True, [[60.0, 60.0, 60.0]])
     """
-    from ._geometry_kernels import triangle_measures
+    from .._geometry_kernels import triangle_measures
     vertices = np.ascontiguousarray(vertices, dtype=float)
     faces = np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3)
     lengths, area, angles = triangle_measures(vertices, faces)

@@ -25,8 +25,8 @@ import numpy as np
 import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
-from ._certificate_kernels import boundary_gaps
-from ._geometry_kernels import circumcircles
+from .._certificate_kernels import boundary_gaps
+from .._geometry_kernels import circumcircles
 from .quality import ASPECT_BOUND
 from .topology import TopologyReport, topology_report
 
@@ -140,7 +140,7 @@ def certify(mesh) -> Certificate:
     faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     quality = mesh.quality()
     tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
-    rim_edges = mesh.edges[1]
+    rim_edges = mesh.boundary_edges
     extra = _delaunay_triangles_outside(points, faces, rim_edges, tree)
     gap, gap_at = _coverage_gap(mesh, faces, extra, tree)
     used = np.zeros(len(points), bool)

@@ -14,17 +14,16 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Polygon
 
-from ._mesh_kernels import edges_of
+if TYPE_CHECKING:
+    from ..mesh import PlanarMesh
 
-__all__ = ["ComponentTopology", "TopologyReport", "topology_report", "mesh_betti", "mesh_edges",
-           "mesh_union", "ring_owners"]
+__all__ = ["ComponentTopology", "TopologyReport", "topology_report"]
 
 
 @dataclass(frozen=True)
@@ -73,53 +72,7 @@ class TopologyReport:
         return "\n".join(lines + [f"  - {p}" for p in self.problems])
 
 
-def ring_owners(region) -> list[tuple[int, int | None]]:
-    """``(component, hole)`` of each ring in ``region.rings`` (hole None for an outline)."""
-    return [(c, h) for c, polygon in enumerate(region.geometry.geoms)
-            for h in (None, *range(len(polygon.interiors)))]
-
-
-def mesh_betti(faces: np.ndarray, n_vertices: int, edges: np.ndarray | None = None):
-    """Component label per vertex (-1 if unused) and ``(b0, b1)`` per mesh component.
-
-    ``edges``, the undirected edges of the triangles, are found from ``faces`` when not
-    given (see :func:`mesh_edges`).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> square_ring = np.array([[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7],
-    ...                         [2, 7, 6], [3, 0, 4], [3, 4, 7]])
-    >>> labels, betti = mesh_betti(square_ring, 8)
-    >>> betti.tolist()
-    [[1, 1]]
-    """
-    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    if edges is None:
-        edges = mesh_edges(faces, n_vertices)[0]
-    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
-                       shape=(n_vertices, n_vertices))
-    component = connected_components(graph, directed=False)[1]
-    used = np.zeros(n_vertices, dtype=bool)
-    used[faces.ravel()] = True
-    present = np.zeros(n_vertices, dtype=bool)
-    present[component[used]] = True
-    labels = np.where(used, (np.cumsum(present) - 1)[component], -1)
-    count = int(present.sum())
-    chi = (np.bincount(labels[used], minlength=count)
-           - np.bincount(labels[edges[:, 0]], minlength=count)
-           + np.bincount(labels[faces[:, 0]], minlength=count))
-    return labels, np.stack([np.ones(count, dtype=np.int64), 1 - chi], axis=1)
-
-
-def mesh_edges(faces: np.ndarray, n_vertices: int):
-    """The undirected edges of the triangles ``(E, 2)``, and the boundary edges (used by
-    one triangle only) directed as in that triangle, so the mesh lies on their left."""
-    edges, uses = edges_of(np.asarray(faces, dtype=np.int64).reshape(-1, 3), n_vertices)
-    return edges, edges[uses == 1]
-
-
-def topology_report(mesh) -> TopologyReport:
+def topology_report(mesh: PlanarMesh) -> TopologyReport:
     """Compare the topology of ``mesh`` (a PlanarMesh) with that of its region.
 
     Examples
@@ -147,7 +100,7 @@ class _Comparison:
         self.vertices = np.asarray(mesh.vertices, dtype=float)
         self.faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
         self.alpha = float(mesh.alpha)
-        self.labels, self.betti = mesh_betti(self.faces, len(self.vertices), mesh.edges[0])
+        self.labels, self.betti = mesh.vertex_component, mesh.component_betti
         self.components = list(self.region.geometry.geoms)
         self.owner = _owners(self.region, self.vertices)
         self.covered = mesh.outline
@@ -321,27 +274,6 @@ class _Comparison:
                          f"{width:.4g} wide); keep it open with alpha <= {width / 4:.4g}")
 
 
-def mesh_union(vertices, boundary):
-    """The union of the triangles, from their ``boundary`` edges alone (directed with the
-    mesh on their left, as :func:`mesh_edges` gives them).
-
-    The boundary edges cut the plane into faces (``shapely.polygonize``); a face is
-    covered by the mesh when its counter-clockwise exterior runs along a boundary edge in
-    that edge's own direction (the mesh lies left of its boundary edges).
-    """
-    if not len(boundary):
-        return Polygon()
-    pieces = shapely.get_parts(shapely.polygonize(shapely.linestrings(vertices[boundary])))
-    pieces = shapely.orient_polygons(pieces)
-    first = shapely.get_coordinates(shapely.get_exterior_ring(pieces), return_index=True)
-    starts = np.flatnonzero(np.diff(first[1], prepend=-1))
-    begin, end = first[0][starts], first[0][starts + 1]
-    edges = np.concatenate([vertices[boundary].reshape(-1, 4), np.hstack([begin, end])])
-    _, same = np.unique(edges, axis=0, return_inverse=True)
-    covered = np.isin(same[len(boundary):], same[:len(boundary)])
-    return shapely.union_all(pieces[covered])
-
-
 def _owners(region, points) -> np.ndarray:
     """Index of the region component holding each point (for points that rounding puts
     just outside, the component of the nearest boundary segment)."""
@@ -353,7 +285,7 @@ def _owners(region, points) -> np.ndarray:
         owner[(owner < 0) & shapely.intersects_xy(polygon, *points.T)] = c
     stray = np.flatnonzero(owner < 0)
     if len(stray):
-        segment_owner = np.repeat([c for c, _ in ring_owners(region)],
+        segment_owner = np.repeat([c for c, _ in region.ring_owners],
                                   [len(ring) for ring in region.rings])
         tree = shapely.STRtree(shapely.linestrings(region.segments))
         nearest = tree.query_nearest(shapely.points(points[stray]), all_matches=False)

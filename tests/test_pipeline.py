@@ -7,7 +7,7 @@ import pytest
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
-from pds_plugin.multires import Resolution
+from pds_plugin.pipeline import Resolution
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -79,3 +79,38 @@ def test_figure6_example_reproduces_the_paper(tmp_path):
     assert fine.betti_mesh == (1, 1) and fine.topology_ok
     for png in (holes_png, pipe_png):
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+# --- section_report: the per-section report the CLI writes, for library users -----------
+
+def test_section_report_is_json_ready_and_agrees_with_the_mesh():
+    import json
+
+    region = disc_with_hole()
+    mesh = pds.mesh_region(region, 0.1, seed=4)
+    report = pds.section_report(mesh, seed=4, output="out.ply", warnings=["careful"])
+    text = json.dumps(report)                                 # plain values only
+    assert json.dumps(json.loads(text)) == text
+    assert report["output"] == "out.ply" and report["plot"] is None
+    assert report["samples"] == len(mesh.vertices) and report["triangles"] == len(mesh.faces)
+    assert report["alpha"] == 0.1 and report["alpha_mode"] == "given" and report["seed"] == 4
+    assert report["region"]["betti"] == [1, 1]
+    assert report["region"]["area"] == pytest.approx(region.area, rel=1e-15)
+    assert report["plane"] == {"origin": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0]}
+    assert report["feature_size"]["value"] == pds.feature_size(region).value
+    assert report["quality"]["aspect_max"] <= report["certificate"]["aspect_bound"]
+    assert list(report["certificate"]["betti_mesh"]) == [1, 1] and report["warnings"] == ["careful"]
+
+
+def test_section_report_refuses_an_unknown_alpha_mode():
+    mesh = pds.mesh_region(disc_with_hole(), 0.2)
+    with pytest.raises(pds.ArgumentError, match="alpha_mode"):
+        pds.section_report(mesh, seed=0, alpha_mode="guessed")
+
+
+def test_mesh_region_auto_is_auto_mesh():
+    region = disc_with_hole(0.3)
+    auto = pds.mesh_region(region, "auto", seed=1)
+    direct = pds.auto_mesh(region, seed=1)
+    assert auto.alpha == direct.alpha
+    assert (auto.vertices == direct.vertices).all() and (auto.faces == direct.faces).all()

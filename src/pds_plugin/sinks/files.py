@@ -1,4 +1,4 @@
-"""Sinks: a PlanarMesh in 3D as a trimesh object or a file (binary PLY, OBJ).
+"""Sink to files: a PlanarMesh in 3D as a trimesh object or a file (binary PLY, OBJ).
 
 Each file format registers its writer under its suffix with :func:`register_writer`;
 :func:`export` only looks the suffix up. Both writers are plain numpy and write the
@@ -9,9 +9,17 @@ moves CAD coordinates of a few hundred millimetres by about 1e-5).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+
+from .._checks import check_has_triangles, check_output_directory
+from ..errors import ArgumentError
+
+if TYPE_CHECKING:
+    import trimesh
+
+    from ..mesh import PlanarMesh
 
 __all__ = ["to_trimesh", "export", "register_writer", "writers"]
 
@@ -31,7 +39,7 @@ def register_writer(suffix: str):
     """
     suffix = suffix.lower()
     if not suffix.startswith("."):
-        raise ValueError(f"a suffix starts with a dot, like '.ply'; got {suffix!r}")
+        raise ArgumentError(f"a suffix starts with a dot, like '.ply'; got {suffix!r}")
 
     def register(writer):
         _WRITERS[suffix] = writer
@@ -81,8 +89,10 @@ def export(mesh, path) -> None:
 
     Raises
     ------
-    ValueError
-        For an unsupported suffix, or a mesh without triangles.
+    ArgumentError
+        For an unsupported suffix.
+    EmptyMeshError
+        For a mesh without triangles.
     FileNotFoundError
         If the parent directory of ``path`` does not exist.
 
@@ -100,14 +110,10 @@ def export(mesh, path) -> None:
     writer = _WRITERS.get(path.suffix.lower())
     if writer is None:
         what = f"suffix {path.suffix!r}" if path.suffix else "a path without a suffix"
-        raise ValueError(f"cannot export to {what} ({path.name}): supported suffixes are "
-                         f"{', '.join(writers())}")
-    if not path.parent.is_dir():
-        raise FileNotFoundError(f"cannot write {path}: directory {path.parent} does not exist; "
-                                "create it first")
-    if len(mesh.faces) == 0:
-        raise ValueError(f"{mesh!r} has no triangles: nothing to export "
-                         "(alpha is probably too large for the region)")
+        raise ArgumentError(f"cannot export to {what} ({path.name}): supported suffixes are "
+                            f"{', '.join(writers())}")
+    check_output_directory(path)
+    check_has_triangles(mesh, "to export")
     writer(mesh, path)
 
 

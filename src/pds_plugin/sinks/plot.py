@@ -13,11 +13,11 @@ matplotlib is an optional dependency: ``pip install "pds_plugin[plot]"``.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
-from .quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+from .._checks import check_has_triangles, check_output_directory
+from ..analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
+from ..errors import ArgumentError, MissingDependencyError
 
 __all__ = ["plot_samples", "plot_mesh", "plot_histogram", "plot_report",
            "plot_multiresolution"]
@@ -30,8 +30,8 @@ def _matplotlib():
     try:
         import matplotlib
     except ImportError as error:
-        raise ImportError('matplotlib is needed for pds_plugin.plot: '
-                          'pip install "pds_plugin[plot]"') from error
+        raise MissingDependencyError('matplotlib is needed for pds_plugin.sinks.plot: '
+                                     'pip install "pds_plugin[plot]"') from error
     return matplotlib
 
 
@@ -55,20 +55,6 @@ def _panel_size(region, panels: int, extra_width: float = 0.0, width: float = 4.
     x0, y0, x1, y1 = region.bounds
     height = float(np.clip(width * (y1 - y0) / (x1 - x0), 0.4 * width, 2.0 * width)) + 1.3
     return (width * panels + extra_width, height)
-
-
-def _checked_output(path) -> Path:
-    path = Path(path)
-    if not path.parent.is_dir():
-        raise FileNotFoundError(f"cannot write {path}: directory {path.parent} does not exist; "
-                                "create it first")
-    return path
-
-
-def _checked_faces(mesh):
-    if len(mesh.faces) == 0:
-        raise ValueError(f"{mesh!r} has no triangles to plot "
-                         "(alpha is probably too large for the region)")
 
 
 def _draw_outline(ax, region):
@@ -140,7 +126,7 @@ def _draw_mesh(ax, mesh):
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import Normalize
 
-    _checked_faces(mesh)
+    check_has_triangles(mesh, "to plot")
     aspect = mesh.quality().aspect_ratio
     cmap = matplotlib.colormaps[_CMAP].with_extremes(over=_OVER)
     triangles = PolyCollection(np.asarray(mesh.vertices)[np.asarray(mesh.faces)],
@@ -204,7 +190,7 @@ def plot_histogram(mesh, ax=None, bins: int = 20):
     >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
     >>> ax = plot_histogram(mesh)
     """
-    _checked_faces(mesh)
+    check_has_triangles(mesh, "to plot")
     ax = _new_axes(ax)
     aspect = mesh.quality().aspect_ratio
     stats = mesh.quality().stats()
@@ -239,7 +225,7 @@ def plot_report(mesh, path, discs: bool = False, dpi: int = 120):
     ------
     FileNotFoundError
         If the parent directory of ``path`` does not exist.
-    ValueError
+    EmptyMeshError
         If the mesh has no triangles.
 
     Examples
@@ -249,8 +235,8 @@ def plot_report(mesh, path, discs: bool = False, dpi: int = 120):
     >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
     >>> figure = plot_report(mesh, pathlib.Path(tempfile.mkdtemp()) / "report.png")
     """
-    path = _checked_output(path)
-    _checked_faces(mesh)
+    path = check_output_directory(path)
+    check_has_triangles(mesh, "to plot")
     figure = _figure(figsize=_panel_size(mesh.region, 3, extra_width=1.0, width=5.0))
     samples_ax, mesh_ax, histogram_ax = figure.subplots(1, 3, width_ratios=[1, 1.2, 1])
     plot_samples(mesh, discs=discs, ax=samples_ax)
@@ -288,16 +274,16 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
     """
     meshes = list(meshes)
     if not meshes:
-        raise ValueError("plot_multiresolution needs at least one mesh")
+        raise ArgumentError("plot_multiresolution needs at least one mesh")
     for mesh in meshes:
-        _checked_faces(mesh)
+        check_has_triangles(mesh, "to plot")
     size = dict(figsize=_panel_size(meshes[0].region, len(meshes), extra_width=1.0))
     if path is None:
         _matplotlib()
         import matplotlib.pyplot as plt
         figure = plt.figure(layout="constrained", **size)
     else:
-        path = _checked_output(path)
+        path = check_output_directory(path)
         figure = _figure(**size)
     axes = np.atleast_1d(figure.subplots(1, len(meshes)))
     for ax, mesh in zip(axes, meshes):

@@ -1,4 +1,5 @@
-"""Feature size of a region's boundary, the alpha it suggests, and automatic meshing.
+"""Feature size of a region's boundary (measurement only; the alpha it suggests and the
+automatic meshing built on it are in :mod:`pds_plugin.pipeline`).
 
 Theorem 2 of the paper: if ``alpha <= ½ min LFS(∂R)`` the solid alpha-complex of a
 maximal Poisson disc sampling is homeomorphic to the region ``R``. The smooth local feature
@@ -19,23 +20,19 @@ measures the chord that spans 150° of arc, ``2·r·sin 75° ≈ 1.93·r``, near
 
 So ``d`` is about twice the paper's local feature size (LFS): the medial axis runs
 midway between two features at distance ``d``, and through the centre of a circle.
-Hence :func:`suggest_alpha` returns ``½·LFS = d/4``.
+Hence :func:`pds_plugin.suggest_alpha` returns ``½·LFS = d/4``.
 """
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
-from .region import Region
-from .sampling import DEFAULT_MAX_SAMPLES, _largest_alpha, estimate_samples
-from .topology import ring_owners, topology_report
+from ..region import Region, require_region, turning_angles
 
-__all__ = ["ADJACENT_TURNING", "BoundaryFeature", "FeatureSize", "feature_size",
-           "suggest_alpha", "auto_mesh"]
+__all__ = ["ADJACENT_TURNING", "BoundaryFeature", "FeatureSize", "feature_size"]
 
 ADJACENT_TURNING = 5 * np.pi / 6
 """Total turning (radians, 150°) below which two segments of a ring are one feature."""
@@ -146,14 +143,13 @@ def feature_size(region: Region) -> FeatureSize:
     >>> str(fs.features[0].ring_name), str(fs.features[1].ring_name)
     ('outline of component 0', 'outline of component 1')
     """
-    if not isinstance(region, Region):
-        raise TypeError(f"feature_size needs a pds_plugin.Region, got {type(region).__name__}")
+    require_region(region, "feature_size")
     boundary = _Boundary(region)
     found = boundary.closest_nonadjacent()
     if found is None:
         found = boundary.smallest_altitude()
     distance, (i, j), (p, q) = found
-    owners = ring_owners(region)
+    owners = region.ring_owners
     features = (boundary.describe(i, p, owners), boundary.describe(j, q, owners))
     middle = (p + q) / 2
     inside = bool(shapely.intersects_xy(region.geometry, middle[0], middle[1]))
@@ -161,134 +157,6 @@ def feature_size(region: Region) -> FeatureSize:
     points.setflags(write=False)
     return FeatureSize(value=float(distance), points=points, features=features,
                        kind="wall" if inside else "gap")
-
-
-def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
-    """The largest alpha that satisfies the paper's sampling condition (3) for ``region``.
-
-    Theorem 2 asks ``alpha <= ½ min LFS(∂R)``. Between two boundary features at distance
-    ``d`` (:func:`feature_size`) the medial axis runs midway, so ``LFS ≈ d/2`` and the
-    suggestion is ``alpha = ½·(d/2) = d/4``: half the feature size in the paper's sense.
-    A gap of width ``g`` then stays open (triangles of circumradius ``<= alpha`` can
-    bridge it only when ``g <= (1 + √3/2)·alpha``), and so does a circular hole of radius
-    ``r``: ``alpha ≈ 0.48·r`` (the paper's Figure 6 uses ``r/2``), while the hole closes
-    near ``alpha = r`` -- which ``d/2 ≈ 0.97·r`` would not avoid.
-
-    Parameters
-    ----------
-    region : Region
-    max_samples : int, optional
-        Sample budget (default: the sampler's). If the suggestion would need more samples,
-        the alpha that fits the budget is returned instead, with a warning naming the
-        feature that is then not guaranteed.
-
-    Examples
-    --------
-    >>> from shapely.geometry import Point
-    >>> from pds_plugin import Region
-    >>> ring = Region.from_shapely(Point(0, 0).buffer(1.0).difference(Point(0, 0).buffer(0.8)))
-    >>> round(suggest_alpha(ring), 3)      # wall 0.2 thick (up to the buffer's polygon)
-    0.05
-    """
-    size = _usable_feature_size(region)
-    alpha = size.lfs / 2
-    budget = _budget(max_samples)
-    if estimate_samples(region, alpha) <= budget:
-        return alpha
-    capped = _largest_alpha(region, budget)
-    warnings.warn(f"alpha {alpha:.6g} needed for the {size} would take about "
-                  f"{estimate_samples(region, alpha):.3g} samples, over the budget of "
-                  f"{budget}; using alpha {capped:.6g}, which may lose that feature",
-                  stacklevel=2)
-    return capped
-
-
-def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
-              refine: float = 0.7, **sampling_options):
-    """Mesh ``region`` with an alpha whose mesh has the region's topology, verified.
-
-    Starts from ``max_alpha`` if given (the coarsest mesh the caller accepts), else from
-    :func:`suggest_alpha`; meshes, checks the topology with
-    :func:`pds_plugin.topology.topology_report`, and multiplies alpha by ``refine`` until
-    every component's Betti numbers match and no hole is lost, merged, opened or split.
-    The first alpha that passes is kept, so from ``max_alpha`` this finds the coarsest
-    verified mesh of the series ``max_alpha·refine^k``.
-
-    Parameters
-    ----------
-    region : Region
-    seed : int
-    max_alpha : float, optional
-        The first alpha to try.
-    refine : float
-        Factor in (0, 1) applied to alpha after each failed check.
-    **sampling_options
-        Passed to :func:`pds_plugin.mesh_region`; ``max_samples`` is also the budget
-        below whose alpha the refinement stops.
-
-    Returns
-    -------
-    PlanarMesh
-        Its ``certificate().topology_ok`` is True.
-
-    Raises
-    ------
-    ValueError
-        If the topology is still wrong at the smallest alpha the budget allows; the
-        message names the feature that needs a smaller alpha, that alpha, and what the
-        last mesh lost and where.
-
-    Examples
-    --------
-    >>> from shapely.geometry import Point
-    >>> from pds_plugin import Region
-    >>> region = Region.from_shapely(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.2)))
-    >>> mesh = auto_mesh(region, max_alpha=1.0)
-    >>> mesh.certificate().topology_ok, mesh.alpha < 0.2
-    (True, True)
-    """
-    from .mesh import mesh_region
-    if not 0 < refine < 1:
-        raise ValueError(f"refine must lie in (0, 1), got {refine!r}")
-    budget = _budget(sampling_options.pop("max_samples", None))
-    size = _usable_feature_size(region)
-    if max_alpha is None:
-        alpha = size.lfs / 2
-    elif np.isfinite(max_alpha) and max_alpha > 0:
-        alpha = float(max_alpha)
-    else:
-        raise ValueError(f"max_alpha must be a positive finite number, got {max_alpha!r}")
-    smallest = _largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
-    alpha = max(alpha, smallest)
-    while True:
-        mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
-        report = topology_report(mesh)
-        if report.topology_ok:
-            return mesh
-        if alpha <= smallest:
-            break
-        alpha = max(alpha * refine, smallest)
-    raise ValueError(f"the {size} needs alpha <= {size.lfs / 2:.6g}, but alpha "
-                     f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
-                     f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
-                     "that feature")
-
-
-def _budget(max_samples) -> int:
-    if max_samples is None:
-        return DEFAULT_MAX_SAMPLES
-    if isinstance(max_samples, bool) or not isinstance(max_samples, (int, np.integer)) \
-            or max_samples < 1:
-        raise ValueError(f"max_samples must be a positive integer, got {max_samples!r}")
-    return int(max_samples)
-
-
-def _usable_feature_size(region: Region) -> FeatureSize:
-    size = feature_size(region)
-    if size.value == 0:
-        raise ValueError(f"the region's boundary touches itself ({size}): no alpha can keep "
-                         "those parts apart; separate them or merge them in the geometry")
-    return size
 
 
 class _Boundary:
@@ -300,14 +168,14 @@ class _Boundary:
 
     def __init__(self, region: Region):
         self.original = region.rings
-        self.kept = [np.flatnonzero(np.abs(_turning(r)) > _COLLINEAR) for r in region.rings]
+        self.kept = [np.flatnonzero(np.abs(turning_angles(r)) > _COLLINEAR) for r in region.rings]
         rings = [r[k] for r, k in zip(region.rings, self.kept)]
         sizes = np.array([len(r) for r in rings])
         self.start = np.concatenate([[0], np.cumsum(sizes)])
         self.ring_of = np.repeat(np.arange(len(rings)), sizes)
         self.local = np.arange(self.start[-1]) - self.start[self.ring_of]
         self.size = sizes[self.ring_of]
-        turning = np.abs(np.concatenate([_turning(r) for r in rings]))
+        turning = np.abs(np.concatenate([turning_angles(r) for r in rings]))
         self.cumulative = np.concatenate([[0.0], np.cumsum(turning)])
         self.total = (self.cumulative[self.start[1:]] - self.cumulative[self.start[:-1]])[self.ring_of]
         self.p0 = np.concatenate(rings)
@@ -442,15 +310,6 @@ class _Boundary:
         component, hole = owners[ring]
         return BoundaryFeature(ring=ring, segment=segment, vertex=vertex, component=component,
                                hole=hole, point=(float(point[0]), float(point[1])))
-
-
-def _turning(ring: np.ndarray) -> np.ndarray:
-    """Signed turning angle at each vertex of a closed ring (vertex k: segment k-1 to k)."""
-    out = np.roll(ring, -1, axis=0) - ring
-    into = ring - np.roll(ring, 1, axis=0)
-    cross = into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0]
-    dot = (into * out).sum(axis=1)
-    return np.arctan2(cross, dot)
 
 
 def _expand(a0, a1, b0, b1):

@@ -1,0 +1,214 @@
+"""The command line of ``pds-mesh``: argument types and the parsers of its commands."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from pathlib import Path
+
+from .._checks import check_alpha, check_positive_int
+
+__all__ = ["PROG", "AXES", "COMMANDS", "parser", "glue_negative_values"]
+
+PROG = "pds-mesh"
+COMMANDS = ("mesh", "demo")
+AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
+_NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
+
+_DESCRIPTION = """\
+Certified triangle meshes of planar sections: cut a mesh file with planes
+(or read an SVG drawing), sample each section with a maximal Poisson disc
+sampling of radius alpha, mesh it with the solid alpha-complex, and write
+it with its quality certificate.
+
+commands:
+  pds-mesh [mesh] INPUT -o OUT --alpha A|auto ...   mesh sections of INPUT ('mesh' may be
+                                                    omitted; 'pds-mesh mesh demo' meshes a
+                                                    file named demo)
+  pds-mesh demo [-o DIR]                            see every output on a built-in part
+
+Run 'pds-mesh demo' first, and 'pds-mesh mesh --help' for the options."""
+
+_EPILOG = """\
+examples:
+  pds-mesh demo                                   mesh a built-in CAD part, see every output
+  pds-mesh part.stl -o cut.ply --axis z --at 0.5 --alpha 0.05
+  pds-mesh part.stl -o cut.ply --plane-origin 0,0,1 --plane-normal 0,1,1 --alpha auto
+  pds-mesh part.stl -o slice.ply --axis z --slices 20 --alpha auto --jobs 2 --report r.json
+  pds-mesh drawing.svg -o drawing.obj --alpha 2.5 --plot drawing.png --discs
+
+planes (mesh files only; an SVG drawing is already planar):
+  The normal is --axis or --plane-normal. The plane then passes through --plane-origin
+  (default: the world origin) moved by --at along the unit normal; with neither --at nor
+  --plane-origin it is the middle of the solid. --slices N cuts N planes, one in the
+  middle of each of N equal slabs of the solid along the normal.
+
+several sections (--slices, or --at with several offsets):
+  OUT.ply becomes OUT_000.ply, OUT_001.ply, ... in the order of the planes (zero-padded
+  to 3 digits, more when there are more sections), and so does the --plot picture; the
+  --report file holds one entry per section.
+
+alpha:
+  The disc radius, in the input's units: the samples are >= alpha apart and cover the
+  section within alpha, and every triangle has aspect ratio L^2/A <= 4*sqrt(3)
+  (Theorem 1). 'auto' starts from half the local feature size of the section's boundary
+  and refines alpha until the mesh has the section's holes and components (Theorem 2).
+
+exit status: 0 success (a failed certificate is a warning), 1 bad input, 2 usage error.
+"""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports a usage error in one line (and exits with status 2)."""
+
+    def error(self, message):
+        self.exit(2, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+
+
+def parser() -> argparse.ArgumentParser:
+    """The parser of ``pds-mesh``, one subcommand per command.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its namespace has ``command`` ("mesh" or "demo") and that command's options.
+
+    Examples
+    --------
+    >>> args = parser().parse_args(["mesh", "part.stl", "-o", "cut.ply", "--alpha", "auto"])
+    >>> args.command, args.input, args.alpha
+    ('mesh', 'part.stl', 'auto')
+    """
+    top = _Parser(prog=PROG, formatter_class=argparse.RawDescriptionHelpFormatter,
+                  description=_DESCRIPTION, epilog=_EPILOG)
+    commands = top.add_subparsers(dest="command", metavar="COMMAND", required=True,
+                                  parser_class=_Parser)
+    _mesh_arguments(commands.add_parser(
+        "mesh", help="mesh sections of a mesh file, or an SVG drawing (the default)",
+        formatter_class=argparse.RawDescriptionHelpFormatter, epilog=_EPILOG,
+        description=_DESCRIPTION.split("\n\n")[0]))
+    _demo_arguments(commands.add_parser(
+        "demo", help="mesh a built-in CAD part and see every output",
+        description="Mesh the section of a built-in CAD part (a plate with two holes, a "
+                    "slot and a sharp notch, made with manifold3d) with the automatic "
+                    "alpha, write the solid, the mesh, its report and its picture, and "
+                    "print a summary."))
+    return top
+
+
+def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("input", metavar="INPUT",
+                        help="a mesh file (STL, OBJ, PLY, OFF, 3MF, GLB) or an SVG drawing")
+    parser.add_argument("-o", "--output", metavar="OUT", required=True, type=Path,
+                        help="the mesh file to write: .ply (binary, face quality = aspect "
+                             "ratio, vertex quality = 1 on the boundary) or .obj")
+    parser.add_argument("--alpha", required=True, type=_alpha, metavar="A|auto",
+                        help="disc radius in the input's units, or 'auto' (see below)")
+    plane = parser.add_argument_group("plane (mesh files)")
+    normal = plane.add_mutually_exclusive_group()
+    normal.add_argument("--axis", choices=sorted(AXES), help="normal along this axis")
+    normal.add_argument("--plane-normal", type=_direction, metavar="X,Y,Z",
+                        help="normal of the plane (any non-zero length)")
+    plane.add_argument("--plane-origin", type=_point, metavar="X,Y,Z",
+                       help="a point of the plane (default: the world origin)")
+    where = plane.add_mutually_exclusive_group()
+    where.add_argument("--at", type=_numbers, metavar="H[,H...]",
+                       help="offset(s) of the plane along the unit normal from the origin; "
+                            "several give several sections")
+    where.add_argument("--slices", type=_positive_int, metavar="N",
+                       help="N evenly spaced sections across the solid")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="random seed; the same seed gives the same mesh (default 0)")
+    parser.add_argument("--max-samples", type=_positive_int, metavar="N",
+                        help="refuse sections that would need more samples (default "
+                             "5,000,000)")
+    parser.add_argument("--report", type=Path, metavar="REPORT.json",
+                        help="write the quality statistics and certificate of every "
+                             "section as JSON")
+    parser.add_argument("--plot", type=Path, metavar="PICTURE.png",
+                        help="draw the samples, the mesh coloured by aspect ratio and the "
+                             "aspect-ratio histogram (needs matplotlib: pip install "
+                             "\"pds_plugin[plot]\")")
+    parser.add_argument("--discs", action="store_true",
+                        help="with --plot, also draw each sample's disc of radius alpha")
+    parser.add_argument("-j", "--jobs", type=_positive_int, default=1, metavar="N",
+                        help="mesh sections in N parallel processes (same results as 1)")
+    parser.add_argument("-q", "--quiet", action="store_true",
+                        help="print nothing but warnings and errors")
+
+
+def _demo_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("-o", "--output", metavar="DIR", type=Path, default=Path("pds-demo"),
+                        help="directory for the files (created; default ./pds-demo)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+
+
+def glue_negative_values(argv: list[str]) -> list[str]:
+    """``--at -1,2`` as ``--at=-1,2``: argparse takes ``-1,2`` for an option otherwise.
+
+    Parameters
+    ----------
+    argv : list of str
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> glue_negative_values(["--at", "-1,2", "-o", "x.ply"])
+    ['--at=-1,2', '-o', 'x.ply']
+    """
+    glued = []
+    for arg in argv:
+        if glued and glued[-1] in _NUMBER_OPTIONS and re.fullmatch(r"-[\d.][\d.,eE+-]*", arg):
+            glued[-1] = f"{glued[-1]}={arg}"
+        else:
+            glued.append(arg)
+    return glued
+
+
+# --- argument types: a bad value is a usage error (exit status 2) ------------------------
+
+def _alpha(text: str):
+    if text == "auto":
+        return text
+    try:
+        return check_alpha(text)
+    except ValueError:                    # not a number, or not a positive finite one
+        raise argparse.ArgumentTypeError(f"alpha must be a positive number or 'auto', "
+                                         f"got {text!r}") from None
+
+
+def _numbers(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = [math.nan]
+    if not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}")
+    return values
+
+
+def _point(text: str) -> tuple[float, float, float]:
+    values = _numbers(text)
+    if len(values) != 3:
+        raise argparse.ArgumentTypeError(f"expected three comma-separated numbers X,Y,Z, "
+                                         f"got {text!r}")
+    return tuple(values)
+
+
+def _direction(text: str) -> tuple[float, float, float]:
+    vector = _point(text)
+    if not any(vector):
+        raise argparse.ArgumentTypeError(f"the normal {text!r} is the zero vector; give the "
+                                         f"direction the plane faces, e.g. 0,0,1")
+    return vector
+
+
+def _positive_int(text: str) -> int:
+    try:
+        return check_positive_int(int(text), "the value")
+    except ValueError:                    # int() refused the text, or the check the number
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None

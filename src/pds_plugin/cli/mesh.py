@@ -1,0 +1,220 @@
+"""``pds-mesh mesh``: mesh one or several sections of a mesh file, or an SVG drawing."""
+
+from __future__ import annotations
+
+import sys
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+from .._checks import check_output_directory
+from ..errors import ArgumentError, MissingDependencyError, PdsError
+from ..pipeline import mesh_region, section_report
+from ..region import Region
+from ..sinks.files import writers
+from ..sinks.plot import plot_report
+from ..sources.solids import sections
+from ..sources.svg import load_svg
+from .arguments import AXES, PROG
+from .output import say, summary, warn_about, write_report
+
+__all__ = ["Task", "mesh_section", "run"]
+
+
+@dataclass(frozen=True)
+class Task:
+    """Everything needed to mesh one section, sent whole to a worker process.
+
+    Attributes
+    ----------
+    region : Region
+        The section.
+    alpha : float or "auto"
+    seed : int
+    max_samples : int or None
+        The sample budget, None for the default.
+    output : Path
+        The mesh file to write.
+    plot : Path or None
+        The picture to draw, if any.
+    discs : bool
+        Draw each sample's disc in the picture.
+    """
+
+    region: Region
+    alpha: float | str
+    seed: int
+    max_samples: int | None
+    output: Path
+    plot: Path | None
+    discs: bool
+
+
+def mesh_section(task: Task) -> dict:
+    """Mesh, certify and write one section; return its report entry (JSON-ready).
+
+    Parameters
+    ----------
+    task : Task
+
+    Returns
+    -------
+    dict
+        As :func:`pds_plugin.section_report`, with the warnings raised on the way.
+
+    Raises
+    ------
+    PdsError
+        Of the same class as the pipeline's or the sinks', the message prefixed with the
+        output file so that the failing section of several is named.
+    """
+    budget = {} if task.max_samples is None else {"max_samples": task.max_samples}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            mesh = mesh_region(task.region, task.alpha, seed=task.seed, **budget)
+            mesh.export(task.output)
+            if task.plot is not None:
+                plot_report(mesh, task.plot, discs=task.discs)
+        except PdsError as error:         # say which of several sections failed
+            raise type(error)(f"{task.output}: {error}") from error
+        mesh.certificate()
+    return section_report(mesh, seed=task.seed,
+                          alpha_mode="auto" if task.alpha == "auto" else "given",
+                          output=task.output, plot=task.plot,
+                          warnings=[str(w.message) for w in caught])
+
+
+def run(args) -> int:
+    """Run ``pds-mesh mesh`` with parsed arguments; return the exit status.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        From :func:`pds_plugin.cli.arguments.parser`.
+
+    Returns
+    -------
+    int
+        0: every section was meshed and written (a failed certificate is a warning).
+
+    Raises
+    ------
+    PdsError, OSError
+        For bad input, before any meshing when it can be seen from the arguments.
+    """
+    if args.output.suffix.lower() not in writers():
+        raise ArgumentError(f"cannot write {args.output}: the output suffix must be one of "
+                            f"{', '.join(writers())}")
+    for path in (args.output, args.report, args.plot):
+        if path is not None:
+            check_output_directory(path)
+    if args.plot is not None:
+        _check_picture(args.plot)
+    regions = _regions(args)
+    outputs = _numbered(args.output, len(regions))
+    if any(path.resolve() == Path(args.input).resolve() for path in outputs):
+        raise ArgumentError(f"the output {args.output} would overwrite the input; choose "
+                            f"another name")
+    plots = _numbered(args.plot, len(regions)) if args.plot else [None] * len(regions)
+    tasks = [Task(region, args.alpha, args.seed, args.max_samples, output, plot, args.discs)
+             for region, output, plot in zip(regions, outputs, plots)]
+    entries = _run(tasks, args.jobs, progress=len(tasks) > 1 and not args.quiet)
+    for entry in entries:
+        warn_about(entry)
+        if not args.quiet:
+            print(summary(entry))
+    if args.report is not None:
+        write_report(args.report, args.input, entries)
+        if not args.quiet:
+            print(f"report: {args.report}")
+    return 0
+
+
+def _results(tasks: list[Task], jobs: int):
+    """Report entries of ``tasks`` in order, meshed in ``jobs`` processes.
+
+    Workers are spawned, not forked: a child forked after the parallel numba kernels
+    started GNU OpenMP is terminated by it.
+    """
+    if jobs == 1 or len(tasks) == 1:
+        yield from map(mesh_section, tasks)
+        return
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+
+    with ProcessPoolExecutor(max_workers=min(jobs, len(tasks)),
+                             mp_context=get_context("spawn")) as pool:
+        futures = [pool.submit(mesh_section, task) for task in tasks]
+        try:
+            for future in futures:
+                yield future.result()
+        finally:
+            for future in futures:
+                future.cancel()
+
+
+def _run(tasks: list[Task], jobs: int, progress: bool) -> list[dict]:
+    from tqdm import tqdm
+
+    with tqdm(total=len(tasks), desc=PROG, unit="section", file=sys.stderr,
+              disable=not (progress and sys.stderr.isatty())) as bar:
+        entries = []
+        for entry in _results(tasks, jobs):
+            entries.append(entry)
+            bar.update()
+    return entries
+
+
+def _regions(args) -> list[Region]:
+    """The sections the arguments ask for, checked against the input's kind."""
+    path = Path(args.input)
+    if not path.exists():
+        raise FileNotFoundError(f"no such file: {path}")
+    if path.is_dir():
+        raise IsADirectoryError(f"{path} is a directory, not a mesh file or an SVG drawing")
+    normal = AXES.get(args.axis, args.plane_normal)
+    if path.suffix.lower() == ".svg":
+        given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices")
+                 if getattr(args, name) is not None]
+        if given:
+            raise ArgumentError(f"{path} is an SVG drawing, which is already planar: drop "
+                                f"--{given[0].replace('_', '-')}")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            region = load_svg(path)
+        for warning in caught:
+            say("warning", warning.message)
+        return [region]
+    if normal is None:
+        raise ArgumentError(f"{path} is a solid: say where to cut it with --axis or "
+                            f"--plane-normal (and --at, --plane-origin or --slices)")
+    if args.slices is not None:
+        if args.plane_origin is not None:
+            raise ArgumentError("--slices spreads the planes across the whole solid: drop "
+                                "--plane-origin, or give --at offsets from it instead")
+        return sections(path, normal, count=args.slices)
+    if args.at is None and args.plane_origin is None:
+        return sections(path, normal, count=1)          # the middle of the solid
+    return sections(path, normal, offsets=args.at or [0.0], plane_origin=args.plane_origin)
+
+
+def _numbered(path: Path, count: int) -> list[Path]:
+    """``path`` itself for one section, else ``stem_000.suffix``, ``stem_001.suffix``..."""
+    if count == 1:
+        return [path]
+    width = max(3, len(str(count - 1)))
+    return [path.with_name(f"{path.stem}_{i:0{width}d}{path.suffix}") for i in range(count)]
+
+
+def _check_picture(path: Path) -> None:
+    """Fail before any meshing if --plot cannot be written."""
+    try:
+        from matplotlib.backend_bases import FigureCanvasBase
+    except ImportError as error:
+        raise MissingDependencyError('--plot needs matplotlib: pip install '
+                                     '"pds_plugin[plot]"') from error
+    kinds = FigureCanvasBase.get_supported_filetypes()
+    if path.suffix.lower().lstrip(".") not in kinds:
+        raise ArgumentError(f"cannot draw {path}: the picture suffix must be one of "
+                            f"{', '.join('.' + k for k in sorted(kinds))}")

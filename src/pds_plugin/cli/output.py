@@ -1,0 +1,88 @@
+"""What ``pds-mesh`` prints and writes besides the meshes: messages, summaries, the report."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from .._version import __version__
+from ..region import plane_label
+from .arguments import PROG
+
+__all__ = ["say", "warn_about", "summary", "write_report"]
+
+
+def say(kind: str, message) -> None:
+    """Print ``pds-mesh: KIND: MESSAGE`` on one line of stderr, whatever the message.
+
+    Parameters
+    ----------
+    kind : str
+        "error" or "warning".
+    message : object
+
+    Examples
+    --------
+    >>> import contextlib, io
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     say("warning", "two\\nlines")
+    >>> err.getvalue()
+    'pds-mesh: warning: two lines\\n'
+    """
+    text = " ".join(str(message).split())
+    print(f"{PROG}: {kind}: {text}", file=sys.stderr)
+
+
+def warn_about(entry: dict) -> None:
+    """Say the warnings of one section's report entry, and its failed certificate if so.
+
+    Parameters
+    ----------
+    entry : dict
+        As :func:`pds_plugin.section_report` makes it.
+    """
+    for message in entry["warnings"]:
+        say("warning", f"{entry['output']}: {message}")
+    certificate = entry["certificate"]
+    if not certificate["ok"]:
+        failed = [name.replace("_ok", "") for name in ("sampling_ok", "quality_ok",
+                                                        "topology_ok") if not certificate[name]]
+        say("warning", f"{entry['output']}: certificate FAILED ({', '.join(failed) or 'mesh'})")
+        for problem in certificate["topology"]["problems"]:
+            say("warning", f"{entry['output']}: {problem}")
+
+
+def summary(entry: dict) -> str:
+    """One line about one section: plane, samples, triangles, alpha, quality, verdict.
+
+    Parameters
+    ----------
+    entry : dict
+        As :func:`pds_plugin.section_report` makes it.
+
+    Returns
+    -------
+    str
+    """
+    c = entry["certificate"]
+    return (f"{entry['output']}: {plane_label(entry['frame'])}, {entry['samples']} samples, "
+            f"{entry['triangles']} triangles, alpha {entry['alpha']:.6g}"
+            f"{' (auto)' if entry['alpha_mode'] == 'auto' else ''}, max aspect ratio "
+            f"{c['max_aspect_ratio']:.4f} (bound 4√3 = {c['aspect_bound']:.4f}), "
+            f"(b0, b1) = {tuple(c['betti_mesh'])}, certificate {'ok' if c['ok'] else 'FAILED'}")
+
+
+def write_report(path: Path, source, entries: list[dict]) -> None:
+    """Write the JSON report of a run: the version, the input and one entry per section.
+
+    Parameters
+    ----------
+    path : Path
+    source : str or Path
+        What was meshed.
+    entries : list of dict
+        As :func:`pds_plugin.section_report` makes them.
+    """
+    report = {"pds_plugin": __version__, "input": str(source), "sections": entries}
+    path.write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")

@@ -1,0 +1,333 @@
+"""The pipeline: region -> samples -> complex -> mesh, and what is built on it.
+
+- :func:`mesh_region` samples a region and meshes the samples (alpha given or ``"auto"``);
+- :func:`suggest_alpha` and :func:`auto_mesh` choose alpha from the feature size and
+  verify the mesh's topology (Theorem 2);
+- :func:`multiresolution` meshes one region at a series of alphas;
+- :func:`section_report` is the JSON-ready report of one meshed section (plane, region,
+  feature size, quality, certificate), as ``pds-mesh --report`` writes it.
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import NamedTuple
+
+from ._checks import check_positive, check_positive_int
+from .analysis.certificate import Certificate
+from .analysis.feature import FeatureSize, feature_size
+from .analysis.topology import topology_report
+from .complex import solid_alpha_complex
+from .errors import ArgumentError, ArgumentTypeError, BudgetError, RegionError, TopologyError
+from .mesh import PlanarMesh
+from .region import Region, require_region
+from .sampling import DEFAULT_MAX_SAMPLES, estimate_samples, largest_alpha, poisson_disc
+
+__all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multiresolution",
+           "section_report"]
+
+
+def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> PlanarMesh:
+    """Sample ``region`` with a maximal Poisson disc sampling of radius ``alpha`` and
+    mesh the samples with the solid alpha-complex of the same radius.
+
+    By Theorem 1 of the paper every triangle then has aspect ratio L²/A ≤ 4√3 (all
+    angles in [30°, 120°]); :meth:`PlanarMesh.certificate` measures it. With
+    ``alpha="auto"`` the radius comes from the region's feature size and is lowered
+    until the mesh has the region's topology (see :func:`auto_mesh`, which takes the
+    same keywords).
+
+    Parameters
+    ----------
+    region : Region
+    alpha : float or "auto"
+        The radius of both the sampling and the complex, in the region's units.
+    seed : int
+        Seed of the random generator; the same seed gives the same mesh, bit for bit.
+    **sampling_options
+        Passed to :func:`pds_plugin.poisson_disc` (``max_samples``, ``feature_angle``),
+        or with ``"auto"`` to :func:`auto_mesh` (also ``max_alpha``, ``refine``).
+
+    Returns
+    -------
+    PlanarMesh
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``region`` is not a Region or ``alpha`` is not a positive number or "auto".
+    BudgetError
+        If the sampling would exceed ``max_samples``.
+    TopologyError
+        With ``"auto"``, as :func:`auto_mesh`.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> import pds_plugin as pds
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.1, seed=0)
+    >>> mesh.certificate().ok
+    True
+    """
+    if isinstance(alpha, str) and alpha == "auto":
+        return auto_mesh(region, seed=seed, **sampling_options)
+    samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
+    faces = solid_alpha_complex(samples.points, alpha)
+    return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
+
+
+def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
+    """The largest alpha that satisfies the paper's sampling condition (3) for ``region``.
+
+    Theorem 2 asks ``alpha <= ½ min LFS(∂R)``. Between two boundary features at distance
+    ``d`` (:func:`pds_plugin.feature_size`) the medial axis runs midway, so ``LFS ≈ d/2`` and the
+    suggestion is ``alpha = ½·(d/2) = d/4``: half the feature size in the paper's sense.
+    A gap of width ``g`` then stays open (triangles of circumradius ``<= alpha`` can
+    bridge it only when ``g <= (1 + √3/2)·alpha``), and so does a circular hole of radius
+    ``r``: ``alpha ≈ 0.48·r`` (the paper's Figure 6 uses ``r/2``), while the hole closes
+    near ``alpha = r`` -- which ``d/2 ≈ 0.97·r`` would not avoid.
+
+    Parameters
+    ----------
+    region : Region
+    max_samples : int, optional
+        Sample budget (default: the sampler's). If the suggestion would need more samples,
+        the alpha that fits the budget is returned instead, with a warning naming the
+        feature that is then not guaranteed.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Point
+    >>> ring = Region.from_shapely(Point(0, 0).buffer(1.0).difference(Point(0, 0).buffer(0.8)))
+    >>> round(suggest_alpha(ring), 3)      # wall 0.2 thick (up to the buffer's polygon)
+    0.05
+    """
+    size = _usable_feature_size(region)
+    alpha = size.lfs / 2
+    budget = _budget(max_samples)
+    if estimate_samples(region, alpha) <= budget:
+        return alpha
+    capped = largest_alpha(region, budget)
+    warnings.warn(f"alpha {alpha:.6g} needed for the {size} would take about "
+                  f"{estimate_samples(region, alpha):.3g} samples, over the budget of "
+                  f"{budget}; using alpha {capped:.6g}, which may lose that feature",
+                  stacklevel=2)
+    return capped
+
+
+def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
+              refine: float = 0.7, **sampling_options):
+    """Mesh ``region`` with an alpha whose mesh has the region's topology, verified.
+
+    Starts from ``max_alpha`` if given (the coarsest mesh the caller accepts), else from
+    :func:`suggest_alpha`; meshes, checks the topology with
+    :func:`pds_plugin.topology.topology_report`, and multiplies alpha by ``refine`` until
+    every component's Betti numbers match and no hole is lost, merged, opened or split.
+    The first alpha that passes is kept, so from ``max_alpha`` this finds the coarsest
+    verified mesh of the series ``max_alpha·refine^k``.
+
+    Parameters
+    ----------
+    region : Region
+    seed : int
+    max_alpha : float, optional
+        The first alpha to try.
+    refine : float
+        Factor in (0, 1) applied to alpha after each failed check.
+    **sampling_options
+        Passed to :func:`pds_plugin.mesh_region`; ``max_samples`` is also the budget
+        below whose alpha the refinement stops.
+
+    Returns
+    -------
+    PlanarMesh
+        Its ``certificate().topology_ok`` is True.
+
+    Raises
+    ------
+    TopologyError
+        If the topology is still wrong at the smallest alpha the budget allows; the
+        message names the feature that needs a smaller alpha, that alpha, and what the
+        last mesh lost and where.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Point
+    >>> region = Region.from_shapely(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.2)))
+    >>> mesh = auto_mesh(region, max_alpha=1.0)
+    >>> mesh.certificate().topology_ok, mesh.alpha < 0.2
+    (True, True)
+    """
+    if not 0 < refine < 1:
+        raise ArgumentError(f"refine must lie in (0, 1), got {refine!r}")
+    budget = _budget(sampling_options.pop("max_samples", None))
+    size = _usable_feature_size(region)
+    alpha = size.lfs / 2 if max_alpha is None else check_positive(max_alpha, "max_alpha")
+    smallest = largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
+    alpha = max(alpha, smallest)
+    while True:
+        mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
+        report = topology_report(mesh)
+        if report.topology_ok:
+            return mesh
+        if alpha <= smallest:
+            break
+        alpha = max(alpha * refine, smallest)
+    raise TopologyError(f"the {size} needs alpha <= {size.lfs / 2:.6g}, but alpha "
+                     f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
+                     f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
+                     "that feature")
+
+
+def _budget(max_samples) -> int:
+    return DEFAULT_MAX_SAMPLES if max_samples is None else check_positive_int(max_samples,
+                                                                               "max_samples")
+
+
+def _usable_feature_size(region: Region) -> FeatureSize:
+    size = feature_size(region)
+    if size.value == 0:
+        raise RegionError(f"the region's boundary touches itself ({size}): no alpha can keep "
+                         "those parts apart; separate them or merge them in the geometry")
+    return size
+
+
+class Resolution(NamedTuple):
+    """One level of a multiresolution series; unpacks as ``alpha, mesh, certificate``."""
+
+    alpha: float
+    mesh: PlanarMesh
+    certificate: Certificate
+
+    def __str__(self) -> str:
+        c = self.certificate
+        topology = "topology ok" if c.topology_ok else \
+            f"topology lost: mesh (b0, b1) = {c.betti_mesh}, region {c.betti_region}"
+        return (f"alpha {self.alpha:.6g}: {len(self.mesh.vertices)} vertices, "
+                f"{len(self.mesh.faces)} triangles, {topology}")
+
+
+def multiresolution(region: Region, alphas, seed: int = 0, **sampling_options) -> list[Resolution]:
+    """Mesh ``region`` at each of ``alphas``, with the certificate of each mesh.
+
+    Every level is an independent maximal Poisson disc sampling with the same ``seed``,
+    meshed by its solid alpha-complex, so each satisfies Theorem 1 on its own; Theorem 2
+    says from which alpha on a level has the region's topology (see
+    :func:`pds_plugin.suggest_alpha`).
+
+    Parameters
+    ----------
+    region : Region
+    alphas : iterable of float
+        The radii, in the order the levels are returned (typically coarse to fine).
+    seed : int
+    **sampling_options
+        Passed to :func:`pds_plugin.poisson_disc` (``max_samples``, ``feature_angle``).
+
+    Returns
+    -------
+    list of Resolution
+        ``(alpha, mesh, certificate)`` per level.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``region`` is not a Region or ``alphas`` not numbers.
+    ArgumentError
+        If ``alphas`` is empty or holds a non-positive or non-finite value, or if the
+        finest level would exceed the sample budget (checked before any meshing;
+        a :class:`~pds_plugin.errors.BudgetError`).
+
+    Examples
+    --------
+    >>> from shapely.geometry import Point
+    >>> import pds_plugin as pds
+    >>> disc = Point(0, 0).buffer(1).difference(Point(0.5, 0).buffer(0.15))
+    >>> levels = pds.multiresolution(pds.Region.from_shapely(disc), [0.4, 0.05])
+    >>> [level.certificate.betti_mesh for level in levels]
+    [(1, 0), (1, 1)]
+    """
+    require_region(region, "multiresolution")
+    try:
+        alphas = [float(a) for a in alphas]
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"alphas must be an iterable of numbers, got {alphas!r}") from None
+    if not alphas:
+        raise ArgumentError("alphas is empty: give at least one radius")
+    alphas = [check_positive(a, "every alpha") for a in alphas]
+    budget = sampling_options.get("max_samples", DEFAULT_MAX_SAMPLES)
+    finest = min(alphas)
+    if estimate_samples(region, finest) > budget:
+        raise BudgetError(f"alpha {finest:.6g} would make about "
+                         f"{estimate_samples(region, finest):.3g} samples, more than "
+                         f"max_samples={budget}; drop it or raise max_samples")
+    levels = []
+    for alpha in alphas:
+        mesh = mesh_region(region, alpha, seed=seed, **sampling_options)
+        levels.append(Resolution(alpha, mesh, mesh.certificate()))
+    return levels
+
+
+def section_report(mesh: PlanarMesh, *, seed: int, alpha_mode: str = "given",
+                   output=None, plot=None, warnings=()) -> dict:
+    """The JSON-ready report of one meshed section, as ``pds-mesh --report`` writes it.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+        The mesh of the section (its region carries the plane).
+    seed : int
+        The seed the mesh was made with.
+    alpha_mode : {"given", "auto"}
+        How alpha was chosen.
+    output, plot : str or os.PathLike, optional
+        The files the mesh and its picture were written to, if any.
+    warnings : sequence of str
+        Warnings raised while making the mesh.
+
+    Returns
+    -------
+    dict
+        Keys ``output``, ``plot``, ``plane`` (origin, normal), ``frame``, ``region``
+        (area, perimeter, bounds, betti), ``feature_size`` (value, kind, where),
+        ``alpha``, ``alpha_mode``, ``seed``, ``samples``, ``triangles``, ``quality``
+        (:meth:`Quality.stats`), ``certificate`` (:meth:`Certificate.as_dict`) and
+        ``warnings``; plain lists, numbers and strings only.
+
+    Raises
+    ------
+    ArgumentError
+        If ``alpha_mode`` is not "given" or "auto".
+
+    Examples
+    --------
+    >>> import json
+    >>> from shapely.geometry import box
+    >>> import pds_plugin as pds
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 2, 1)), 0.2)
+    >>> report = pds.section_report(mesh, seed=0)
+    >>> report["region"]["betti"], report["certificate"]["ok"], report["feature_size"]["kind"]
+    ([1, 0], True, 'wall')
+    >>> _ = json.dumps(report)
+    """
+    if alpha_mode not in ("given", "auto"):
+        raise ArgumentError(f"alpha_mode must be 'given' or 'auto', got {alpha_mode!r}")
+    region, frame = mesh.region, mesh.region.frame
+    feature = feature_size(region)
+    return {
+        "output": None if output is None else str(output),
+        "plot": None if plot is None else str(plot),
+        "plane": {"origin": frame[:3, 3].tolist(), "normal": frame[:3, 2].tolist()},
+        "frame": frame.tolist(),
+        "region": {"area": region.area, "perimeter": region.perimeter,
+                   "bounds": list(region.bounds), "betti": list(region.betti)},
+        "feature_size": {"value": feature.value, "kind": feature.kind, "where": str(feature)},
+        "alpha": mesh.alpha,
+        "alpha_mode": alpha_mode,
+        "seed": seed,
+        "samples": len(mesh.vertices),
+        "triangles": len(mesh.faces),
+        "quality": mesh.quality().stats(),
+        "certificate": mesh.certificate().as_dict(),
+        "warnings": [str(w) for w in warnings],
+    }

@@ -1,0 +1,230 @@
+"""CAD solids cut by planes: :func:`section` and :func:`sections` turn a
+``trimesh.Trimesh``, a ``manifold3d.Manifold`` or a mesh file (anything ``trimesh``
+reads: STL, OBJ, PLY, OFF, 3MF, GLB) into :class:`Region` objects.
+
+A solid's backend module (:mod:`.trimesh`, :mod:`.manifold`) turns it into a float64
+``trimesh.Trimesh``; everything else (the plane, its 2D frame, the checks and the exact
+cut) is shared here, and the cut curves become polygons in :mod:`.polygons`, so one plane
+gives the same 2D coordinates whichever library the solid comes from. The heavy
+libraries are imported inside the backend modules only.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import numpy as np
+
+from .._checks import check_positive_int, check_vector
+from ..errors import ArgumentError, ArgumentTypeError, SectionError, SourceError
+from ..region import Region, lift
+from . import manifold as manifold_backend
+from . import trimesh as trimesh_backend
+from .polygons import outline_geometry
+
+__all__ = ["section", "sections"]
+
+# Backends by the library their solids come from: (library, class name, backend module).
+_SOLIDS = (("trimesh", "Trimesh", trimesh_backend), ("manifold3d", "Manifold", manifold_backend))
+
+
+def section(solid, plane_origin, plane_normal) -> Region:
+    """Cut a solid with a plane and return the section as a :class:`Region`.
+
+    The 2D coordinates are those of ``trimesh.geometry.plane_transform(origin, normal)``:
+    ``plane_origin`` is the 2D origin and the in-plane axes depend on the normal only, so
+    the same plane gives the same coordinates with either backend, and parallel planes
+    share their in-plane axes. ``region.frame`` is its exact inverse (2D -> 3D).
+
+    Parameters
+    ----------
+    solid : trimesh.Trimesh, manifold3d.Manifold, str or os.PathLike
+        A closed (watertight) solid, or the path of a mesh file trimesh reads.
+    plane_origin : (3,) array_like
+        A point of the plane.
+    plane_normal : (3,) array_like
+        The plane's normal (any non-zero length).
+
+    Returns
+    -------
+    Region
+        Every component with its holes; islands inside holes are components too.
+
+    Raises
+    ------
+    SectionError
+        If the plane misses the solid (the message gives the solid's extent along the
+        normal), lies on one of its faces, or cuts an open (not watertight) part of the
+        mesh (the message gives the open ends).
+    SourceError
+        If the file is empty or unreadable, or the solid is invalid or empty.
+    ArgumentError
+        If the origin or normal is not finite or the normal is zero.
+    FileNotFoundError
+        If ``solid`` is a path that does not exist.
+    ArgumentTypeError
+        If ``solid`` is of an unsupported type.
+
+    Examples
+    --------
+    >>> import trimesh, pds_plugin as pds
+    >>> tube = trimesh.creation.annulus(r_min=1, r_max=2, height=4)
+    >>> region = pds.section(tube, plane_origin=(0, 0, 0), plane_normal=(0, 0, 1))
+    >>> region.betti
+    (1, 1)
+    """
+    origin, normal = _plane(plane_origin, plane_normal)
+    return _Solid(solid).cut(origin, normal)
+
+
+def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None) -> list[Region]:
+    """Cut a solid with parallel planes and return one :class:`Region` per plane.
+
+    Give either ``offsets`` (the planes' signed distances along the unit normal from
+    ``plane_origin``) or ``count`` (that many planes, one in the middle of each of
+    ``count`` equal slabs of the solid's extent along the normal, so all strictly
+    inside it). All regions share the same in-plane axes (see :func:`section`).
+
+    Parameters
+    ----------
+    solid : trimesh.Trimesh, manifold3d.Manifold, str or os.PathLike
+    plane_normal : (3,) array_like
+    offsets : sequence of float, optional
+    count : int, optional
+    plane_origin : (3,) array_like, optional
+        The point offsets are measured from; the world origin by default.
+
+    Returns
+    -------
+    list of Region
+        In the order of ``offsets``, or of increasing offset for ``count``.
+
+    Raises
+    ------
+    PdsError
+        As :func:`section` for any plane, and an :class:`~pds_plugin.errors.ArgumentError`
+        if neither or both of ``offsets`` and ``count`` are given, or they are not finite /
+        not a positive integer.
+
+    Examples
+    --------
+    >>> import trimesh, pds_plugin as pds
+    >>> box = trimesh.creation.box(extents=(2, 2, 2))
+    >>> [round(r.area, 9) for r in pds.sections(box, (0, 0, 1), count=3)]
+    [4.0, 4.0, 4.0]
+    >>> [float(r.frame[2, 3]) for r in pds.sections(box, (0, 0, 1), offsets=[-0.5, 0.5])]
+    [-0.5, 0.5]
+    """
+    origin, normal = _plane((0.0, 0.0, 0.0) if plane_origin is None else plane_origin,
+                            plane_normal)
+    solid = _Solid(solid)
+    heights = _offsets(offsets, count, solid.heights(origin, normal))
+    return [solid.cut(origin + height * normal, normal) for height in heights]
+
+
+class _Solid:
+    """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
+
+    def __init__(self, solid):
+        self.mesh = _source_of(solid).load(solid)
+        self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
+        self.faces = np.asarray(self.mesh.faces)
+        if not np.isfinite(self.vertices).all():
+            raise SourceError("the solid has NaN or infinite vertex coordinates; "
+                             "clean the mesh first")
+        self.scale = float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
+
+    def heights(self, origin, normal) -> np.ndarray:
+        """Signed distances of the vertices to the plane."""
+        return (self.vertices - origin) @ normal
+
+    def cut(self, origin, normal) -> Region:
+        to_2d, to_3d = _frames(origin, normal)
+        local = self.vertices @ to_2d[:3, :3].T + to_2d[:3, 3]   # z: height above the plane
+        offset = float(origin @ normal)
+        self._check_plane(local[:, 2], offset)
+        # the intersections' rounding is relative to the coordinates' magnitude
+        snap = max(1e-9 * self.scale, 1e-12 * np.abs(local[:, :2]).max())
+        geometry, open_ends = outline_geometry(list(trimesh_backend.cut(local, self.faces)),
+                                              tolerance=snap)
+        if len(open_ends):
+            where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
+                              lift(open_ends[:5], to_3d))
+            raise SectionError(
+                f"the section at normal·x = {offset:.9g} is open: the mesh is not watertight "
+                f"where the plane cuts it ({len(open_ends)} open end(s), at {where}"
+                f"{', ...' if len(open_ends) > 5 else ''}); repair the mesh "
+                f"(e.g. trimesh.repair.fill_holes) or move the plane")
+        if geometry.is_empty:
+            raise SectionError(
+                f"the plane at normal·x = {offset:.9g} crosses the solid's extent but cuts no "
+                f"material (it passes through a gap between parts); move the plane")
+        return Region.from_shapely(geometry, frame=to_3d)
+
+    def _check_plane(self, heights, offset) -> None:
+        """Refuse a plane that lies on a face or misses the solid (heights: of the vertices)."""
+        from trimesh.constants import tol
+
+        flat = (np.abs(heights) <= tol.merge)[self.faces].all(axis=1)
+        if flat.any():
+            raise SectionError(
+                f"the plane lies on {int(flat.sum())} face(s) of the solid "
+                f"(normal·x = {offset:.9g}), so the section is ambiguous; offset the plane "
+                f"slightly along the normal, e.g. by ±{1e-6 * self.scale:.3g}")
+        if not (heights.min() < -tol.merge and heights.max() > tol.merge):
+            low, high = offset + heights.min(), offset + heights.max()
+            raise SectionError(
+                f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
+                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside "
+                f"that range")
+
+
+def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
+    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0) and its exact inverse."""
+    from trimesh.geometry import plane_transform
+
+    to_2d = plane_transform(origin, normal)
+    to_3d = np.eye(4)
+    to_3d[:3, :3] = to_2d[:3, :3].T   # a rotation: its inverse is its transpose
+    to_3d[:3, 3] = origin             # (0, 0) is the plane origin
+    return to_2d, to_3d
+
+
+def _source_of(solid):
+    if isinstance(solid, (str, os.PathLike)):
+        return trimesh_backend
+    for library, class_name, backend in _SOLIDS:
+        module = sys.modules.get(library)  # a solid's library is imported already
+        if module is not None and isinstance(solid, getattr(module, class_name)):
+            return backend
+    raise ArgumentTypeError(f"cannot cut a {type(solid).__name__}: give a trimesh.Trimesh, a "
+                            f"manifold3d.Manifold or the path of a mesh file")
+
+
+def _plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
+    """Validated plane origin and unit normal, as float64 (3,) arrays."""
+    origin, normal = check_vector(origin, "plane_origin"), check_vector(normal, "plane_normal")
+    length = np.linalg.norm(normal)
+    if not length > 0:
+        raise ArgumentError("plane_normal is the zero vector; give the direction the plane "
+                         "faces, e.g. (0, 0, 1)")
+    return origin, normal / length
+
+
+def _offsets(offsets, count, heights) -> np.ndarray:
+    """Plane offsets along the normal, from ``offsets`` or ``count`` (exactly one)."""
+    if (offsets is None) == (count is None):
+        raise ArgumentError("give either offsets (distances along the normal) or count "
+                         "(number of evenly spaced planes), not both and not neither")
+    if count is not None:
+        check_positive_int(count, "count")
+        low, high = heights.min(), heights.max()
+        return low + (np.arange(count) + 0.5) * (high - low) / count
+    try:
+        offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
+    except (TypeError, ValueError):
+        offsets = None
+    if offsets is None or offsets.ndim != 1 or not len(offsets) or not np.isfinite(offsets).all():
+        raise ArgumentError(f"offsets must be a non-empty list of finite numbers, got {offsets!r}")
+    return offsets

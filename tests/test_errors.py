@@ -1,0 +1,65 @@
+"""Every bad input gets a PdsError (a ValueError) of the kind it is; files stay OSError."""
+
+import numpy as np
+import pytest
+import trimesh
+from shapely.geometry import Point, Polygon, box
+
+import pds_plugin as pds
+from pds_plugin import errors
+
+
+def test_the_hierarchy():
+    for name in errors.__all__:
+        kind = getattr(errors, name)
+        assert issubclass(kind, pds.PdsError) and issubclass(kind, ValueError), name
+        assert getattr(pds, name) is kind                      # public through the package
+    assert issubclass(pds.ArgumentTypeError, TypeError)         # wrong-typed arguments
+    assert issubclass(pds.MissingDependencyError, ImportError)  # missing optional extras
+    assert issubclass(pds.SectionError, pds.SourceError)
+
+
+@pytest.fixture(scope="module")
+def square():
+    return pds.Region.from_shapely(box(0, 0, 1, 1))
+
+
+@pytest.mark.parametrize("make, kind", [
+    (lambda r: pds.Region.from_shapely(Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])),
+     pds.RegionError),
+    (lambda r: pds.Region.from_shapely("a square"), pds.ArgumentTypeError),
+    (lambda r: pds.poisson_disc(r, -1.0), pds.ArgumentError),
+    (lambda r: pds.poisson_disc(r, "big"), pds.ArgumentTypeError),
+    (lambda r: pds.poisson_disc(r, 1e-4, max_samples=1000), pds.BudgetError),
+    (lambda r: pds.solid_alpha_complex([[0, 0], [0, 0], [1, 0]], 1.0), pds.ArgumentError),
+    (lambda r: pds.section(trimesh.creation.box(), (0, 0, 5), (0, 0, 1)), pds.SectionError),
+    (lambda r: pds.sections(trimesh.creation.box(), (0, 0, 1), count=0), pds.ArgumentError),
+    (lambda r: pds.mesh_region(r, 10.0).export("empty.ply"), pds.EmptyMeshError),
+    (lambda r: pds.auto_mesh(pds.Region.from_shapely(
+        Point(0, 0).buffer(1).difference(Point(0.5, 0).buffer(0.01))), max_samples=200),
+     pds.TopologyError),
+])
+def test_each_bad_input_raises_its_kind(square, make, kind):
+    with pytest.raises(kind):
+        make(square)
+
+
+def test_a_missing_directory_stays_an_oserror(square, tmp_path):
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        pds.mesh_region(square, 0.2).export(tmp_path / "nowhere" / "out.ply")
+
+
+def test_inputs_are_never_modified(square):
+    frame = np.eye(4)
+    region = pds.Region.from_shapely(box(0, 0, 1, 1), frame=frame)
+    assert frame.flags.writeable and not region.frame.flags.writeable
+    vertices = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    on_boundary = np.ones(4, bool)
+    mesh = pds.PlanarMesh(vertices, faces, on_boundary, region, 0.75)
+    for given, kept in ((vertices, mesh.vertices), (faces, mesh.faces),
+                        (on_boundary, mesh.on_boundary)):
+        assert given.flags.writeable and not kept.flags.writeable
+        assert kept is not given and np.array_equal(kept, given)
+    listed = pds.PlanarMesh(vertices.tolist(), faces.tolist(), on_boundary.tolist(), region, 0.75)
+    assert np.array_equal(listed.faces, mesh.faces) and listed.faces.dtype == np.int64
