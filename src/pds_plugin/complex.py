@@ -43,6 +43,19 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
     alpha : float
         The largest circumradius kept.
 
+    Returns
+    -------
+    (M, 3) int64 ndarray
+        Indices into ``points``, each triangle counter-clockwise.
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``points`` is not an (N, 2) array of finite numbers, has two equal points, or
+        ``alpha`` is not a positive number.
+    BudgetError
+        If the points span too many cells of side ``alpha``.
+
     Examples
     --------
     >>> import numpy as np

@@ -127,7 +127,20 @@ class PlanarMesh:
 
     def quality(self) -> Quality:
         """Per-triangle aspect ratio L²/A, angles and edge lengths, with ``stats()`` and
-        ``histogram()`` (see :func:`pds_plugin.triangle_quality`). Computed once."""
+        ``histogram()`` (see :func:`pds_plugin.triangle_quality`). Computed once.
+
+        Returns
+        -------
+        Quality
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import box
+        >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2)
+        >>> mesh.quality().stats()["above_bound"], mesh.quality() is mesh.quality()
+        (0, True)
+        """
         return self._quality
 
     @cached_property
@@ -137,7 +150,20 @@ class PlanarMesh:
 
     def certificate(self) -> Certificate:
         """The measured guarantees of this mesh (see :func:`pds_plugin.certify`).
-        Computed once."""
+        Computed once.
+
+        Returns
+        -------
+        Certificate
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import box
+        >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2)
+        >>> mesh.certificate().ok
+        True
+        """
         return self._certificate
 
     @cached_property
@@ -146,18 +172,63 @@ class PlanarMesh:
         return certify(self)
 
     def to_trimesh(self) -> trimesh.Trimesh:
-        """The mesh in 3D as a ``trimesh.Trimesh`` (see :func:`pds_plugin.sinks.files.to_trimesh`)."""
+        """The mesh in 3D as a ``trimesh.Trimesh`` (see :func:`pds_plugin.sinks.files.to_trimesh`).
+
+        Returns
+        -------
+        trimesh.Trimesh
+            With face attribute ``aspect_ratio`` and vertex attribute ``on_boundary``.
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import box
+        >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2)
+        >>> round(float(mesh.to_trimesh().area), 12)
+        1.0
+        """
         from .sinks.files import to_trimesh
         return to_trimesh(self)
 
     def to_meshset(self) -> pymeshlab.MeshSet:
-        """A ``pymeshlab.MeshSet`` holding the mesh (see :func:`pds_plugin.sinks.meshlab.to_meshset`)."""
+        """A ``pymeshlab.MeshSet`` holding the mesh (see :func:`pds_plugin.sinks.meshlab.to_meshset`).
+
+        Returns
+        -------
+        pymeshlab.MeshSet
+            Face quality = aspect ratio, vertex quality = 1.0 on boundary samples.
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import box
+        >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2)
+        >>> meshset = mesh.to_meshset()
+        >>> meshset.current_mesh().vertex_number() == len(mesh.vertices)
+        True
+        """
         from .sinks.meshlab import to_meshset
         return to_meshset(self)
 
     def export(self, path) -> None:
         """Write the mesh in 3D: binary PLY with per-face quality, or OBJ, by suffix (see
-        :func:`pds_plugin.sinks.files.export`)."""
+        :func:`pds_plugin.sinks.files.export`).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Ends in a registered suffix (``.ply``, ``.obj``).
+
+        Examples
+        --------
+        >>> import pathlib, tempfile, pds_plugin as pds
+        >>> from shapely.geometry import box
+        >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2)
+        >>> out = pathlib.Path(tempfile.mkdtemp()) / "square.obj"
+        >>> mesh.export(out)
+        >>> out.read_text().splitlines()[0]
+        '# pds_plugin mesh, alpha 0.2'
+        """
         from .sinks.files import export
         export(self, path)
 

@@ -95,6 +95,15 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
         the alpha that fits the budget is returned instead, with a warning naming the
         feature that is then not guaranteed.
 
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    RegionError
+        If the boundary touches itself (feature size 0): no alpha keeps it apart.
+
     Examples
     --------
     >>> from shapely.geometry import Point
@@ -193,7 +202,17 @@ def _usable_feature_size(region: Region) -> FeatureSize:
 
 
 class Resolution(NamedTuple):
-    """One level of a multiresolution series; unpacks as ``alpha, mesh, certificate``."""
+    """One level of a multiresolution series; unpacks as ``alpha, mesh, certificate``.
+
+    Attributes
+    ----------
+    alpha : float
+        The level's radius.
+    mesh : PlanarMesh
+        The level's mesh.
+    certificate : Certificate
+        Its certificate: which features of the region this level keeps.
+    """
 
     alpha: float
     mesh: PlanarMesh

@@ -120,8 +120,27 @@ class Region:
     def boundary_pieces(self, max_length: float):
         """The boundary cut into straight pieces no longer than ``max_length``.
 
-        Returns ``(start, direction, length)``: (P, 2) start points, (P, 2) unit
-        directions and (P,) lengths, segment by segment in ring order.
+        Each segment is cut into equal pieces, segment by segment in ring order.
+
+        Parameters
+        ----------
+        max_length : float
+
+        Returns
+        -------
+        start : (P, 2) float ndarray
+            Start points.
+        direction : (P, 2) float ndarray
+            Unit directions.
+        length : (P,) float ndarray
+            Lengths.
+
+        Examples
+        --------
+        >>> from shapely.geometry import box
+        >>> start, direction, length = Region.from_shapely(box(0, 0, 2, 1)).boundary_pieces(0.6)
+        >>> len(start), length[:6].tolist()         # 4 pieces per side of 2, 2 per side of 1
+        (12, [0.5, 0.5, 0.5, 0.5, 0.5, 0.5])
         """
         seg = self.segments
         vec = seg[:, 1] - seg[:, 0]
@@ -160,7 +179,22 @@ class Region:
                 sum(len(p.interiors) for p in self.geometry.geoms))
 
     def to_3d(self, xy) -> np.ndarray:
-        """Map (n, 2) region coordinates into 3D through :attr:`frame` (see :func:`lift`)."""
+        """Map (n, 2) region coordinates into 3D through :attr:`frame` (see :func:`lift`).
+
+        Parameters
+        ----------
+        xy : (n, 2) array_like
+
+        Returns
+        -------
+        (n, 3) float ndarray
+
+        Examples
+        --------
+        >>> from shapely.geometry import box
+        >>> Region.from_shapely(box(0, 0, 1, 1)).to_3d([[1, 2]]).tolist()
+        [[1.0, 2.0, 0.0]]
+        """
         return lift(xy, self.frame)
 
     def __repr__(self) -> str:

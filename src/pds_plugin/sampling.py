@@ -46,7 +46,24 @@ _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative t
 
 @dataclass(frozen=True)
 class Samples:
-    """A Poisson disc sampling: ``points`` (N, 2) and ``on_boundary`` (N,) bool."""
+    """A Poisson disc sampling, as :func:`poisson_disc` makes it.
+
+    Attributes
+    ----------
+    points : (N, 2) float ndarray
+        The samples, boundary samples first.
+    on_boundary : (N,) bool ndarray
+        True for the samples placed on the region's boundary.
+    alpha : float
+        The disc radius.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> samples = poisson_disc(Region.from_shapely(box(0, 0, 1, 1)), 0.25, seed=0)
+    >>> len(samples) == len(samples.points), bool(samples.on_boundary[0])
+    (True, True)
+    """
 
     points: np.ndarray
     on_boundary: np.ndarray
@@ -59,6 +76,18 @@ class Samples:
 def estimate_samples(region: Region, alpha: float) -> float:
     """About how many samples a maximal sampling of ``region`` with radius ``alpha`` has:
     ``0.7 * area / alpha² + perimeter / alpha``.
+
+    Parameters
+    ----------
+    region : Region
+    alpha : float
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
 
     >>> from shapely.geometry import box
     >>> round(estimate_samples(Region.from_shapely(box(0, 0, 1, 1)), 0.01))
@@ -107,11 +136,23 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     seed : int
         Seed of the random generator; the same seed gives the same samples.
     max_samples : int
-        Refuse (with a ValueError giving the estimate and the largest acceptable alpha)
-        when about more samples than this would be made.
+        Refuse (with a :class:`~pds_plugin.errors.BudgetError`) when about more samples
+        than this would be made.
     feature_angle : float
         Boundary vertices where the outline turns by at least this many degrees are
         sampled first, as feature points.
+
+    Returns
+    -------
+    Samples
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``region`` is not a Region or ``alpha`` is not a positive number.
+    BudgetError
+        If the sampling would exceed ``max_samples`` (the message gives the estimate and
+        the largest acceptable alpha) or the grid would be too large.
 
     Examples
     --------

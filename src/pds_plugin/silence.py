@@ -29,6 +29,10 @@ def silenced():
     them on exit, exceptions included. Python exceptions still carry their messages.
     The descriptors are process-wide: other threads writing meanwhile are silenced too.
 
+    Yields
+    ------
+    None
+
     Examples
     --------
     >>> import os

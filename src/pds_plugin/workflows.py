@@ -45,7 +45,7 @@ class SectionMesh:
     mesh: PlanarMesh
 
 
-def add_section_meshes(meshset, alpha: float, *, plane_normal=(0.0, 0.0, 1.0),
+def add_section_meshes(meshset: pymeshlab.MeshSet, alpha: float, *, plane_normal=(0.0, 0.0, 1.0),
                        plane_origin=None, offsets=None, count=None, seed: int = 0,
                        mesh_id: int | None = None) -> list[SectionMesh]:
     """Cut a solid of ``meshset`` with planes and add a mesh of each section to it.
@@ -58,8 +58,21 @@ def add_section_meshes(meshset, alpha: float, *, plane_normal=(0.0, 0.0, 1.0),
     :func:`pds_plugin.sections`. Each section is meshed with
     :func:`pds_plugin.mesh_region` at radius ``alpha`` and added as a new mesh named like
     ``"section z=0.5 alpha=0.1"``, with face quality = aspect ratio and vertex quality =
-    1.0 on boundary samples (as :func:`to_meshset`). The solid stays the current mesh, so
-    calls can be repeated with other planes.
+    1.0 on boundary samples (as :func:`pds_plugin.sinks.meshlab.to_meshset`). The solid
+    stays the current mesh, so calls can be repeated with other planes.
+
+    Parameters
+    ----------
+    meshset : pymeshlab.MeshSet
+    alpha : float
+        The radius of every section's mesh.
+    plane_normal : (3,) array_like
+    plane_origin : (3,) array_like, optional
+    offsets : sequence of float, optional
+    count : int, optional
+    seed : int
+    mesh_id : int, optional
+        The solid's id in the MeshSet; its current mesh by default.
 
     Returns
     -------
@@ -116,7 +129,7 @@ def _solid_id(meshset, mesh_id) -> int:
     return int(mesh_id)
 
 
-def _solid_trimesh(meshset, mesh_id):
+def _solid_trimesh(meshset, mesh_id) -> trimesh.Trimesh:
     import trimesh
 
     solid = meshset.mesh(mesh_id)

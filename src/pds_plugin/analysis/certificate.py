@@ -20,6 +20,7 @@ holds no sample are exactly the Delaunay triangles missing from T.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
@@ -29,6 +30,9 @@ from .._certificate_kernels import boundary_gaps
 from .._geometry_kernels import circumcircles
 from .quality import ASPECT_BOUND
 from .topology import TopologyReport, topology_report
+
+if TYPE_CHECKING:
+    from ..mesh import PlanarMesh
 
 __all__ = ["Certificate", "certify", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
 
@@ -45,32 +49,74 @@ class Certificate:
     Poisson disc sampling (separation >= 1, coverage gap <= 1), every triangle meets
     Theorem 1, every sample is used, the mesh is manifold and its topology is the
     region's.
+
+    Attributes
+    ----------
+    alpha : float
+        The mesh's radius.
+    samples, triangles : int
+        How many samples (vertices) and triangles the mesh has.
+    min_separation : float
+        The smallest distance between two samples / alpha (>= 1: Poisson).
+    coverage_gap : float
+        The largest distance from a point of the region to the samples / alpha
+        (<= 1: maximal).
+    coverage_gap_at : tuple of float
+        Where the coverage gap peaks, in region coordinates.
+    max_aspect_ratio : float
+        The largest L²/A, at most 4√3 by Theorem 1.
+    min_angle, max_angle : float
+        The extreme angles in degrees, within [30, 120] by Theorem 1.
+    isolated_samples : int
+        Samples in no triangle.
+    nonmanifold_vertices : int
+        Vertices where two fans of triangles touch.
+    area_ratio : float
+        Mesh area / region area.
+    outside_area_ratio : float
+        Mesh area outside the region / region area.
+    outside_distance : float
+        The farthest point of the mesh from the region / alpha (to 1/20).
+    topology : TopologyReport
+        Betti numbers of mesh and region, per component, and what differs where.
+    aspect_bound : float
+        4√3, Theorem 1's bound (a class constant).
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> cert = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2).certificate()
+    >>> cert.ok, cert.betti_mesh, cert.min_separation >= 1
+    (True, (1, 0), True)
     """
 
     alpha: float
     samples: int
     triangles: int
-    min_separation: float          # min distance between samples / alpha
-    coverage_gap: float            # max distance from the region to the samples / alpha
-    coverage_gap_at: tuple         # where the coverage gap peaks (region coordinates)
-    max_aspect_ratio: float        # L²/A, at most 4√3 by Theorem 1
-    min_angle: float               # degrees, at least 30 by Theorem 1
-    max_angle: float               # degrees, at most 120 by Theorem 1
-    isolated_samples: int          # samples in no triangle
-    nonmanifold_vertices: int      # vertices where two fans of triangles touch
-    area_ratio: float              # mesh area / region area
-    outside_area_ratio: float      # mesh area outside the region / region area
-    outside_distance: float        # farthest point of the mesh from the region / alpha (to 1/20)
+    min_separation: float
+    coverage_gap: float
+    coverage_gap_at: tuple[float, float]
+    max_aspect_ratio: float
+    min_angle: float
+    max_angle: float
+    isolated_samples: int
+    nonmanifold_vertices: int
+    area_ratio: float
+    outside_area_ratio: float
+    outside_distance: float
     topology: TopologyReport
 
     aspect_bound = ASPECT_BOUND
 
     @property
     def betti_mesh(self) -> tuple[int, int]:
+        """``(b0, b1)`` of the mesh: components and holes."""
         return self.topology.betti_mesh
 
     @property
     def betti_region(self) -> tuple[int, int]:
+        """``(b0, b1)`` of the region: components and holes."""
         return self.topology.betti_region
 
     @property
@@ -90,15 +136,34 @@ class Certificate:
 
     @property
     def topology_ok(self) -> bool:
+        """Theorem 2: the mesh has the region's components and holes, each in place."""
         return self.topology.topology_ok
 
     @property
     def ok(self) -> bool:
+        """Every guarantee holds: sampling, quality, topology, no isolated sample, manifold."""
         return (self.sampling_ok and self.quality_ok and self.topology_ok
                 and self.isolated_samples == 0 and self.nonmanifold_vertices == 0)
 
     def as_dict(self) -> dict:
-        """Plain JSON-ready values, verdicts included."""
+        """Plain JSON-ready values, verdicts included.
+
+        Returns
+        -------
+        dict
+            Every attribute (``topology`` as :meth:`TopologyReport.as_dict`), and
+            ``aspect_bound``, ``betti_mesh``, ``betti_region``, ``sampling_ok``,
+            ``quality_ok``, ``topology_ok`` and ``ok``.
+
+        Examples
+        --------
+        >>> import json, pds_plugin as pds
+        >>> from shapely.geometry import box
+        >>> cert = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2).certificate()
+        >>> values = cert.as_dict()
+        >>> values["ok"], values["topology"]["betti_region"], len(json.dumps(values)) > 0
+        (True, (1, 0), True)
+        """
         values = {name: getattr(self, name) for name in self.__dataclass_fields__}
         values["coverage_gap_at"] = list(self.coverage_gap_at)
         values["topology"] = self.topology.as_dict()
@@ -125,8 +190,18 @@ class Certificate:
         ])
 
 
-def certify(mesh) -> Certificate:
+def certify(mesh: PlanarMesh) -> Certificate:
     """Measure the certificate of ``mesh`` (see the module docstring).
+
+    :meth:`PlanarMesh.certificate` calls this once and caches the result.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+
+    Returns
+    -------
+    Certificate
 
     Examples
     --------

@@ -70,6 +70,7 @@ class BoundaryFeature:
 
     @property
     def ring_name(self) -> str:
+        """``"outline of component C"`` or ``"hole H of component C"``."""
         where = "outline" if self.hole is None else f"hole {self.hole}"
         return f"{where} of component {self.component}"
 
@@ -131,6 +132,11 @@ def feature_size(region: Region) -> FeatureSize:
     Returns
     -------
     FeatureSize
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``region`` is not a Region.
 
     Examples
     --------

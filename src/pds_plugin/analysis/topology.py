@@ -28,7 +28,19 @@ __all__ = ["ComponentTopology", "TopologyReport", "topology_report"]
 
 @dataclass(frozen=True)
 class ComponentTopology:
-    """Betti numbers of one region component and of the mesh parts lying on it."""
+    """Betti numbers of one region component and of the mesh parts lying on it.
+
+    Attributes
+    ----------
+    component : int
+        Index of the component in ``region.geometry.geoms``.
+    betti_region : tuple of int
+        ``(1, holes)`` of the component.
+    betti_mesh : tuple of int
+        ``(b0, b1)`` of the mesh components with a vertex on it.
+    ok : bool
+        They agree and no defect was found on the component.
+    """
 
     component: int
     betti_region: tuple[int, int]
@@ -62,7 +74,21 @@ class TopologyReport:
     problems: tuple[str, ...]
 
     def as_dict(self) -> dict:
-        """Plain JSON-ready values."""
+        """Plain JSON-ready values.
+
+        Returns
+        -------
+        dict
+            The attributes, ``per_component`` as a tuple of dicts.
+
+        Examples
+        --------
+        >>> from shapely.geometry import box
+        >>> import pds_plugin as pds
+        >>> report = topology_report(pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2))
+        >>> report.as_dict()["per_component"]
+        ({'component': 0, 'betti_region': (1, 0), 'betti_mesh': (1, 0), 'ok': True},)
+        """
         return asdict(self)
 
     def __str__(self) -> str:
@@ -74,6 +100,15 @@ class TopologyReport:
 
 def topology_report(mesh: PlanarMesh) -> TopologyReport:
     """Compare the topology of ``mesh`` (a PlanarMesh) with that of its region.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+
+    Returns
+    -------
+    TopologyReport
+        Each defect located in region coordinates, with the alpha that would keep it.
 
     Examples
     --------

@@ -27,6 +27,17 @@ def run(args) -> int:
     -------
     int
         0.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pds_plugin.cli.arguments import parser
+    >>> run(parser().parse_args(["demo", "-o", tempfile.mkdtemp()]))   # doctest: +ELLIPSIS
+    pds-mesh demo: a 4 x 2 x 0.5 plate with two holes, a slot and a sharp notch (manifold3d),
+    ...
+      certificate  ok
+    ...
+    0
     """
     out = args.output
     out.mkdir(parents=True, exist_ok=True)

@@ -67,6 +67,16 @@ def mesh_section(task: Task) -> dict:
     PdsError
         Of the same class as the pipeline's or the sinks', the message prefixed with the
         output file so that the failing section of several is named.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from shapely.geometry import box
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "square.ply"
+    >>> task = Task(Region.from_shapely(box(0, 0, 1, 1)), 0.25, 0, None, out, None, False)
+    >>> entry = mesh_section(task)
+    >>> entry["certificate"]["ok"], out.read_bytes()[:3]
+    (True, b'ply')
     """
     budget = {} if task.max_samples is None else {"max_samples": task.max_samples}
     with warnings.catch_warnings(record=True) as caught:
@@ -102,6 +112,18 @@ def run(args) -> int:
     ------
     PdsError, OSError
         For bad input, before any meshing when it can be seen from the arguments.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from pds_plugin.cli.arguments import parser
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "square.svg").write_text(
+    ...     '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10"><rect width="10" '
+    ...     'height="10"/></svg>')
+    >>> run(parser().parse_args(["mesh", str(folder / "square.svg"), "-o",
+    ...                          str(folder / "square.ply"), "--alpha", "2", "-q"]))
+    0
     """
     if args.output.suffix.lower() not in writers():
         raise ArgumentError(f"cannot write {args.output}: the output suffix must be one of "

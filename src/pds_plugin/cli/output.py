@@ -41,6 +41,18 @@ def warn_about(entry: dict) -> None:
     ----------
     entry : dict
         As :func:`pds_plugin.section_report` makes it.
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.25)
+    >>> entry = pds.section_report(mesh, seed=0, output="square.ply", warnings=["careful"])
+    >>> import contextlib, io
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     warn_about(entry)
+    >>> err.getvalue()
+    'pds-mesh: warning: square.ply: careful\\n'
     """
     for message in entry["warnings"]:
         say("warning", f"{entry['output']}: {message}")
@@ -64,6 +76,15 @@ def summary(entry: dict) -> str:
     Returns
     -------
     str
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.25)
+    >>> print(summary(pds.section_report(mesh, seed=0, output="square.ply")))
+    ... # doctest: +ELLIPSIS
+    square.ply: z=0, ... samples, ... triangles, alpha 0.25, max aspect ratio ..., certificate ok
     """
     c = entry["certificate"]
     return (f"{entry['output']}: {plane_label(entry['frame'])}, {entry['samples']} samples, "
@@ -83,6 +104,14 @@ def write_report(path: Path, source, entries: list[dict]) -> None:
         What was meshed.
     entries : list of dict
         As :func:`pds_plugin.section_report` makes them.
+
+    Examples
+    --------
+    >>> import json, pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "report.json"
+    >>> write_report(path, "part.stl", [])
+    >>> json.loads(path.read_text())["sections"]
+    []
     """
     report = {"pds_plugin": __version__, "input": str(source), "sections": entries}
     path.write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")

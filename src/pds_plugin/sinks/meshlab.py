@@ -89,21 +89,29 @@ def to_meshset(mesh: PlanarMesh, name: str = "pds_plugin mesh") -> pymeshlab.Mes
     1.0 on boundary samples and 0.0 inside, ready for MeshLab's selection and colour
     filters (``compute_selection_by_scalar_per_face``, ``compute_color_from_scalar_per_face``).
 
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    name : str
+        The mesh's label in the MeshSet.
+
+    Returns
+    -------
+    pymeshlab.MeshSet
+
     Raises
     ------
-    EmptyMeshError
-        If the mesh has no triangles (pymeshlab cannot hold an empty mesh).
-    MissingDependencyError
-        If pymeshlab is not installed.
+    EmptyMeshError, MissingDependencyError
+        As :func:`meshlab_mesh`.
 
     Examples
     --------
     >>> import pds_plugin as pds
-    >>> from shapely.geometry import box
-    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.2)
-    >>> ms = to_meshset(mesh)
-    >>> ms.current_mesh().face_number() == len(mesh.faces)
-    True
+    >>> from shapely.geometry import Point
+    >>> disc = pds.Region.from_shapely(Point(0, 0).buffer(1))
+    >>> ms = to_meshset(pds.mesh_region(disc, alpha=0.3), name="disc")
+    >>> ms.current_mesh().label()
+    'disc'
     """
     pm = _pymeshlab()
     meshset = pm.MeshSet()
@@ -114,6 +122,14 @@ def to_meshset(mesh: PlanarMesh, name: str = "pds_plugin mesh") -> pymeshlab.Mes
 def radius_ratio(quality: Quality) -> np.ndarray:
     """MeshLab's ``inradius/circumradius`` (normalised ``2r/R``, equilateral = 1) from a
     :class:`pds_plugin.Quality`, through the angles: ``2r/R = 8 Π sin(θᵢ/2)``.
+
+    Parameters
+    ----------
+    quality : Quality
+
+    Returns
+    -------
+    (M,) float ndarray
 
     Examples
     --------
@@ -127,14 +143,29 @@ def radius_ratio(quality: Quality) -> np.ndarray:
 
 @dataclass(frozen=True)
 class MeshLabQuality:
-    """What :func:`meshlab_quality` measured with MeshLab's own filters."""
+    """What :func:`meshlab_quality` measured with MeshLab's own filters.
 
-    radius_ratio: np.ndarray   # (M,) per face, 2r/R: equilateral 1, certified >= 2√3-3
-    statistics: dict           # avg, max, med, min, stddev, variance of radius_ratio
-    bin_edges: np.ndarray      # (bins + 1,) histogram edges over ``range`` (MeshLab's, ~1e-8 off)
-    counts: np.ndarray         # (bins,) faces per bin
-    below: int                 # faces under range[0] (MeshLab's underflow bin)
-    above: int                 # faces over range[1] (MeshLab's overflow bin)
+    Attributes
+    ----------
+    radius_ratio : (M,) float ndarray
+        ``2r/R`` per face: 1 for the equilateral triangle, >= 2√3 - 3 when certified.
+    statistics : dict
+        ``avg``, ``max``, ``med``, ``min``, ``stddev`` and ``variance`` of radius_ratio.
+    bin_edges : (bins + 1,) float ndarray
+        Histogram edges over ``range``, as MeshLab rounded them (about 1e-8 off).
+    counts : (bins,) int ndarray
+        Faces per bin.
+    below, above : int
+        Faces under ``range[0]`` and over ``range[1]`` (MeshLab's underflow and overflow
+        bins).
+    """
+
+    radius_ratio: np.ndarray
+    statistics: dict[str, float]
+    bin_edges: np.ndarray
+    counts: np.ndarray
+    below: int
+    above: int
 
     @property
     def certified(self) -> bool:
@@ -156,6 +187,18 @@ def meshlab_quality(mesh_or_meshset, bins: int = 20, range=(0.0, 1.0)) -> MeshLa
     in [30°, 120°]) reads ``2r/R >= 2√3 − 3 ≈ 0.464`` (:data:`RADIUS_RATIO_BOUND`). The
     histogram range is explicit because MeshLab's automatic one puts the maximum into the
     overflow bin. The filters run on a copy: the given MeshSet keeps its face quality.
+
+    Parameters
+    ----------
+    mesh_or_meshset : PlanarMesh or pymeshlab.MeshSet
+        A MeshSet is measured on its current mesh.
+    bins : int
+    range : (float, float)
+        The histogram's range of ``2r/R``.
+
+    Returns
+    -------
+    MeshLabQuality
 
     Raises
     ------

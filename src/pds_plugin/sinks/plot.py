@@ -83,6 +83,14 @@ def plot_samples(mesh, discs: bool = False, ax=None, markersize: float | None = 
     and by the Poisson condition no disc contains another sample. ``markersize`` is the
     scatter size in points² (by default smaller for many samples; raise it for a zoom).
 
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    discs : bool
+    ax : matplotlib.axes.Axes, optional
+        Draw there; a new pyplot figure otherwise.
+    markersize : float, optional
+
     Returns
     -------
     matplotlib.axes.Axes
@@ -154,6 +162,12 @@ def plot_mesh(mesh, ax=None):
     Triangles above the bound 4√3 (none on a certified mesh) are drawn in red. The
     region's outline is drawn on top, so lost holes or bridged gaps show.
 
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    ax : matplotlib.axes.Axes, optional
+        Draw there; a new pyplot figure otherwise.
+
     Returns
     -------
     matplotlib.axes.Axes
@@ -178,6 +192,13 @@ def plot_histogram(mesh, ax=None, bins: int = 20):
     The bounds 4/√3 (equilateral) and 4√3 (Theorem 1) are marked; the mean, standard
     deviation, minimum and maximum are in the title. The bins span [4/√3, 4√3], widened
     to include any value outside it, so a violation of the bound is visible.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    ax : matplotlib.axes.Axes, optional
+        Draw there; a new pyplot figure otherwise.
+    bins : int
 
     Returns
     -------
@@ -215,6 +236,14 @@ def plot_report(mesh, path, discs: bool = False, dpi: int = 120):
 
     This is what ``pds-mesh --plot`` writes. The format follows the suffix of ``path``
     (PNG, SVG, PDF, … whatever matplotlib writes).
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    path : str or os.PathLike
+    discs : bool
+        Also draw each sample's disc of radius alpha.
+    dpi : int
 
     Returns
     -------
@@ -264,6 +293,15 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    ArgumentError
+        If ``meshes`` is empty.
+    EmptyMeshError
+        If a mesh has no triangles.
+    FileNotFoundError
+        If the parent directory of ``path`` does not exist.
 
     Examples
     --------

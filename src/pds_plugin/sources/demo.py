@@ -32,6 +32,10 @@ def demo_part():
     """The demo part as a ``manifold3d.Manifold``: a 4 x 2 x 0.5 plate centred on the
     origin, with two round holes, a rounded slot and a sharp V notch, all through.
 
+    Returns
+    -------
+    manifold3d.Manifold
+
     Examples
     --------
     >>> import pds_plugin as pds
@@ -64,6 +68,10 @@ def demo_section_area() -> float:
 
     The plate minus regular ``SEGMENTS``-gons of the holes' radii, the slot (a
     ``SEGMENTS``-gon stretched by the distance between its ends) and the notch triangle.
+
+    Returns
+    -------
+    float
 
     Examples
     --------

@@ -77,6 +77,11 @@ def fill_geometry(rings, rule: str = "nonzero"):
     -------
     shapely Polygon or MultiPolygon (empty if nothing is filled)
 
+    Raises
+    ------
+    ArgumentError
+        If ``rule`` is neither.
+
     Examples
     --------
     >>> outer = [(0, 0), (4, 0), (4, 4), (0, 4)]

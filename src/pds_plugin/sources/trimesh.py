@@ -17,12 +17,26 @@ from ..errors import SourceError
 def load(solid):
     """The ``trimesh.Trimesh`` to cut: ``solid`` itself, or the mesh read from a file.
 
+    Parameters
+    ----------
+    solid : trimesh.Trimesh, str or os.PathLike
+
+    Returns
+    -------
+    trimesh.Trimesh
+
     Raises
     ------
     FileNotFoundError
         If the path does not exist.
     SourceError
         If the file is empty or holds no triangles trimesh can read, or the mesh has none.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> len(load(trimesh.creation.box()).faces)
+    12
     """
     import trimesh
 
@@ -55,6 +69,25 @@ def cut(vertices, faces) -> np.ndarray:
     Intersections are computed in float64 by trimesh's ``mesh_plane``, on coordinates
     relative to the plane so that rounding stays relative to the part's size; a vertex
     within ``trimesh.tol.merge`` of the plane counts as on it.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float ndarray
+        In the plane's frame: the plane is z = 0.
+    faces : (m, 3) int ndarray
+
+    Returns
+    -------
+    (s, 2, 2) float64 ndarray
+        The segments' 2D end points, in no particular order.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> box = trimesh.creation.box(extents=(2, 2, 2))
+    >>> segments = cut(box.vertices, box.faces)
+    >>> float(np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1).sum())   # perimeter
+    8.0
     """
     import trimesh
     from trimesh.intersections import mesh_plane
