@@ -1,10 +1,8 @@
-"""feature_size and suggest_alpha: hand-computed widths, the adjacency rule, a brute-force
-oracle for the spatial search, and the sample budget."""
+"""feature_size: hand-computed widths, the adjacency rule and a brute-force oracle for the
+spatial search (suggest_alpha and auto_mesh, built on it, are tested in test_pipeline)."""
 
 import itertools
 import math
-import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,12 +11,8 @@ import shapely.affinity
 from hypothesis import given, settings, strategies as st
 from shapely.geometry import Point, Polygon, box
 
-import pds_plugin as pds
 from pds_plugin import Region, feature_size, suggest_alpha
 from pds_plugin.analysis.feature import ADJACENT_TURNING
-from pds_plugin.pipeline import auto_mesh
-from pds_plugin.analysis.topology import topology_report
-from pds_plugin.sampling import estimate_samples
 
 
 def region(geometry):
@@ -135,16 +129,6 @@ def test_bad_input():
         feature_size(box(0, 0, 1, 1))
 
 
-def test_suggest_alpha_is_half_the_lfs_and_respects_the_budget():
-    plate = region(box(0, 0, 4, 3).difference(box(1.5, 0.5, 1.8, 4)))
-    assert suggest_alpha(plate) == pytest.approx(0.3 / 4, rel=1e-12)
-    budget = int(estimate_samples(plate, 0.3 / 4) / 10)
-    with pytest.warns(UserWarning, match="gap of width 0.3"):
-        capped = suggest_alpha(plate, max_samples=budget)
-    assert capped > 0.3 / 4
-    assert estimate_samples(plate, capped) == pytest.approx(budget, rel=1e-9)
-
-
 # --- the spatial search against a brute-force reading of the definition ----------------
 
 def brute_force(reg):
@@ -214,72 +198,3 @@ def test_scales_linearly():
     small = feature_size(region(plate)).value
     big = feature_size(region(shapely.affinity.scale(plate, 1000, 1000, origin=(0, 0)))).value
     assert big == pytest.approx(1000 * small, rel=1e-9)
-
-
-def test_no_warning_within_the_budget():
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        suggest_alpha(region(box(0, 0, 1, 1)))
-
-
-# --- auto_mesh ----------------------------------------------------------------------
-
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
-
-
-def test_auto_mesh_refines_a_coarse_start_until_the_topology_is_right():
-    disc = region(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.15)))
-    mesh = auto_mesh(disc, max_alpha=1.0, seed=2)
-    assert mesh.certificate().topology_ok
-    steps = math.log(mesh.alpha) / math.log(0.7)
-    assert steps == pytest.approx(round(steps)) and round(steps) >= 1
-    # the level before it still lost the hole
-    coarser = topology_report(pds.mesh_region(disc, mesh.alpha / 0.7, seed=2))
-    assert not coarser.topology_ok
-
-
-def test_auto_mesh_names_the_feature_when_the_budget_runs_out():
-    hairline = region(box(0, 0, 5, 5).union(box(5.001, 0, 10.001, 5)))
-    with pytest.raises(ValueError, match=r"gap of width 0.001 .* needs alpha <= 0.00025.*"
-                                         r"components 0 and 1 are joined"):
-        auto_mesh(hairline, max_samples=2000)
-
-
-@pytest.mark.parametrize("bad", [0, -1, float("inf"), float("nan")])
-def test_auto_mesh_rejects_bad_max_alpha(bad):
-    with pytest.raises(ValueError, match="max_alpha"):
-        auto_mesh(region(box(0, 0, 1, 1)), max_alpha=bad)
-
-
-def data_section(name):
-    path = DATA / name
-    if not path.exists():
-        pytest.skip(f"{path} is not available")
-    if name.endswith(".svg"):
-        return pds.load_svg(path)
-    import trimesh
-    solid = trimesh.load(path)
-    middle = solid.bounds.mean(axis=0)
-    return pds.section(solid, plane_origin=middle, plane_normal=[0, 0, 1])
-
-
-@pytest.mark.parametrize("name, betti", [("featuretype.STL", (2, 8)), ("MIL.svg", (1, 8))])
-def test_auto_mesh_recovers_the_topology_of_real_parts(name, betti):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")       # the SVG has two open strokes, reported
-        reg = data_section(name)
-    assert reg.betti == betti
-    mesh = auto_mesh(reg)
-    certificate = mesh.certificate()
-    assert certificate.topology_ok and certificate.betti_mesh == betti
-    assert certificate.quality_ok
-    assert mesh.alpha == pytest.approx(feature_size(reg).value / 4)
-
-
-@pytest.mark.parametrize("bad", [0, -3, 2.5, "many", True])
-def test_bad_sample_budgets(bad):
-    square = region(box(0, 0, 1, 1))
-    with pytest.raises(ValueError, match="max_samples must be a positive integer"):
-        suggest_alpha(square, max_samples=bad)
-    with pytest.raises(ValueError, match="max_samples must be a positive integer"):
-        auto_mesh(square, max_samples=bad)
