@@ -8,14 +8,15 @@ array, a Path) or raises a :class:`~pds_plugin.errors.PdsError` (an
 from __future__ import annotations
 
 import math
+from importlib import import_module
 from pathlib import Path
 
 import numpy as np
 
-from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError
+from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
 __all__ = ["check_positive", "check_alpha", "check_positive_int", "check_vector",
-           "check_output_directory", "check_has_triangles"]
+           "check_output_directory", "check_has_triangles", "import_optional"]
 
 
 def check_positive(value, name: str) -> float:
@@ -208,3 +209,39 @@ def check_has_triangles(mesh, purpose: str) -> None:
     if len(mesh.faces) == 0:
         raise EmptyMeshError(f"{mesh!r} has no triangles {purpose} "
                              "(alpha is probably too large for the region)")
+
+
+def import_optional(module: str, extra: str, needed_for: str):
+    """Import an optional dependency, or say which pds_plugin extra installs it.
+
+    Parameters
+    ----------
+    module : str
+        The module to import, e.g. ``"matplotlib.backend_bases"``.
+    extra : str
+        The pds_plugin extra that installs it (``"plot"``, ``"meshlab"``).
+    needed_for : str
+        What needs it, completing "<package> is needed for ...".
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    MissingDependencyError
+        If the module cannot be imported (also an ``ImportError``).
+
+    Examples
+    --------
+    >>> import_optional("no_such_plotting_library", "plot", "the pictures")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.MissingDependencyError: no_such_plotting_library is needed for the pictures: pip install "pds_plugin[plot]"
+    """
+    try:
+        return import_module(module)
+    except ImportError as error:
+        raise MissingDependencyError(f"{module.partition('.')[0]} is needed for {needed_for}: "
+                                     f'pip install "pds_plugin[{extra}]"') from error
+

@@ -7,8 +7,8 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._checks import check_output_directory
-from ..errors import ArgumentError, MissingDependencyError, PdsError
+from .._checks import check_output_directory, import_optional
+from ..errors import ArgumentError, PdsError
 from ..pipeline import mesh_region, section_report
 from ..region import Region
 from ..sinks.files import writers
@@ -231,12 +231,8 @@ def _numbered(path: Path, count: int) -> list[Path]:
 
 def _check_picture(path: Path) -> None:
     """Fail before any meshing if --plot cannot be written."""
-    try:
-        from matplotlib.backend_bases import FigureCanvasBase
-    except ImportError as error:
-        raise MissingDependencyError('--plot needs matplotlib: pip install '
-                                     '"pds_plugin[plot]"') from error
-    kinds = FigureCanvasBase.get_supported_filetypes()
+    backends = import_optional("matplotlib.backend_bases", "plot", "--plot")
+    kinds = backends.FigureCanvasBase.get_supported_filetypes()
     if path.suffix.lower().lstrip(".") not in kinds:
         raise ArgumentError(f"cannot draw {path}: the picture suffix must be one of "
                             f"{', '.join('.' + k for k in sorted(kinds))}")

@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._checks import check_has_triangles
-from ..errors import ArgumentError, EmptyMeshError, MissingDependencyError
+from .._checks import check_has_triangles, import_optional
+from ..errors import ArgumentError, EmptyMeshError
 from ..silence import silenced
 
 if TYPE_CHECKING:
@@ -38,13 +38,8 @@ triangle (angles 30°, 30°, 120°) is 8·sin²(15°)·sin(60°) = 2√3 − 3 �
 
 
 def _pymeshlab():
-    try:
-        with silenced():
-            import pymeshlab
-    except ImportError as error:
-        raise MissingDependencyError('pymeshlab is needed for pds_plugin.sinks.meshlab: '
-                                     'pip install "pds_plugin[meshlab]"') from error
-    return pymeshlab
+    with silenced():               # pymeshlab prints while it loads its plugins
+        return import_optional("pymeshlab", "meshlab", "pds_plugin.sinks.meshlab")
 
 
 def meshlab_mesh(mesh: PlanarMesh) -> pymeshlab.Mesh:

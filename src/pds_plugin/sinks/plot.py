@@ -15,9 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._checks import check_has_triangles, check_output_directory
+from .._checks import check_has_triangles, check_output_directory, import_optional
 from ..analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
-from ..errors import ArgumentError, MissingDependencyError
+from ..errors import ArgumentError
 
 __all__ = ["plot_samples", "plot_mesh", "plot_histogram", "plot_report",
            "plot_multiresolution"]
@@ -27,12 +27,7 @@ _OVER = "red"          # triangles above the Theorem 1 bound (none on a certifie
 
 
 def _matplotlib():
-    try:
-        import matplotlib
-    except ImportError as error:
-        raise MissingDependencyError('matplotlib is needed for pds_plugin.sinks.plot: '
-                                     'pip install "pds_plugin[plot]"') from error
-    return matplotlib
+    return import_optional("matplotlib", "plot", "pds_plugin.sinks.plot")
 
 
 def _new_axes(ax):
