@@ -55,6 +55,7 @@ def module_name(path: Path) -> str:
 
 
 MODULES = {module_name(path): path for path in sorted(PACKAGE.rglob("*.py"))}
+KNOWN = {prefix for _, prefix in LAYERS}      # e.g. kernels that may be compiled modules
 
 
 def is_type_checking(node) -> bool:
@@ -82,8 +83,8 @@ def imports(name: str) -> set[str]:
                 if node.level else []
             target = ".".join(base + ([node.module] if node.module else []))
             for alias in node.names:       # `from . import x` may import module x
-                sub = f"{target}.{alias.name}"
-                found.add(sub if sub in MODULES else target)
+                sub = f"{target}.{alias.name}"  # (a .py file, or a compiled kernel module)
+                found.add(sub if sub in MODULES or sub in KNOWN else target)
         for child in ast.iter_child_nodes(node):
             visit(child)
 
