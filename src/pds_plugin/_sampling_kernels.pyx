@@ -25,6 +25,7 @@ cdef enum:
     C_INSIDE = 1
     C_BOUNDARY = 2
     CSUB = 4        # sub-cells per cell side
+    CONFLICT_SLOTS = 8   # conflicts listed per dart in the first scan
     CHUNK = 256     # iterations a thread takes at a time
 
 OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
@@ -302,9 +303,10 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
 
 cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
                                const int8_t[::1] state, const int64_t[::1] head, double alpha2,
-                               Py_ssize_t nx, Py_ssize_t ny, int64_t *out) noexcept nogil:
-    """Count the open darts closer than alpha to open dart d; list them in ``out``
-    unless it is NULL."""
+                               Py_ssize_t nx, Py_ssize_t ny, int32_t *out,
+                               Py_ssize_t room) noexcept nogil:
+    """Count the open darts closer than alpha to open dart d; list the first ``room``
+    of them in ``out``."""
     cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
     cdef Py_ssize_t jx, jy, c, e
     cdef double dx, dy
@@ -317,8 +319,8 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
                     dx = darts[e, 0] - darts[d, 0]
                     dy = darts[e, 1] - darts[d, 1]
                     if dx * dx + dy * dy < alpha2:
-                        if out != NULL:
-                            out[found] = e
+                        if found < room:
+                            out[found] = <int32_t>e
                         found += 1
                 e += 1
     return found
@@ -353,7 +355,7 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
     cdef int8_t[::1] state = np.empty(m, np.int8)
     cdef int64_t[::1] degree = np.zeros(m + 1, np.int64)
     cdef int64_t[::1] todo = np.empty(m, np.int64)
-    cdef int64_t[::1] conflict
+    cdef int32_t[::1] conflict
     cdef int64_t[::1] accepted
     with nogil:
         for d in range(m - 1, -1, -1):
@@ -369,20 +371,29 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
             if state[d] == UNDECIDED:
                 todo[n_todo] = d
                 n_todo += 1
-    # the conflict lists of the open darts, in CSR form over all darts
+    # the conflict lists of the open darts, in CSR form over all darts: one scan lists
+    # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
+    slots = np.empty((n_todo, CONFLICT_SLOTS), np.int32)
+    cdef int32_t[:, ::1] slot = slots
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
-        degree[d + 1] = _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, NULL)
+        degree[d + 1] = _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &slot[t, 0],
+                                       CONFLICT_SLOTS)
     with nogil:
         for d in range(m):
             degree[d + 1] += degree[d]
-    conflict = np.empty(degree[m], np.int64)
+    conflict = np.empty(degree[m], np.int32)
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
-        if degree[d + 1] > degree[d]:
-            _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &conflict[degree[d]])
+        if degree[d + 1] - degree[d] > CONFLICT_SLOTS:
+            _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &conflict[degree[d]],
+                           degree[d + 1] - degree[d])
+        else:
+            for q in range(degree[d + 1] - degree[d]):
+                conflict[degree[d] + q] = slot[t, q]
+    del slot, slots
     with nogil:
         while n_todo:
             kept = 0
