@@ -21,6 +21,11 @@ KERNELS = sorted(path.stem for path in Path("src/pds_plugin").glob("_*.pyx"))
 class BuildKernels(build_ext):
     """build_ext adding OpenMP if the compiler has it, and exact float flags."""
 
+    def finalize_options(self):
+        super().finalize_options()
+        if not self.parallel:
+            self.parallel = os.cpu_count() or 1      # compile the modules side by side
+
     def build_extensions(self):
         msvc = self.compiler.compiler_type == "msvc"
         openmp = ["/openmp"] if msvc else ["-fopenmp"]
