@@ -29,7 +29,7 @@ class BuildKernels(build_ext):
     def build_extensions(self):
         msvc = self.compiler.compiler_type == "msvc"
         openmp = ["/openmp"] if msvc else ["-fopenmp"]
-        if os.environ.get("PDS_BUILD_SERIAL") or not self._compiles(openmp):
+        if not self._compiles(openmp):
             self.warn("building the pds_plugin kernels without OpenMP: they will run in one "
                       "thread (install gcc, or clang with libomp, for parallel kernels)")
             openmp = []
