@@ -1,9 +1,9 @@
 """The machine, the library versions, and pds_plugin's start-up costs.
 
 Start-up is measured in fresh subprocesses: ``import pds_plugin`` alone, and the first
-``mesh_region`` + ``certificate()`` of a process with an empty numba cache
-(``NUMBA_CACHE_DIR`` pointing to a new temporary folder: every kernel is compiled) and
-then with that cache filled (kernels loaded from disk).
+``mesh_region`` + ``certificate()`` of a process (the kernels are compiled at install, so
+this is imports and loading the extension modules; the first process after start-up
+also reads them from disk).
 """
 
 from __future__ import annotations
@@ -14,12 +14,11 @@ import platform
 import statistics
 import subprocess
 import sys
-import tempfile
 from datetime import datetime, timezone
 from importlib import metadata
 from pathlib import Path
 
-LIBRARIES = ("pds_plugin", "numpy", "scipy", "shapely", "numba", "trimesh", "manifold3d",
+LIBRARIES = ("pds_plugin", "numpy", "scipy", "shapely", "Cython", "trimesh", "manifold3d",
              "pymeshlab", "triangle", "gmsh", "matplotlib")
 
 _IMPORT = """
@@ -73,15 +72,13 @@ def versions() -> dict:
 
 def startup(repeats: int = 5) -> dict:
     """``import pds_plugin`` time (median and max of ``repeats`` fresh processes), the
-    time to then reach ``mesh_region`` (the lazy import of numpy, scipy, shapely, numba
-    and the kernels' modules; median), and the first-call times with a cold and a warm
-    numba cache (a unit square, alpha 0.05, mesh and certificate; ``in_process`` is the
-    second call in the warm process)."""
+    time to then reach ``mesh_region`` (the lazy import of numpy, scipy, shapely and the
+    kernels' modules; median), and the first-call time of the first and of a second
+    fresh process (a unit square, alpha 0.05, mesh and certificate; ``in_process`` is the
+    second call in that second process)."""
     imports = [json.loads(_python(_IMPORT)) for _ in range(repeats)]
-    with tempfile.TemporaryDirectory(prefix="pds_numba_cache_") as cache:
-        env = {"NUMBA_CACHE_DIR": cache}
-        cold = json.loads(_python(_FIRST_CALL, env))
-        warm = json.loads(_python(_FIRST_CALL, env))
+    cold = json.loads(_python(_FIRST_CALL))
+    warm = json.loads(_python(_FIRST_CALL))
     return {"import_median": statistics.median(first for first, _ in imports),
             "import_max": max(first for first, _ in imports),
             "first_use": statistics.median(then for _, then in imports),

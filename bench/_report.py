@@ -40,7 +40,7 @@ def write(path: Path, *, command: str, machine: dict, load_end, load_peak: float
 def _machine(machine, load_end, load_peak, versions) -> str:
     load = " ".join(f"{v:.2f}" for v in machine["load"])
     load_after = " ".join(f"{v:.2f}" for v in load_end)
-    # the run keeps about one core busy itself (two in numba's parallel kernels): a
+    # the run keeps about one core busy itself (two in the parallel kernels): a
     # 1-minute load above 1 before it starts, or above 2 while it runs, is other work
     busy = machine["load"][0] > 1 or load_peak > 2
     lines = [
@@ -134,7 +134,7 @@ def _parts(rows) -> str:
         other = scipy.get(row.case.name)
         rate, other_rate = sampling_rate(row), sampling_rate(other) if other else math.nan
         lines.append(
-            f"| {row.case.name} | {row.peer.env.get('NUMBA_NUM_THREADS', 'default')} | "
+            f"| {row.case.name} | {row.peer.env.get('PDS_THREADS', 'default')} | "
             f"{row.metric('vertices'):,} | {_g(row.time)} | "
             f"{_g(row.times['sampling'])} | {rate:,.0f} | {_g(row.times['complex'])} | "
             f"{_g(row.times['certificate'])} | {_g(row.times['certificate'] / row.time)} | "
@@ -150,15 +150,16 @@ def _startup(startup) -> str:
         f"| `import pds_plugin`, fresh process (median / max of 5) | "
         f"{startup['import_median']:.3f} / {startup['import_max']:.3f} |",
         f"| then reaching `pds_plugin.mesh_region` (lazy imports: numpy, scipy, shapely, "
-        f"numba, kernels; median) | {startup['first_use']:.3f} |",
-        f"| first mesh_region + certificate, empty numba cache (everything compiled) | "
+        f"kernels; median) | {startup['first_use']:.3f} |",
+        f"| first mesh_region + certificate of a fresh process | "
         f"{startup['cold_first_call']:.2f} |",
-        f"| the same, numba cache filled (kernels loaded from disk) | "
+        f"| the same in a second fresh process | "
         f"{startup['warm_first_call']:.2f} |",
         f"| the same call again in that process | {startup['in_process']:.3f} |",
         "",
         "The call is a unit square at alpha 0.05 (about 300 samples), so these times are "
-        "start-up costs, not meshing. The cold cache is a new temporary `NUMBA_CACHE_DIR`.\n"])
+        "start-up costs, not meshing. The kernels are compiled at install: nothing is "
+        "compiled at run time.\n"])
 
 
 def _figures(path: Path, figures) -> str:
@@ -174,7 +175,7 @@ def _method(timeout) -> str:
 
 - **One run, fresh processes.** Every peer runs on every region in its own fresh Python
   process (`bench/_isolate.py`), peers of a region back to back, pds_plugin first. The
-  child first runs the peer once on a tiny square (imports, numba cache loading, library
+  child first runs the peer once on a tiny square (imports, extension loading, library
   start-up: not timed; start-up is measured separately above), then on the region. A
   peer that crashes or exceeds the {timeout:g} s limit (`--timeout`) gets a row saying so
   and the run goes on. pds_plugin's child gets three times the limit: it meshes,
@@ -184,8 +185,8 @@ def _method(timeout) -> str:
 - **Time** is wall time (`time.perf_counter`) of the peer's own work: building its input
   from the region's rings, meshing, and reading the mesh back as arrays. **× pds** is
   that time over pds_plugin's `mesh_region` time on the same region. pds_plugin runs
-  some numba kernels in parallel on the available cores (numba's default threading);
-  the "1 thread" row is the same code with `NUMBA_NUM_THREADS=1`. Triangle, gmsh
+  some kernels in parallel (OpenMP threads sized to the loop and the cores available);
+  the "1 thread" row is the same code with `PDS_THREADS=1`. Triangle, gmsh
   (`General.NumThreads` left at 1), MeshLab and scipy run on one core.
 - **‡ scipy's PoissonDisk** is pure-Python Bridson (a few thousand points/s), so above
   `--scipy-points` samples it runs on the same region at a coarser alpha

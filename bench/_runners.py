@@ -329,7 +329,7 @@ def _gmsh_geometry(geo, region, size: float) -> None:
 PEERS = {peer.key: peer for peer in [
     Peer("pds", "pds_plugin mesh_region", run_pds, ("pds_plugin",)),
     Peer("pds-1thread", "pds_plugin mesh_region, 1 thread", run_pds, ("pds_plugin",),
-         env={"NUMBA_NUM_THREADS": "1"}),
+         env={"PDS_THREADS": "1"}),
     Peer("scipy", "scipy PoissonDisk + Delaunay α", run_scipy, ("scipy",)),
     Peer("meshlab", "MeshLab Poisson-disk + 2D α", _meshlab_filtered(seeded=False),
          ("pymeshlab", "trimesh")),
@@ -343,5 +343,5 @@ PEERS = {peer.key: peer for peer in [
     Peer("gmsh-frontal", "gmsh Frontal-Delaunay (6), size α", _gmsh(6), ("gmsh",)),
 ]}
 """Every peer, in table order. pds_plugin runs first on each region: its vertex count is
-the target the others are sized for. Its 1-thread twin shows what numba's threads give
+the target the others are sized for. Its 1-thread twin shows what the kernels' threads give
 (or cost, on a busy machine)."""

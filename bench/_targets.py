@@ -41,7 +41,7 @@ def evaluate(rows: list[Row], startup: dict | None, timeout: float) -> list[Targ
             if target.holds is not None and single is not None and single.ok:
                 other = by[(big.name, key)]
                 ratio = (timeout if other.status == "timeout" else other.time) / single.time
-                target = replace(target, measured=f"{target.measured}; with 1 numba thread "
+                target = replace(target, measured=f"{target.measured}; with 1 thread "
                                  f"{'≥ ' if other.status == 'timeout' else ''}{ratio:.3g}×")
             targets.append(target)
         throughput_cases = _throughput_cases(rows)

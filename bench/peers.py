@@ -55,7 +55,7 @@ def parse(argv=None) -> argparse.Namespace:
                              f"coarser alpha and extrapolated (default {FULL['scipy_points']})")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-startup", action="store_true",
-                        help="skip the import and numba cold-start measurements")
+                        help="skip the import and first-call measurements")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks.md",
                         help="the report to write; the figures go next to it "
                              "(default docs/benchmarks.md)")

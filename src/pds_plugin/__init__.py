@@ -13,7 +13,13 @@ True
 Every public name is imported on first use, so ``import pds_plugin`` stays fast.
 """
 
+import os
 from importlib import import_module
+
+# Idle OpenMP threads of the kernels sleep rather than spin: on a busy machine a spinning
+# thread takes the core the working one needs (docs/engine.md). Read when the kernels
+# load OpenMP, so it is set before any of them is imported; a user's setting wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from ._version import __version__
 

@@ -156,8 +156,8 @@ def run(args) -> int:
 def _results(tasks: list[Task], jobs: int):
     """Report entries of ``tasks`` in order, meshed in ``jobs`` processes.
 
-    Workers are spawned, not forked: a child forked after the parallel numba kernels
-    started GNU OpenMP is terminated by it.
+    Workers are spawned, not forked: a child forked after the parallel kernels started
+    GNU OpenMP is terminated by it. Each worker runs its kernels in one thread.
     """
     if jobs == 1 or len(tasks) == 1:
         yield from map(mesh_section, tasks)
@@ -165,8 +165,11 @@ def _results(tasks: list[Task], jobs: int):
     from concurrent.futures import ProcessPoolExecutor
     from multiprocessing import get_context
 
+    from .._parallel import set_threads
+
     with ProcessPoolExecutor(max_workers=min(jobs, len(tasks)),
-                             mp_context=get_context("spawn")) as pool:
+                             mp_context=get_context("spawn"),
+                             initializer=set_threads, initargs=(1,)) as pool:
         futures = [pool.submit(mesh_section, task) for task in tasks]
         try:
             for future in futures:

@@ -1,0 +1,113 @@
+"""Where the time of ``mesh_region`` + ``certificate()`` goes, kernel by kernel.
+
+Every public function of the kernel modules, and the shapely calls of the sampler, is
+wrapped in a timer; the rest of each stage (numpy glue, Python loops) is what remains of
+the stage's wall time. Run it warm (the script meshes each case once before timing):
+
+    python bench/engine_profile.py                 # 10k, 100k, 1M squares and auto
+    python bench/engine_profile.py --sizes 1e4     # just one size
+
+Prints one table per case: seconds and share of the wall time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+import shapely
+from shapely.geometry import box
+
+import pds_plugin as pds
+from pds_plugin import (_certificate_kernels, _complex_kernels, _geometry_kernels,
+                        _mesh_kernels, _sampling_kernels, certificate, complex, quality,
+                        sampling, topology)
+
+DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data"
+TOTALS: dict[str, float] = defaultdict(float)
+
+
+def _timed(name, function):
+    def wrapper(*args, **kwargs):
+        start = time.perf_counter()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            TOTALS[name] += time.perf_counter() - start
+    return wrapper
+
+
+def _instrument():
+    kernels = (_sampling_kernels, _complex_kernels, _geometry_kernels, _mesh_kernels,
+               _certificate_kernels)
+    users = (sampling, complex, certificate, quality, topology)
+    for module in kernels:
+        for name in dir(module):
+            function = getattr(module, name)
+            if name.startswith("_") or not callable(function) or isinstance(function, type):
+                continue
+            wrapped = _timed(f"{module.__name__.split('.')[-1]}.{name}", function)
+            setattr(module, name, wrapped)
+            for user in users:
+                if getattr(user, name, None) is function:
+                    setattr(user, name, wrapped)
+    for name in ("intersects", "contains_xy"):
+        setattr(sampling.shapely, name, _timed(f"shapely.{name}", getattr(shapely, name)))
+    sampling.poisson_disc = _timed("poisson_disc (total)", sampling.poisson_disc)
+    complex.solid_alpha_complex = _timed("solid_alpha_complex (total)",
+                                         complex.solid_alpha_complex)
+    import pds_plugin.mesh as mesh_module
+    mesh_module.poisson_disc = sampling.poisson_disc
+    mesh_module.solid_alpha_complex = complex.solid_alpha_complex
+
+
+def _square_alpha(n):
+    return float(np.sqrt(0.7 / n))
+
+
+def profile(label, run, repeat):
+    run()                                   # warm: compile or load kernels, fill caches
+    best = None
+    for _ in range(repeat):
+        TOTALS.clear()
+        start = time.perf_counter()
+        mesh = run()
+        mesh_time = time.perf_counter() - start
+        TOTALS["mesh_region (total)"] = mesh_time
+        start = time.perf_counter()
+        mesh.certificate()
+        TOTALS["certificate (total)"] = time.perf_counter() - start
+        if best is None or mesh_time < best[0]:
+            best = mesh_time, dict(TOTALS), len(mesh.vertices)
+    mesh_time, totals, n = best
+    print(f"\n## {label}: {n} vertices, mesh_region {mesh_time:.3f} s (best of {repeat})\n")
+    print("| part | s | % of mesh_region |\n|---|---|---|")
+    for name, seconds in sorted(totals.items(), key=lambda item: -item[1]):
+        print(f"| {name} | {seconds:.4f} | {100 * seconds / mesh_time:.0f} |")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=float, nargs="*", default=[1e4, 1e5, 1e6])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--no-auto", action="store_true")
+    args = parser.parse_args()
+    _instrument()
+    square = pds.Region.from_shapely(box(0, 0, 1, 1))
+    for n in args.sizes:
+        profile(f"unit square {n:.0e}", lambda n=n: pds.mesh_region(square, _square_alpha(n)),
+                args.repeat if n < 1e6 else 1)
+    stl = DATA / "featuretype.STL"
+    if not args.no_auto and stl.exists():
+        import trimesh
+        lo, hi = trimesh.load_mesh(stl).bounds
+        region = pds.section(stl, plane_origin=(lo + hi) / 2, plane_normal=(0.0, 0.0, 1.0))
+        profile(f"featuretype.STL mid section, {sum(len(r) for r in region.rings)} boundary "
+                "vertices, alpha='auto'", lambda: pds.mesh_region(region, "auto"), 5)
+
+
+if __name__ == "__main__":
+    main()

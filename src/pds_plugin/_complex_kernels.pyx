@@ -1,0 +1,237 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Compiled kernels of the local solid alpha-complex (see complex.py).
+
+Conventions of the kernel modules: see ``_parallel.pyx``.
+"""
+
+import numpy as np
+
+from cython.parallel cimport parallel, prange
+from libc.math cimport INFINITY
+from libc.stdlib cimport free, malloc
+from libc.stdint cimport int8_t, int32_t, int64_t
+
+from ._parallel cimport threads_for
+
+ACCEPT, REJECT, UNSURE = 1, 0, 2
+cdef enum:
+    C_ACCEPT = 1
+    C_REJECT = 0
+    C_UNSURE = 2
+    SLOTS = 8       # triangles kept per point in the first pass
+    CHUNK = 256     # iterations a thread takes at a time
+cdef double _INCIRCLE_ERR = 1e-12   # relative bound on the rounding error of the filtered incircle test
+
+
+def bin_points(points, double x0, double y0, double h, Py_ssize_t nx, Py_ssize_t ny):
+    """Sort points into square cells of side h: (order, cell_start) in CSR form, the
+    points of a cell in their input order."""
+    cdef const double[:, :] p = points
+    cdef Py_ssize_t n = p.shape[0], i, c
+    cdef int64_t[::1] cell = np.empty(n, np.int64)
+    order_array = np.empty(n, np.int64)
+    start_array = np.zeros(nx * ny + 1, np.int64)
+    cdef int64_t[::1] order = order_array, start = start_array
+    cdef int64_t[::1] fill
+    with nogil:
+        for i in range(n):
+            cell[i] = min(<Py_ssize_t>((p[i, 1] - y0) / h), ny - 1) * nx \
+                + min(<Py_ssize_t>((p[i, 0] - x0) / h), nx - 1)
+            start[cell[i] + 1] += 1
+        for c in range(nx * ny):
+            start[c + 1] += start[c]
+    fill = np.array(start_array[:nx * ny])
+    with nogil:
+        for i in range(n):                  # a stable counting sort
+            order[fill[cell[i]]] = i
+            fill[cell[i]] += 1
+    return order_array, start_array
+
+
+def first_duplicate(binned, start):
+    """Positions (p, q) of two equal binned points, or (-1, -1). Equal points share a cell."""
+    cdef const double[:, :] b = binned
+    cdef const int64_t[::1] st = start
+    cdef Py_ssize_t c, p, q
+    with nogil:
+        for c in range(st.shape[0] - 1):
+            for p in range(st[c], st[c + 1]):
+                for q in range(p + 1, st[c + 1]):
+                    if b[p, 0] == b[q, 0] and b[p, 1] == b[q, 1]:
+                        with gil:
+                            return p, q
+    return -1, -1
+
+
+cdef int _incircle_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b, Py_ssize_t c,
+                        Py_ssize_t d) noexcept nogil:
+    """+1 if d is inside the circle through counter-clockwise a, b, c, -1 outside,
+    0 when rounding could decide either way."""
+    cdef double adx = points[a, 0] - points[d, 0]
+    cdef double ady = points[a, 1] - points[d, 1]
+    cdef double bdx = points[b, 0] - points[d, 0]
+    cdef double bdy = points[b, 1] - points[d, 1]
+    cdef double cdx = points[c, 0] - points[d, 0]
+    cdef double cdy = points[c, 1] - points[d, 1]
+    cdef double alift = adx * adx + ady * ady
+    cdef double blift = bdx * bdx + bdy * bdy
+    cdef double clift = cdx * cdx + cdy * cdy
+    cdef double bc = bdx * cdy - bdy * cdx
+    cdef double ca = cdx * ady - cdy * adx
+    cdef double ab = adx * bdy - ady * bdx
+    cdef double det = alift * bc + blift * ca + clift * ab
+    cdef double permanent = (alift * (abs(bdx * cdy) + abs(bdy * cdx))
+                             + blift * (abs(cdx * ady) + abs(cdy * adx))
+                             + clift * (abs(adx * bdy) + abs(ady * bdx)))
+    if det > _INCIRCLE_ERR * permanent:
+        return 1
+    if det < -_INCIRCLE_ERR * permanent:
+        return -1
+    return 0
+
+
+cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double alpha2,
+                            const int64_t[::1] start, double x0, double y0, double h,
+                            Py_ssize_t nx, Py_ssize_t ny, int64_t *nbr, Py_ssize_t max_nbr,
+                            int32_t *found_j, int32_t *found_k, int8_t *found_flag,
+                            Py_ssize_t room) noexcept nogil:
+    """Triangles whose smallest vertex index is i, counter-clockwise as (i, j, k):
+    written to found_* (the first ``room`` of them). Returns how many there are, or -1
+    if i has more than ``max_nbr`` neighbours within 2 alpha (the size of ``nbr``).
+
+    Every point inside the circumcircle (radius <= alpha) of a triangle at i is within
+    2 alpha of i, so i's neighbours are the only points the empty-circle test needs.
+    """
+    cdef double xi = points[i, 0], yi = points[i, 1]
+    cdef Py_ssize_t ix = min(<Py_ssize_t>((xi - x0) / h), nx - 1)
+    cdef Py_ssize_t iy = min(<Py_ssize_t>((yi - y0) / h), ny - 1)
+    cdef double reach2 = 4.0 * alpha2
+    cdef Py_ssize_t m = 0, found = 0, jx, jy, c, j, k, p, r, q, other, a, b
+    cdef double dx, dy, bx, by, b2, cx, cy, cross, c2, d2, ux, uy, far2, ox, oy
+    cdef int status, sign
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+            c = jy * nx + jx
+            for j in range(start[c], start[c + 1]):
+                dx = points[j, 0] - xi
+                dy = points[j, 1] - yi
+                if j != i and dx * dx + dy * dy <= reach2:
+                    if m == max_nbr:
+                        return -1
+                    nbr[m] = j
+                    m += 1
+    for p in range(m):
+        j = nbr[p]
+        if j < i:
+            continue
+        bx, by = points[j, 0] - xi, points[j, 1] - yi
+        b2 = bx * bx + by * by
+        for r in range(m):
+            k = nbr[r]
+            if k <= j:
+                continue
+            cx, cy = points[k, 0] - xi, points[k, 1] - yi
+            cross = bx * cy - by * cx
+            c2 = cx * cx + cy * cy
+            d2 = (cx - bx) * (cx - bx) + (cy - by) * (cy - by)
+            # circumradius R = |ij| |ik| |jk| / (2 |cross|) <= alpha
+            if cross == 0.0 or b2 * c2 * d2 > 4.0 * alpha2 * cross * cross:
+                continue
+            if cross > 0:
+                a, b = j, k
+            else:
+                a, b = k, j
+            # circumcentre relative to i; on a well-shaped triangle it is accurate to
+            # far better than 1e-6 R, so points beyond R (1 + 1e-6) are surely outside
+            ux = (cy * b2 - by * c2) / (2.0 * cross)
+            uy = (bx * c2 - cx * b2) / (2.0 * cross)
+            far2 = (ux * ux + uy * uy) * (1.0 + 2e-6)
+            if abs(cross) < 1e-3 * max(b2, c2, d2):
+                far2 = INFINITY
+            status = C_ACCEPT
+            for q in range(m):
+                other = nbr[q]
+                if other == j or other == k:
+                    continue
+                ox = points[other, 0] - xi - ux
+                oy = points[other, 1] - yi - uy
+                if ox * ox + oy * oy > far2:
+                    continue
+                sign = _incircle_sign(points, i, a, b, other)
+                if sign > 0:
+                    status = C_REJECT
+                    break
+                if sign == 0:
+                    status = C_UNSURE
+            if status != C_REJECT:
+                if found < room:
+                    found_j[found] = <int32_t>a
+                    found_k[found] = <int32_t>b
+                    found_flag[found] = <int8_t>status
+                found += 1
+    return found
+
+
+def local_complex(points, double alpha, start, double x0, double y0, double h,
+                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours):
+    """Every triangle of ``points`` (binned: cell c holds points start[c]:start[c+1])
+    with circumradius <= alpha and an empty circumcircle, found from its smallest
+    vertex. Returns (faces, flags, complete): flags ACCEPT or UNSURE; complete is False,
+    with nothing found, if a point has more than ``max_neighbours`` neighbours within
+    2 alpha."""
+    cdef const double[:, ::1] p = points
+    cdef const int64_t[::1] st = start
+    cdef Py_ssize_t n = p.shape[0], i, f, total = 0
+    cdef double alpha2 = alpha * alpha
+    cdef int64_t[::1] counts = np.zeros(n, np.int64)
+    cdef int32_t[:, ::1] slot_j = np.empty((n, SLOTS), np.int32)
+    cdef int32_t[:, ::1] slot_k = np.empty((n, SLOTS), np.int32)
+    cdef int8_t[:, ::1] slot_flag = np.empty((n, SLOTS), np.int8)
+    cdef int64_t *nbr
+    cdef int32_t *more_j
+    cdef int32_t *more_k
+    cdef int8_t *more_flag
+    with nogil, parallel(num_threads=threads_for(n)):
+        nbr = <int64_t *>malloc(max_neighbours * sizeof(int64_t))
+        for i in prange(n, schedule="dynamic", chunksize=CHUNK):
+            counts[i] = _scan_point(p, i, alpha2, st, x0, y0, h, nx, ny, nbr, max_neighbours,
+                                    &slot_j[i, 0], &slot_k[i, 0], &slot_flag[i, 0], SLOTS)
+        free(nbr)
+    for i in range(n):
+        if counts[i] < 0:
+            return np.empty((0, 3), np.int64), np.empty(0, np.int8), False
+    offsets_array = np.zeros(n + 1, np.int64)
+    np.cumsum(counts, out=offsets_array[1:])
+    cdef int64_t[::1] offsets = offsets_array
+    faces_array = np.empty((offsets[n], 3), np.int64)
+    flags_array = np.empty(offsets[n], np.int8)
+    cdef int64_t[:, ::1] faces = faces_array
+    cdef int8_t[::1] flags = flags_array
+    with nogil, parallel(num_threads=threads_for(n)):
+        nbr = <int64_t *>malloc(max_neighbours * sizeof(int64_t))
+        for i in prange(n, schedule="dynamic", chunksize=CHUNK):
+            more_j = NULL
+            more_k = NULL
+            more_flag = NULL
+            if counts[i] > SLOTS:       # rare: redo this point with room for all
+                more_j = <int32_t *>malloc(counts[i] * sizeof(int32_t))
+                more_k = <int32_t *>malloc(counts[i] * sizeof(int32_t))
+                more_flag = <int8_t *>malloc(counts[i] * sizeof(int8_t))
+                _scan_point(p, i, alpha2, st, x0, y0, h, nx, ny, nbr, max_neighbours,
+                            more_j, more_k, more_flag, counts[i])
+                for f in range(counts[i]):
+                    faces[offsets[i] + f, 0] = i
+                    faces[offsets[i] + f, 1] = more_j[f]
+                    faces[offsets[i] + f, 2] = more_k[f]
+                    flags[offsets[i] + f] = more_flag[f]
+                free(more_j)
+                free(more_k)
+                free(more_flag)
+            else:
+                for f in range(counts[i]):
+                    faces[offsets[i] + f, 0] = i
+                    faces[offsets[i] + f, 1] = slot_j[i, f]
+                    faces[offsets[i] + f, 2] = slot_k[i, f]
+                    flags[offsets[i] + f] = slot_flag[i, f]
+        free(nbr)
+    return faces_array, flags_array, True

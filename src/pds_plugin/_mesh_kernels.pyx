@@ -1,0 +1,60 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Compiled kernel of mesh combinatorics: the edges of a triangle mesh in linear time.
+
+Conventions of the kernel modules: see ``_parallel.pyx``.
+"""
+
+import numpy as np
+
+from libc.stdint cimport int64_t
+
+
+def edges_of(faces, Py_ssize_t n_vertices):
+    """Each undirected edge of the triangles once, directed as in the first triangle
+    that has it, with the number of triangles using it.
+
+    Edges are grouped by their smaller vertex (a counting sort), then deduplicated
+    inside each group, which is small: linear time, no global sort.
+    """
+    cdef const int64_t[:, :] fc = np.asarray(faces, dtype=np.int64)
+    cdef Py_ssize_t m = fc.shape[0] * 3, f, k, i, e, s, q, n = 0, first
+    cdef int64_t u, v, other
+    cdef int64_t[::1] low = np.empty(m, np.int64)
+    cdef int64_t[::1] start = np.zeros(n_vertices + 1, np.int64)
+    cdef int64_t[::1] fill = np.empty(n_vertices, np.int64)
+    cdef int64_t[::1] slot = np.empty(m, np.int64)          # directed edge ids grouped by low vertex
+    edges_array = np.empty((m, 2), np.int64)
+    uses_array = np.zeros(m, np.int64)
+    cdef int64_t[:, ::1] edges = edges_array
+    cdef int64_t[::1] uses = uses_array
+    cdef bint seen
+    with nogil:
+        for f in range(fc.shape[0]):
+            for k in range(3):
+                u, v = fc[f, k], fc[f, (k + 1) % 3]
+                low[3 * f + k] = min(u, v)
+                start[min(u, v) + 1] += 1
+        for i in range(n_vertices):
+            start[i + 1] += start[i]
+            fill[i] = start[i]
+        for e in range(m):
+            slot[fill[low[e]]] = e
+            fill[low[e]] += 1
+        for i in range(n_vertices):
+            first = n
+            for s in range(start[i], start[i + 1]):
+                e = slot[s]
+                f, k = e // 3, e % 3
+                u, v = fc[f, k], fc[f, (k + 1) % 3]
+                other = u + v - i
+                seen = False
+                for q in range(first, n):
+                    if edges[q, 0] + edges[q, 1] - i == other:
+                        uses[q] += 1
+                        seen = True
+                        break
+                if not seen:
+                    edges[n, 0], edges[n, 1] = u, v
+                    uses[n] = 1
+                    n += 1
+    return edges_array[:n], uses_array[:n]

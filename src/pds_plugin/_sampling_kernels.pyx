@@ -1,0 +1,497 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Compiled kernels of the Poisson disc sampler (see sampling.py for the algorithm).
+
+The sampler keeps one background grid of square cells of side ``s < alpha/√2``, so a
+cell holds at most one sample (``grid[iy, ix]`` is its index or -1), and every sample
+closer than ``alpha`` to a point lies in the 5x5 block of cells around that point's cell.
+Each cell is split into SUB x SUB sub-cells; ``covered[j, i]`` is set once a single sample
+disc contains sub-cell (i, j) whole.
+
+Conventions of the kernel modules: see ``_parallel.pyx`` (bool arrays are passed to the
+typed code as ``uint8`` views).
+"""
+
+import numpy as np
+
+from cython.parallel cimport prange
+from libc.math cimport ceil, floor, hypot, sqrt
+from libc.stdlib cimport qsort
+from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
+
+from ._parallel cimport threads_for
+
+cdef enum:
+    C_OUTSIDE = 0
+    C_INSIDE = 1
+    C_BOUNDARY = 2
+    CSUB = 4        # sub-cells per cell side
+    CONFLICT_SLOTS = 8   # conflicts listed per dart in the first scan
+    CHUNK = 256     # iterations a thread takes at a time
+
+OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
+SUB = CSUB
+
+ctypedef const uint8_t[:, ::1] const_flags2
+
+
+cdef inline Py_ssize_t _clamp(Py_ssize_t i, Py_ssize_t n) noexcept nogil:
+    return min(max(i, 0), n - 1)
+
+
+cdef inline void _cell_of(double x, double y, double x0, double y0, double s,
+                          Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t *ix, Py_ssize_t *iy) noexcept nogil:
+    ix[0] = _clamp(<Py_ssize_t>((x - x0) / s), nx)
+    iy[0] = _clamp(<Py_ssize_t>((y - y0) / s), ny)
+
+
+cdef int _compare_doubles(const void *a, const void *b) noexcept nogil:
+    cdef double u = (<const double *>a)[0], v = (<const double *>b)[0]
+    return (u > v) - (u < v)
+
+
+def classify_cells(seg, double x0, double y0, double s, Py_ssize_t nx, Py_ssize_t ny):
+    """Status of every cell: OUTSIDE, INSIDE or BOUNDARY (touched by the boundary).
+
+    Boundary cells are found by walking each segment in steps of s/2 and marking the
+    3x3 block around every step's cell, a conservative cover of the cells it crosses.
+    The other cells take the status of their centre, found by even-odd scanlines.
+    """
+    cdef const double[:, :, :] sg = np.asarray(seg, dtype=np.float64)
+    status_array = np.zeros((ny, nx), np.int8)
+    cdef int8_t[:, ::1] status = status_array
+    cdef int64_t[::1] counts = np.zeros(ny + 1, np.int64)      # scanline crossings per row
+    cdef int64_t[::1] start, fill
+    cdef double[::1] xs
+    cdef Py_ssize_t k, iy, ix, lo, hi, p, a, b, q, steps, jx, jy, cx, cy
+    cdef double xa, ya, xb, yb, yc, f
+    cdef int phase
+    for phase in range(2):
+        if phase == 1:
+            start = np.cumsum(counts)
+            xs = np.empty(start[ny])
+            fill = np.array(start[:ny])
+        with nogil:
+            for k in range(sg.shape[0]):
+                xa, ya, xb, yb = sg[k, 0, 0], sg[k, 0, 1], sg[k, 1, 0], sg[k, 1, 1]
+                lo = <Py_ssize_t>ceil((min(ya, yb) - y0) / s - 0.5)
+                hi = <Py_ssize_t>floor((max(ya, yb) - y0) / s - 0.5)
+                for iy in range(max(lo, 0), min(hi, ny - 1) + 1):
+                    yc = y0 + (iy + 0.5) * s
+                    if (ya <= yc) != (yb <= yc):
+                        if phase == 0:
+                            counts[iy + 1] += 1
+                        else:
+                            xs[fill[iy]] = xa + (yc - ya) * (xb - xa) / (yb - ya)
+                            fill[iy] += 1
+    with nogil:
+        for iy in range(ny):
+            qsort(&xs[0] + start[iy], start[iy + 1] - start[iy], sizeof(double), _compare_doubles)
+            for p in range(start[iy], start[iy + 1] - 1, 2):
+                a = <Py_ssize_t>ceil((xs[p] - x0) / s - 0.5)
+                b = <Py_ssize_t>floor((xs[p + 1] - x0) / s - 0.5)
+                for ix in range(max(a, 0), min(b, nx - 1) + 1):
+                    status[iy, ix] = C_INSIDE
+        for k in range(sg.shape[0]):
+            xa, ya, xb, yb = sg[k, 0, 0], sg[k, 0, 1], sg[k, 1, 0], sg[k, 1, 1]
+            steps = <Py_ssize_t>ceil(hypot(xb - xa, yb - ya) / (0.5 * s)) + 1
+            for q in range(steps + 1):
+                f = <double>q / steps
+                _cell_of(xa + f * (xb - xa), ya + f * (yb - ya), x0, y0, s, nx, ny, &cx, &cy)
+                for jy in range(max(cy - 1, 0), min(cy + 2, ny)):
+                    for jx in range(max(cx - 1, 0), min(cx + 2, nx)):
+                        status[jy, jx] = C_BOUNDARY
+    return status_array
+
+
+cdef bint _free(double x, double y, const int32_t[:, ::1] grid, const double[:, ::1] points,
+                double alpha2, double x0, double y0, double s) noexcept nogil:
+    """True if no sample is closer than alpha to (x, y)."""
+    cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], ix, iy, jx, jy
+    cdef int32_t q
+    cdef double dx, dy
+    _cell_of(x, y, x0, y0, s, nx, ny, &ix, &iy)
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+            q = grid[jy, jx]
+            if q >= 0:
+                dx = points[q, 0] - x
+                dy = points[q, 1] - y
+                if dx * dx + dy * dy < alpha2:
+                    return False
+    return True
+
+
+cdef void _place(double x, double y, int32_t[:, ::1] grid, uint8_t[:, ::1] covered,
+                 double[:, ::1] points, Py_ssize_t count, double alpha2, double x0, double y0,
+                 double s) noexcept nogil:
+    """Add sample (x, y) as sample ``count`` and mark the sub-cells its disc contains."""
+    cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], ix, iy, i, j
+    cdef double h = s / CSUB, alpha = sqrt(alpha2), fy, w
+    _cell_of(x, y, x0, y0, s, nx, ny, &ix, &iy)
+    points[count, 0] = x
+    points[count, 1] = y
+    grid[iy, ix] = <int32_t>count
+    # rows of sub-cells the disc can contain, and in each the columns it contains whole
+    for j in range(max(<Py_ssize_t>((y - alpha - y0) / h), 0),
+                   min(<Py_ssize_t>((y + alpha - y0) / h) + 1, covered.shape[0])):
+        fy = max(abs(y - y0 - j * h), abs(y - y0 - (j + 1) * h))     # farthest corner
+        if fy * fy > alpha2:
+            continue
+        w = sqrt(alpha2 - fy * fy)
+        for i in range(max(<Py_ssize_t>ceil((x - w - x0) / h), 0),
+                       min(<Py_ssize_t>floor((x + w - x0) / h), covered.shape[1])):
+            covered[j, i] = True
+
+
+def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double s):
+    """For each cell without a sample, a dart uniform in one of its sub-cells that no
+    disc covers yet, the sub-cell chosen uniformly (``u`` (n, 3) in [0, 1)).
+    Returns (darts, is_open); closed cells get no dart."""
+    cdef const int64_t[::1] c = cells
+    cdef const double[:, ::1] uu = u
+    cdef const int32_t[:, ::1] g = grid
+    cdef const_flags2 cov = covered.view(np.uint8)
+    cdef Py_ssize_t n = c.shape[0], nx = g.shape[1], k, iy, ix, i, j, free, pick
+    cdef double h = s / CSUB
+    darts_array = np.empty((n, 2))
+    is_open_array = np.zeros(n, bool)
+    cdef double[:, ::1] darts = darts_array
+    cdef uint8_t[::1] is_open = is_open_array.view(np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        iy = c[k] // nx
+        ix = c[k] % nx
+        if g[iy, ix] >= 0:
+            continue
+        free = 0
+        for j in range(iy * CSUB, iy * CSUB + CSUB):
+            for i in range(ix * CSUB, ix * CSUB + CSUB):
+                free = free + (not cov[j, i])
+        if free == 0:
+            continue
+        pick = <Py_ssize_t>(uu[k, 0] * free)
+        for j in range(iy * CSUB, iy * CSUB + CSUB):
+            for i in range(ix * CSUB, ix * CSUB + CSUB):
+                if not cov[j, i]:
+                    if pick == 0:
+                        darts[k, 0] = x0 + (i + uu[k, 1]) * h
+                        darts[k, 1] = y0 + (j + uu[k, 2]) * h
+                    pick = pick - 1
+        is_open[k] = True
+    return darts_array, is_open_array
+
+
+def insert_where_free(cand, grid, covered, points, Py_ssize_t count, double alpha,
+                      double x0, double y0, double s):
+    """Insert the candidates in order wherever the Poisson condition allows.
+
+    Returns the new sample count.
+    """
+    cdef const double[:, ::1] cd = cand
+    cdef int32_t[:, ::1] g = grid
+    cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
+    cdef double[:, ::1] pts = points
+    cdef double alpha2 = alpha * alpha, x, y
+    cdef Py_ssize_t k
+    with nogil:
+        for k in range(cd.shape[0]):
+            x, y = cd[k, 0], cd[k, 1]
+            if _free(x, y, g, pts, alpha2, x0, y0, s):
+                _place(x, y, g, cov, pts, count, alpha2, x0, y0, s)
+                count += 1
+    return count
+
+
+cdef void _sort_by(const double *key, Py_ssize_t *index, Py_ssize_t m) noexcept nogil:
+    """Insertion sort of index[:m] by key (m is at most 64)."""
+    cdef Py_ssize_t a, b, r
+    for a in range(m):
+        index[a] = a
+    for a in range(1, m):
+        r = index[a]
+        b = a
+        while b > 0 and key[index[b - 1]] > key[r]:
+            index[b] = index[b - 1]
+            b -= 1
+        index[b] = r
+
+
+def sample_boundary_pieces(start, direction, length, order, u, grid, covered, points,
+                           Py_ssize_t count, double alpha, double margin, double x0, double y0,
+                           double s):
+    """Maximal 1D sampling of the boundary pieces (each shorter than alpha).
+
+    Pieces are visited in ``order``; on each, the part farther than ``alpha`` from
+    every sample (trimmed by ``margin`` at the disc edges) is computed exactly, and a
+    sample is placed uniformly in it (``u[k]`` in [0, 1)). A sample covers its whole
+    piece, so one pass leaves every piece covered. Returns the new sample count.
+    """
+    cdef const double[:, :] st = start
+    cdef const double[:, :] dr = direction
+    cdef const double[:] ln = length
+    cdef const int64_t[:] od = order
+    cdef const double[:] uu = u
+    cdef int32_t[:, ::1] g = grid
+    cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
+    cdef double[:, ::1] pts = points
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], k, p, ix, iy, jx, jy, m, gcount, r, a
+    cdef int32_t q
+    cdef double lo[64]
+    cdef double hi[64]
+    cdef Py_ssize_t rank[64]
+    cdef double gap_lo[65]
+    cdef double gap_hi[65]
+    cdef double ax, ay, ux, uy, L, dx, dy, t, h2, half, total, reach, target, width, x, y
+    with nogil:
+        for k in range(od.shape[0]):
+            p = od[k]
+            ax, ay = st[p, 0], st[p, 1]
+            ux, uy = dr[p, 0], dr[p, 1]
+            L = ln[p]
+            _cell_of(ax + 0.5 * L * ux, ay + 0.5 * L * uy, x0, y0, s, nx, ny, &ix, &iy)
+            m = 0
+            for jy in range(max(iy - 3, 0), min(iy + 4, ny)):
+                for jx in range(max(ix - 3, 0), min(ix + 4, nx)):
+                    q = g[jy, jx]
+                    if q >= 0:
+                        dx = pts[q, 0] - ax
+                        dy = pts[q, 1] - ay
+                        t = dx * ux + dy * uy
+                        h2 = dx * dx + dy * dy - t * t
+                        if h2 < alpha2:
+                            half = sqrt(alpha2 - h2)
+                            if t + half > 0.0 and t - half < L and m < 64:
+                                lo[m] = t - half - margin
+                                hi[m] = t + half + margin
+                                m += 1
+            # free gaps of [0, L] minus the chords, left to right (the order of equal
+            # chord starts does not change the gaps)
+            total = 0.0
+            gcount = 0
+            reach = 0.0
+            _sort_by(lo, rank, m)
+            for a in range(m):
+                r = rank[a]
+                if lo[r] > reach:
+                    gap_lo[gcount] = reach
+                    gap_hi[gcount] = lo[r]
+                    total += lo[r] - reach
+                    gcount += 1
+                reach = max(reach, hi[r])
+            if reach < L:
+                gap_lo[gcount] = reach
+                gap_hi[gcount] = L
+                total += L - reach
+                gcount += 1
+            if total <= 0.0:
+                continue
+            target = uu[k] * total
+            t = gap_hi[gcount - 1]
+            for r in range(gcount):
+                width = gap_hi[r] - gap_lo[r]
+                if target < width:
+                    t = gap_lo[r] + target
+                    break
+                target -= width
+            x = ax + t * ux
+            y = ay + t * uy
+            if _free(x, y, g, pts, alpha2, x0, y0, s):
+                _place(x, y, g, cov, pts, count, alpha2, x0, y0, s)
+                count += 1
+    return count
+
+
+cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
+                               const int8_t[::1] state, const int64_t[::1] head, double alpha2,
+                               Py_ssize_t nx, Py_ssize_t ny, int32_t *out,
+                               Py_ssize_t room) noexcept nogil:
+    """Count the open darts closer than alpha to open dart d; list the first ``room``
+    of them in ``out``."""
+    cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
+    cdef Py_ssize_t jx, jy, c, e
+    cdef double dx, dy
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+            c = jy * nx + jx
+            e = head[c]
+            while 0 <= e < m and cell[e] == c:
+                if e != d and state[e] == 0:
+                    dx = darts[e, 0] - darts[d, 0]
+                    dy = darts[e, 1] - darts[d, 1]
+                    if dx * dx + dy * dy < alpha2:
+                        if found < room:
+                            out[found] = <int32_t>e
+                        found += 1
+                e += 1
+    return found
+
+
+def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t count,
+                double alpha, double x0, double y0, double s):
+    """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
+    each that is in the region (``ok``) and at least alpha from every sample so far.
+
+    Thrown in random order they would cost a cache miss each, so the same result is
+    computed cell by cell instead: it is the lexicographically first maximal
+    independent set of the conflict graph (darts closer than alpha) by rank. Darts
+    are given sorted by their level-0 ``cell``. A first sweep lists each dart's
+    conflicts; later sweeps accept a dart once every conflicting dart of lower rank is
+    rejected, and reject it as soon as a conflicting dart is accepted. ``head`` (one
+    entry per cell, all -1) is scratch space. Returns the new sample count.
+    """
+    cdef int8_t UNDECIDED = 0, ACCEPTED = 1, REJECTED = 2
+    cdef const double[:, ::1] dt = darts
+    cdef const int64_t[::1] cl = cell
+    cdef const int64_t[::1] rk = rank
+    cdef const uint8_t[::1] good = ok.view(np.uint8)
+    cdef int32_t[:, ::1] g = grid
+    cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
+    cdef int64_t[::1] hd = head
+    cdef double[:, ::1] pts = points
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
+    cdef Py_ssize_t n_todo, kept, n_accepted
+    cdef bint blocked
+    cdef int8_t[::1] state = np.empty(m, np.int8)
+    cdef int64_t[::1] degree = np.zeros(m + 1, np.int64)
+    cdef int64_t[::1] todo = np.empty(m, np.int64)
+    cdef int32_t[::1] conflict
+    cdef int64_t[::1] accepted
+    with nogil:
+        for d in range(m - 1, -1, -1):
+            hd[cl[d]] = d
+    for d in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
+        if good[d] and _free(dt[d, 0], dt[d, 1], g, pts, alpha2, x0, y0, s):
+            state[d] = UNDECIDED
+        else:
+            state[d] = REJECTED
+    n_todo = 0
+    with nogil:
+        for d in range(m):
+            if state[d] == UNDECIDED:
+                todo[n_todo] = d
+                n_todo += 1
+    # the conflict lists of the open darts, in CSR form over all darts: one scan lists
+    # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
+    slots = np.empty((n_todo, CONFLICT_SLOTS), np.int32)
+    cdef int32_t[:, ::1] slot = slots
+    for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n_todo)):
+        d = todo[t]
+        degree[d + 1] = _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &slot[t, 0],
+                                       CONFLICT_SLOTS)
+    with nogil:
+        for d in range(m):
+            degree[d + 1] += degree[d]
+    conflict = np.empty(degree[m], np.int32)
+    for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n_todo)):
+        d = todo[t]
+        if degree[d + 1] - degree[d] > CONFLICT_SLOTS:
+            _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &conflict[degree[d]],
+                           degree[d + 1] - degree[d])
+        else:
+            for q in range(degree[d + 1] - degree[d]):
+                conflict[degree[d] + q] = slot[t, q]
+    del slot, slots
+    with nogil:
+        while n_todo:
+            kept = 0
+            for t in range(n_todo):
+                d = todo[t]
+                blocked = False
+                for q in range(degree[d], degree[d + 1]):
+                    e = conflict[q]
+                    if state[e] == ACCEPTED:
+                        state[d] = REJECTED
+                        break
+                    if state[e] == UNDECIDED and rk[e] < rk[d]:
+                        blocked = True
+                if state[d] == UNDECIDED:
+                    if blocked:
+                        todo[kept] = d
+                        kept += 1
+                    else:
+                        state[d] = ACCEPTED
+            n_todo = kept
+        for d in range(m):
+            hd[cl[d]] = -1
+        n_accepted = 0
+        for d in range(m):
+            if state[d] == ACCEPTED:
+                todo[n_accepted] = d
+                n_accepted += 1
+    # add the accepted darts as samples count, count + 1, ...: each writes its own cell
+    # and point, and sub-cells two discs both cover are only ever set, so the result
+    # does not depend on the order
+    for t in prange(n_accepted, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n_accepted)):
+        d = todo[t]
+        _place(dt[d, 0], dt[d, 1], g, cov, pts, count + t, alpha2, x0, y0, s)
+    return count + n_accepted
+
+
+def open_subcells(status, grid, covered):
+    """Flat level-0 cell and (sub_x, sub_y) of every uncovered sub-cell of the region's
+    cells that have no sample."""
+    cdef const int8_t[:, ::1] st = status
+    cdef const int32_t[:, ::1] g = grid
+    cdef const_flags2 cov = covered.view(np.uint8)
+    cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], n = 0, iy, ix, i, j
+    cdef int phase
+    cdef int64_t[::1] cell, sub_x, sub_y
+    for phase in range(2):
+        if phase == 1:
+            cell_array, sub_x_array, sub_y_array = (np.empty(n, np.int64) for _ in range(3))
+            cell, sub_x, sub_y = cell_array, sub_x_array, sub_y_array
+            n = 0
+        with nogil:
+            for iy in range(ny):
+                for ix in range(nx):
+                    if st[iy, ix] == C_OUTSIDE or g[iy, ix] >= 0:
+                        continue
+                    for j in range(CSUB):
+                        for i in range(CSUB):
+                            if not cov[iy * CSUB + j, ix * CSUB + i]:
+                                if phase == 1:
+                                    cell[n] = iy * nx + ix
+                                    sub_x[n] = i
+                                    sub_y[n] = j
+                                n += 1
+    return cell_array, sub_x_array, sub_y_array
+
+
+cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, double size,
+                       const int32_t[:, ::1] grid, const double[:, ::1] points,
+                       double alpha2) noexcept nogil:
+    """True if one sample disc contains the box [x_lo, x_lo+size]² of level-0 cell (ix, iy)."""
+    cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], jx, jy
+    cdef double x_hi = x_lo + size, y_hi = y_lo + size, qx, qy, fx, fy
+    cdef int32_t q
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+            q = grid[jy, jx]
+            if q >= 0:
+                qx, qy = points[q, 0], points[q, 1]
+                fx = max(abs(qx - x_lo), abs(qx - x_hi))   # farthest corner
+                fy = max(abs(qy - y_lo), abs(qy - y_hi))
+                if fx * fx + fy * fy <= alpha2:
+                    return True
+    return False
+
+
+def uncovered_boxes(parent, bx, by, double size, grid, points, double alpha):
+    """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
+    where no single sample disc contains the whole box."""
+    cdef const int64_t[:] pr = parent
+    cdef const double[:] x = bx
+    cdef const double[:] y = by
+    cdef const int32_t[:, ::1] g = grid
+    cdef const double[:, ::1] pts = points
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k
+    keep_array = np.empty(n, bool)
+    cdef uint8_t[::1] keep = keep_array.view(np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        keep[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, pts, alpha2)
+    return keep_array
