@@ -289,14 +289,23 @@ class _Conformity:
     def report(self) -> BoundaryReport:
         conforming = self._conforming()
         sampled_outline = conforming and self._sampled_outline()
-        outline, region = self.mesh.outline, self.mesh.region.geometry
-        area = self.mesh.region.area
+        outside, missing = self._areas_off(sampled_outline)
         return BoundaryReport(
             conforming=conforming, sampled_outline=sampled_outline,
             boundary_deviation=self._deviation() / self.alpha,
-            outside_area_ratio=float(shapely.difference(outline, region).area / area),
-            missing_area_ratio=float(shapely.difference(region, outline).area / area),
+            outside_area_ratio=outside, missing_area_ratio=missing,
             problems=tuple(self.problems))
+
+    def _areas_off(self, sampled_outline):
+        """Mesh area outside the region and region area outside the mesh, / region area.
+        A mesh that is Q with every chord straight is the region itself (every ring vertex
+        is a sample): both are 0 without an overlay."""
+        if sampled_outline and self.sampled.straight.all():
+            return 0.0, 0.0
+        outline, region = self.mesh.outline, self.mesh.region.geometry
+        area = self.mesh.region.area
+        return (float(shapely.difference(outline, region).area / area),
+                float(shapely.difference(region, outline).area / area))
 
     def _say(self, count, what, where):
         if count:

@@ -128,9 +128,9 @@ def feature_size(region: Region, conforming: bool = True) -> FeatureSize:
 
     See the module documentation for the adjacency rule, and for walls and gaps: with
     ``conforming=True`` only walls count (the segment between the two features runs
-    through the region), with ``conforming=False`` gaps too. The result is exact for polygons
-    (segment-to-segment distances) and is found through a spatial index over runs of
-    consecutive segments: about 10 ms for a CAD section of 800 segments, 0.15 s for
+    through the region), with ``conforming=False`` gaps too. The result is exact for
+    polygons (segment-to-segment distances) and is found through a spatial index over runs
+    of consecutive segments: about 10 ms for a CAD section of 800 segments, 0.15 s for
     6,500.
 
     A region without two non-adjacent segments is a triangle, up to collinear vertices and
