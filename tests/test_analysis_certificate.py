@@ -257,4 +257,4 @@ def test_boundary_rows_are_printed_and_json_ready():
                 "missing_area_ratio", "visibility", "boundary_ok", "boundary_problems"):
         assert key in values
     text = str(cert)
-    assert "seeing each other through the region" in text and "conforming yes" in text
+    assert "seen through the region" in text and "conforming yes" in text

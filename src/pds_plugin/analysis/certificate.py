@@ -221,7 +221,12 @@ class Certificate:
     def __str__(self) -> str:
         def mark(good):
             return "ok" if good else "FAILED"
-        rule = "seeing each other through the region" if self.visibility else "Euclidean"
+        if self.visibility:
+            rule = "to samples seen through the region (visibility rule)"
+        elif self.claims_conforming:
+            rule = "separation to samples seen through the region, coverage Euclidean"
+        else:
+            rule = "Euclidean"
         if self.claims_conforming:
             boundary = f"conforming mesh   {mark(self.boundary_ok)}"
         else:
@@ -229,7 +234,7 @@ class Certificate:
         return "\n".join([
             f"certificate: {mark(self.ok)} (alpha={self.alpha:.6g}, {self.samples} samples, "
             f"{self.triangles} triangles)",
-            f"  distances between samples {rule}",
+            f"  distances    {rule}",
             f"  separation   min {self.min_separation:.9f} alpha (>= 1)      {mark(self.min_separation >= 1 - SEPARATION_TOL)}",
             f"  coverage gap max {self.coverage_gap:.9f} alpha (<= 1)      {mark(self.coverage_gap <= 1 + COVERAGE_TOL)}",
             f"  aspect ratio max {self.max_aspect_ratio:.6f} (<= 4√3 = {ASPECT_BOUND:.6f})  {mark(self.quality_ok)}",
