@@ -241,7 +241,24 @@ def test_curved_boundary_deviates_by_the_sagitta_only():
     assert probed / alpha <= cert.coverage_gap * (1 + 1e-12) <= (probed + spacing) / alpha
 
 
+def test_a_boundary_crossing_its_chord_once_is_certified_from_the_end_it_holds():
+    # the top edge bends up, then down through the chord from (1, 1) to (0, 1): the region
+    # beyond the chord is the triangle (1, 1), (0.6, 1.04), p, seen whole from (1, 1)
+    s_top = Polygon([(0, 0), (1, 0), (1, 1), (0.6, 1.04), (0.4, 0.97), (0, 1)])
+    alpha = 0.8
+    mesh = cdt_mesh(box(0, 0, 1, 1), alpha, region=s_top)
+    cert = mesh.certificate()
+    assert cert.conforming and cert.sampled_outline and cert.visibility and cert.boundary_ok
+    p = 0.6 - 0.2 * 0.04 / 0.07                      # where the arc crosses y = 1
+    assert cert.missing_area_ratio * s_top.area == pytest.approx((1 - p) * 0.04 / 2, rel=1e-9)
+    assert cert.outside_area_ratio * s_top.area == pytest.approx(p * 0.03 / 2, rel=1e-9)
+    spacing = alpha / 100
+    probed, _ = visible_probe_gap(s_top, s_top.union(box(0, 0, 1, 1)), mesh.vertices, spacing)
+    assert probed / alpha <= cert.coverage_gap * (1 + 1e-12) <= (probed + spacing) / alpha
+
+
 def test_a_boundary_bending_both_ways_between_samples_is_not_certified():
+    # beyond the chord from (1, 1) to (0, 1) lies a piece that holds neither end
     wiggle = Polygon([(0, 0), (1, 0), (1, 1), (0.7, 1), (0.6, 1.03), (0.4, 0.97), (0.3, 1), (0, 1)])
     mesh = cdt_mesh(box(0, 0, 1, 1), 0.8, region=wiggle)
     cert = mesh.certificate()

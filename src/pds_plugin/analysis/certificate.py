@@ -324,7 +324,7 @@ def _yes(value: bool) -> str:
 def _visibility_route_fails(mesh, boundary, sampled) -> str:
     """Why the exact coverage route of a conforming mesh does not apply ('' if it does):
     it needs the mesh to be the sampled boundary polygon Q, and the region that Q misses
-    to be convex slivers seen whole from their chords' ends."""
+    to be convex pieces beyond the chords, each seen whole from a chord end it holds."""
     if not len(mesh.faces):
         return "the mesh has no triangle"
     if not boundary.sampled_outline:
@@ -333,7 +333,8 @@ def _visibility_route_fails(mesh, boundary, sampled) -> str:
         where = (sampled.points[sampled.a[sampled.uncertain]]
                  + sampled.points[sampled.b[sampled.uncertain]])[0] / 2
         return (f"the boundary bends both ways between {int(sampled.uncertain.sum())} pairs of "
-                f"consecutive boundary samples, e.g. near ({where[0]:.4g}, {where[1]:.4g})")
+                f"consecutive boundary samples, e.g. near ({where[0]:.4g}, {where[1]:.4g}), "
+                "and the region beyond their chord is not all seen from one of them")
     missing = boundary.missing_area_ratio * mesh.region.area
     if abs(missing - sampled.sliver_area()) > AREA_TOL * mesh.region.area:
         return (f"the region missing from the mesh ({missing:.6g}) is not the slivers between "

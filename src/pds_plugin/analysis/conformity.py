@@ -204,13 +204,79 @@ class SampledBoundary:
         return beyond & ~inward & ~bends
 
     @cached_property
-    def uncertain(self) -> np.ndarray:
-        """Chords whose arc crosses the chord or bends both ways beyond it: the region
-        between them is not seen whole from the chord's ends."""
+    def mixed(self) -> np.ndarray:
+        """Chords whose arc reaches beyond the chord but is not a convex sliver: it crosses
+        the chord, or bends both ways beyond it."""
         tol = ON_BOUNDARY_TOL * self.alpha
-        n = len(self.a)
-        beyond = np.bincount(self.arc_chord, self.arc_offset < -tol, minlength=n) > 0
+        beyond = np.bincount(self.arc_chord, self.arc_offset < -tol, minlength=len(self.a)) > 0
         return beyond & ~self.sliver
+
+    @cached_property
+    def _pieces(self):
+        """For each mixed chord: the largest distance from its pieces beyond the chord to a
+        chord end they see, where, their total area, and whether each piece is convex and
+        holds a chord end (see :meth:`_chord_pieces`)."""
+        found = [self._chord_pieces(k) for k in np.flatnonzero(self.mixed)]
+        if not found:
+            return np.zeros(0), np.zeros((0, 2)), np.zeros(0), np.zeros(0, bool)
+        gap, where, area, seen = zip(*found)
+        return np.array(gap), np.array(where), np.array(area), np.array(seen)
+
+    def _chord_pieces(self, k):
+        """The arc of chord k cut where it crosses the chord's line: each piece beyond the
+        line is a polygon from a crossing (or a chord end) along the arc to the next. A
+        convex piece is seen whole from the chord ends it holds: its farthest point from
+        them is one of its vertices, or with both ends where the chord's bisector crosses
+        its boundary. A piece holding no chord end, or not convex, is not certified. (A
+        Python loop, over the few chords whose arc bends both ways.)"""
+        on = self.arc_chord == k
+        a, b = self.points[self.a[k]], self.points[self.b[k]]
+        xy = np.concatenate([[a], self.arc_xy[on], [b]])
+        height = np.concatenate([[0.0], self.arc_offset[on], [0.0]])
+        tol = ON_BOUNDARY_TOL * self.alpha
+        height[np.abs(height) <= tol] = 0.0
+        pieces, current = [], None
+        for i in range(len(xy) - 1):
+            if height[i] >= 0 > height[i + 1]:                  # the arc leaves Q's side
+                t = height[i] / (height[i] - height[i + 1])
+                current = [xy[i] + t * (xy[i + 1] - xy[i])]
+            if current is not None and height[i + 1] < 0:
+                current.append(xy[i + 1])
+            if current is not None and height[i + 1] >= 0:     # back on the chord's line
+                t = height[i] / (height[i] - height[i + 1])
+                current.append(xy[i] + t * (xy[i + 1] - xy[i]))
+                pieces.append(np.array(current))
+                current = None
+        gap, where, area, seen = 0.0, a, 0.0, True
+        for piece in pieces:
+            edges = np.roll(piece, -1, axis=0) - piece
+            turns = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
+            area += abs(float((piece[:, 0] * np.roll(piece[:, 1], -1)
+                               - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
+            ends = [e for e, at in ((a, piece[0]), (b, piece[-1])) if np.allclose(e, at, rtol=0, atol=tol)]
+            if not ends or (turns < -1e-12 * self.alpha ** 2).any():
+                seen = False
+                continue
+            candidates = list(piece)
+            if len(ends) == 2:                  # where the bisector of ab crosses the arc
+                side = (piece - (a + b) / 2) @ (b - a)
+                for i in np.flatnonzero((side[:-1] < 0) & (side[1:] >= 0)):
+                    t = side[i] / (side[i] - side[i + 1])
+                    candidates.append(piece[i] + t * (piece[i + 1] - piece[i]))
+            candidates = np.array(candidates)
+            distance = np.min([np.hypot(*(candidates - e).T) for e in ends], axis=0)
+            j = int(np.argmax(distance))
+            if distance[j] > gap:
+                gap, where = float(distance[j]), candidates[j]
+        return gap, where, area, seen
+
+    @property
+    def uncertain(self) -> np.ndarray:
+        """Chords beyond which some region is not certified to see a sample (see
+        :meth:`_chord_pieces`)."""
+        uncertain = np.zeros(len(self.a), bool)
+        uncertain[np.flatnonzero(self.mixed)[~self._pieces[3]]] = True
+        return uncertain
 
     def arcs(self, chords: np.ndarray):
         """The polylines ``a, arc vertices..., b`` of ``chords`` (bool mask): (K, 2, 2)
@@ -227,12 +293,17 @@ class SampledBoundary:
         return np.stack([xy[:-1][same], xy[1:][same]], axis=1), c[:-1][same]
 
     def sliver_gap(self):
-        """The largest distance from a point of the convex slivers to the nearer end of
-        their chord, and where: it peaks at an arc vertex, where the chord's bisector
-        crosses the arc, or at the chord's midpoint (the vertices of the slivers' pieces
-        in the two Voronoi cells of the chord's ends)."""
+        """The largest distance from a point of the region beyond the chords to a chord end
+        it sees, and where. Over a convex sliver it peaks at an arc vertex, where the
+        chord's bisector crosses the arc, or at the chord's midpoint (the vertices of the
+        sliver's pieces in the two Voronoi cells of the chord's ends); the pieces of mixed
+        arcs come from :meth:`_chord_pieces`."""
+        gap, at = 0.0, np.zeros(2)
+        mixed_gap, mixed_at, _, _ = self._pieces
+        if len(mixed_gap) and mixed_gap.max() > gap:
+            gap, at = float(mixed_gap.max()), mixed_at[np.argmax(mixed_gap)]
         if not self.sliver.any():
-            return 0.0, np.zeros(2)
+            return gap, at
         segments, chord = self.arcs(self.sliver)
         a, b = self.points[self.a[chord]], self.points[self.b[chord]]
         ab = b - a
@@ -247,15 +318,18 @@ class SampledBoundary:
         pa, pb = self.points[self.a[ends_of]], self.points[self.b[ends_of]]
         distance = np.minimum(np.hypot(*(candidates - pa).T), np.hypot(*(candidates - pb).T))
         k = int(np.argmax(distance))
-        return float(distance[k]), candidates[k]
+        if distance[k] > gap:
+            gap, at = float(distance[k]), candidates[k]
+        return gap, at
 
     def sliver_area(self) -> float:
-        """Total area of the convex slivers (shoelace over their closed polylines)."""
+        """Total area of the region beyond the chords: the convex slivers (shoelace over
+        their closed polylines) and the pieces of mixed arcs."""
         segments, _ = self.arcs(self.sliver)
         closing = np.stack([self.points[self.b[self.sliver]], self.points[self.a[self.sliver]]], axis=1)
         segments = np.concatenate([segments, closing])
         cross = segments[:, 0, 0] * segments[:, 1, 1] - segments[:, 0, 1] * segments[:, 1, 0]
-        return float(abs(cross.sum()) / 2)
+        return float(abs(cross.sum()) / 2 + self._pieces[2].sum())
 
     def polygon(self):
         """The sampled boundary polygon Q (rings of fewer than 3 samples left out)."""
