@@ -112,6 +112,10 @@ def test_walls_count_and_gaps_do_not_for_conforming_meshes():
     assert plate.geometry.contains(Point(middle))            # the segment runs through material
     assert suggest_alpha(plate) == pytest.approx(0.25 / 4, rel=1e-12)
     assert suggest_alpha(plate, conforming=False) == pytest.approx(0.1 / 4, rel=1e-12)
+    # between the long sides of a rectangle the closest points may be its corners, so the
+    # segment between them is a short side, on the boundary: still a wall
+    bar = feature_size(region(box(0.88, 0, 2.88, 1)))
+    assert (bar.value, bar.kind) == (pytest.approx(1, rel=1e-12), "wall")
 
 
 def test_collinear_splits_are_one_feature():
@@ -172,10 +176,8 @@ def brute_force(reg, walls_only=False):
         a = shapely.LineString([ring[i], ring[(i + 1) % n]])
         other = rings[r2][0]
         b = shapely.LineString([other[j], other[(j + 1) % len(other)]])
-        if walls_only:
-            p, q = shapely.get_coordinates(shapely.shortest_line(a, b))
-            if not reg.geometry.intersects(Point((p + q) / 2)):
-                continue
+        if walls_only and not reg.geometry.buffer(1e-9).covers(shapely.shortest_line(a, b)):
+            continue
         best = min(best, a.distance(b))
     return best
 
