@@ -65,3 +65,40 @@ def probe_gap(geometry, points, spacing):
         probes.append(centres[shapely.intersects_xy(geometry, centres[:, 0], centres[:, 1])])
     probes = np.concatenate(probes)
     return tree.query(probes)[0].max()
+
+
+def visible_probe_gap(geometry, domain, points, spacing):
+    """Oracle of the coverage gap with the visibility rule: over probes of ``geometry``
+    (a grid of step ``spacing`` and its boundary at ``spacing``), the distance to the
+    nearest sample whose segment to the probe stays in ``domain`` (shapely, buffered by
+    1e-9 against rounding). Returns the largest distance and its probe."""
+    xmin, ymin, xmax, ymax = geometry.bounds
+    xs, ys = np.meshgrid(np.arange(xmin, xmax + spacing, spacing),
+                         np.arange(ymin, ymax + spacing, spacing))
+    grid = np.column_stack([xs.ravel(), ys.ravel()])
+    grid = grid[shapely.intersects_xy(geometry, grid[:, 0], grid[:, 1])]
+    probes = np.concatenate([grid, shapely.get_coordinates(
+        shapely.segmentize(geometry.boundary, spacing))])
+    domain = domain.buffer(1e-9)
+    shapely.prepare(domain)
+    best = np.full(len(probes), np.inf)
+    for point in points:
+        distance = np.hypot(*(probes - point).T)
+        closer = np.flatnonzero(distance < best)
+        segments = np.stack([probes[closer], np.broadcast_to(point, (len(closer), 2))], axis=1)
+        seen = closer[shapely.covers(domain, shapely.linestrings(segments))]
+        best[seen] = distance[seen]
+    k = int(np.argmax(best))
+    return best[k], probes[k]
+
+
+def visible_min_distance(domain, points, edges=()):
+    """Oracle of the separation with the visibility rule: the smallest distance between
+    two points whose segment stays in ``domain`` (buffered by 1e-9), or joined by one of
+    ``edges``; every pair is tested."""
+    domain = domain.buffer(1e-9)
+    i, j = np.triu_indices(len(points), k=1)
+    seen = shapely.covers(domain, shapely.linestrings(np.stack([points[i], points[j]], axis=1)))
+    distance = np.hypot(*(points[i] - points[j]).T)
+    joined = [np.hypot(*(points[a] - points[b])) for a, b in edges]
+    return min(distance[seen].min(initial=np.inf), min(joined, default=np.inf))

@@ -35,19 +35,23 @@ def test_ring_wall_thickness_is_the_distance_between_its_circles():
 
 @pytest.mark.parametrize("gap", [0.01, 0.25, 3.0])
 def test_two_squares_at_a_known_distance(gap):
-    # squares of side 5, so the gap (< 5) is the smallest feature
-    fs = feature_size(region(box(0, 0, 5, 5).union(box(5 + gap, 2, 10 + gap, 7))))
+    # squares of side 5, so the gap (< 5) is the smallest feature of the paper's complex
+    squares = region(box(0, 0, 5, 5).union(box(5 + gap, 2, 10 + gap, 7)))
+    fs = feature_size(squares, conforming=False)
     assert fs.value == pytest.approx(gap, rel=1e-12)
     assert fs.kind == "gap"
     assert sorted(f.component for f in fs.features) == [0, 1]
     assert np.linalg.norm(fs.points[0] - fs.points[1]) == pytest.approx(gap, rel=1e-12)
+    # a conforming mesh keeps the gap open: the squares' width is what limits alpha
+    walls = feature_size(squares)
+    assert (walls.value, walls.kind) == (pytest.approx(5, rel=1e-12), "wall")
 
 
 @pytest.mark.parametrize("width", [0.05, 0.3, 0.9])
 def test_slot_width(width):
     # a slot 1.5 deep cut down from the top of a 4 x 3 plate; all walls are >= 1.5 thick
     plate = region(box(0, 0, 4, 3).difference(box(1.5, 1.5, 1.5 + width, 4)))
-    fs = feature_size(plate)
+    fs = feature_size(plate, conforming=False)
     assert fs.value == pytest.approx(width, rel=1e-12)
     assert fs.kind == "gap"
     assert on_boundary(plate, fs.points) < 1e-12
@@ -76,7 +80,7 @@ def test_a_finely_segmented_circle_is_not_penalised(segments):
 def test_hole_circles_give_about_their_radius_and_the_smaller_one_wins():
     disc = Point(0, 0).buffer(10, quad_segs=64)
     big, small = Point(-4, 0).buffer(4, quad_segs=64), Point(5, 0).buffer(1, quad_segs=64)
-    fs = feature_size(region(disc.difference(big).difference(small)))
+    fs = feature_size(region(disc.difference(big).difference(small)), conforming=False)
     assert fs.features[0].hole == fs.features[1].hole == 1
     assert 2 * math.sin((ADJACENT_TURNING - 2 * math.pi / 256) / 2) - 1e-9 <= fs.value
     assert fs.value <= 2 * math.sin(ADJACENT_TURNING / 2) + 1e-9
@@ -88,11 +92,30 @@ def test_sharp_v_notch_is_measured_at_its_opening_not_at_its_tip():
     # at distance |(-1, 8) x (1, 8)| / |(1, 8)| = 16 / sqrt(65) from the other leg
     notch = Polygon([(0, 0), (10, 0), (10, 10), (6, 10), (5, 2), (4, 10), (0, 10)])
     expected = 16 / math.sqrt(65)
-    assert feature_size(region(notch)).value == pytest.approx(expected, rel=1e-12)
+    assert feature_size(region(notch), conforming=False).value == pytest.approx(expected, rel=1e-12)
     # splitting the legs and edges into collinear pieces changes nothing
     split = region(shapely.segmentize(notch, 0.05))
     assert len(split.segments) > 400
-    assert feature_size(split).value == pytest.approx(expected, rel=1e-9)
+    assert feature_size(split, conforming=False).value == pytest.approx(expected, rel=1e-9)
+
+
+def test_walls_count_and_gaps_do_not_for_conforming_meshes():
+    # a 4 x 3 plate with a slot 0.1 wide (a gap) and a hole leaving a wall 0.25 thick
+    plate = region(box(0, 0, 4, 3).difference(box(1, 1, 1.1, 4))
+                   .difference(box(2.5, 1, 3.75, 2)))
+    walls, both = feature_size(plate), feature_size(plate, conforming=False)
+    assert (both.value, both.kind) == (pytest.approx(0.1, rel=1e-12), "gap")
+    assert (walls.value, walls.kind) == (pytest.approx(0.25, rel=1e-12), "wall")
+    assert {f.hole for f in walls.features} == {None, 0}
+    assert on_boundary(plate, walls.points) < 1e-12
+    middle = walls.points.mean(axis=0)
+    assert plate.geometry.contains(Point(middle))            # the segment runs through material
+    assert suggest_alpha(plate) == pytest.approx(0.25 / 4, rel=1e-12)
+    assert suggest_alpha(plate, conforming=False) == pytest.approx(0.1 / 4, rel=1e-12)
+    # between the long sides of a rectangle the closest points may be its corners, so the
+    # segment between them is a short side, on the boundary: still a wall
+    bar = feature_size(region(box(0.88, 0, 2.88, 1)))
+    assert (bar.value, bar.kind) == (pytest.approx(1, rel=1e-12), "wall")
 
 
 def test_collinear_splits_are_one_feature():
@@ -107,7 +130,7 @@ def test_a_triangle_falls_back_to_its_smallest_altitude():
 
 def test_features_name_the_segments_that_hold_the_points():
     plate = region(box(0, 0, 4, 3).difference(box(1.5, 0.5, 1.8, 4)))
-    fs = feature_size(plate)
+    fs = feature_size(plate, conforming=False)
     for feature, point in zip(fs.features, fs.points):
         ring = plate.rings[feature.ring]
         a, b = ring[feature.segment], ring[(feature.segment + 1) % len(ring)]
@@ -131,8 +154,9 @@ def test_bad_input():
 
 # --- the spatial search against a brute-force reading of the definition ----------------
 
-def brute_force(reg):
-    """Minimum distance over all non-adjacent segment pairs, straight from the rule."""
+def brute_force(reg, walls_only=False):
+    """Minimum distance over all non-adjacent segment pairs, straight from the rule; with
+    ``walls_only`` over the pairs whose closest points are joined through the region."""
     rings = []
     for ring in reg.rings:
         into, out = ring - np.roll(ring, 1, 0), np.roll(ring, -1, 0) - ring
@@ -152,6 +176,8 @@ def brute_force(reg):
         a = shapely.LineString([ring[i], ring[(i + 1) % n]])
         other = rings[r2][0]
         b = shapely.LineString([other[j], other[(j + 1) % len(other)]])
+        if walls_only and not reg.geometry.buffer(1e-9).covers(shapely.shortest_line(a, b)):
+            continue
         best = min(best, a.distance(b))
     return best
 
@@ -183,14 +209,15 @@ def regions(draw):
 def test_spatial_search_equals_brute_force(reg):
     if len(reg.segments) > 250:
         reg = Region.from_shapely(reg.geometry.simplify(0.05))
-    expected = brute_force(reg)
-    fs = feature_size(reg)
-    if math.isinf(expected):         # no non-adjacent pair: the altitude fallback
-        assert fs.value > 0
-    else:
-        assert fs.value == pytest.approx(expected, rel=1e-9, abs=1e-12)
-    assert np.linalg.norm(fs.points[0] - fs.points[1]) == pytest.approx(fs.value, abs=1e-12)
-    assert on_boundary(reg, fs.points) < 1e-9
+    for conforming in (False, True):
+        expected = brute_force(reg, walls_only=conforming)
+        fs = feature_size(reg, conforming=conforming)
+        if math.isinf(expected):         # no non-adjacent pair: the altitude fallback
+            assert fs.value > 0
+        else:
+            assert fs.value == pytest.approx(expected, rel=1e-9, abs=1e-12)
+        assert np.linalg.norm(fs.points[0] - fs.points[1]) == pytest.approx(fs.value, abs=1e-12)
+        assert on_boundary(reg, fs.points) < 1e-9
 
 
 def test_scales_linearly():

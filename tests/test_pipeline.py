@@ -131,12 +131,14 @@ def region(geometry):
 
 def test_suggest_alpha_is_half_the_lfs_and_respects_the_budget():
     plate = region(box(0, 0, 4, 3).difference(box(1.5, 0.5, 1.8, 4)))
-    assert suggest_alpha(plate) == pytest.approx(0.3 / 4, rel=1e-12)
+    assert suggest_alpha(plate, conforming=False) == pytest.approx(0.3 / 4, rel=1e-12)
     budget = int(estimate_samples(plate, 0.3 / 4) / 10)
     with pytest.warns(UserWarning, match="gap of width 0.3"):
-        capped = suggest_alpha(plate, max_samples=budget)
+        capped = suggest_alpha(plate, max_samples=budget, conforming=False)
     assert capped > 0.3 / 4
     assert estimate_samples(plate, capped) == pytest.approx(budget, rel=1e-9)
+    # the slot stays open in a conforming mesh; the thinnest wall, 0.5 under it, counts
+    assert suggest_alpha(plate) == pytest.approx(0.5 / 4, rel=1e-12)
 
 
 def test_no_warning_within_the_budget():
@@ -162,9 +164,10 @@ def test_auto_mesh_refines_a_coarse_start_until_the_topology_is_right():
 
 
 def test_auto_mesh_names_the_feature_when_the_budget_runs_out():
-    hairline = region(box(0, 0, 5, 5).union(box(5.001, 0, 10.001, 5)))
-    with pytest.raises(ValueError, match=r"gap of width 0.001 .* needs alpha <= 0.00025.*"
-                                         r"components 0 and 1 are joined"):
+    # a hole 0.001 from the outline: material thinner than any alpha the budget allows
+    hairline = region(box(0, 0, 10, 5).difference(box(1, 1, 9, 4.999)))
+    with pytest.raises(ValueError, match=r"wall of width 0.001 .* needs alpha <= 0.00025.*"
+                                         r"hole 0 of component 0"):
         auto_mesh(hairline, max_samples=2000)
 
 

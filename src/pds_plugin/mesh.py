@@ -43,6 +43,7 @@ class PlanarMesh:
     on_boundary : (N,) array_like of bool
     region : Region
     alpha : float
+    conforming : bool, optional
 
     Attributes
     ----------
@@ -56,6 +57,10 @@ class PlanarMesh:
         The region the mesh was made of.
     alpha : float
         The radius used for both the sampling and the complex.
+    conforming : bool
+        True when the mesh was made to conform to the region's boundary (consecutive
+        boundary samples joined by edges, no triangle leaving the region); its certificate
+        then holds it to that.
 
     Examples
     --------
@@ -70,12 +75,14 @@ class PlanarMesh:
     ((1, 0), 1.0)
     """
 
-    def __init__(self, vertices, faces, on_boundary, region: Region, alpha: float):
+    def __init__(self, vertices, faces, on_boundary, region: Region, alpha: float,
+                 conforming: bool = False):
         self.vertices = np.array(vertices, dtype=float).reshape(-1, 2)
         self.faces = np.array(faces, dtype=np.int64).reshape(-1, 3)
         self.on_boundary = np.array(on_boundary, dtype=bool).reshape(-1)
         self.region = region
         self.alpha = float(alpha)
+        self.conforming = bool(conforming)
         for array in (self.vertices, self.faces, self.on_boundary):
             array.setflags(write=False)
 

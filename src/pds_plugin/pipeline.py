@@ -76,16 +76,19 @@ def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> Pla
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
 
 
-def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
+def suggest_alpha(region: Region, max_samples: int | None = None,
+                  conforming: bool = True) -> float:
     """The largest alpha that satisfies the paper's sampling condition (3) for ``region``.
 
     Theorem 2 asks ``alpha <= ½ min LFS(∂R)``. Between two boundary features at distance
     ``d`` (:func:`pds_plugin.feature_size`) the medial axis runs midway, so ``LFS ≈ d/2`` and the
     suggestion is ``alpha = ½·(d/2) = d/4``: half the feature size in the paper's sense.
-    A gap of width ``g`` then stays open (triangles of circumradius ``<= alpha`` can
-    bridge it only when ``g <= (1 + √3/2)·alpha``), and so does a circular hole of radius
-    ``r``: ``alpha ≈ 0.48·r`` (the paper's Figure 6 uses ``r/2``), while the hole closes
-    near ``alpha = r`` -- which ``d/2 ≈ 0.97·r`` would not avoid.
+    For the paper's complex (``conforming=False``) a gap of width ``g`` then stays open
+    (triangles of circumradius ``<= alpha`` can bridge it only when
+    ``g <= (1 + √3/2)·alpha``), and so does a circular hole of radius ``r``:
+    ``alpha ≈ 0.48·r`` (the paper's Figure 6 uses ``r/2``), while the hole closes near
+    ``alpha = r`` -- which ``d/2 ≈ 0.97·r`` would not avoid. A conforming mesh keeps gaps
+    and holes open at any alpha, so only walls count (``conforming=True``, the default).
 
     Parameters
     ----------
@@ -94,6 +97,8 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
         Sample budget (default: the sampler's). If the suggestion would need more samples,
         the alpha that fits the budget is returned instead, with a warning naming the
         feature that is then not guaranteed.
+    conforming : bool
+        Which features count, see :func:`pds_plugin.feature_size`.
 
     Returns
     -------
@@ -111,7 +116,7 @@ def suggest_alpha(region: Region, max_samples: int | None = None) -> float:
     >>> round(suggest_alpha(ring), 3)      # wall 0.2 thick (up to the buffer's polygon)
     0.05
     """
-    size = _usable_feature_size(region)
+    size = _usable_feature_size(region, conforming)
     alpha = size.lfs / 2
     budget = _budget(max_samples)
     if estimate_samples(region, alpha) <= budget:
@@ -145,7 +150,8 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         Factor in (0, 1) applied to alpha after each failed check.
     **sampling_options
         Passed to :func:`pds_plugin.mesh_region`; ``max_samples`` is also the budget
-        below whose alpha the refinement stops.
+        below whose alpha the refinement stops, and ``conforming`` (True unless given)
+        chooses the features that set the first alpha (:func:`pds_plugin.feature_size`).
 
     Returns
     -------
@@ -170,7 +176,7 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     if not 0 < refine < 1:
         raise ArgumentError(f"refine must lie in (0, 1), got {refine!r}")
     budget = _budget(sampling_options.pop("max_samples", None))
-    size = _usable_feature_size(region)
+    size = _usable_feature_size(region, sampling_options.get("conforming", True))
     alpha = size.lfs / 2 if max_alpha is None else check_positive(max_alpha, "max_alpha")
     smallest = largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
     alpha = max(alpha, smallest)
@@ -193,8 +199,8 @@ def _budget(max_samples) -> int:
                                                                                "max_samples")
 
 
-def _usable_feature_size(region: Region) -> FeatureSize:
-    size = feature_size(region)
+def _usable_feature_size(region: Region, conforming: bool) -> FeatureSize:
+    size = feature_size(region, conforming)
     if size.value == 0:
         raise RegionError(f"the region's boundary touches itself ({size}): no alpha can keep "
                          "those parts apart; separate them or merge them in the geometry")

@@ -1,14 +1,29 @@
 """The certificate of a mesh: what the paper promises, measured exactly on the result.
 
-- **Separation**: the smallest distance between samples. The closest pair is always a
-  Delaunay edge, so it is the shortest edge of the Delaunay triangulation DT(P).
+- **Separation**: the smallest distance between samples.
 - **Coverage gap**: the largest distance from a point of the region to its nearest
-  sample. On a polygonal region it peaks at a Voronoi vertex inside the region (the
-  circumcentre of a Delaunay triangle), where a Voronoi edge crosses the boundary, or at a
-  boundary vertex; the last two are found exactly along every boundary piece (see
-  ``_certificate_kernels``).
+  sample.
 - **Quality** (Theorem 1): the largest aspect ratio L²/A against 4√3, and the angles.
 - **Topology** (Theorem 2): Betti numbers of mesh and region, see :mod:`.topology`.
+- **Boundary**: conformity, deviation, area outside and missing, see :mod:`.conformity`.
+
+A conforming mesh (``mesh.conforming``) is measured with the **visibility rule**: two
+points see each other when the segment between them stays in the region (up to the
+chords' sagitta: in the union of the region and the sampled boundary polygon Q). Its
+separation is the shortest distance between samples that see each other or share an
+edge; its coverage gap the largest distance from a point of the region to a sample it
+sees. Both are exact from the mesh itself once the mesh is verified to be Q
+(docs/conforming.md, "What the certificate measures"): every point of a triangle sees the
+triangle's corners, and the farthest point of a triangle from its nearest corner is its
+circumcentre, or on its longest edge when the triangle is obtuse; the slivers of region
+between a chord and a convex arc add the farthest point from the chord's ends.
+
+Other meshes (the paper's construction) are measured with the Euclidean distance. The
+closest pair is a Delaunay edge, so the separation is the shortest edge of the Delaunay
+triangulation DT(P). On a polygonal region the coverage gap peaks at a Voronoi vertex
+inside the region (the circumcentre of a Delaunay triangle), where a Voronoi edge crosses
+the boundary, or at a boundary vertex; the last two are found exactly along every boundary
+piece (see ``_certificate_kernels``).
 
 DT(P) is never built whole. The solid alpha-complex T holds its triangles of
 circumradius <= alpha; every other Delaunay triangle has all three vertices on the
@@ -28,6 +43,7 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from .._certificate_kernels import boundary_gaps
 from .._geometry_kernels import circumcircles
+from .conformity import AREA_TOL, SampledBoundary, boundary_report
 from .quality import ASPECT_BOUND
 from .topology import TopologyReport, topology_report
 
@@ -48,7 +64,9 @@ class Certificate:
     Distances are ratios to ``alpha``; ``ok`` holds when the sampling is a maximal
     Poisson disc sampling (separation >= 1, coverage gap <= 1), every triangle meets
     Theorem 1, every sample is used, the mesh is manifold and its topology is the
-    region's.
+    region's; for a mesh made conforming (``claims_conforming``) also when it conforms,
+    its outline is the polygon through its boundary samples, and separation and coverage
+    hold under the visibility rule.
 
     Attributes
     ----------
@@ -57,10 +75,11 @@ class Certificate:
     samples, triangles : int
         How many samples (vertices) and triangles the mesh has.
     min_separation : float
-        The smallest distance between two samples / alpha (>= 1: Poisson).
+        The smallest distance between two samples / alpha (>= 1: Poisson); for a
+        conforming mesh between samples that share an edge or see each other.
     coverage_gap : float
         The largest distance from a point of the region to the samples / alpha
-        (<= 1: maximal).
+        (<= 1: maximal); for a conforming mesh to the samples the point sees.
     coverage_gap_at : tuple of float
         Where the coverage gap peaks, in region coordinates.
     max_aspect_ratio : float
@@ -73,10 +92,22 @@ class Certificate:
         Vertices where two fans of triangles touch.
     area_ratio : float
         Mesh area / region area.
-    outside_area_ratio : float
-        Mesh area outside the region / region area.
-    outside_distance : float
-        The farthest point of the mesh from the region / alpha (to 1/20).
+    outside_area_ratio, missing_area_ratio : float
+        Mesh area outside the region, and region area outside the mesh, / region area.
+    boundary_deviation : float
+        Hausdorff distance between the mesh's and the region's boundaries / alpha.
+    conforming : bool
+        Consecutive boundary samples are joined by mesh edges, and no edge of the mesh's
+        boundary ends at an interior sample.
+    sampled_outline : bool
+        The union of the triangles is the polygon through the boundary samples.
+    claims_conforming : bool
+        The mesh was made conforming (``PlanarMesh.conforming``): the boundary fields and
+        the visibility rule are then part of ``ok``.
+    visibility : bool
+        Separation and coverage were measured with the visibility rule.
+    boundary_problems : tuple of str
+        What breaks conformity, or why coverage was not measured with visibility, located.
     topology : TopologyReport
         Betti numbers of mesh and region, per component, and what differs where.
     aspect_bound : float
@@ -104,7 +135,13 @@ class Certificate:
     nonmanifold_vertices: int
     area_ratio: float
     outside_area_ratio: float
-    outside_distance: float
+    missing_area_ratio: float
+    boundary_deviation: float
+    conforming: bool
+    sampled_outline: bool
+    claims_conforming: bool
+    visibility: bool
+    boundary_problems: tuple[str, ...]
     topology: TopologyReport
 
     aspect_bound = ASPECT_BOUND
@@ -140,10 +177,17 @@ class Certificate:
         return self.topology.topology_ok
 
     @property
+    def boundary_ok(self) -> bool:
+        """The mesh conforms, is the polygon through its boundary samples (so it deviates
+        from the region by the chords' sagitta only), and was measured with visibility."""
+        return self.conforming and self.sampled_outline and self.visibility
+
+    @property
     def ok(self) -> bool:
         """Every guarantee holds: sampling, quality, topology, no isolated sample, manifold."""
         return (self.sampling_ok and self.quality_ok and self.topology_ok
-                and self.isolated_samples == 0 and self.nonmanifold_vertices == 0)
+                and self.isolated_samples == 0 and self.nonmanifold_vertices == 0
+                and (self.boundary_ok or not self.claims_conforming))
 
     def as_dict(self) -> dict:
         """Plain JSON-ready values, verdicts included.
@@ -166,26 +210,44 @@ class Certificate:
         """
         values = {name: getattr(self, name) for name in self.__dataclass_fields__}
         values["coverage_gap_at"] = list(self.coverage_gap_at)
+        values["boundary_problems"] = list(self.boundary_problems)
         values["topology"] = self.topology.as_dict()
         values.update(aspect_bound=ASPECT_BOUND, betti_mesh=self.betti_mesh,
                       betti_region=self.betti_region, sampling_ok=self.sampling_ok,
-                      quality_ok=self.quality_ok, topology_ok=self.topology_ok, ok=self.ok)
+                      quality_ok=self.quality_ok, topology_ok=self.topology_ok,
+                      boundary_ok=self.boundary_ok, ok=self.ok)
         return values
 
     def __str__(self) -> str:
         def mark(good):
             return "ok" if good else "FAILED"
+        if self.visibility:
+            rule = "to samples seen through the region (visibility rule)"
+        elif self.claims_conforming:
+            rule = "separation to samples seen through the region, coverage Euclidean"
+        else:
+            rule = "Euclidean"
+        if self.claims_conforming:
+            boundary = f"conforming mesh   {mark(self.boundary_ok)}"
+        else:
+            boundary = "reported, not part of ok: the mesh was made with conforming=False"
         return "\n".join([
             f"certificate: {mark(self.ok)} (alpha={self.alpha:.6g}, {self.samples} samples, "
             f"{self.triangles} triangles)",
+            f"  distances    {rule}",
             f"  separation   min {self.min_separation:.9f} alpha (>= 1)      {mark(self.min_separation >= 1 - SEPARATION_TOL)}",
             f"  coverage gap max {self.coverage_gap:.9f} alpha (<= 1)      {mark(self.coverage_gap <= 1 + COVERAGE_TOL)}",
             f"  aspect ratio max {self.max_aspect_ratio:.6f} (<= 4√3 = {ASPECT_BOUND:.6f})  {mark(self.quality_ok)}",
             f"  angles       [{self.min_angle:.3f}°, {self.max_angle:.3f}°] (within [30°, 120°])",
             f"  isolated samples {self.isolated_samples}, non-manifold vertices "
             f"{self.nonmanifold_vertices}, area ratio {self.area_ratio:.6f}",
-            f"  outside the region: {self.outside_area_ratio:.3g} of its area, at most "
-            f"{self.outside_distance:.3g} alpha away",
+            f"  boundary     {boundary}",
+            f"    conforming {_yes(self.conforming)}, outline = polygon through the boundary "
+            f"samples {_yes(self.sampled_outline)}",
+            f"    deviation {self.boundary_deviation:.3g} alpha, outside "
+            f"{self.outside_area_ratio:.3g} and missing {self.missing_area_ratio:.3g} of the "
+            "region's area",
+            *[f"    - {p}" for p in self.boundary_problems],
             "  " + str(self.topology).replace("\n", "\n  "),
         ])
 
@@ -216,13 +278,28 @@ def certify(mesh: PlanarMesh) -> Certificate:
     quality = mesh.quality()
     tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
     rim_edges = mesh.boundary_edges
-    extra = _delaunay_triangles_outside(points, faces, rim_edges, tree)
-    gap, gap_at = _coverage_gap(mesh, faces, extra, tree)
+    sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, alpha)
+    boundary = boundary_report(mesh, sampled)
+    problems = list(boundary.problems)
+    visibility = False
+    if mesh.conforming:
+        separation = _visible_separation(mesh, quality, tree, sampled)
+        why_not = _visibility_route_fails(mesh, boundary, sampled)
+        if why_not:
+            problems.append(f"coverage not measured with the visibility rule: {why_not}")
+        else:
+            visibility = True
+            gap, gap_at = _visible_coverage(points, faces, quality, sampled)
+    if not visibility:
+        extra = _delaunay_triangles_outside(points, faces, rim_edges, tree)
+        gap, gap_at = _coverage_gap(mesh, faces, extra, tree)
+        if not mesh.conforming:
+            separation = _shortest_edge(points, quality, extra, tree)
     used = np.zeros(len(points), bool)
     used[faces.ravel()] = True
     return Certificate(
         alpha=alpha, samples=len(points), triangles=len(faces),
-        min_separation=_shortest_edge(points, quality, extra, tree) / alpha,
+        min_separation=separation / alpha,
         coverage_gap=gap / alpha, coverage_gap_at=tuple(float(v) for v in gap_at),
         max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
         min_angle=float(quality.angles.min(initial=180.0)),
@@ -230,22 +307,110 @@ def certify(mesh: PlanarMesh) -> Certificate:
         isolated_samples=int(np.count_nonzero(~used)),
         nonmanifold_vertices=_nonmanifold_vertices(rim_edges, len(points)),
         area_ratio=float(quality.area.sum() / mesh.region.area),
-        **_outside(mesh),
+        outside_area_ratio=boundary.outside_area_ratio,
+        missing_area_ratio=boundary.missing_area_ratio,
+        boundary_deviation=boundary.boundary_deviation,
+        conforming=boundary.conforming, sampled_outline=boundary.sampled_outline,
+        claims_conforming=mesh.conforming, visibility=visibility,
+        boundary_problems=tuple(problems),
         topology=topology_report(mesh),
     )
 
 
-def _outside(mesh) -> dict:
-    """How much of the mesh lies outside the region, and how far: the solid
-    alpha-complex can bridge notches narrower than alpha (Theorem 2 assumes alpha <= ½
-    LFS, which a sharp reflex corner breaks). The distance is measured at points every
-    alpha/20 along the outline of the outside parts."""
-    region = mesh.region.geometry
-    outside = shapely.difference(mesh.outline, region)
-    probes = shapely.get_coordinates(shapely.segmentize(shapely.boundary(outside), mesh.alpha / 20))
-    far = shapely.distance(region, shapely.points(probes)).max(initial=0.0)
-    return {"outside_area_ratio": float(outside.area / region.area),
-            "outside_distance": float(far / mesh.alpha)}
+def _yes(value: bool) -> str:
+    return "yes" if value else "no"
+
+
+def _visibility_route_fails(mesh, boundary, sampled) -> str:
+    """Why the exact coverage route of a conforming mesh does not apply ('' if it does):
+    it needs the mesh to be the sampled boundary polygon Q, and the region that Q misses
+    to be convex pieces beyond the chords, each seen whole from a chord end it holds."""
+    if not len(mesh.faces):
+        return "the mesh has no triangle"
+    if not boundary.sampled_outline:
+        return "the mesh is not the polygon through its boundary samples"
+    if sampled.uncertain.any():
+        where = (sampled.points[sampled.a[sampled.uncertain]]
+                 + sampled.points[sampled.b[sampled.uncertain]])[0] / 2
+        return (f"the boundary bends both ways between {int(sampled.uncertain.sum())} pairs of "
+                f"consecutive boundary samples, e.g. near ({where[0]:.4g}, {where[1]:.4g}), "
+                "and the region beyond their chord is not all seen from one of them")
+    missing = boundary.missing_area_ratio * mesh.region.area
+    if abs(missing - sampled.sliver_area()) > AREA_TOL * mesh.region.area:
+        return (f"the region missing from the mesh ({missing:.6g}) is not the slivers between "
+                f"chords and boundary ({sampled.sliver_area():.6g}): chords cross other boundary")
+    return ""
+
+
+def _visible_separation(mesh, quality, tree, sampled) -> float:
+    """The smallest distance between samples that share an edge or see each other: the
+    shortest edge, or a closer pair (KD-tree) whose segment stays in the region (up to
+    the chords' sagitta)."""
+    shortest = float(quality.edge_lengths.min(initial=np.inf))
+    reach = shortest if np.isfinite(shortest) else 2.0 * mesh.alpha
+    pairs = tree.query_pairs(reach, output_type="ndarray")
+    points = mesh.vertices
+    segments = points[pairs]
+    length = np.hypot(*(segments[:, 1] - segments[:, 0]).T)
+    close = length < shortest
+    if not close.any():
+        return shortest
+    seen = _sees(shapely.union(mesh.region.geometry, sampled.polygon()), segments[close],
+                 mesh.alpha)
+    return float(min(shortest, length[close][seen].min(initial=np.inf)))
+
+
+def _sees(domain, segments, alpha) -> np.ndarray:
+    """Whether each (k, 2, 2) segment stays in ``domain``, up to 1e-9 alpha of its length
+    (boundary samples are on the boundary only to rounding)."""
+    shapely.prepare(domain)
+    lines = shapely.linestrings(segments)
+    inside = shapely.covers(domain, lines)
+    doubt = ~inside
+    if doubt.any():
+        inside[doubt] = shapely.length(shapely.difference(lines[doubt], domain)) <= 1e-9 * alpha
+    return inside
+
+
+def _visible_coverage(points, faces, quality, sampled):
+    """The coverage gap of a conforming mesh that is its sampled boundary polygon Q.
+
+    Every point of a triangle sees the triangle's corners, so its distance to a sample it
+    sees is at most the distance to the nearest corner. Over a triangle that peaks at the
+    circumcentre (distance R) when no angle is obtuse, else at one of the two points of
+    the longest edge AB equidistant from C and A (at ``|AC|/(2 cos A)`` from A) or from C
+    and B; both are below R. The slivers of region outside Q add
+    :meth:`SampledBoundary.sliver_gap`.
+    """
+    centre, radius = circumcircles(points, faces)
+    squared = quality.edge_lengths ** 2                        # edge k opposite corner k
+    longest = np.argmax(squared, axis=1)
+    rows = np.arange(len(faces))
+    obtuse = 2 * squared[rows, longest] > squared.sum(axis=1)
+    value = np.where(obtuse, -np.inf, radius)
+    best = int(np.argmax(value))
+    gap, at = float(value[best]), centre[best]
+    # obtuse triangles can only beat the best where their circumradius does
+    k = np.flatnonzero(obtuse & (radius > gap))
+    if len(k):
+        c = faces[k, longest[k]]
+        a = faces[k, (longest[k] + 1) % 3]
+        b = faces[k, (longest[k] + 2) % 3]
+        pa, pb, pc = points[a], points[b], points[c]
+        ab = pb - pa
+        length = np.hypot(ab[:, 0], ab[:, 1])
+        unit = ab / length[:, None]
+        from_a = squared[k, (longest[k] + 2) % 3] * length / (2 * np.einsum("ij,ij->i", ab, pc - pa))
+        from_b = squared[k, (longest[k] + 1) % 3] * length / (2 * np.einsum("ij,ij->i", -ab, pc - pb))
+        reach = np.maximum(from_a, from_b)
+        j = int(np.argmax(reach))
+        if reach[j] > gap:
+            gap = float(reach[j])
+            at = pa[j] + unit[j] * from_a[j] if from_a[j] >= from_b[j] else pb[j] - unit[j] * from_b[j]
+    sliver, sliver_at = sampled.sliver_gap()
+    if sliver > gap:
+        gap, at = sliver, sliver_at
+    return gap, np.asarray(at, float)
 
 
 def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:

@@ -21,11 +21,21 @@ measures the chord that spans 150° of arc, ``2·r·sin 75° ≈ 1.93·r``, near
 So ``d`` is about twice the paper's local feature size (LFS): the medial axis runs
 midway between two features at distance ``d``, and through the centre of a circle.
 Hence :func:`pds_plugin.suggest_alpha` returns ``½·LFS = d/4``.
+
+**Walls, not gaps, for conforming meshes.** Two features at distance ``d`` face each other
+across a *wall* when the segment between their closest points runs through the region
+(material ``d`` thick) and across a *gap* when it runs outside (a slot, a notch, the space
+between two components, across a hole). The paper's solid alpha-complex bridges a gap
+narrower than about alpha, so with ``conforming=False`` both count. A conforming mesh
+joins only samples that see each other through the region: it keeps every gap open at any
+alpha, and only material thinner than alpha limits alpha. With ``conforming=True`` (the
+default, like :func:`pds_plugin.mesh_region`) ``d`` is therefore the thinnest wall.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -39,6 +49,7 @@ ADJACENT_TURNING = 5 * np.pi / 6
 
 _COLLINEAR = 1e-7   # |turning angle| (radians) below which a vertex is a straight-line split
 _CHUNK = 16         # consecutive segments per spatial-index entry
+_BATCH = 1024       # pairs of runs expanded at once when looking for walls
 
 
 @dataclass(frozen=True)
@@ -113,12 +124,14 @@ class FeatureSize:
         return f"{self.kind} of width {self.value:.6g} between {a} and {b}"
 
 
-def feature_size(region: Region) -> FeatureSize:
+def feature_size(region: Region, conforming: bool = True) -> FeatureSize:
     """The smallest distance between non-adjacent boundary features of ``region``.
 
-    See the module documentation for the adjacency rule. The result is exact for polygons
-    (segment-to-segment distances) and is found through a spatial index over runs of
-    consecutive segments: about 10 ms for a CAD section of 800 segments, 0.15 s for
+    See the module documentation for the adjacency rule, and for walls and gaps: with
+    ``conforming=True`` only walls count (the segment between the two features runs
+    through the region), with ``conforming=False`` gaps too. The result is exact for
+    polygons (segment-to-segment distances) and is found through a spatial index over runs
+    of consecutive segments: about 10 ms for a CAD section of 800 segments, 0.15 s for
     6,500.
 
     A region without two non-adjacent segments is a triangle, up to collinear vertices and
@@ -128,6 +141,9 @@ def feature_size(region: Region) -> FeatureSize:
     Parameters
     ----------
     region : Region
+    conforming : bool
+        Count walls only (for conforming meshes, which keep gaps open), or walls and gaps
+        (for the paper's solid alpha-complex, ``mesh_region(..., conforming=False)``).
 
     Returns
     -------
@@ -143,22 +159,24 @@ def feature_size(region: Region) -> FeatureSize:
     >>> from shapely.geometry import box
     >>> from pds_plugin import Region
     >>> two_squares = Region.from_shapely(box(0, 0, 1, 1).union(box(1.25, 0, 2.25, 1)))
-    >>> fs = feature_size(two_squares)
+    >>> fs = feature_size(two_squares, conforming=False)
     >>> round(fs.value, 12), fs.kind
     (0.25, 'gap')
     >>> str(fs.features[0].ring_name), str(fs.features[1].ring_name)
     ('outline of component 0', 'outline of component 1')
+    >>> fs = feature_size(two_squares)                # a conforming mesh keeps the gap open
+    >>> round(fs.value, 12), fs.kind
+    (1.0, 'wall')
     """
     require_region(region, "feature_size")
     boundary = _Boundary(region)
-    found = boundary.closest_nonadjacent()
+    found = boundary.closest_nonadjacent(walls_only=bool(conforming))
     if found is None:
         found = boundary.smallest_altitude()
     distance, (i, j), (p, q) = found
     owners = region.ring_owners
     features = (boundary.describe(i, p, owners), boundary.describe(j, q, owners))
-    middle = (p + q) / 2
-    inside = bool(shapely.intersects_xy(region.geometry, middle[0], middle[1]))
+    inside = bool(boundary._through_region(np.array([i]), np.array([j]), p[None], q[None])[0])
     points = np.array([p, q])
     points.setflags(write=False)
     return FeatureSize(value=float(distance), points=points, features=features,
@@ -186,6 +204,7 @@ class _Boundary:
         self.total = (self.cumulative[self.start[1:]] - self.cumulative[self.start[:-1]])[self.ring_of]
         self.p0 = np.concatenate(rings)
         self.p1 = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
+        self.geometry = region.geometry
 
     def forward_adjacent(self, i, j):
         """For segments i <= j of one ring: the path i -> j turns less than the threshold."""
@@ -203,13 +222,15 @@ class _Boundary:
         same = self.ring_of[i] == self.ring_of[j]
         return same & (self.forward_adjacent(i, j) | self.backward_adjacent(i, j))
 
-    def closest_nonadjacent(self):
-        """``(distance, (i, j), (p, q))`` over non-adjacent segment pairs, or None.
+    def closest_nonadjacent(self, walls_only: bool = False):
+        """``(distance, (i, j), (p, q))`` over non-adjacent segment pairs, or None; with
+        ``walls_only`` over the pairs whose closest points are joined through the region.
 
         Runs of segments whose bounding boxes come within ``radius`` of each other are
         paired through an STRtree; ``radius`` grows until a non-adjacent pair is found
         within it, which makes the minimum exact.
         """
+        best_of = self._best_wall if walls_only else self._best_of_chunk_pairs
         chunks, first, last = self._chunks()
         tree = shapely.STRtree(chunks)
         boxes = shapely.bounds(chunks)
@@ -222,7 +243,7 @@ class _Boundary:
                 radius = best[0]
             a, b = tree.query(shapely.box(x0 - radius, y0 - radius, x1 + radius, y1 + radius))
             keep = a <= b
-            best = self._best_of_chunk_pairs(chunks, boxes, first, last, a[keep], b[keep])
+            best = best_of(chunks, boxes, first, last, a[keep], b[keep])
             if best is None:
                 if radius > 2 * span:
                     return None
@@ -283,6 +304,53 @@ class _Boundary:
         d, p, q = _segment_distance(self.p0[i], self.p1[i], self.p0[j], self.p1[j])
         k = np.argmin(d)
         return float(d[k]), (int(i[k]), int(j[k])), (p[k], q[k])
+
+    def _best_wall(self, chunks, boxes, first, last, a, b):
+        """The closest non-adjacent pair through the region among the runs ``a``, ``b``:
+        run pairs in order of their distance (a lower bound of their segment pairs'),
+        expanded a batch at a time until the next batch cannot beat the best wall."""
+        lower = shapely.distance(chunks[a], chunks[b])
+        order = np.argsort(lower, kind="stable")
+        best = None
+        for start in range(0, len(order), _BATCH):
+            batch = order[start:start + _BATCH]
+            if best is not None and lower[batch[0]] >= best[0]:
+                break
+            i, j = _expand(first[a[batch]], last[a[batch]], first[b[batch]], last[b[batch]])
+            keep = (i < j) & ~self.adjacent(i, np.maximum(i, j))
+            i, j = i[keep], j[keep]
+            d, p, q = _segment_distance(self.p0[i], self.p1[i], self.p0[j], self.p1[j])
+            wall = self._through_region(i, j, p, q)
+            if wall.any():
+                k = np.flatnonzero(wall)[np.argmin(d[wall])]
+                if best is None or d[k] < best[0]:
+                    best = (float(d[k]), (int(i[k]), int(j[k])), (p[k], q[k]))
+        return best
+
+    def _through_region(self, i, j, p, q):
+        """Whether the segment from ``p`` (on segment i) to ``q`` (on segment j) runs
+        through the region: its midpoint is in it, or, when rounding leaves the midpoint on
+        the boundary (as between the long sides of a rectangle, whose closest points may be
+        its corners), each segment faces the other on its inner side (the region lies left
+        of a ring's segments)."""
+        middle = (p + q) / 2
+        inside = shapely.intersects_xy(self.geometry, middle[:, 0], middle[:, 1])
+        d_i, d_j = self.p1[i] - self.p0[i], self.p1[j] - self.p0[j]
+        across = q - p
+        facing = ((d_i[:, 0] * across[:, 1] - d_i[:, 1] * across[:, 0] > 0)
+                  & (d_j[:, 1] * across[:, 0] - d_j[:, 0] * across[:, 1] > 0))
+        doubt = np.flatnonzero(facing & ~inside)
+        if len(doubt):
+            tolerance = 1e-9 * np.abs(self.p0).max()
+            near, _ = self.segment_tree.query_nearest(shapely.points(middle[doubt]),
+                                                       max_distance=tolerance, all_matches=False)
+            inside[doubt[near]] = True
+        return inside
+
+    @cached_property
+    def segment_tree(self):
+        """STRtree of the segments, for points on the boundary up to rounding."""
+        return shapely.STRtree(shapely.linestrings(np.stack([self.p0, self.p1], axis=1)))
 
     def smallest_altitude(self):
         """Ruppert's vertex-to-segment feature: a vertex and a segment not incident to it."""

@@ -1,0 +1,489 @@
+"""How a mesh's outline follows its region's boundary.
+
+The boundary samples of a mesh lie on the region's rings. Taken in order along a ring
+(the region on the left), two consecutive samples ``a -> b`` span a **chord**; the part of
+the ring from ``a`` to ``b`` is the chord's **arc**, and the polygon whose rings are the
+chords is the **sampled boundary polygon** Q. On a polygonal boundary whose corners are
+samples every arc is straight and Q is the region; on curved input Q differs from it only
+by the chords' sagitta: a *sliver* between a chord and an arc bulging away from Q (region
+that Q misses), or a *bulge* where the arc bends into Q (Q reaches outside the region).
+
+A mesh **conforms** when every chord is a mesh edge and no edge of the mesh's boundary
+touches an interior sample. Its outline **is the sampled boundary** when, moreover, its
+boundary edges are exactly the chords, in their direction, and its triangles, all
+counter-clockwise, add up to the area of Q: the triangles then tile Q (a 2-chain of the
+plane is fixed by its boundary), checked combinatorially, with no tolerance but the area
+sum's rounding.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+
+__all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
+
+PROBES_PER_ALPHA = 50
+"""Probes per length alpha along the curves whose distance is not exact: the boundary
+deviation is then measured to alpha / 100 (the distance is 1-Lipschitz)."""
+
+ON_BOUNDARY_TOL = 1e-9    # relative to alpha: how far a boundary sample may lie off its ring
+AREA_TOL = 1e-9           # relative to the region's area: rounding of area sums
+_MAX_NAMED = 3            # located examples per kind of problem
+
+
+@dataclass(frozen=True)
+class BoundaryReport:
+    """How the outline of a mesh follows the region's boundary.
+
+    Attributes
+    ----------
+    conforming : bool
+        Every pair of consecutive boundary samples is a mesh edge, and no edge of the
+        mesh's boundary touches an interior sample.
+    sampled_outline : bool
+        The union of the triangles is exactly the sampled boundary polygon Q (see the
+        module documentation): the mesh deviates from the region by the chords' sagitta
+        and nothing else.
+    boundary_deviation : float
+        Hausdorff distance between the mesh's boundary and the region's, / alpha: exact
+        (0) along chords on straight boundary, elsewhere measured every alpha / 50.
+    outside_area_ratio, missing_area_ratio : float
+        Mesh area outside the region, and region area outside the mesh, / region area.
+    problems : tuple of str
+        What breaks conformity, located in region coordinates.
+    """
+
+    conforming: bool
+    sampled_outline: bool
+    boundary_deviation: float
+    outside_area_ratio: float
+    missing_area_ratio: float
+    problems: tuple[str, ...]
+
+
+def boundary_report(mesh, sampled: "SampledBoundary | None" = None) -> BoundaryReport:
+    """Measure how ``mesh`` (a PlanarMesh) follows its region's boundary.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    sampled : SampledBoundary, optional
+        The chords of the mesh's boundary samples, when already computed.
+
+    Returns
+    -------
+    BoundaryReport
+
+    Examples
+    --------
+    >>> import numpy as np, shapely
+    >>> from shapely.geometry import box
+    >>> import pds_plugin as pds
+    >>> square = box(0, 0, 1, 1)
+    >>> triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(square))
+    >>> corners = shapely.get_coordinates(shapely.get_exterior_ring(triangles)).reshape(-1, 4, 2)[:, :3]
+    >>> vertices, faces = np.unique(corners.reshape(-1, 2), axis=0, return_inverse=True)
+    >>> faces = faces.reshape(-1, 3)[:, ::-1]          # shapely's triangles run clockwise
+    >>> region = pds.Region.from_shapely(square)
+    >>> mesh = pds.PlanarMesh(vertices, faces, np.ones(4, bool), region, 1.0)
+    >>> report = boundary_report(mesh)
+    >>> report.conforming, report.sampled_outline, report.boundary_deviation
+    (True, True, 0.0)
+    """
+    if sampled is None:
+        sampled = SampledBoundary(mesh.region, mesh.vertices, mesh.on_boundary, mesh.alpha)
+    return _Conformity(mesh, sampled).report()
+
+
+class SampledBoundary:
+    """The boundary samples of a point set in order along the region's rings, their
+    chords and arcs (see the module documentation).
+
+    Parameters
+    ----------
+    region : Region
+    points : (N, 2) float ndarray
+    on_boundary : (N,) bool ndarray
+        The samples placed on the boundary; each is put on its nearest boundary segment.
+    alpha : float
+
+    Attributes
+    ----------
+    a, b : (C,) int ndarray
+        Sample indices of each chord, ``a -> b`` along the ring.
+    ring : (C,) int ndarray
+        The ring (index into ``region.rings``) of each chord.
+    straight : (C,) bool ndarray
+        Chords whose arc holds no ring vertex: the chord is a piece of a boundary segment.
+    samples_per_ring : (R,) int ndarray
+    offset : float
+        The largest distance of a boundary sample from its ring.
+    """
+
+    def __init__(self, region, points, on_boundary, alpha):
+        self.region, self.points, self.alpha = region, np.asarray(points, float), float(alpha)
+        rings = region.rings
+        sizes = np.array([len(r) for r in rings])
+        segments = region.segments
+        vector = segments[:, 1] - segments[:, 0]
+        length = np.hypot(vector[:, 0], vector[:, 1])
+        ring_of = np.repeat(np.arange(len(rings)), sizes)
+        first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        along = np.cumsum(length) - length                 # start of each segment along all rings
+        self.perimeter = np.add.reduceat(length, first)
+        vertex_at = along                                  # ring vertex k starts segment k
+        # each boundary sample on its nearest segment, as a position along all rings
+        index = np.flatnonzero(on_boundary)
+        tree = shapely.STRtree(shapely.linestrings(segments))
+        (which, nearest), distance = tree.query_nearest(shapely.points(self.points[index]),
+                                                        all_matches=False, return_distance=True)
+        segment = np.empty(len(index), np.int64)
+        segment[which] = nearest
+        off = np.empty(len(index))
+        off[which] = distance
+        self.offset = float(off.max(initial=0.0))
+        t = np.einsum("ij,ij->i", self.points[index] - segments[segment, 0], vector[segment])
+        t = np.clip(t / length[segment] ** 2, 0.0, 1.0) * length[segment]
+        position = vertex_at[segment] + t
+        sample_ring = ring_of[segment]
+        order = np.lexsort((position, sample_ring))
+        self.sample, position, sample_ring = index[order], position[order], sample_ring[order]
+        self.samples_per_ring = np.bincount(sample_ring, minlength=len(rings))
+        ring_first = np.concatenate([[0], np.cumsum(self.samples_per_ring)[:-1]])
+        following = np.arange(len(self.sample)) + 1
+        wraps = following == (ring_first + self.samples_per_ring)[sample_ring]
+        following[wraps] = ring_first[sample_ring[wraps]]
+        chord = np.flatnonzero(self.samples_per_ring[sample_ring] >= 2)
+        self.a, self.b = self.sample[chord], self.sample[following[chord]]
+        self.ring = sample_ring[chord]
+        # ring vertices strictly inside each chord's arc, in order along it
+        has_chords = self.samples_per_ring[ring_of] >= 2
+        vertex = np.flatnonzero(has_chords)
+        vring = ring_of[vertex]
+        j = np.searchsorted(position, vertex_at[vertex], side="right") - 1
+        before = j < ring_first[vring]                     # before the ring's first sample
+        j[before] = (ring_first + self.samples_per_ring - 1)[vring[before]]
+        key = vertex_at[vertex] + np.where(before, self.perimeter[vring], 0.0)
+        chord_of_sorted = np.full(len(self.sample), -1)
+        chord_of_sorted[chord] = np.arange(len(chord))
+        arc_chord = chord_of_sorted[j]
+        xy = region.segments[vertex, 0]
+        tol = ON_BOUNDARY_TOL * self.alpha
+        apart = ((np.hypot(*(xy - self.points[self.a[arc_chord]]).T) > tol)
+                 & (np.hypot(*(xy - self.points[self.b[arc_chord]]).T) > tol))
+        arc = np.lexsort((key[apart], arc_chord[apart]))
+        self.arc_chord = arc_chord[apart][arc]
+        self.arc_xy = xy[apart][arc]
+        into = segments[vertex, 0] - segments[np.where(vertex == first[vring], vertex + sizes[vring],
+                                                       vertex) - 1, 0]
+        turn = into[:, 0] * vector[vertex, 1] - into[:, 1] * vector[vertex, 0]
+        self.arc_turns_left = (turn >= -1e-12 * np.hypot(*into.T) * length[vertex])[apart][arc]
+        self.straight = np.bincount(self.arc_chord, minlength=len(self.a)) == 0
+
+    @cached_property
+    def arc_offset(self) -> np.ndarray:
+        """Signed distance of each arc vertex from its chord's line (> 0: into Q)."""
+        a, b = self.points[self.a[self.arc_chord]], self.points[self.b[self.arc_chord]]
+        ab, av = b - a, self.arc_xy - a
+        return (ab[:, 0] * av[:, 1] - ab[:, 1] * av[:, 0]) / np.hypot(ab[:, 0], ab[:, 1])
+
+    @cached_property
+    def sliver(self) -> np.ndarray:
+        """Chords whose arc bulges away from Q and with it bounds a convex sliver of region
+        that Q misses (every arc vertex on the far side of the chord, turning towards it)."""
+        tol = ON_BOUNDARY_TOL * self.alpha
+        n = len(self.a)
+        beyond = np.bincount(self.arc_chord, self.arc_offset < -tol, minlength=n) > 0
+        inward = np.bincount(self.arc_chord, self.arc_offset > tol, minlength=n) > 0
+        bends = np.bincount(self.arc_chord, ~self.arc_turns_left, minlength=n) > 0
+        return beyond & ~inward & ~bends
+
+    @cached_property
+    def mixed(self) -> np.ndarray:
+        """Chords whose arc reaches beyond the chord but is not a convex sliver: it crosses
+        the chord, or bends both ways beyond it."""
+        tol = ON_BOUNDARY_TOL * self.alpha
+        beyond = np.bincount(self.arc_chord, self.arc_offset < -tol, minlength=len(self.a)) > 0
+        return beyond & ~self.sliver
+
+    @cached_property
+    def _pieces(self):
+        """For each mixed chord: the largest distance from its pieces beyond the chord to a
+        chord end they see, where, their total area, and whether each piece is convex and
+        holds a chord end (see :meth:`_chord_pieces`)."""
+        found = [self._chord_pieces(k) for k in np.flatnonzero(self.mixed)]
+        if not found:
+            return np.zeros(0), np.zeros((0, 2)), np.zeros(0), np.zeros(0, bool)
+        gap, where, area, seen = zip(*found)
+        return np.array(gap), np.array(where), np.array(area), np.array(seen)
+
+    def _chord_pieces(self, k):
+        """The arc of chord k cut where it crosses the chord's line: each piece beyond the
+        line is a polygon from a crossing (or a chord end) along the arc to the next. A
+        convex piece is seen whole from the chord ends it holds: its farthest point from
+        them is one of its vertices, or with both ends where the chord's bisector crosses
+        its boundary. A piece holding no chord end, or not convex, is not certified. (A
+        Python loop, over the few chords whose arc bends both ways.)"""
+        on = self.arc_chord == k
+        a, b = self.points[self.a[k]], self.points[self.b[k]]
+        xy = np.concatenate([[a], self.arc_xy[on], [b]])
+        height = np.concatenate([[0.0], self.arc_offset[on], [0.0]])
+        tol = ON_BOUNDARY_TOL * self.alpha
+        height[np.abs(height) <= tol] = 0.0
+        pieces, current = [], None
+        for i in range(len(xy) - 1):
+            if height[i] >= 0 > height[i + 1]:                  # the arc leaves Q's side
+                t = height[i] / (height[i] - height[i + 1])
+                current = [xy[i] + t * (xy[i + 1] - xy[i])]
+            if current is not None and height[i + 1] < 0:
+                current.append(xy[i + 1])
+            if current is not None and height[i + 1] >= 0:     # back on the chord's line
+                t = height[i] / (height[i] - height[i + 1])
+                current.append(xy[i] + t * (xy[i + 1] - xy[i]))
+                pieces.append(np.array(current))
+                current = None
+        gap, where, area, seen = 0.0, a, 0.0, True
+        for piece in pieces:
+            edges = np.roll(piece, -1, axis=0) - piece
+            turns = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
+            area += abs(float((piece[:, 0] * np.roll(piece[:, 1], -1)
+                               - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
+            ends = [e for e, at in ((a, piece[0]), (b, piece[-1])) if np.allclose(e, at, rtol=0, atol=tol)]
+            if not ends or (turns < -1e-12 * self.alpha ** 2).any():
+                seen = False
+                continue
+            candidates = list(piece)
+            if len(ends) == 2:                  # where the bisector of ab crosses the arc
+                side = (piece - (a + b) / 2) @ (b - a)
+                for i in np.flatnonzero((side[:-1] < 0) & (side[1:] >= 0)):
+                    t = side[i] / (side[i] - side[i + 1])
+                    candidates.append(piece[i] + t * (piece[i + 1] - piece[i]))
+            candidates = np.array(candidates)
+            distance = np.min([np.hypot(*(candidates - e).T) for e in ends], axis=0)
+            j = int(np.argmax(distance))
+            if distance[j] > gap:
+                gap, where = float(distance[j]), candidates[j]
+        return gap, where, area, seen
+
+    @property
+    def uncertain(self) -> np.ndarray:
+        """Chords beyond which some region is not certified to see a sample (see
+        :meth:`_chord_pieces`)."""
+        uncertain = np.zeros(len(self.a), bool)
+        uncertain[np.flatnonzero(self.mixed)[~self._pieces[3]]] = True
+        return uncertain
+
+    def arcs(self, chords: np.ndarray):
+        """The polylines ``a, arc vertices..., b`` of ``chords`` (bool mask): (K, 2, 2)
+        segments and the chord of each."""
+        pick = chords[self.arc_chord]
+        c = np.concatenate([np.flatnonzero(chords), self.arc_chord[pick], np.flatnonzero(chords)])
+        rank = np.concatenate([np.zeros(chords.sum()), 1 + np.arange(pick.sum()),
+                               np.full(chords.sum(), np.inf)])
+        xy = np.concatenate([self.points[self.a[chords]], self.arc_xy[pick],
+                             self.points[self.b[chords]]])
+        order = np.lexsort((rank, c))
+        c, xy = c[order], xy[order]
+        same = c[1:] == c[:-1]
+        return np.stack([xy[:-1][same], xy[1:][same]], axis=1), c[:-1][same]
+
+    def sliver_gap(self):
+        """The largest distance from a point of the region beyond the chords to a chord end
+        it sees, and where. Over a convex sliver it peaks at an arc vertex, where the
+        chord's bisector crosses the arc, or at the chord's midpoint (the vertices of the
+        sliver's pieces in the two Voronoi cells of the chord's ends); the pieces of mixed
+        arcs come from :meth:`_chord_pieces`."""
+        gap, at = 0.0, np.zeros(2)
+        mixed_gap, mixed_at, _, _ = self._pieces
+        if len(mixed_gap) and mixed_gap.max() > gap:
+            gap, at = float(mixed_gap.max()), mixed_at[np.argmax(mixed_gap)]
+        if not self.sliver.any():
+            return gap, at
+        segments, chord = self.arcs(self.sliver)
+        a, b = self.points[self.a[chord]], self.points[self.b[chord]]
+        ab = b - a
+        side = np.einsum("kij,kj->ki", segments - ((a + b) / 2)[:, None], ab)   # g / 2 at both ends
+        crossing = (side[:, 0] < 0) & (side[:, 1] >= 0)
+        s = side[crossing]
+        cross_xy = segments[crossing, 0] + (s[:, :1] / (s[:, :1] - s[:, 1:])) * \
+            (segments[crossing, 1] - segments[crossing, 0])
+        candidates = np.concatenate([segments[:, 1], cross_xy,
+                                     (self.points[self.a[self.sliver]] + self.points[self.b[self.sliver]]) / 2])
+        ends_of = np.concatenate([chord, chord[crossing], np.flatnonzero(self.sliver)])
+        pa, pb = self.points[self.a[ends_of]], self.points[self.b[ends_of]]
+        distance = np.minimum(np.hypot(*(candidates - pa).T), np.hypot(*(candidates - pb).T))
+        k = int(np.argmax(distance))
+        if distance[k] > gap:
+            gap, at = float(distance[k]), candidates[k]
+        return gap, at
+
+    def sliver_area(self) -> float:
+        """Total area of the region beyond the chords: the convex slivers (shoelace over
+        their closed polylines) and the pieces of mixed arcs."""
+        segments, _ = self.arcs(self.sliver)
+        closing = np.stack([self.points[self.b[self.sliver]], self.points[self.a[self.sliver]]], axis=1)
+        segments = np.concatenate([segments, closing])
+        cross = segments[:, 0, 0] * segments[:, 1, 1] - segments[:, 0, 1] * segments[:, 1, 0]
+        return float(abs(cross.sum()) / 2 + self._pieces[2].sum())
+
+    def polygon(self):
+        """The sampled boundary polygon Q (rings of fewer than 3 samples left out)."""
+        rings = np.split(self.points[self.sample], np.cumsum(self.samples_per_ring)[:-1])
+        owners = self.region.ring_owners
+        parts = []
+        for c, component in enumerate(self.region.geometry.geoms):
+            mine = [rings[r] for r, (owner, _) in enumerate(owners) if owner == c]
+            if len(mine[0]) < 3:
+                continue
+            parts.append(Polygon(mine[0], [h for h in mine[1:] if len(h) >= 3]))
+        polygon = MultiPolygon(parts)
+        return polygon if polygon.is_valid else shapely.make_valid(polygon)
+
+    def area(self) -> float:
+        """Signed area of Q from its chords (shoelace): exteriors count positive, holes negative."""
+        a, b = self.points[self.a], self.points[self.b]
+        return float((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum() / 2)
+
+
+class _Conformity:
+    """The checks of :func:`boundary_report` on one mesh."""
+
+    def __init__(self, mesh, sampled: SampledBoundary):
+        self.mesh, self.sampled = mesh, sampled
+        self.points, self.alpha = sampled.points, sampled.alpha
+        self.n = len(self.points)
+        self.boundary_edges = mesh.boundary_edges
+        self.problems = []
+
+    def report(self) -> BoundaryReport:
+        conforming = self._conforming()
+        sampled_outline = conforming and self._sampled_outline()
+        outside, missing = self._areas_off(sampled_outline)
+        return BoundaryReport(
+            conforming=conforming, sampled_outline=sampled_outline,
+            boundary_deviation=self._deviation() / self.alpha,
+            outside_area_ratio=outside, missing_area_ratio=missing,
+            problems=tuple(self.problems))
+
+    def _areas_off(self, sampled_outline):
+        """Mesh area outside the region and region area outside the mesh, / region area.
+        A mesh that is Q with every chord straight is the region itself (every ring vertex
+        is a sample): both are 0 without an overlay."""
+        if sampled_outline and self.sampled.straight.all():
+            return 0.0, 0.0
+        outline, region = self.mesh.outline, self.mesh.region.geometry
+        area = self.mesh.region.area
+        return (float(shapely.difference(outline, region).area / area),
+                float(shapely.difference(region, outline).area / area))
+
+    def _say(self, count, what, where):
+        if count:
+            places = ", ".join(_xy(p) for p in where[:_MAX_NAMED])
+            self.problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
+
+    def _conforming(self) -> bool:
+        s, mesh = self.sampled, self.mesh
+        far = s.offset > ON_BOUNDARY_TOL * self.alpha
+        if far:
+            self.problems.append(f"samples marked on the boundary lie up to "
+                                 f"{s.offset / self.alpha:.3g} alpha off it")
+        owners = mesh.region.ring_owners
+        for r in np.flatnonzero(s.samples_per_ring < 3):
+            self.problems.append(f"the {_ring_name(owners[r])} holds {s.samples_per_ring[r]} "
+                                 "boundary samples, too few to be a ring of the mesh")
+        edges = self.mesh.edges
+        edges = edges[mesh.on_boundary[edges[:, 0]] & mesh.on_boundary[edges[:, 1]]]
+        missing = ~np.isin(_keys(s.a, s.b, self.n), _keys(edges[:, 0], edges[:, 1], self.n))
+        middle = (self.points[s.a[missing]] + self.points[s.b[missing]]) / 2
+        self._say(int(missing.sum()), "pairs of consecutive boundary samples are not joined by "
+                  "a mesh edge", middle)
+        inner = ~mesh.on_boundary[self.boundary_edges]
+        dents = inner.any(axis=1)
+        self._say(int(dents.sum()), "mesh-boundary edges end at interior samples",
+                  self.points[np.where(inner[:, 0], self.boundary_edges[:, 0],
+                                       self.boundary_edges[:, 1])[dents]])
+        return not (far or (s.samples_per_ring < 3).any() or missing.any() or dents.any())
+
+    def _sampled_outline(self) -> bool:
+        s = self.sampled
+        edges = self.boundary_edges
+        extra = ~np.isin(edges[:, 0] * self.n + edges[:, 1], s.a * self.n + s.b)
+        self._say(int(extra.sum()), "mesh-boundary edges are not chords between consecutive "
+                  "boundary samples", self.points[edges[extra]].mean(axis=1))
+        faces = np.asarray(self.mesh.faces, np.int64).reshape(-1, 3)
+        corner = self.points[faces]
+        u, v = corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]
+        signed = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
+        clockwise = signed <= 0
+        self._say(int(clockwise.sum()), "triangles are clockwise or flat", corner[clockwise].mean(axis=1))
+        overlap = abs(signed.sum() - s.area()) > AREA_TOL * self.mesh.region.area
+        if overlap:
+            self.problems.append(f"the triangles' area {signed.sum():.9g} differs from the area "
+                                 f"{s.area():.9g} of the polygon through the boundary samples: "
+                                 "triangles overlap")
+        return not (extra.any() or clockwise.any() or overlap) and len(edges) == len(s.a)
+
+    def _deviation(self) -> float:
+        """Hausdorff distance between the mesh's and the region's boundaries; exact (0)
+        along chords on straight boundary that are mesh-boundary edges, probed elsewhere."""
+        s, edges = self.sampled, self.boundary_edges
+        if not len(edges):
+            return np.inf
+        exact = np.isin(_keys(s.a, s.b, self.n), _keys(edges[:, 0], edges[:, 1], self.n)) & s.straight
+        exact_keys = _keys(s.a[exact], s.b[exact], self.n)
+        mesh_side = ~np.isin(_keys(edges[:, 0], edges[:, 1], self.n), exact_keys)
+        rings_probed = np.repeat(s.samples_per_ring < 2, [len(r) for r in self.mesh.region.rings])
+        region_side = np.concatenate([s.arcs(~exact)[0], self.mesh.region.segments[rings_probed]])
+        mesh_segments = self.points[edges]
+        step = self.alpha / PROBES_PER_ALPHA
+        return max(_farthest(mesh_segments[mesh_side], self.mesh.region.segments, step),
+                   _farthest(region_side, mesh_segments, step))
+
+
+def _farthest(curves, targets, step) -> float:
+    """The largest distance from a point of the (k, 2, 2) segments ``curves`` to the
+    nearest of ``targets``, to ``step / 2`` below.
+
+    The distance is 1-Lipschitz: along a segment of length L it stays under
+    ``(d(start) + d(end) + L) / 2``, so only segments whose bound beats the farthest end
+    are probed every ``step``.
+    """
+    if not len(curves):
+        return 0.0
+    tree = shapely.STRtree(shapely.linestrings(targets))
+
+    def distance(xy):
+        return tree.query_nearest(shapely.points(xy), all_matches=False, return_distance=True)[1]
+
+    ends = distance(curves.reshape(-1, 2)).reshape(-1, 2)
+    length = np.hypot(*(curves[:, 1] - curves[:, 0]).T)
+    farthest = float(ends.max())
+    open_ = (ends.sum(axis=1) + length) / 2 > farthest + step / 2
+    if open_.any():
+        count = np.ceil(length[open_] / step).astype(np.int64)
+        owner = np.repeat(np.flatnonzero(open_), count - 1)
+        t = (np.arange(len(owner)) - np.repeat(np.cumsum(count - 1) - (count - 1), count - 1) + 1) \
+            / np.repeat(count, count - 1)
+        probes = curves[owner, 0] + t[:, None] * (curves[owner, 1] - curves[owner, 0])
+        if len(probes):
+            farthest = max(farthest, float(distance(probes).max()))
+    return farthest
+
+
+def _keys(u, v, n) -> np.ndarray:
+    """Undirected edge keys."""
+    return np.minimum(u, v) * n + np.maximum(u, v)
+
+
+def _ring_name(owner) -> str:
+    component, hole = owner
+    return f"outline of component {component}" if hole is None else f"hole {hole} of component {component}"
+
+
+def _xy(point) -> str:
+    return f"({float(point[0]):.4g}, {float(point[1]):.4g})"
