@@ -32,7 +32,8 @@ def use_kernels(current: dict, wanted: dict) -> None:
     for name in KERNELS:
         old, new = current[name], wanted[name]
         replace_everywhere(old, new, skip)
-        for attribute in dir(old):
-            if not attribute.startswith("_") and callable(getattr(old, attribute)):
-                replace_everywhere(getattr(old, attribute), getattr(new, attribute), skip)
+        for attribute, function in vars(old).items():         # the kernel functions
+            if (not attribute.startswith("_") and callable(function)
+                    and not isinstance(function, type) and hasattr(new, attribute)):
+                replace_everywhere(function, getattr(new, attribute), skip)
         sys.modules[f"pds_plugin.{name}"] = new
