@@ -1,4 +1,4 @@
-"""Build the compiled kernels: one Cython extension per ``src/pds_plugin/_*.pyx``.
+"""Build the compiled kernels: one Cython extension per ``_*.pyx`` under ``src/pds_plugin``.
 
 OpenMP is used when the compiler supports it (gcc, or clang with libomp); without it
 the kernels are built serial, with a warning. The kernels are compiled without fused
@@ -15,7 +15,7 @@ from Cython.Build import cythonize
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
-KERNELS = sorted(path.stem for path in Path("src/pds_plugin").glob("_*.pyx"))
+KERNELS = sorted(Path("src").glob("pds_plugin/**/_*.pyx"))     # wherever the package puts them
 
 
 class BuildKernels(build_ext):
@@ -55,10 +55,10 @@ class BuildKernels(build_ext):
         return True
 
 
-extensions = [Extension(f"pds_plugin.{name}", [f"src/pds_plugin/{name}.pyx"],
+extensions = [Extension(".".join(path.relative_to("src").with_suffix("").parts), [str(path)],
                         include_dirs=[numpy.get_include()],
                         define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")])
-              for name in KERNELS]
+              for path in KERNELS]
 
 setup(ext_modules=cythonize(extensions, compiler_directives={"language_level": 3}),
       cmdclass={"build_ext": BuildKernels})

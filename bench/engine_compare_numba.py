@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-KERNELS = ("_sampling_kernels", "_complex_kernels", "_geometry_kernels", "_mesh_kernels",
-           "_certificate_kernels")
+sys.path.insert(0, str(ROOT / "bench"))
+from _swap import KERNELS  # noqa: E402
 
 
 def _use_numba_kernels(folder: Path):
@@ -43,7 +43,6 @@ def _cases():
     from shapely.geometry import box
 
     import pds_plugin as pds
-    sys.path.insert(0, str(ROOT / "bench"))
     import _regions
     from pds_plugin import _complex_kernels, _geometry_kernels, complex as cx
 

@@ -13,6 +13,7 @@ Prints one table per case: seconds and share of the wall time.
 from __future__ import annotations
 
 import argparse
+import importlib
 import time
 from collections import defaultdict
 from pathlib import Path
@@ -22,11 +23,10 @@ import shapely
 from shapely.geometry import box
 
 import pds_plugin as pds
-from pds_plugin import (_certificate_kernels, _complex_kernels, _geometry_kernels,
-                        _mesh_kernels, _sampling_kernels, certificate, complex, quality,
-                        sampling, topology)
+from pds_plugin import complex, sampling
+from _swap import KERNELS, replace_everywhere
 
-DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data"
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 TOTALS: dict[str, float] = defaultdict(float)
 
 
@@ -41,27 +41,23 @@ def _timed(name, function):
 
 
 def _instrument():
-    kernels = (_sampling_kernels, _complex_kernels, _geometry_kernels, _mesh_kernels,
-               _certificate_kernels)
-    users = (sampling, complex, certificate, quality, topology)
-    for module in kernels:
+    """Wrap every kernel function, the sampler's shapely tests and the two stages in
+    timers, wherever pds_plugin calls them."""
+    square = pds.Region.from_shapely(box(0, 0, 1, 1))
+    pds.mesh_region(square, "auto", max_alpha=0.2).certificate()     # load every module
+    for module in (importlib.import_module(f"pds_plugin.{name}") for name in KERNELS):
         for name in dir(module):
             function = getattr(module, name)
             if name.startswith("_") or not callable(function) or isinstance(function, type):
                 continue
-            wrapped = _timed(f"{module.__name__.split('.')[-1]}.{name}", function)
-            setattr(module, name, wrapped)
-            for user in users:
-                if getattr(user, name, None) is function:
-                    setattr(user, name, wrapped)
+            replace_everywhere(function, _timed(f"{module.__name__.split('.')[-1]}.{name}",
+                                                function))
     for name in ("intersects", "contains_xy"):
         setattr(sampling.shapely, name, _timed(f"shapely.{name}", getattr(shapely, name)))
-    sampling.poisson_disc = _timed("poisson_disc (total)", sampling.poisson_disc)
-    complex.solid_alpha_complex = _timed("solid_alpha_complex (total)",
-                                         complex.solid_alpha_complex)
-    import pds_plugin.mesh as mesh_module
-    mesh_module.poisson_disc = sampling.poisson_disc
-    mesh_module.solid_alpha_complex = complex.solid_alpha_complex
+    replace_everywhere(sampling.poisson_disc,
+                       _timed("poisson_disc (total)", sampling.poisson_disc))
+    replace_everywhere(complex.solid_alpha_complex,
+                       _timed("solid_alpha_complex (total)", complex.solid_alpha_complex))
 
 
 def _square_alpha(n):

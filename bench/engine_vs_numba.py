@@ -32,13 +32,13 @@ import numpy as np
 from shapely.geometry import box
 
 import pds_plugin as pds
-from pds_plugin import _parallel, certificate, complex as complex_module, sampling, topology
+from pds_plugin import _parallel
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
 from _regions import DATA, stl_section  # noqa: E402
 from _runners import _area_for_vertices, _pslg  # noqa: E402
-from engine_compare_numba import KERNELS  # noqa: E402
+from _swap import KERNELS, use_kernels  # noqa: E402
 
 
 def _load(folder: Path) -> dict:
@@ -50,16 +50,6 @@ def _load(folder: Path) -> dict:
     return modules
 
 
-def _use(kernels: dict):
-    """Point pds_plugin's kernel users at ``kernels``."""
-    sampling.kern = kernels["_sampling_kernels"]
-    complex_module.kern = kernels["_complex_kernels"]
-    certificate.boundary_gaps = kernels["_certificate_kernels"].boundary_gaps
-    certificate.circumcircles = kernels["_geometry_kernels"].circumcircles
-    topology.edges_of = kernels["_mesh_kernels"].edges_of
-    sys.modules["pds_plugin._geometry_kernels"] = kernels["_geometry_kernels"]
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=float, nargs="*", default=[1e4, 1e5, 1e6])
@@ -69,7 +59,9 @@ def main():
     import numba
     import triangle
 
+    pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), "auto", max_alpha=0.2).certificate()
     compiled = {name: importlib.import_module(f"pds_plugin.{name}") for name in KERNELS}
+    current = compiled
     with tempfile.TemporaryDirectory(prefix="pds_numba_") as folder:
         for name in KERNELS:
             (Path(folder) / f"{name}.py").write_text(subprocess.run(
@@ -80,7 +72,9 @@ def main():
 
         def engine(kernels, threads, set_threads):
             def run(region, alpha):
-                _use(kernels)
+                nonlocal current
+                use_kernels(current, kernels)
+                current = kernels
                 set_threads(threads)
                 start, cpu = time.perf_counter(), time.process_time()
                 mesh = pds.mesh_region(region, alpha)
@@ -121,7 +115,7 @@ def main():
                 wall, cpu, cert = (statistics.median(t[k] for t in values) for k in range(3))
                 print(f"| {label} ({target} vertices) | {name} | {wall:.4f} | {cpu:.4f} | "
                       f"{cert:.4f} | {wall / wall0:.2f} | {cpu / cpu0:.2f} |", flush=True)
-        _use(compiled)
+        use_kernels(current, compiled)
         _parallel.set_threads(None)
 
 

@@ -37,8 +37,8 @@ openmp = bool(PDS_OPENMP)
 
 cdef Py_ssize_t _MIN_WORK = 2048
 MIN_WORK_PER_THREAD = _MIN_WORK
-"""Loop iterations below which a second thread costs more than it gives (measured in
-docs/engine.md): a loop of n iterations uses at most n // MIN_WORK_PER_THREAD threads."""
+"""A loop of n iterations uses at most n // MIN_WORK_PER_THREAD threads, so short loops
+run serial (docs/engine.md has the timings against one thread)."""
 
 cdef int _threads = 1
 
