@@ -345,6 +345,17 @@ def test_outline_closes_a_loop_smaller_than_the_tolerance_without_collapsing_it(
     assert geometry.area == pytest.approx(regular_polygon_area(0.01, 12), rel=1e-6)
 
 
+def test_outline_chain_with_a_rounding_error_step_stays_closed():
+    """A corner arc computed with cos/sin starts 6e-16 from the line before it: GEOS
+    dropped that step and cut the loop there (a false open end at (0, 5))."""
+    angles = np.linspace(np.pi, 1.5 * np.pi, 9)
+    arc = np.column_stack([5 + 5 * np.cos(angles), 5 + 5 * np.sin(angles)])  # (0, 5) to (5, 0)
+    chain = np.vstack([[[5, 0], [20, 0], [20, 20], [0, 20], [0, 5]], arc])
+    geometry, open_ends = outline_geometry([chain], tolerance=0.01)
+    assert len(open_ends) == 0
+    assert geometry.area == pytest.approx(shapely.Polygon(chain).area, rel=1e-12)
+
+
 # --- errors ---
 
 def test_missing_file(tmp_path):

@@ -139,8 +139,8 @@ def outline_geometry(chains, tolerance: float):
     chains = [c for c in chains if len(c) >= 2]
     if not chains:
         return shapely.Polygon(), np.empty((0, 2))
-    chain_ids = _chain_ids(chains)
-    coords = _snap(np.concatenate(chains), chain_ids, tolerance)
+    coords, chain_ids = _without_rounding_steps(np.concatenate(chains), _chain_ids(chains))
+    coords = _snap(coords, chain_ids, tolerance)
     lines = shapely.linestrings(coords, indices=chain_ids)
     noded, faces = _arrangement(lines[shapely.length(lines) > 0])
     edges = shapely.get_parts(noded)
@@ -178,6 +178,19 @@ def _unique_segments(segments) -> np.ndarray:
 
 def _chain_ids(chains) -> np.ndarray:
     return np.repeat(np.arange(len(chains)), [len(c) for c in chains])
+
+
+def _without_rounding_steps(points, chain_ids):
+    """Drop the inner points of chains within rounding error (1e-12 of the coordinates)
+    of the point before them, or of a chain's last point: GEOS's noding may drop such a
+    step and cut the chain there. Each chain keeps its two ends."""
+    step = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    tiny = (step <= 1e-12 * np.abs(points).max()) & (chain_ids[1:] == chain_ids[:-1])
+    first = np.r_[True, chain_ids[1:] != chain_ids[:-1]]
+    last = np.r_[chain_ids[1:] != chain_ids[:-1], True]
+    drop = np.r_[False, tiny] | np.r_[tiny, False] & np.r_[last[1:], False]
+    keep = first | last | ~drop
+    return points[keep], chain_ids[keep]
 
 
 def _snap(points, chain_ids, tolerance, levels: int = 8) -> np.ndarray:
