@@ -420,3 +420,17 @@ def test_empty_drawing_and_bad_arguments(tmp_path):
         with pytest.raises(ArgumentError, match=message):
             load_dxf(path, **options)
 
+
+def test_example_meshes_its_bracket_with_an_ok_certificate(tmp_path, capsys):
+    import runpy
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "dxf_drawing.py"
+    runpy.run_path(str(example))["main"](tmp_path)
+    printed = capsys.readouterr().out
+    assert printed.count("certificate: ok") == 1 + sum(
+        (DATA / name).exists() for name in ("wrench.dxf", "sliding-base.dxf"))
+    assert (tmp_path / "bracket.ply").exists()
+    region = load_dxf(tmp_path / "bracket.dxf", units="mm", tolerance=1e-3)
+    corners, slot, holes = (4 - math.pi) / 16, 0.2 + math.pi / 100, 2 * math.pi * 0.04
+    assert region.betti == (1, 3)
+    assert_area(region, (8 - corners - slot - holes) * 25.4**2, region.perimeter, 1e-3)
