@@ -13,12 +13,40 @@ import numpy as np
 from ..errors import RegionError, SourceError
 from .polygons import outline_geometry
 
+__all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
+           "elliptic_points", "outline"]
+
 RELATIVE_TOLERANCE = 1e-4
 """Default tolerance of the drawing readers, as a fraction of the drawing's diagonal."""
 
 
 def checked_file(path, kind: str) -> str:
-    """The path of an existing, non-empty drawing file (``kind``: "SVG", "DXF")."""
+    """The path of an existing, non-empty drawing file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    kind : str
+        The format, for messages ("SVG", "DXF").
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no such file.
+    SourceError
+        If the file is empty.
+
+    Examples
+    --------
+    >>> checked_file("absent.dxf", "DXF")
+    Traceback (most recent call last):
+    ...
+    FileNotFoundError: no such DXF file: 'absent.dxf'
+    """
     name = os.fspath(path)
     if not os.path.isfile(name):
         raise FileNotFoundError(f"no such {kind} file: {name!r}")
@@ -28,12 +56,32 @@ def checked_file(path, kind: str) -> str:
 
 
 def default_tolerance(points) -> float:
-    """``RELATIVE_TOLERANCE`` times the diagonal of the points' bounding box."""
+    """``RELATIVE_TOLERANCE`` times the diagonal of the points' bounding box.
+
+    Parameters
+    ----------
+    points : (n, 2) array_like
+        Points whose bounding box is the drawing's (or contains it).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    RegionError
+        If the box has zero size (no points, or all the same).
+
+    Examples
+    --------
+    >>> default_tolerance([(0, 0), (30, 40)])
+    0.005
+    """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     diagonal = np.linalg.norm(np.ptp(points, axis=0)) if len(points) else 0.0
     if not diagonal > 0:
         raise RegionError("the drawing has zero size: nothing to mesh")
-    return RELATIVE_TOLERANCE * diagonal
+    return float(RELATIVE_TOLERANCE * diagonal)
 
 
 def steps(bound, tolerance) -> np.ndarray:
@@ -41,6 +89,23 @@ def steps(bound, tolerance) -> np.ndarray:
 
     On a parameter interval of length h a chord deviates from the curve by at most
     h² max|B''| / 8, so ``ceil(sqrt(max|B''| / (8 tolerance)))`` uniform intervals suffice.
+
+    Parameters
+    ----------
+    bound : float
+        A bound of the second derivative's length over the parameter interval [0, 1].
+    tolerance : float
+        The largest distance allowed between a chord and the curve.
+
+    Returns
+    -------
+    (m,) ndarray
+        Uniform parameters, the last one 1 (a straight curve, bound 0, gets just [1]).
+
+    Examples
+    --------
+    >>> steps(8.0, 0.25).tolist()                      # sqrt(8 / 2) = 2 intervals
+    [0.5, 1.0]
     """
     count = max(1, int(np.ceil(np.sqrt(bound / (8 * tolerance)))))
     return np.linspace(0, 1, count + 1)[1:]
@@ -53,6 +118,22 @@ def elliptic_points(center, radii, start, sweep, tolerance) -> np.ndarray:
     ``radii`` holds two conjugate radii u, v as columns: any affine image of a circular
     or elliptical arc is exactly of this form. The chordal bound of :func:`steps` applies
     with max|B''| = ||[u v]||₂ sweep².
+
+    Parameters
+    ----------
+    center : (2,) array_like
+    radii : (2, 2) array_like
+        The conjugate radii u and v as columns.
+    start : float
+        The parameter θ of the first point (radians).
+    sweep : float
+        The parameter's signed range (radians; negative turns from u away from v).
+    tolerance : float
+        The largest distance allowed between a chord and the arc.
+
+    Returns
+    -------
+    (m, 2) ndarray
 
     Examples
     --------
@@ -91,6 +172,17 @@ def outline(chains, tolerance, name, kind="curve"):
     ------
     RegionError
         If no loop closes (the message gives the open ends).
+
+    Warns
+    -----
+    UserWarning
+        With the ends that meet nothing, when some loops close and others do not.
+
+    Examples
+    --------
+    >>> square = [[(0, 0), (4, 0), (4, 4)], [(4, 4), (0, 4), (0, 0)]]
+    >>> outline(square, 1e-9, "'square.svg'", kind="stroke").area
+    16.0
     """
     geometry, open_ends = outline_geometry(chains, tolerance)
     where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
