@@ -412,6 +412,10 @@ def test_empty_drawing_and_bad_arguments(tmp_path):
     path = save(doc, tmp_path)
     with pytest.raises(RegionError, match="no outline curve.*model space"):
         load_dxf(path)
+    empty_hatch, hatch_space = new()
+    hatch_space.add_hatch()                                  # no boundary path
+    with pytest.raises(RegionError, match="nothing to mesh"):
+        load_dxf(save(empty_hatch, tmp_path, "hatch.dxf"))
     square(msp, 0, 0, 1)
     path = save(doc, tmp_path, "square.dxf")
     for options, message in [({"mode": "stroke"}, "mode must be"), ({"units": "px"}, "units"),

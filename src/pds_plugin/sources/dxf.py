@@ -137,7 +137,7 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
     every = [piece for chains in hatch_loops for chain in chains for piece in chain]
     every += [piece for chain in curve_chains for piece in chain]
     if tolerance is None:
-        tolerance = default_tolerance(np.concatenate([piece.extent() for piece in every]))
+        tolerance = default_tolerance([point for piece in every for point in piece.extent()])
     geometry = shapely.Polygon()
     if mode != "outline":
         geometry = shapely.union_all([fill_geometry(
