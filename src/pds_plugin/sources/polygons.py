@@ -108,7 +108,8 @@ def outline_geometry(chains, tolerance: float):
     curves drawn twice coincide: each group merged has a diameter of at most
     ``tolerance``, and never holds two points of one chain (except the two ends of a
     chain of 3 or more segments, which closes it), so a finely drawn curve keeps every
-    vertex and no loop can collapse, however small it is. The curves are then noded
+    vertex and no loop can collapse, however small it is (only steps of a chain within
+    rounding error, 1e-12 of the coordinates, are dropped first). The curves are then noded
     (duplicates merged, crossings split), the faces they bound are found, and a face is
     filled when it is nested inside an odd number of loops, so holes, islands in holes
     and holes of islands come out right whatever the curves' order and direction.
