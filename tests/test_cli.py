@@ -219,13 +219,38 @@ def test_svg_with_holes_through_main(tmp_path, capsys):
     assert entry["certificate"]["ok"]
 
 
+def test_dxf_drawing_needs_no_plane_and_reads_the_layers_asked(tmp_path):
+    import ezdxf
+
+    doc = ezdxf.new(units=4)
+    doc.layers.add("PLATE")
+    doc.layers.add("HOLE")
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(0, 0), (20, 0), (20, 10), (0, 10)], close=True,
+                       dxfattribs={"layer": "PLATE"})
+    msp.add_lwpolyline([(5, 3), (9, 3), (9, 7), (5, 7)], close=True, dxfattribs={"layer": "HOLE"})
+    drawing = tmp_path / "plate.dxf"
+    doc.saveas(drawing)
+    report = tmp_path / "r.json"
+    assert main([drawing, "-o", tmp_path / "plate.ply", "--alpha", "auto",
+                 "--report", report]) == 0
+    [entry] = load_report(report)
+    assert entry["region"]["area"] == 184.0 and entry["region"]["betti"] == [1, 1]
+    assert entry["certificate"]["ok"] and entry["certificate"]["betti_mesh"] == [1, 1]
+    assert main([drawing, "-o", tmp_path / "solid.ply", "--alpha", "1", "--layer", "plate",
+                 "--report", report]) == 0
+    [entry] = load_report(report)
+    assert entry["region"]["area"] == 200.0 and entry["region"]["betti"] == [1, 0]
+
+
 @pytest.fixture
 def bad_inputs(tmp_path, part_stl, open_stl):
     (tmp_path / "garbage.stl").write_text("this is not a mesh\n")
     (tmp_path / "notes.txt").write_text("hello\n")
     (tmp_path / "empty.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" '
                                         'viewBox="0 0 10 10"></svg>')
-    return {"part": part_stl, "open": open_stl, "dir": tmp_path,
+    (tmp_path / "text.dxf").write_text("this is not a drawing\n")
+    return {"part": part_stl, "open": open_stl, "dir": tmp_path, "dxf": tmp_path / "text.dxf",
             "garbage": tmp_path / "garbage.stl", "txt": tmp_path / "notes.txt",
             "svg": tmp_path / "empty.svg", "missing": tmp_path / "missing.stl"}
 
@@ -243,6 +268,9 @@ def bad_inputs(tmp_path, part_stl, open_stl):
     ("open mesh", ["{open}", "--axis", "z"], 1, "not watertight"),
     ("empty svg", ["{svg}"], 1, "nothing to mesh"),
     ("svg and plane", ["{svg}", "--axis", "z"], 1, "already planar"),
+    ("dxf and plane", ["{dxf}", "--at", "1"], 1, "DXF drawing, which is already planar"),
+    ("not a dxf", ["{dxf}"], 1, "cannot read"),
+    ("layer of an svg", ["{svg}", "--layer", "0"], 1, "--layer selects layers of a DXF"),
     ("slices and origin", ["{part}", "--axis", "z", "--slices", "2", "--plane-origin",
                            "0,0,0"], 1, "--slices"),
     ("slices and at", ["{part}", "--axis", "z", "--slices", "2", "--at", "0"], 2,

@@ -10,6 +10,7 @@ import pytest
 import shapely
 
 from pds_plugin import load_svg
+from pds_plugin.sources.polygons import outline_geometry
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
 
@@ -288,6 +289,71 @@ def test_outline_with_no_closed_loop_is_an_error_with_coordinates(tmp_path):
     path = write(tmp_path, '<path d="M 10 10 L 90 10 L 90 90" stroke="black" fill="none"/>')
     with pytest.raises(ValueError, match=r"no closed loop.*\(10, 90\).*\(90, 10\)"):
         load_svg(path)
+
+
+
+def polygon_points(cx, cy, radius, sides):
+    angles = 2 * np.pi * np.arange(sides) / sides
+    return " ".join(f"{cx + radius * math.cos(t)!r},{cy + radius * math.sin(t)!r}" for t in angles)
+
+
+def regular_polygon_area(radius, sides):
+    return sides / 2 * radius**2 * math.sin(2 * math.pi / sides)
+
+
+def test_outline_keeps_small_polygons_whose_sides_are_shorter_than_the_tolerance(tmp_path):
+    """Issue 10.1: the 64-gons of radius 1 and 2 have sides under the default tolerance."""
+    holes = [(100, 1), (200, 2), (500, 50)]
+    body = '<rect x="0" y="0" width="1000" height="500" fill="none" stroke="black"/>' + "".join(
+        f'<polygon points="{polygon_points(x, 250, r, 64)}" fill="none" stroke="black"/>'
+        for x, r in holes)
+    region = load_svg(write(tmp_path, body, 'viewBox="0 0 1000 500"'))
+    assert region.betti == (1, 3)
+    exact = 1000 * 500 - sum(regular_polygon_area(r, 64) for _, r in holes)
+    assert region.area == pytest.approx(exact, rel=1e-12)
+
+
+def test_outline_keeps_a_30000_gon_finer_than_the_tolerance(tmp_path):
+    """Issue 10.1: the snapping merged the whole circle into a point (area 9604)."""
+    body = ('<rect x="1" y="1" width="98" height="98" fill="none" stroke="black"/>'
+            f'<polygon points="{polygon_points(50, 50, 40, 30000)}" fill="none" stroke="black"/>')
+    region = load_svg(write(tmp_path, body))
+    assert region.betti == (1, 1)
+    assert region.area == pytest.approx(98 * 98 - regular_polygon_area(40, 30000), rel=1e-12)
+
+
+def test_outline_joins_jittered_segments_of_a_curve_finer_than_the_tolerance():
+    """Loose segments whose ends miss by 1e-7 still join, without merging the vertices."""
+    sides, radius, tolerance = 2000, 3.0, 0.05          # sides of 0.0094 < tolerance
+    angles = 2 * np.pi * np.arange(sides) / sides
+    ring = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
+    segments = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
+    segments = segments + np.random.default_rng(3).uniform(-1e-7, 1e-7, segments.shape)
+    geometry, open_ends = outline_geometry(list(segments), tolerance=tolerance)
+    assert len(open_ends) == 0
+    assert len(geometry.exterior.coords) == sides + 1
+    assert geometry.area == pytest.approx(regular_polygon_area(radius, sides), abs=1e-5)
+
+
+def test_outline_closes_a_loop_smaller_than_the_tolerance_without_collapsing_it():
+    """A polyline whose end misses its start: closed, and its 12 vertices all kept."""
+    angles = 2 * np.pi * np.arange(13) / 12
+    loop = 0.01 * np.column_stack([np.cos(angles), np.sin(angles)])
+    loop[-1] += 1e-9
+    geometry, open_ends = outline_geometry([loop], tolerance=0.1)
+    assert len(open_ends) == 0
+    assert geometry.area == pytest.approx(regular_polygon_area(0.01, 12), rel=1e-6)
+
+
+def test_outline_chain_with_a_rounding_error_step_stays_closed():
+    """A corner arc computed with cos/sin starts 6e-16 from the line before it: GEOS
+    dropped that step and cut the loop there (a false open end at (0, 5))."""
+    angles = np.linspace(np.pi, 1.5 * np.pi, 9)
+    arc = np.column_stack([5 + 5 * np.cos(angles), 5 + 5 * np.sin(angles)])  # (0, 5) to (5, 0)
+    chain = np.vstack([[[5, 0], [20, 0], [20, 20], [0, 20], [0, 5]], arc])
+    geometry, open_ends = outline_geometry([chain], tolerance=0.01)
+    assert len(open_ends) == 0
+    assert geometry.area == pytest.approx(shapely.Polygon(chain).area, rel=1e-12)
 
 
 # --- errors ---

@@ -1,8 +1,8 @@
 """pds_plugin: certified triangle meshes of planar sections.
 
-A region (from shapely, a trimesh/manifold3d solid cut by a plane, or an SVG file) is
-sampled with a maximal Poisson disc sampling of radius ``alpha`` and meshed with the
-solid alpha-complex of the samples; every triangle then has aspect ratio L²/A ≤ 4√3.
+A region (from shapely, a trimesh/manifold3d solid cut by a plane, or an SVG or DXF
+drawing) is sampled with a maximal Poisson disc sampling of radius ``alpha`` and meshed
+with the solid alpha-complex of the samples; every triangle then has aspect ratio L²/A ≤ 4√3.
 
 >>> import pds_plugin as pds
 >>> from shapely.geometry import Point
@@ -46,6 +46,8 @@ _PUBLIC = {
     "section": "sources.solids",
     "sections": "sources.solids",
     "load_svg": "sources.svg",
+    "load_dxf": "sources.dxf",
+    "load_drawing": "sources.drawing",
     "demo_part": "sources.demo",
     "meshlab_quality": "sinks.meshlab",
     "add_section_meshes": "workflows",

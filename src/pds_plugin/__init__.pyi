@@ -22,6 +22,8 @@ from .pipeline import (
 )
 from .sources.solids import section as section, sections as sections
 from .sources.svg import load_svg as load_svg
+from .sources.dxf import load_dxf as load_dxf
+from .sources.drawing import load_drawing as load_drawing
 from .sources.demo import demo_part as demo_part
 from .sinks.meshlab import meshlab_quality as meshlab_quality
 from .workflows import add_section_meshes as add_section_meshes
@@ -63,6 +65,8 @@ __all__ = [
     "certify",
     "demo_part",
     "feature_size",
+    "load_drawing",
+    "load_dxf",
     "load_svg",
     "mesh_region",
     "meshlab_quality",

@@ -1,8 +1,8 @@
-"""The ``pds-mesh`` command: certified triangle meshes of CAD sections and SVG drawings.
+"""The ``pds-mesh`` command: certified triangle meshes of CAD sections and 2D drawings.
 
 ``pds-mesh demo`` runs the whole product on a built-in part; ``pds-mesh mesh INPUT -o
 OUT`` (or just ``pds-mesh INPUT -o OUT``) meshes one or several sections of a mesh file
-(STL, OBJ, PLY, OFF, 3MF, GLB), or an SVG drawing, and writes the meshes (binary PLY with
+(STL, OBJ, PLY, OFF, 3MF, GLB), or an SVG or DXF drawing, and writes the meshes (binary PLY with
 face quality = aspect ratio, or OBJ), optionally a JSON report of every certificate and a
 picture per mesh. Run ``pds-mesh --help`` for the options.
 

@@ -18,7 +18,7 @@ _NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
 
 _DESCRIPTION = """\
 Certified triangle meshes of planar sections: cut a mesh file with planes
-(or read an SVG drawing), sample each section with a maximal Poisson disc
+(or read an SVG or DXF drawing), sample each section with a maximal Poisson disc
 sampling of radius alpha, mesh it with the solid alpha-complex, and write
 it with its quality certificate.
 
@@ -37,8 +37,9 @@ examples:
   pds-mesh part.stl -o cut.ply --plane-origin 0,0,1 --plane-normal 0,1,1 --alpha auto
   pds-mesh part.stl -o slice.ply --axis z --slices 20 --alpha auto --jobs 2 --report r.json
   pds-mesh drawing.svg -o drawing.obj --alpha 2.5 --plot drawing.png --discs
+  pds-mesh bracket.dxf -o bracket.ply --alpha auto --layer OUTLINE --layer HOLES
 
-planes (mesh files only; an SVG drawing is already planar):
+planes (mesh files only; an SVG or DXF drawing is already planar):
   The normal is --axis or --plane-normal. The plane then passes through --plane-origin
   (default: the world origin) moved by --at along the unit normal; with neither --at nor
   --plane-origin it is the middle of the solid. --slices N cuts N planes, one in the
@@ -85,7 +86,7 @@ def parser() -> argparse.ArgumentParser:
     commands = top.add_subparsers(dest="command", metavar="COMMAND", required=True,
                                   parser_class=_Parser)
     _mesh_arguments(commands.add_parser(
-        "mesh", help="mesh sections of a mesh file, or an SVG drawing (the default)",
+        "mesh", help="mesh sections of a mesh file, or a drawing (the default)",
         formatter_class=argparse.RawDescriptionHelpFormatter, epilog=_EPILOG,
         description=_DESCRIPTION.split("\n\n")[0]))
     _demo_arguments(commands.add_parser(
@@ -99,7 +100,8 @@ def parser() -> argparse.ArgumentParser:
 
 def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", metavar="INPUT",
-                        help="a mesh file (STL, OBJ, PLY, OFF, 3MF, GLB) or an SVG drawing")
+                        help="a mesh file (STL, OBJ, PLY, OFF, 3MF, GLB), or an SVG or "
+                             "DXF drawing")
     parser.add_argument("-o", "--output", metavar="OUT", required=True, type=Path,
                         help="the mesh file to write: .ply (binary, face quality = aspect "
                              "ratio, vertex quality = 1 on the boundary) or .obj")
@@ -118,6 +120,9 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
                             "several give several sections")
     where.add_argument("--slices", type=_positive_int, metavar="N",
                        help="N evenly spaced sections across the solid")
+    parser.add_argument("--layer", action="append", metavar="NAME",
+                        help="DXF drawings: read this layer (repeat for several; default: "
+                             "every layer with outline curves or hatches)")
     parser.add_argument("--seed", type=int, default=0,
                         help="random seed; the same seed gives the same mesh (default 0)")
     parser.add_argument("--max-samples", type=_positive_int, metavar="N",

@@ -1,4 +1,4 @@
-"""``pds-mesh mesh``: mesh one or several sections of a mesh file, or an SVG drawing."""
+"""``pds-mesh mesh``: mesh one or several sections of a mesh file, or a 2D drawing."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from ..region import Region
 from ..sinks.files import writers
 from ..sinks.plot import plot_report
 from ..sources.solids import sections
-from ..sources.svg import load_svg
+from ..sources.drawing import READERS, load_drawing
 from .arguments import AXES, PROG
 from .output import say, summary, warn_about, write_report
 
@@ -197,17 +197,20 @@ def _regions(args) -> list[Region]:
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
     if path.is_dir():
-        raise IsADirectoryError(f"{path} is a directory, not a mesh file or an SVG drawing")
+        raise IsADirectoryError(f"{path} is a directory, not a mesh file or a drawing")
     normal = AXES.get(args.axis, args.plane_normal)
-    if path.suffix.lower() == ".svg":
+    kind = path.suffix.lower()
+    if args.layer and kind != ".dxf":
+        raise ArgumentError(f"--layer selects layers of a DXF drawing; {path} is not one")
+    if kind in READERS:
         given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices")
                  if getattr(args, name) is not None]
         if given:
-            raise ArgumentError(f"{path} is an SVG drawing, which is already planar: drop "
-                                f"--{given[0].replace('_', '-')}")
+            raise ArgumentError(f"{path} is a {kind[1:].upper()} drawing, which is already "
+                                f"planar: drop --{given[0].replace('_', '-')}")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            region = load_svg(path)
+            region = load_drawing(path, **({"layers": args.layer} if args.layer else {}))
         for warning in caught:
             say("warning", warning.message)
         return [region]

@@ -104,18 +104,23 @@ def fill_geometry(rings, rule: str = "nonzero"):
 def outline_geometry(chains, tolerance: float):
     """Polygons bounded by loose curves: join, nest by even-odd containment, find open ends.
 
-    Points closer than ``tolerance`` are merged, so chain ends meet and curves drawn
-    twice coincide; the curves are then noded (duplicates merged, crossings split), the
-    faces they bound are found, and a face is filled when it is nested inside an odd
-    number of loops, so holes, islands in holes and holes of islands come out right
-    whatever the curves' order and direction.
+    Near-coincident points of different chains are merged, so chain ends meet and
+    curves drawn twice coincide: each group merged has a diameter of at most
+    ``tolerance``, and never holds two points of one chain (except the two ends of a
+    chain of 3 or more segments, which closes it), so a finely drawn curve keeps every
+    vertex and no loop can collapse, however small it is (only steps of a chain within
+    rounding error, 1e-12 of the coordinates, are dropped first). The curves are then noded
+    (duplicates merged, crossings split), the faces they bound are found, and a face is
+    filled when it is nested inside an odd number of loops, so holes, islands in holes
+    and holes of islands come out right whatever the curves' order and direction.
 
     Parameters
     ----------
     chains : list of (k, 2) array_like
         Polylines (k >= 2) in any order and direction, e.g. the segments of a CAD outline.
     tolerance : float
-        Points (chain ends, and vertices of curves drawn twice) closer than this are merged.
+        The largest distance between points merged (chain ends, and vertices of curves
+        drawn twice).
 
     Returns
     -------
@@ -135,8 +140,9 @@ def outline_geometry(chains, tolerance: float):
     chains = [c for c in chains if len(c) >= 2]
     if not chains:
         return shapely.Polygon(), np.empty((0, 2))
-    coords = _snap(np.concatenate(chains), tolerance)
-    lines = shapely.linestrings(coords, indices=_chain_ids(chains))
+    coords, chain_ids = _without_rounding_steps(np.concatenate(chains), _chain_ids(chains))
+    coords = _snap(coords, chain_ids, tolerance)
+    lines = shapely.linestrings(coords, indices=chain_ids)
     noded, faces = _arrangement(lines[shapely.length(lines) > 0])
     edges = shapely.get_parts(noded)
     ends = shapely.get_coordinates(np.concatenate([shapely.get_point(edges, 0),
@@ -175,15 +181,61 @@ def _chain_ids(chains) -> np.ndarray:
     return np.repeat(np.arange(len(chains)), [len(c) for c in chains])
 
 
-def _snap(points, tolerance) -> np.ndarray:
-    """Replace each cluster of points closer than ``tolerance`` by its first member."""
+def _without_rounding_steps(points, chain_ids):
+    """Drop the inner points of chains within rounding error (1e-12 of the coordinates)
+    of the point before them, or of a chain's last point: GEOS's noding may drop such a
+    step and cut the chain there. Each chain keeps its two ends."""
+    step = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    tiny = (step <= 1e-12 * np.abs(points).max()) & (chain_ids[1:] == chain_ids[:-1])
+    first = np.r_[True, chain_ids[1:] != chain_ids[:-1]]
+    last = np.r_[chain_ids[1:] != chain_ids[:-1], True]
+    drop = np.r_[False, tiny] | np.r_[tiny, False] & np.r_[last[1:], False]
+    keep = first | last | ~drop
+    return points[keep], chain_ids[keep]
+
+
+def _snap(points, chain_ids, tolerance, levels: int = 8) -> np.ndarray:
+    """Merge the near-coincidences of ``points`` (of chains ``chain_ids``, in order).
+
+    Points are grouped by single linkage at a distance ``radius``; a group is merged onto
+    its first member when its bounding box is within ``tolerance`` across and it holds
+    no two points of one chain (bar the ends of a chain of 4 or more points). The other
+    groups are split again at a quarter of the radius, ``levels`` times at most: true
+    near-coincidences are much closer than the points of a finely drawn curve, and
+    separate from them. Points in no accepted group stay where they are.
+    """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
-    pairs = cKDTree(points).query_pairs(tolerance, output_type="ndarray")
     n = len(points)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
-    _, first = np.unique(label, return_index=True)
-    return points[first[label]]
+    position = np.arange(n) - np.searchsorted(chain_ids, chain_ids)   # index in its chain
+    length = np.bincount(chain_ids)[chain_ids]
+    end = (position == 0) | (position == length - 1)
+    target = np.arange(n)
+    pending, radius = np.arange(n), float(tolerance)
+    for _ in range(levels):
+        if not len(pending):
+            break
+        pairs = cKDTree(points[pending]).query_pairs(radius, output_type="ndarray")
+        m = len(pending)
+        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
+        count, group = connected_components(graph, directed=False)
+        low = np.full((count, 2), np.inf)
+        high = np.full((count, 2), -np.inf)
+        np.minimum.at(low, group, points[pending])
+        np.maximum.at(high, group, points[pending])
+        accepted = np.linalg.norm(high - low, axis=1) <= tolerance
+        # a chain met twice in a group: allowed only as the two ends of a long chain
+        key = group * (int(chain_ids[-1]) + 1) + chain_ids[pending]
+        _, first_of, member, times = np.unique(key, return_index=True, return_inverse=True,
+                                               return_counts=True)
+        ends = np.bincount(member, weights=end[pending])
+        closes = (times == 2) & (ends == 2) & (length[pending][first_of] >= 4)
+        accepted[group[first_of[(times > 1) & ~closes]]] = False
+        keep = accepted[group]
+        first = np.full(count, n)
+        np.minimum.at(first, group[keep], pending[keep])
+        target[pending[keep]] = first[group[keep]]
+        pending, radius = pending[~keep], radius / 4
+    return points[target]

@@ -2,13 +2,11 @@
 
 Parsed with svgelements (nested transforms, units, ``<use>``, styles and inherited
 ``fill-rule``); every curve is flattened to an absolute chordal tolerance, and the fill
-rule or the nesting of outline loops is resolved exactly by :mod:`.polygons`.
+rule or the nesting of outline loops is resolved exactly by :mod:`.polygons`, the
+outline's open ends reported as for every drawing (:mod:`.curves`).
 """
 
 from __future__ import annotations
-
-import os
-import warnings
 
 import numpy as np
 import shapely
@@ -16,13 +14,12 @@ import shapely
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
-from .polygons import fill_geometry, outline_geometry
+from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
+from .polygons import fill_geometry
 
 __all__ = ["load_svg"]
 
 _UNITS = ("px", "pt", "mm", "cm", "in")
-RELATIVE_TOLERANCE = 1e-4
-"""Default tolerance of :func:`load_svg`, as a fraction of the drawing's diagonal."""
 
 
 def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
@@ -53,7 +50,7 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
         Geometric accuracy in output units: arcs, circles, ellipses and Béziers are
         flattened so that no point of the curve is farther than this from its polyline,
         and outline strokes whose ends are closer than this are joined. Default:
-        ``RELATIVE_TOLERANCE`` (1e-4) times the diagonal of the drawing's bounding box.
+        1e-4 times the diagonal of the drawing's bounding box.
     units : {None, "mm", "cm", "in", "pt", "px"}
         None keeps the drawing's user units (its ``viewBox`` coordinates); a unit
         converts to that physical unit through the document's ``width``/``height``
@@ -109,18 +106,15 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
             raise RegionError(f"the filled shapes of {name} enclose no area: nothing to mesh "
                              f"(for an outline drawing use mode='outline')")
     if geometry.is_empty:
-        geometry = _outline(shapes, matrix, step, tolerance, name)
+        chains = [_apply(matrix, points) for shape in shapes for points in _flatten(shape, step)]
+        geometry = outline(chains, tolerance, name, kind="stroke")
     return Region.from_shapely(geometry)
 
 
 def _parse(path):
     import svgelements
 
-    name = os.fspath(path)
-    if not os.path.isfile(name):
-        raise FileNotFoundError(f"no such SVG file: {name!r}")
-    if os.path.getsize(name) == 0:
-        raise SourceError(f"the SVG file {name!r} is empty")
+    name = checked_file(path, "SVG")
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
     except Exception as error:  # the XML parser raises several kinds
@@ -164,11 +158,7 @@ def _tolerance(tolerance, shapes, matrix) -> float:
     if tolerance is not None:
         return check_positive(tolerance, "tolerance")
     boxes = np.array([box for box in (shape.bbox() for shape in shapes) if box is not None], float)
-    corners = _apply(matrix, boxes.reshape(-1, 2)) if len(boxes) else np.zeros((1, 2))
-    diagonal = np.linalg.norm(np.ptp(corners, axis=0))
-    if not diagonal > 0:
-        raise RegionError("the drawing has zero size: nothing to mesh")
-    return RELATIVE_TOLERANCE * diagonal
+    return default_tolerance(_apply(matrix, boxes.reshape(-1, 2)) if len(boxes) else [])
 
 
 def _is_filled(shape) -> bool:
@@ -180,23 +170,6 @@ def _fill(shapes, matrix, step):
         fill_geometry([_apply(matrix, points) for points in _flatten(shape, step)],
                       shape.values.get("fill-rule", "nonzero"))
         for shape in shapes])
-
-
-def _outline(shapes, matrix, step, tolerance, name):
-    chains = [_apply(matrix, points) for shape in shapes for points in _flatten(shape, step)]
-    geometry, open_ends = outline_geometry(chains, tolerance)
-    where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
-    where += ", ..." if len(open_ends) > 5 else ""
-    if geometry.is_empty:
-        raise RegionError(
-            f"no closed loop in the outline drawing {name}: nothing to mesh"
-            + (f"; {len(open_ends)} stroke end(s) meet no other stroke within the tolerance "
-               f"{tolerance:.3g}, at {where}; pass a larger tolerance" if len(open_ends) else ""))
-    if len(open_ends):
-        warnings.warn(f"{len(open_ends)} stroke end(s) of {name} meet no other stroke within "
-                      f"the tolerance {tolerance:.3g}, at {where}; the open strokes are ignored "
-                      f"(pass a larger tolerance to join them)", UserWarning, stacklevel=3)
-    return geometry
 
 
 def _flatten(shape, step):
@@ -237,7 +210,7 @@ def _points(segment, step) -> np.ndarray:
         bound = 6 * np.linalg.norm(p[:2] - 2 * p[1:3] + p[2:], axis=1).max()
     else:  # Line, Close: straight
         return np.asarray([segment.end], dtype=float)
-    return np.asarray(segment.npoint(_steps(bound, step)), dtype=float)
+    return np.asarray(segment.npoint(steps(bound, step)), dtype=float)
 
 
 def _arc_points(arc, step) -> np.ndarray:
@@ -254,14 +227,7 @@ def _arc_points(arc, step) -> np.ndarray:
     if arc.sweep == 0 or not abs(determinant) > 0:  # degenerate: a straight segment
         return np.asarray([arc.end], dtype=float)
     cosine, sine = np.linalg.solve(radii, np.array(arc.start, dtype=float) - center)
-    sweep = arc.sweep * np.sign(determinant)
-    theta = np.arctan2(sine, cosine) + sweep * _steps(np.linalg.norm(radii, 2) * sweep**2, step)
-    points = center + np.column_stack([np.cos(theta), np.sin(theta)]) @ radii.T
+    points = elliptic_points(center, radii, np.arctan2(sine, cosine),
+                             arc.sweep * np.sign(determinant), step)[1:]
     points[-1] = arc.end
     return points
-
-
-def _steps(bound, step) -> np.ndarray:
-    """Parameters in (0, 1] of the chord ends for a curve with max|B''| <= bound."""
-    count = max(1, int(np.ceil(np.sqrt(bound / (8 * step)))))
-    return np.linspace(0, 1, count + 1)[1:]

@@ -48,9 +48,10 @@ def load(solid):
             raise FileNotFoundError(f"no such mesh file: {path!r}")
         if os.path.getsize(path) == 0:
             raise SourceError(f"the mesh file {path!r} is empty")
-        if path.lower().endswith(".svg"):
+        suffix = os.path.splitext(path)[1].lower()
+        if suffix in (".svg", ".dxf"):
             raise SourceError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
-                             f"pds_plugin.load_svg")
+                              f"pds_plugin.load_{suffix[1:]}")
         try:
             mesh = trimesh.load_mesh(path)
         except Exception as error:  # trimesh raises many kinds for unreadable files

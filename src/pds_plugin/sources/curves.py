@@ -1,0 +1,199 @@
+"""What the 2D drawing readers (:mod:`.svg`, :mod:`.dxf`) share: the file checks, the
+default tolerance, curves cut into chords to an absolute tolerance, and the assembly of an
+outline drawing with its report of open ends.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+import numpy as np
+
+from ..errors import RegionError, SourceError
+from .polygons import outline_geometry
+
+__all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
+           "elliptic_points", "outline"]
+
+RELATIVE_TOLERANCE = 1e-4
+"""Default tolerance of the drawing readers, as a fraction of the drawing's diagonal."""
+
+
+def checked_file(path, kind: str) -> str:
+    """The path of an existing, non-empty drawing file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    kind : str
+        The format, for messages ("SVG", "DXF").
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no such file.
+    SourceError
+        If the file is empty.
+
+    Examples
+    --------
+    >>> checked_file("absent.dxf", "DXF")
+    Traceback (most recent call last):
+    ...
+    FileNotFoundError: no such DXF file: 'absent.dxf'
+    """
+    name = os.fspath(path)
+    if not os.path.isfile(name):
+        raise FileNotFoundError(f"no such {kind} file: {name!r}")
+    if os.path.getsize(name) == 0:
+        raise SourceError(f"the {kind} file {name!r} is empty")
+    return name
+
+
+def default_tolerance(points) -> float:
+    """``RELATIVE_TOLERANCE`` times the diagonal of the points' bounding box.
+
+    Parameters
+    ----------
+    points : (n, 2) array_like
+        Points whose bounding box is the drawing's (or contains it).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    RegionError
+        If the box has zero size (no points, or all the same).
+
+    Examples
+    --------
+    >>> default_tolerance([(0, 0), (30, 40)])
+    0.005
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    diagonal = np.linalg.norm(np.ptp(points, axis=0)) if len(points) else 0.0
+    if not diagonal > 0:
+        raise RegionError("the drawing has zero size: nothing to mesh")
+    return float(RELATIVE_TOLERANCE * diagonal)
+
+
+def steps(bound, tolerance) -> np.ndarray:
+    """Parameters in (0, 1] of the chord ends for a curve with max|B''| <= bound.
+
+    On a parameter interval of length h a chord deviates from the curve by at most
+    h² max|B''| / 8, so ``ceil(sqrt(max|B''| / (8 tolerance)))`` uniform intervals suffice.
+
+    Parameters
+    ----------
+    bound : float
+        A bound of the second derivative's length over the parameter interval [0, 1].
+    tolerance : float
+        The largest distance allowed between a chord and the curve.
+
+    Returns
+    -------
+    (m,) ndarray
+        Uniform parameters, the last one 1 (a straight curve, bound 0, gets just [1]).
+
+    Examples
+    --------
+    >>> steps(8.0, 0.25).tolist()                      # sqrt(8 / 2) = 2 intervals
+    [0.5, 1.0]
+    """
+    count = max(1, int(np.ceil(np.sqrt(bound / (8 * tolerance)))))
+    return np.linspace(0, 1, count + 1)[1:]
+
+
+def elliptic_points(center, radii, start, sweep, tolerance) -> np.ndarray:
+    """Points ``center + u cos θ + v sin θ``, θ from ``start`` over ``sweep``, within
+    ``tolerance`` of the curve; the first point is the start.
+
+    ``radii`` holds two conjugate radii u, v as columns: any affine image of a circular
+    or elliptical arc is exactly of this form. The chordal bound of :func:`steps` applies
+    with max|B''| = ||[u v]||₂ sweep².
+
+    Parameters
+    ----------
+    center : (2,) array_like
+    radii : (2, 2) array_like
+        The conjugate radii u and v as columns.
+    start : float
+        The parameter θ of the first point (radians).
+    sweep : float
+        The parameter's signed range (radians; negative turns from u away from v).
+    tolerance : float
+        The largest distance allowed between a chord and the arc.
+
+    Returns
+    -------
+    (m, 2) ndarray
+
+    Examples
+    --------
+    >>> points = elliptic_points((0, 0), np.eye(2), 0.0, np.pi / 2, 1e-3)
+    >>> points[0].tolist(), np.round(points[-1], 12).tolist(), len(points)
+    ([1.0, 0.0], [0.0, 1.0], 19)
+    >>> sagitta = 1 - np.linalg.norm((points[1:] + points[:-1]) / 2, axis=1)
+    >>> bool(sagitta.max() <= 1e-3)
+    True
+    """
+    radii = np.asarray(radii, dtype=float)
+    theta = start + sweep * np.r_[0.0, steps(np.linalg.norm(radii, 2) * sweep**2, tolerance)]
+    return np.asarray(center, dtype=float) + np.column_stack(
+        [np.cos(theta), np.sin(theta)]) @ radii.T
+
+
+def outline(chains, tolerance, name, kind="curve"):
+    """Assemble loose curves into polygons; warn about open ends, raise if none close.
+
+    Parameters
+    ----------
+    chains : list of (k, 2) array_like
+        The drawing's flattened curves.
+    tolerance : float
+        Ends closer than this are joined (see :func:`.polygons.outline_geometry`).
+    name : str
+        The drawing, for messages.
+    kind : str
+        What the curves are called in messages ("stroke", "curve").
+
+    Returns
+    -------
+    shapely Polygon or MultiPolygon
+
+    Raises
+    ------
+    RegionError
+        If no loop closes (the message gives the open ends).
+
+    Warns
+    -----
+    UserWarning
+        With the ends that meet nothing, when some loops close and others do not.
+
+    Examples
+    --------
+    >>> square = [[(0, 0), (4, 0), (4, 4)], [(4, 4), (0, 4), (0, 0)]]
+    >>> outline(square, 1e-9, "'square.svg'", kind="stroke").area
+    16.0
+    """
+    geometry, open_ends = outline_geometry(chains, tolerance)
+    where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
+    where += ", ..." if len(open_ends) > 5 else ""
+    if geometry.is_empty:
+        raise RegionError(
+            f"no closed loop in the outline drawing {name}: nothing to mesh"
+            + (f"; {len(open_ends)} {kind} end(s) meet no other {kind} within the tolerance "
+               f"{tolerance:.3g}, at {where}; pass a larger tolerance" if len(open_ends) else ""))
+    if len(open_ends):
+        warnings.warn(f"{len(open_ends)} {kind} end(s) of {name} meet no other {kind} within "
+                      f"the tolerance {tolerance:.3g}, at {where}; the open {kind}s are ignored "
+                      f"(pass a larger tolerance to join them)", UserWarning, stacklevel=3)
+    return geometry

@@ -1,0 +1,52 @@
+"""2D drawings read by the reader their file suffix names (SVG, DXF)."""
+
+from __future__ import annotations
+
+import os
+
+from ..errors import SourceError
+from .dxf import load_dxf
+from .svg import load_svg
+
+__all__ = ["load_drawing", "READERS"]
+
+READERS = {".svg": load_svg, ".dxf": load_dxf}
+"""The drawing reader of each file suffix (compared in lower case)."""
+
+
+def load_drawing(path, **options):
+    """Read a 2D drawing as a :class:`~pds_plugin.Region`, with the reader its suffix names.
+
+    ``.svg`` is read by :func:`~pds_plugin.load_svg`, ``.dxf`` by
+    :func:`~pds_plugin.load_dxf`; ``options`` go to the reader.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    **options
+        Keyword arguments of the reader (``tolerance``, ``units``, ``mode``, and
+        ``layers`` for DXF).
+
+    Returns
+    -------
+    Region
+
+    Raises
+    ------
+    SourceError
+        If the suffix is not one of a drawing (the message lists them); or as the reader.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, pds_plugin as pds
+    >>> svg = pathlib.Path(tempfile.mkdtemp()) / "square.svg"
+    >>> _ = svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4 4">'
+    ...                    '<rect width="4" height="4"/></svg>')
+    >>> pds.load_drawing(svg).area
+    16.0
+    """
+    suffix = os.path.splitext(os.fspath(path))[1].lower()
+    if suffix not in READERS:
+        raise SourceError(f"cannot read {os.fspath(path)!r} as a drawing: the suffix must be "
+                          f"one of {', '.join(READERS)}")
+    return READERS[suffix](path, **options)
