@@ -118,6 +118,19 @@ def test_walls_count_and_gaps_do_not_for_conforming_meshes():
     assert (bar.value, bar.kind) == (pytest.approx(1, rel=1e-12), "wall")
 
 
+def test_a_segment_leaving_the_region_between_its_ends_is_no_wall():
+    # a disc (radius 0.75, quad_segs=8) overlapping the right side x = 1 of a bar: between
+    # the bar's side and the disc's lowest vertices the segment starts and ends in the
+    # region but crosses the notch under the arc, so its midpoint alone would call it a
+    # wall 0.787 thick; the thinnest wall is the bar's width, 1 (found by hypothesis)
+    disc = Point(1.5, 6).buffer(0.75, quad_segs=8)
+    reg = region(shapely.set_precision(box(0, 4, 1, 7).union(disc), 1e-6))
+    fs = feature_size(reg)
+    assert (fs.value, fs.kind) == (pytest.approx(1, rel=1e-12), "wall")
+    assert fs.value == pytest.approx(brute_force(reg, walls_only=True), rel=1e-12)
+    assert reg.geometry.buffer(1e-9).covers(shapely.LineString(fs.points))
+
+
 def test_collinear_splits_are_one_feature():
     fs = feature_size(region(shapely.segmentize(box(0, 0, 3, 1), 0.01)))
     assert fs.value == pytest.approx(1.0, rel=1e-12)

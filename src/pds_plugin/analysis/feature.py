@@ -176,7 +176,7 @@ def feature_size(region: Region, conforming: bool = True) -> FeatureSize:
     distance, (i, j), (p, q) = found
     owners = region.ring_owners
     features = (boundary.describe(i, p, owners), boundary.describe(j, q, owners))
-    inside = bool(boundary._through_region(np.array([i]), np.array([j]), p[None], q[None])[0])
+    inside = bool(boundary._through_region(p[None], q[None])[0])
     points = np.array([p, q])
     points.setflags(write=False)
     return FeatureSize(value=float(distance), points=points, features=features,
@@ -320,37 +320,39 @@ class _Boundary:
             keep = (i < j) & ~self.adjacent(i, np.maximum(i, j))
             i, j = i[keep], j[keep]
             d, p, q = _segment_distance(self.p0[i], self.p1[i], self.p0[j], self.p1[j])
-            wall = self._through_region(i, j, p, q)
-            if wall.any():
-                k = np.flatnonzero(wall)[np.argmin(d[wall])]
-                if best is None or d[k] < best[0]:
-                    best = (float(d[k]), (int(i[k]), int(j[k])), (p[k], q[k]))
+            k = self._closest_wall(d, p, q, below=np.inf if best is None else best[0])
+            if k is not None:
+                best = (float(d[k]), (int(i[k]), int(j[k])), (p[k], q[k]))
         return best
 
-    def _through_region(self, i, j, p, q):
-        """Whether the segment from ``p`` (on segment i) to ``q`` (on segment j) runs
-        through the region: its midpoint is in it, or, when rounding leaves the midpoint on
-        the boundary (as between the long sides of a rectangle, whose closest points may be
-        its corners), each segment faces the other on its inner side (the region lies left
-        of a ring's segments)."""
-        middle = (p + q) / 2
-        inside = shapely.intersects_xy(self.geometry, middle[:, 0], middle[:, 1])
-        d_i, d_j = self.p1[i] - self.p0[i], self.p1[j] - self.p0[j]
-        across = q - p
-        facing = ((d_i[:, 0] * across[:, 1] - d_i[:, 1] * across[:, 0] > 0)
-                  & (d_j[:, 1] * across[:, 0] - d_j[:, 0] * across[:, 1] > 0))
-        doubt = np.flatnonzero(facing & ~inside)
-        if len(doubt):
-            tolerance = 1e-9 * np.abs(self.p0).max()
-            near, _ = self.segment_tree.query_nearest(shapely.points(middle[doubt]),
-                                                       max_distance=tolerance, all_matches=False)
-            inside[doubt[near]] = True
-        return inside
+    def _closest_wall(self, d, p, q, below):
+        """Index of the closest pair nearer than ``below`` whose segment runs through the
+        region, or None; pairs are tested nearest first, in blocks growing fourfold."""
+        order = np.argsort(d, kind="stable")
+        order = order[d[order] < below]
+        start, size = 0, 16
+        while start < len(order):
+            block = order[start:start + size]
+            wall = self._through_region(p[block], q[block])
+            if wall.any():
+                return int(block[np.argmax(wall)])
+            start, size = start + size, 4 * size
+        return None
+
+    def _through_region(self, p, q):
+        """Whether the segments from points ``p`` to points ``q`` on the boundary run
+        through the region: the whole of each, not just its midpoint (a segment between two
+        features can leave the region and come back, as across a notch where an arc meets
+        an edge). Up to rounding, so a segment along the boundary (between the long sides
+        of a rectangle, whose closest points may be its corners) counts."""
+        return shapely.covers(self.rounded_region, shapely.linestrings(np.stack([p, q], axis=1)))
 
     @cached_property
-    def segment_tree(self):
-        """STRtree of the segments, for points on the boundary up to rounding."""
-        return shapely.STRtree(shapely.linestrings(np.stack([self.p0, self.p1], axis=1)))
+    def rounded_region(self):
+        """The region grown by the rounding of its coordinates, prepared for queries."""
+        grown = shapely.buffer(self.geometry, 1e-9 * np.abs(self.p0).max(), join_style="mitre")
+        shapely.prepare(grown)
+        return grown
 
     def smallest_altitude(self):
         """Ruppert's vertex-to-segment feature: a vertex and a segment not incident to it."""
