@@ -246,6 +246,7 @@ def main(argv=None) -> Path:
         return None
     from _hostile import CLASSES
 
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))    # kill the workers on the way out
     began, results = time.monotonic(), {}
     for name in args.classes:
         names = [case.name for case in CLASSES[name]()]
