@@ -269,3 +269,62 @@ def test_example_runs_on_its_builtin_part(tmp_path):
     example.main(tmp_path)
     written = trimesh.load_mesh(tmp_path / "section_trimesh.ply")
     assert len(written.faces) > 0 and np.abs(written.vertices[:, 2]).max() < 1e-12
+
+
+def shells(*boxes):
+    """One mesh of several box shells (x0, y0, z0, x1, y1, z1), not merged: what
+    multi-body STL exports write."""
+    meshes = []
+    for x0, y0, z0, x1, y1, z1 in boxes:
+        box = trimesh.creation.box(extents=(x1 - x0, y1 - y0, z1 - z0))
+        meshes.append(box.apply_translation(((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)))
+    return trimesh.util.concatenate(meshes)
+
+
+def test_overlapping_shells_give_their_union():
+    """Two overlapping 2x2x2 boxes: the solid (winding number >= 1) is one 3x2 block,
+    not the even-odd 2 x (1x2) of the cut curves."""
+    region = section(shells((0, 0, 0, 2, 2, 2), (1, 0, 0, 3, 2, 2)), (0, 0, 1), (0, 0, 1))
+    assert region.betti == (1, 0)
+    assert math.isclose(region.area, 6.0, rel_tol=1e-12)
+
+
+def test_a_shell_inside_a_shell_is_no_hole_but_an_inward_shell_is_a_void():
+    nested = shells((0, 0, 0, 4, 4, 4), (1, 1, 1, 3, 3, 3))
+    region = section(nested, (0, 0, 2), (0, 0, 1))
+    assert region.betti == (1, 0) and math.isclose(region.area, 16.0, rel_tol=1e-12)
+    void = trimesh.creation.box(extents=(1, 1, 1))
+    void.invert()                                  # normals inward: a cavity in the solid
+    hollow = trimesh.util.concatenate([trimesh.creation.box(extents=(3, 3, 3)), void])
+    region = section(hollow, (0, 0, 0), (0, 0, 1))
+    assert region.betti == (1, 1) and math.isclose(region.area, 8.0, rel_tol=1e-12)
+
+
+def test_a_mesh_turned_inside_out_is_read_as_its_solid():
+    box = trimesh.creation.box(extents=(2, 2, 2))
+    box.invert()
+    assert math.isclose(section(box, (0, 0, 0), (0, 0, 1)).area, 4.0, rel_tol=1e-12)
+
+
+def test_far_plane_origin_keeps_the_holes():
+    """The plane origin is the 2D origin: at (1e11, 1e11) the section's coordinates are
+    1.4e11 large, but the cut points are joined relative to the part, not to that."""
+    path = data_file("featuretype.STL")
+    mesh = trimesh.load_mesh(path)
+    middle = mesh.bounds.mean(axis=0)
+    near = section(path, middle, (0, 0, 1))
+    far = section(path, (1e11, 1e11, middle[2]), (0, 0, 1))
+    assert far.betti == near.betti == (2, 8)
+    assert math.isclose(far.area, near.area, rel_tol=1e-5)
+
+
+def test_a_stray_part_far_away_does_not_inflate_the_tolerance():
+    """A 1-unit box 1e8 away from a 10-unit box with ten 0.2-wide holes: the holes stay."""
+    plate = trimesh.creation.box(extents=(10, 10, 1))
+    for i in range(10):
+        hole = trimesh.creation.box(extents=(0.2, 0.2, 2)).apply_translation((-4.5 + i, 0, 0))
+        plate = plate.difference(hole)
+    stray = trimesh.creation.box(extents=(1, 1, 1)).apply_translation((1e8, 1e8, 0))
+    region = section(trimesh.util.concatenate([plate, stray]), (0, 0, 0), (0, 0, 1))
+    assert region.betti == (2, 10)
+    assert math.isclose(region.area, 100 - 10 * 0.04 + 1, rel_tol=1e-6)   # shoelace at 1e8

@@ -16,7 +16,7 @@ import shapely
 
 from ..errors import ArgumentError
 
-__all__ = ["winding_numbers", "fill_geometry", "outline_geometry"]
+__all__ = ["winding_numbers", "fill_geometry", "outline_geometry", "snap"]
 
 
 def winding_numbers(points, segments) -> np.ndarray:
@@ -101,7 +101,7 @@ def fill_geometry(rings, rule: str = "nonzero"):
     return shapely.union_all(faces[keep])
 
 
-def outline_geometry(chains, tolerance: float):
+def outline_geometry(chains, tolerance: float, rule: str = "evenodd"):
     """Polygons bounded by loose curves: join, nest by even-odd containment, find open ends.
 
     Points closer than ``tolerance`` are merged, so chain ends meet and curves drawn
@@ -116,6 +116,11 @@ def outline_geometry(chains, tolerance: float):
         Polylines (k >= 2) in any order and direction, e.g. the segments of a CAD outline.
     tolerance : float
         Points (chain ends, and vertices of curves drawn twice) closer than this are merged.
+    rule : {"evenodd", "winding"}
+        ``evenodd`` fills the faces nested inside an odd number of loops (drawings, whose
+        curves have no direction); ``winding`` fills the faces of winding number >= 1
+        about the chains as directed (sections of solids: the material on the left of
+        every chain, so overlapping shells give their union).
 
     Returns
     -------
@@ -131,11 +136,13 @@ def outline_geometry(chains, tolerance: float):
     >>> geometry.area, len(open_ends)
     (3.0, 0)
     """
+    if rule not in ("evenodd", "winding"):
+        raise ArgumentError(f"rule must be 'evenodd' or 'winding', got {rule!r}")
     chains = [np.array(c, dtype=float).reshape(-1, 2) for c in chains]
     chains = [c for c in chains if len(c) >= 2]
     if not chains:
         return shapely.Polygon(), np.empty((0, 2))
-    coords = _snap(np.concatenate(chains), tolerance)
+    coords = snap(np.concatenate(chains), tolerance)
     lines = shapely.linestrings(coords, indices=_chain_ids(chains))
     noded, faces = _arrangement(lines[shapely.length(lines) > 0])
     edges = shapely.get_parts(noded)
@@ -145,10 +152,14 @@ def outline_geometry(chains, tolerance: float):
     open_ends = nodes[degree == 1]
     if not len(faces):
         return shapely.Polygon(), open_ends
+    inside = shapely.get_coordinates(shapely.point_on_surface(faces))
+    if rule == "winding":
+        directed = np.concatenate([np.stack([c[:-1], c[1:]], axis=1) for c in
+                                   np.split(coords, np.cumsum([len(c) for c in chains])[:-1])])
+        return shapely.union_all(faces[winding_numbers(inside, directed) >= 1]), open_ends
     boundary = _unique_segments(np.concatenate(
         [_ring_segments(ring) for ring in shapely.get_rings(faces)]))
-    depth = winding_numbers(shapely.get_coordinates(shapely.point_on_surface(faces)), boundary)
-    return shapely.union_all(faces[depth % 2 == 1]), open_ends
+    return shapely.union_all(faces[winding_numbers(inside, boundary) % 2 == 1]), open_ends
 
 
 def _arrangement(lines):
@@ -175,8 +186,12 @@ def _chain_ids(chains) -> np.ndarray:
     return np.repeat(np.arange(len(chains)), [len(c) for c in chains])
 
 
-def _snap(points, tolerance) -> np.ndarray:
-    """Replace each cluster of points closer than ``tolerance`` by its first member."""
+def snap(points, tolerance) -> np.ndarray:
+    """Replace each cluster of points closer than ``tolerance`` by its first member.
+
+    >>> snap(np.array([[0.0, 0.0], [1e-12, 0.0], [1.0, 0.0]]), 1e-9).tolist()
+    [[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]]
+    """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree

@@ -15,13 +15,15 @@ import os
 import sys
 
 import numpy as np
+import shapely
+import shapely.affinity
 
 from .._checks import check_positive_int, check_vector
 from ..errors import ArgumentError, ArgumentTypeError, SectionError, SourceError
 from ..region import Region, lift
 from . import manifold as manifold_backend
 from . import trimesh as trimesh_backend
-from .polygons import outline_geometry
+from .polygons import outline_geometry, snap
 
 __all__ = ["section", "sections"]
 
@@ -134,6 +136,12 @@ class _Solid:
             raise SourceError("the solid has NaN or infinite vertex coordinates; "
                              "clean the mesh first")
         self.scale = float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
+        self.shell = _shells(self.faces, len(self.vertices))
+        # outward normals give the material winding number +1; a mesh turned inside out
+        # (negative volume) is read the other way round
+        corners = self.vertices[self.faces] - self.vertices.mean(axis=0)
+        volume = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))
+        self.outward = 1.0 if volume.sum() >= 0 else -1.0
 
     def heights(self, origin, normal) -> np.ndarray:
         """Signed distances of the vertices to the plane."""
@@ -144,10 +152,7 @@ class _Solid:
         local = self.vertices @ to_2d[:3, :3].T + to_2d[:3, 3]   # z: height above the plane
         offset = float(origin @ normal)
         self._check_plane(local[:, 2], offset)
-        # the intersections' rounding is relative to the coordinates' magnitude
-        snap = max(1e-9 * self.scale, 1e-12 * np.abs(local[:, :2]).max())
-        geometry, open_ends = outline_geometry(list(trimesh_backend.cut(local, self.faces)),
-                                              tolerance=snap)
+        geometry, open_ends = self._section_geometry(local)
         if len(open_ends):
             where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
                               lift(open_ends[:5], to_3d))
@@ -161,6 +166,30 @@ class _Solid:
                 f"the plane at normal·x = {offset:.9g} crosses the solid's extent but cuts no "
                 f"material (it passes through a gap between parts); move the plane")
         return Region.from_shapely(geometry, frame=to_3d)
+
+    def _section_geometry(self, local):
+        """The section in the plane's 2D coordinates, and the open ends of its curves.
+
+        The solid is where the winding number of its shells is >= 1, so overlapping and
+        nested shells (multi-body exports) give their union, and an inward shell a void.
+        The cut is computed about the middle of the solid, not the plane origin, and each
+        shell's cut points are joined within 1e-9 of that shell's size, so neither a far
+        plane origin nor a far-away part inflates the tolerance.
+        """
+        centre = np.zeros(3)
+        centre[:2] = (local[:, :2].min(axis=0) + local[:, :2].max(axis=0)) / 2
+        segments, face = trimesh_backend.cut(local - centre, self.faces)
+        corners = local[self.faces[face]]
+        outward = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])[:, :2]
+        direction = segments[:, 1] - segments[:, 0]
+        material_right = (direction[:, 1] * outward[:, 0] - direction[:, 0] * outward[:, 1]) \
+            * self.outward < 0
+        segments[material_right] = segments[material_right, ::-1]     # material on the left
+        segments = _snap_by_shell(segments, self.shell[face], local - centre, self.shell,
+                                  self.faces)
+        floor = 64 * np.spacing(np.abs(segments).max(initial=1.0))
+        geometry, open_ends = outline_geometry(list(segments), tolerance=floor, rule="winding")
+        return shapely.affinity.translate(geometry, *centre[:2]), open_ends + centre[:2]
 
     def _check_plane(self, heights, offset) -> None:
         """Refuse a plane that lies on a face or misses the solid (heights: of the vertices)."""
@@ -178,6 +207,29 @@ class _Solid:
                 f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
                 f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside "
                 f"that range")
+
+
+def _shells(faces, count) -> np.ndarray:
+    """The connected component (shell) of each face, through shared vertices."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    rows = np.repeat(np.arange(len(faces)), 3)
+    graph = coo_matrix((np.ones(rows.size), (rows, faces.ravel())),
+                       shape=(len(faces), count)).tocsr()
+    _, label = connected_components(graph @ graph.T, directed=False)
+    return label
+
+
+def _snap_by_shell(segments, shell_of_segment, local, shell, faces) -> np.ndarray:
+    """Join the cut points of each shell within 1e-9 of that shell's diagonal."""
+    snapped = segments.copy()
+    for label in np.unique(shell_of_segment):
+        corners = local[faces[shell == label]].reshape(-1, 3)
+        tolerance = 1e-9 * float(np.linalg.norm(np.ptp(corners, axis=0)))
+        mine = shell_of_segment == label
+        snapped[mine] = snap(segments[mine].reshape(-1, 2), tolerance).reshape(-1, 2, 2)
+    return snapped
 
 
 def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:

@@ -63,8 +63,8 @@ def load(solid):
     return mesh
 
 
-def cut(vertices, faces) -> np.ndarray:
-    """The segments (m, 2, 2) where the plane z = 0 cuts a mesh given in the plane's frame.
+def cut(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
+    """Where the plane z = 0 cuts a mesh given in the plane's frame.
 
     Intersections are computed in float64 by trimesh's ``mesh_plane``, on coordinates
     relative to the plane so that rounding stays relative to the part's size; a vertex
@@ -78,14 +78,16 @@ def cut(vertices, faces) -> np.ndarray:
 
     Returns
     -------
-    (s, 2, 2) float64 ndarray
-        The segments' 2D end points, in no particular order.
+    segments : (s, 2, 2) float64 ndarray
+        The segments' 2D end points, in no particular order or direction.
+    face : (s,) int ndarray
+        The face each segment comes from.
 
     Examples
     --------
     >>> import trimesh
     >>> box = trimesh.creation.box(extents=(2, 2, 2))
-    >>> segments = cut(box.vertices, box.faces)
+    >>> segments, face = cut(box.vertices, box.faces)
     >>> float(np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1).sum())   # perimeter
     8.0
     """
@@ -93,5 +95,7 @@ def cut(vertices, faces) -> np.ndarray:
     from trimesh.intersections import mesh_plane
 
     local = trimesh.Trimesh(vertices, faces, process=False, validate=False)
-    lines = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0], plane_origin=[0.0, 0.0, 0.0])
-    return np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)[:, :, :2]
+    lines, face = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0], plane_origin=[0.0, 0.0, 0.0],
+                             return_faces=True)
+    return (np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)[:, :, :2],
+            np.asarray(face, dtype=np.int64))
