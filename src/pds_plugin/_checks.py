@@ -51,7 +51,9 @@ def check_positive(value, name: str) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"{name} must be a positive number, got {value!r}") from None
+        number = None
+    if number is None or isinstance(value, (bool, np.bool_)):     # True is not a length
+        raise ArgumentTypeError(f"{name} must be a positive number, got {value!r}")
     if not math.isfinite(number) or number <= 0:
         raise ArgumentError(f"{name} must be a positive finite number, got {number}")
     return number

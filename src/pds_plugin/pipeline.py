@@ -13,7 +13,9 @@ from __future__ import annotations
 import warnings
 from typing import NamedTuple
 
-from ._checks import check_positive, check_positive_int
+import numpy as np
+
+from ._checks import check_alpha, check_positive, check_positive_int
 from .analysis.certificate import Certificate
 from .analysis.feature import FeatureSize, feature_size
 from .analysis.topology import topology_report
@@ -71,6 +73,7 @@ def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> Pla
     """
     if isinstance(alpha, str) and alpha == "auto":
         return auto_mesh(region, seed=seed, **sampling_options)
+    _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
     samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
@@ -192,6 +195,22 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
                      f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
                      f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
                      "that feature")
+
+
+ALPHA_RESOLUTION = 1e3
+"""Smallest alpha, in units of the float spacing at the region's coordinates."""
+
+
+def _check_resolution(region: Region, alpha: float) -> None:
+    """Refuse an alpha the region's coordinates cannot resolve (the sampler would run
+    away trying to place samples that rounding puts on top of each other)."""
+    if alpha < ALPHA_RESOLUTION * region.resolution:
+        raise ArgumentError(
+            f"alpha={alpha:.6g} is below {ALPHA_RESOLUTION:g} times the float64 spacing "
+            f"{region.resolution:.3g} of the region's coordinates (up to "
+            f"{np.abs(region.bounds).max():.6g}); translate the region towards the origin "
+            f"(move its frame's origin with it) or use alpha >= "
+            f"{ALPHA_RESOLUTION * region.resolution:.3g}")
 
 
 def _budget(max_samples) -> int:

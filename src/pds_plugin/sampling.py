@@ -30,7 +30,7 @@ import numpy as np
 import shapely
 
 from . import _sampling_kernels as kern
-from ._checks import check_alpha
+from ._checks import check_alpha, check_positive_int
 from .errors import BudgetError
 from .region import Region, require_region, turning_angles
 
@@ -93,7 +93,7 @@ def estimate_samples(region: Region, alpha: float) -> float:
     >>> round(estimate_samples(Region.from_shapely(box(0, 0, 1, 1)), 0.01))
     7400
     """
-    return 0.7 * region.area / alpha**2 + region.perimeter / alpha
+    return 0.7 * region.area / alpha / alpha + region.perimeter / alpha   # inf, never an error
 
 
 def largest_alpha(region: Region, max_samples: int) -> float:
@@ -164,6 +164,7 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     """
     require_region(region, "poisson_disc")
     alpha = check_alpha(alpha)
+    max_samples = check_positive_int(max_samples, "max_samples")
     expected = estimate_samples(region, alpha)
     if expected > max_samples:
         raise BudgetError(

@@ -7,6 +7,7 @@ rule or the nesting of outline loops is resolved exactly by :mod:`.polygons`.
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 
@@ -16,16 +17,20 @@ import shapely
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from ._svg_limits import MAX_BYTES, MAX_ELEMENTS, MAX_SEGMENTS, check_svg_limits
 from .polygons import fill_geometry, outline_geometry
 
 __all__ = ["load_svg"]
 
 _UNITS = ("px", "pt", "mm", "cm", "in")
+_MAX_CHORDS = 1_000_000        # per curve: beyond, the curve is broken or the tolerance tiny
 RELATIVE_TOLERANCE = 1e-4
 """Default tolerance of :func:`load_svg`, as a fraction of the drawing's diagonal."""
 
 
-def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
+def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
+             max_bytes: int = MAX_BYTES, max_elements: int = MAX_ELEMENTS,
+             max_segments: int = MAX_SEGMENTS) -> Region:
     """Read an SVG drawing as a :class:`Region` in the drawing's plane (z = 0).
 
     Two kinds of drawing are understood:
@@ -62,6 +67,10 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
         ``auto`` reads the filled shapes if they enclose any area, and the outline of all
         visible shapes otherwise (an outline drawing's strokes must then be unfilled,
         ``fill="none"``, as CAD exports write them; or pass ``mode="outline"``).
+    max_bytes, max_elements, max_segments : int
+        Limits checked before the drawing is built (see :mod:`._svg_limits`): the file's
+        size (20 MB), the elements it expands to with every ``<use>`` copy (200,000), and
+        its path and polygon segments (2,000,000). Raise them for bigger drawings.
 
     Returns
     -------
@@ -73,7 +82,8 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     FileNotFoundError
         If the file does not exist.
     SourceError
-        If the file is empty or not SVG.
+        If the file is empty or not SVG, exceeds a limit, has a negative shape size or an
+        empty ``viewBox``.
     RegionError
         If it has nothing to mesh (no visible shape, no area, or no loop that closes: the
         message gives the open ends).
@@ -95,7 +105,7 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     if units is not None and units not in _UNITS:
         raise ArgumentError(f"units must be None (the drawing's user units) or one of "
                          f"{_UNITS}, got {units!r}")
-    document, name = _parse(path)
+    document, name = _parse(path, max_bytes, max_elements, max_segments)
     matrix = _output_matrix(document, units)
     shapes = _visible_shapes(document)
     if not shapes:
@@ -113,7 +123,7 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     return Region.from_shapely(geometry)
 
 
-def _parse(path):
+def _parse(path, max_bytes, max_elements, max_segments):
     import svgelements
 
     name = os.fspath(path)
@@ -121,6 +131,7 @@ def _parse(path):
         raise FileNotFoundError(f"no such SVG file: {name!r}")
     if os.path.getsize(name) == 0:
         raise SourceError(f"the SVG file {name!r} is empty")
+    check_svg_limits(name, max_bytes, max_elements, max_segments)
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
     except Exception as error:  # the XML parser raises several kinds
@@ -135,7 +146,15 @@ def _output_matrix(document, units) -> np.ndarray:
     import svgelements
 
     if units is None:  # undo the viewBox -> viewport map: back to user units
-        view = svgelements.Matrix(document.viewbox_transform)
+        try:
+            view = svgelements.Matrix(document.viewbox_transform)
+        except ZeroDivisionError:               # svgelements' own viewBox maths
+            view = svgelements.Matrix([0, 0, 0, 0, 0, 0])
+        if not (math.isfinite(view.determinant) and view.determinant != 0):
+            raise SourceError(f"the drawing's viewBox or size ({document.values.get('viewBox')}"
+                              f", width {document.values.get('width')}, height "
+                              f"{document.values.get('height')}) is empty or not finite: give "
+                              f"the <svg> element a viewBox with a positive width and height")
         view.inverse()
         matrix = np.array([[view.a, view.c, view.e], [view.b, view.d, view.f]])
     else:
@@ -263,5 +282,10 @@ def _arc_points(arc, step) -> np.ndarray:
 
 def _steps(bound, step) -> np.ndarray:
     """Parameters in (0, 1] of the chord ends for a curve with max|B''| <= bound."""
-    count = max(1, int(np.ceil(np.sqrt(bound / (8 * step)))))
-    return np.linspace(0, 1, count + 1)[1:]
+    with np.errstate(all="ignore"):
+        count = np.ceil(np.sqrt(bound / (8 * step)))
+    if not count <= _MAX_CHORDS:                 # also NaN, from control points near 1e308
+        raise SourceError(f"a curve of the drawing needs more than {_MAX_CHORDS:,} chords to "
+                          f"stay within the tolerance (its control points span {bound:.3g}); "
+                          f"pass a larger tolerance or fix the curve")
+    return np.linspace(0, 1, max(1, int(count)) + 1)[1:]

@@ -11,7 +11,7 @@ import os
 
 import numpy as np
 
-from ..errors import SourceError
+from ..errors import SectionError, SourceError
 
 
 def load(solid):
@@ -95,7 +95,14 @@ def cut(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
     from trimesh.intersections import mesh_plane
 
     local = trimesh.Trimesh(vertices, faces, process=False, validate=False)
-    lines, face = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0], plane_origin=[0.0, 0.0, 0.0],
-                             return_faces=True)
+    try:
+        lines, face = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0],
+                                 plane_origin=[0.0, 0.0, 0.0], return_faces=True)
+    except AssertionError:            # trimesh's intersections lost to rounding
+        low, high = vertices.min(axis=0), vertices.max(axis=0)
+        raise SectionError(
+            f"the plane cannot be cut through this mesh in float64: its vertices span "
+            f"{low.tolist()} to {high.tolist()} about the plane, too wide for its smallest "
+            f"faces; look for stray vertices far from the part") from None
     return (np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)[:, :, :2],
             np.asarray(face, dtype=np.int64))
