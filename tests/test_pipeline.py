@@ -239,3 +239,12 @@ def test_a_region_far_from_the_origin_meshes_like_one_at_it():
 def test_bad_numbers_get_the_package_error(keywords, words):
     with pytest.raises(pds.PdsError, match=words):
         pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), **keywords)
+
+
+def test_auto_alpha_warns_when_the_budget_caps_it_below_a_slot():
+    """A 10 x 10 plate with a 1e-4-wide slot: 20,000 samples cannot resolve it, the
+    bridged slot keeps the topology, so only a warning can tell."""
+    plate = pds.Region.from_shapely(box(0, 0, 10, 10).difference(box(2, 5 - 5e-5, 10, 5 + 5e-5)))
+    with pytest.warns(UserWarning, match=r"gap of width 0\.0001.*raise max_samples"):
+        mesh = pds.mesh_region(plate, "auto", max_samples=20_000)
+    assert mesh.alpha > 1e-4

@@ -125,11 +125,17 @@ def suggest_alpha(region: Region, max_samples: int | None = None,
     if estimate_samples(region, alpha) <= budget:
         return alpha
     capped = largest_alpha(region, budget)
-    warnings.warn(f"alpha {alpha:.6g} needed for the {size} would take about "
-                  f"{estimate_samples(region, alpha):.3g} samples, over the budget of "
-                  f"{budget}; using alpha {capped:.6g}, which may lose that feature",
-                  stacklevel=2)
+    _warn_over_budget(region, size, budget, capped)
     return capped
+
+
+def _warn_over_budget(region: Region, size: FeatureSize, budget: int, used: float) -> None:
+    """Say that the budget keeps alpha above what the narrowest feature needs."""
+    needed = size.lfs / 2
+    warnings.warn(f"alpha {needed:.6g} needed for the {size} would take about "
+                  f"{estimate_samples(region, needed):.3g} samples, over the budget of "
+                  f"{budget}; using alpha {used:.6g}, which may lose that feature (raise "
+                  f"max_samples to keep it)", stacklevel=3)
 
 
 def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
@@ -159,7 +165,9 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     Returns
     -------
     PlanarMesh
-        Its ``certificate().topology_ok`` is True.
+        Its ``certificate().topology_ok`` is True. When the sample budget keeps alpha
+        above what the narrowest feature needs (a slot may then be bridged without
+        changing the topology), a warning says so, as :func:`suggest_alpha` does.
 
     Raises
     ------
@@ -187,6 +195,8 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
         report = topology_report(mesh)
         if report.topology_ok:
+            if mesh.alpha > size.lfs / 2 and smallest > size.lfs / 2:
+                _warn_over_budget(region, size, budget, mesh.alpha)   # e.g. a slot bridged
             return mesh
         if alpha <= smallest:
             break
