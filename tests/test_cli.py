@@ -450,3 +450,23 @@ def test_no_worker_outlives_pds_mesh(tmp_path, signum):
     assert [p.name for p in tmp_path.iterdir() if not p.name.startswith(".")] == ["block.stl"]
     if signum != "SIGKILL":
         assert child.returncode == 130 and "interrupted" in child.stderr.read().decode()
+
+
+def test_the_default_middle_plane_on_a_step_moves_off_it(tmp_path, capsys):
+    """A stepped block has its step face at exactly half height: the automatic middle
+    plane moves just above it (a warning says so); an explicit plane there needs
+    --on-face."""
+    import manifold3d as m3
+
+    part = (m3.Manifold.cube((2, 2, 1)) + m3.Manifold.cube((1, 1, 1)).translate((0, 0, 1)))
+    mesh = part.to_mesh64()
+    block = tmp_path / "block.stl"
+    trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], mesh.tri_verts).export(block)
+    assert main([block, "-o", tmp_path / "mid.ply", "--axis", "z", "--alpha", "0.1"]) == 0
+    assert "just above" in capsys.readouterr().err
+    assert main([block, "-o", tmp_path / "at.ply", "--axis", "z", "--at", "1",
+                 "--alpha", "0.1"]) == 1
+    assert "on_face" in one_error_line(capsys.readouterr().err)
+    assert main([block, "-o", tmp_path / "below.ply", "--axis", "z", "--at", "1",
+                 "--alpha", "0.1", "--on-face", "below"]) == 0
+    assert trimesh.load_mesh(tmp_path / "below.ply").area > 3.9     # the 2 x 2 base, not the step

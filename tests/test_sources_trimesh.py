@@ -161,7 +161,7 @@ def test_plane_misses_the_solid_gives_the_extent():
 
 @pytest.mark.parametrize("z", [0.5, -0.5, 0.5 - 1e-9])
 def test_plane_on_a_face_is_refused_with_advice(z):
-    with pytest.raises(ValueError, match="lies on 2 face.*offset the plane"):
+    with pytest.raises(ValueError, match="lies on 2 face.*on_face='above' or 'below'"):
         section(trimesh.creation.box(), (0, 0, z), (0, 0, 1))
 
 
@@ -328,3 +328,41 @@ def test_a_stray_part_far_away_does_not_inflate_the_tolerance():
     region = section(trimesh.util.concatenate([plate, stray]), (0, 0, 0), (0, 0, 1))
     assert region.betti == (2, 10)
     assert math.isclose(region.area, 100 - 10 * 0.04 + 1, rel_tol=1e-6)   # shoelace at 1e8
+
+
+def stepped_block():
+    """A 2 x 2 x 1 block with a 1 x 1 x 1 step on top, made with manifold3d: a face at
+    exactly half the height, as CAD parts often have."""
+    import manifold3d as m3
+
+    part = m3.Manifold.cube((2, 2, 1)) + m3.Manifold.cube((1, 1, 1)).translate((0, 0, 1))
+    mesh = part.to_mesh64()
+    return trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], mesh.tri_verts)
+
+
+def test_an_explicit_plane_on_a_face_is_cut_above_or_below_on_request():
+    block = stepped_block()
+    with pytest.raises(ValueError, match="lies on .* face.*on_face"):
+        section(block, (0, 0, 1), (0, 0, 1))
+    above = section(block, (0, 0, 1), (0, 0, 1), on_face="above")
+    below = section(block, (0, 0, 1), (0, 0, 1), on_face="below")
+    assert math.isclose(above.area, 1.0, rel_tol=1e-9) and math.isclose(below.area, 4.0,
+                                                                          rel_tol=1e-9)
+    assert 0 < above.frame[2, 3] - 1 < 1e-5 and 0 < 1 - below.frame[2, 3] < 1e-5
+    with pytest.raises(ValueError, match="on_face must be"):
+        section(block, (0, 0, 1), (0, 0, 1), on_face="middle")
+
+
+def test_automatic_planes_move_off_faces_and_say_so():
+    """The middle plane of the stepped block (count=1) is on its step: it moves just
+    above it, with a warning, instead of failing."""
+    with pytest.warns(UserWarning, match="lies on .* face.*just above"):
+        (region,) = sections(stepped_block(), (0, 0, 1), count=1)
+    assert math.isclose(region.area, 1.0, rel_tol=1e-9)
+
+
+def test_a_tiny_part_is_not_on_its_faces():
+    """trimesh's absolute tolerance (1e-8) flagged every face of a 1e-9 box."""
+    tiny = trimesh.creation.box(extents=(1e-9, 2e-9, 1e-9))
+    region = section(tiny, (0, 0, 0), (0, 0, 1))
+    assert math.isclose(region.area, 2e-18, rel_tol=1e-9)

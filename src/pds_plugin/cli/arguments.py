@@ -118,6 +118,11 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--at", type=_offsets, metavar="H[,H...]",
                        help="offset(s) of the plane along the unit normal from the origin; "
                             "several give several sections")
+    plane.add_argument("--on-face", choices=("above", "below"),
+                       help="a plane given by --at or --plane-origin that lies on faces of "
+                            "the solid is cut just above or below them (refused otherwise); "
+                            "the automatic planes (the middle, --slices) move off faces "
+                            "by themselves, with a warning")
     where.add_argument("--slices", type=_section_count, metavar="N",
                        help=f"N evenly spaced sections across the solid (at most "
                             f"{MAX_SECTIONS:,})")

@@ -249,7 +249,17 @@ def _run(tasks: list[Task], jobs: int, progress: bool) -> list[dict]:
 
 
 def _regions(args) -> list[Region]:
-    """The sections the arguments ask for, checked against the input's kind."""
+    """The sections the arguments ask for, checked against the input's kind; what the
+    sources warn about (open strokes, automatic planes moved off faces) is said."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        regions = _read_regions(args)
+    for warning in caught:
+        say("warning", warning.message)
+    return regions
+
+
+def _read_regions(args) -> list[Region]:
     path = Path(args.input)
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
@@ -257,17 +267,12 @@ def _regions(args) -> list[Region]:
         raise IsADirectoryError(f"{path} is a directory, not a mesh file or an SVG drawing")
     normal = AXES.get(args.axis, args.plane_normal)
     if path.suffix.lower() == ".svg":
-        given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices")
-                 if getattr(args, name) is not None]
+        given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices",
+                                   "on_face") if getattr(args, name) is not None]
         if given:
             raise ArgumentError(f"{path} is an SVG drawing, which is already planar: drop "
                                 f"--{given[0].replace('_', '-')}")
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            region = load_svg(path)
-        for warning in caught:
-            say("warning", warning.message)
-        return [region]
+        return [load_svg(path)]
     if normal is None:
         raise ArgumentError(f"{path} is a solid: say where to cut it with --axis or "
                             f"--plane-normal (and --at, --plane-origin or --slices)")
@@ -278,7 +283,8 @@ def _regions(args) -> list[Region]:
         return sections(path, normal, count=args.slices)
     if args.at is None and args.plane_origin is None:
         return sections(path, normal, count=1)          # the middle of the solid
-    return sections(path, normal, offsets=args.at or [0.0], plane_origin=args.plane_origin)
+    return sections(path, normal, offsets=args.at or [0.0], plane_origin=args.plane_origin,
+                    on_face=args.on_face)
 
 
 def _numbered(path: Path, count: int) -> list[Path]:
