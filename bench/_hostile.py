@@ -368,8 +368,8 @@ def svg_cases():
 
     def outline(polygons, size):
         strokes = "".join(
-            '<path fill="none" stroke="black" d="M' + " L".join(f"{x!r} {size[1] - y!r}" for x, y in
-                                                           np.asarray(p.exterior.coords)) + '"/>'
+            '<path fill="none" stroke="black" d="M' + " L".join(
+                f"{float(x)!r} {float(size[1] - y)!r}" for x, y in p.exterior.coords) + '"/>'
             for p in polygons)
         return _SVG.format(attributes=f'viewBox="0 0 {size[0]} {size[1]}"', body=strokes)
 
