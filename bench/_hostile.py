@@ -277,9 +277,9 @@ def point_set_cases():
     from scipy.spatial import Delaunay
 
     def oracle(points, alpha):
-        points = points - points.min(axis=0)         # exact (Sterbenz); Qhull is safe here
         if len(points) < 3 or np.linalg.matrix_rank(points - points[0]) < 2:
             return 0.0
+        points = points - points.min(axis=0)         # exact (Sterbenz); Qhull is safe here
         tri = Delaunay(points).simplices
         a, b, c = (points[tri[:, k]] for k in range(3))
         cross = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
@@ -552,7 +552,7 @@ def cli_verdict(process, folder, keep=()):
 
 
 def cli_cases():
-    def case(name, *argv, keep=("part.stl", "drawing.svg", "exists")):
+    def case(*argv, keep=("part.stl", "drawing.svg", "exists")):
         def make(folder):
             stl = _stl(folder)
             (folder / "drawing.svg").write_text(_SVG.format(
@@ -717,6 +717,10 @@ def failed_run_cases():
              "z", "--alpha", "0.1", "--plot", "none/p.png"),
     ]
 
+
+TIME_LIMITS = {"command line": 120.0, "signals": 180.0, "failed runs": 120.0}
+"""Seconds per input for the classes that run pds-mesh itself (a fresh Python, workers),
+when more than the harness's limit."""
 
 CLASSES = {
     "alpha values": alpha_cases,

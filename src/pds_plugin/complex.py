@@ -27,7 +27,7 @@ from .errors import ArgumentError, ArgumentTypeError, BudgetError
 __all__ = ["solid_alpha_complex"]
 
 _MAX_CELLS = 200_000_000
-_MAX_NEIGHBOURS = 1000     # points within 2 alpha of one point: the local work grows as its cube
+_MAX_NEIGHBOURS = 256      # points within 2 alpha of one point: the local work grows as its cube
 _MAX_UNSURE = 5000         # triangles left to the exact (rational) empty-circle test
 
 
@@ -114,8 +114,9 @@ def _check_work(points, alpha) -> None:
     crowd = int(cKDTree(points).query_ball_point(points, 2 * alpha, return_length=True).max())
     if crowd > _MAX_NEIGHBOURS:
         raise BudgetError(f"{crowd} points lie within 2 alpha={2 * alpha:.6g} of one point, "
-                          f"more than {_MAX_NEIGHBOURS}: alpha is far larger than the points' "
-                          f"spacing; use a smaller alpha (or subsample the points)")
+                          f"more than {_MAX_NEIGHBOURS} (a Poisson sampling has about 20): alpha "
+                          f"is far larger than the points' spacing; use a smaller alpha (or "
+                          f"subsample the points)")
 
 
 def _checked_points(points) -> np.ndarray:
