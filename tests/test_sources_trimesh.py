@@ -366,3 +366,14 @@ def test_a_tiny_part_is_not_on_its_faces():
     tiny = trimesh.creation.box(extents=(1e-9, 2e-9, 1e-9))
     region = section(tiny, (0, 0, 0), (0, 0, 1))
     assert math.isclose(region.area, 2e-18, rel_tol=1e-9)
+
+
+def test_a_truncated_binary_stl_and_a_folder_are_named(tmp_path):
+    """Was: "No module named 'charset_normalizer'" and "no such file"."""
+    data = trimesh.creation.box().export(file_type="stl")
+    (tmp_path / "cut.stl").write_bytes(data[:300])
+    with pytest.raises(ValueError, match="binary STL cut short.*12 triangles"):
+        section(tmp_path / "cut.stl", (0, 0, 0), (0, 0, 1))
+    (tmp_path / "folder.stl").mkdir()
+    with pytest.raises(IsADirectoryError, match="is a folder"):
+        section(tmp_path / "folder.stl", (0, 0, 0), (0, 0, 1))

@@ -170,6 +170,8 @@ def check_output_directory(path) -> Path:
     ------
     FileNotFoundError
         If the parent directory of ``path`` does not exist.
+    IsADirectoryError
+        If ``path`` is a directory.
 
     Examples
     --------
@@ -182,6 +184,8 @@ def check_output_directory(path) -> Path:
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: directory {path.parent} does not exist; "
                                 "create it first")
+    if path.is_dir():
+        raise IsADirectoryError(f"cannot write {path}: it is a directory; give a file name")
     return path
 
 

@@ -176,9 +176,6 @@ def _check_outputs(paths, source) -> None:
         if path is None:
             continue
         check_output_directory(path)
-        if path.is_dir():
-            raise IsADirectoryError(f"cannot write {path}: it is a directory; give a file "
-                                    f"name")
         if path.resolve() == Path(source).resolve():
             raise ArgumentError(f"the output {path} would overwrite the input; choose "
                                 f"another name")

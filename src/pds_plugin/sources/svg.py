@@ -127,6 +127,8 @@ def _parse(path, max_bytes, max_elements, max_segments):
     import svgelements
 
     name = os.fspath(path)
+    if os.path.isdir(name):
+        raise IsADirectoryError(f"{name!r} is a folder, not an SVG file")
     if not os.path.isfile(name):
         raise FileNotFoundError(f"no such SVG file: {name!r}")
     if os.path.getsize(name) == 0:

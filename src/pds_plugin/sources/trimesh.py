@@ -27,10 +27,11 @@ def load(solid):
 
     Raises
     ------
-    FileNotFoundError
-        If the path does not exist.
+    FileNotFoundError, IsADirectoryError
+        If the path does not exist, or is a folder.
     SourceError
-        If the file is empty or holds no triangles trimesh can read, or the mesh has none.
+        If the file is empty, a binary STL cut short, or holds no triangles trimesh can
+        read, or the mesh has none.
 
     Examples
     --------
@@ -44,6 +45,8 @@ def load(solid):
         mesh, name = solid, "the mesh"
     else:
         path = os.fspath(solid)
+        if os.path.isdir(path):
+            raise IsADirectoryError(f"{path!r} is a folder, not a mesh file")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"no such mesh file: {path!r}")
         if os.path.getsize(path) == 0:
@@ -51,8 +54,13 @@ def load(solid):
         if path.lower().endswith(".svg"):
             raise SourceError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
                              f"pds_plugin.load_svg")
+        _check_binary_stl(path)
         try:
             mesh = trimesh.load_mesh(path)
+        except ImportError as error:  # trimesh guesses a text encoding with an optional module
+            raise SourceError(f"cannot read {path!r} as a mesh: it is neither a valid binary "
+                              f"file nor plain text (trimesh: {error}); give a file trimesh "
+                              f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
         except Exception as error:  # trimesh raises many kinds for unreadable files
             raise SourceError(f"cannot read {path!r} as a mesh ({error}); give a file trimesh "
                              f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
@@ -61,6 +69,22 @@ def load(solid):
         raise SourceError(f"{name} has no triangles (it is empty, a point cloud, or not a mesh "
                          f"format trimesh reads); give a closed triangle mesh")
     return mesh
+
+
+def _check_binary_stl(path) -> None:
+    """Refuse a binary STL shorter than its header says (an interrupted download or copy)."""
+    if not path.lower().endswith(".stl"):
+        return
+    with open(path, "rb") as file:
+        head = file.read(84)
+    if len(head) < 84 or head[:5].lower() == b"solid":      # text STL: trimesh judges
+        return
+    count = int.from_bytes(head[80:84], "little")
+    size, expected = os.path.getsize(path), 84 + 50 * count
+    if size < expected:
+        raise SourceError(f"{path!r} is a binary STL cut short: its header announces {count} "
+                          f"triangles ({expected:,} bytes) but the file has {size:,} bytes; "
+                          f"copy or export it again")
 
 
 def cut(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
