@@ -504,7 +504,7 @@ def auto_alpha_cases():
     slot = box(0, 0, 10, 10).difference(box(2, 5 - 5e-5, 10, 5 + 5e-5))
     return [
         case("plate with a 1e-4 slot, 20k samples", slot, (6, 5), max_samples=20_000),
-        case("plate with a 1e-4 slot, 200k samples", slot, (6, 5), max_samples=200_000),
+        case("plate with a 1e-4 slot, 60k samples", slot, (6, 5), max_samples=60_000),
         case("two discs 1e-3 apart", Point(0, 0).buffer(1).union(Point(2.001, 0).buffer(1)),
              (1.0005, 0), max_samples=20_000),
         case("ring", Point(0, 0).buffer(1).difference(Point(0, 0).buffer(0.5))),
@@ -565,35 +565,35 @@ def cli_cases():
                          lambda process: cli_verdict(process, folder, keep))
         return Case("pds-mesh " + " ".join(argv), make)
 
+    PLY = ("STL", "-o", "out.ply", "--axis", "z", "--alpha")        # then alpha, options
     return [
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "1e-300"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "1e300"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--max-samples", "0"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.001", "--max-samples", "100"),
+        case(*PLY, "0.1"),
+        case(*PLY, "0"),
+        case(*PLY, "1e-300"),
+        case(*PLY, "1e300"),
+        case(*PLY, "0.1", "--max-samples", "0"),
+        case(*PLY, "0.001", "--max-samples", "100"),
         case("STL", "-o", "out.stl", "--axis", "z", "--alpha", "0.1"),
         case("STL", "-o", "out", "--axis", "z", "--alpha", "0.1"),
         case("STL", "-o", "exists", "--axis", "z", "--alpha", "0.1"),
         case("STL", "-o", "no/such/dir/out.ply", "--axis", "z", "--alpha", "0.1"),
         case("STL", "-o", "STL", "--axis", "z", "--alpha", "0.1"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--report", "exists"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--plot", "exists.png/x.png"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--plot", "p.xyz"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--at", "0,0.5"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--at", "0.5,5"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--at", "0.5,1"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--slices", "1000000000"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--slices", "3",
-             "--jobs", "1000"),
+        case(*PLY, "0.1", "--report", "exists"),
+        case(*PLY, "0.1", "--plot", "exists.png/x.png"),
+        case(*PLY, "0.1", "--plot", "p.xyz"),
+        case(*PLY, "0.1", "--at", "0,0.5"),
+        case(*PLY, "0.1", "--at", "0.5,5"),
+        case(*PLY, "0.1", "--at", "0.5,1"),
+        case(*PLY, "0.1", "--slices", "1000000000"),
+        case(*PLY, "0.1", "--slices", "3", "--jobs", "1000"),
         case("STL", "-o", "out.ply", "--plane-normal", "0,0,0", "--alpha", "0.1"),
         case("STL", "-o", "out.ply", "--alpha", "0.1"),
         case("drawing.svg", "-o", "out.obj", "--alpha", "0.5"),
         case("drawing.svg", "-o", "out.obj", "--alpha", "0.5", "--axis", "z"),
         case("missing.stl", "-o", "out.ply", "--axis", "z", "--alpha", "0.1"),
         case("exists", "-o", "out.ply", "--axis", "z", "--alpha", "0.1"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--jobs", "x"),
-        case("STL", "-o", "out.ply", "--axis", "z", "--alpha", "0.1", "--seed", "-1"),
+        case(*PLY, "0.1", "--jobs", "x"),
+        case(*PLY, "0.1", "--seed", "-1"),
     ]
 
 
