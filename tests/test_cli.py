@@ -380,6 +380,13 @@ def test_an_output_that_is_a_folder_is_named(part_stl, tmp_path, capsys):
     assert "is a directory" in one_error_line(capsys.readouterr().err)
 
 
+def test_a_negative_seed_is_a_usage_error(part_stl, tmp_path, capsys):
+    """Was a ValueError traceback from numpy."""
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "0.1",
+                 "--seed", "-1"]) == 2
+    assert "integer >= 0" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("option, value", [("--slices", "1000000000"),
                                            ("--at", ",".join(["0.1"] * 10_001))])
 def test_the_number_of_sections_is_bounded(part_stl, tmp_path, capsys, option, value):

@@ -235,6 +235,7 @@ def test_a_region_far_from_the_origin_meshes_like_one_at_it():
     ({"alpha": 1e-300}, "translate"),
     ({"alpha": 0.1, "max_samples": 0}, "max_samples"),
     ({"alpha": 0.1, "max_samples": float("nan")}, "max_samples"),
+    ({"alpha": 0.1, "seed": -1}, "seed"),
 ])
 def test_bad_numbers_get_the_package_error(keywords, words):
     with pytest.raises(pds.PdsError, match=words):

@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
-__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_vector",
+__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_vector",
            "check_output_directory", "check_has_triangles", "import_optional"]
 
 
@@ -113,6 +113,21 @@ def check_positive_int(value, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise ArgumentError(f"{name} must be a positive integer, got {value!r}")
     return int(value)
+
+
+def check_seed(seed) -> int:
+    """``seed`` as an int >= 0, what ``numpy.random.default_rng`` takes.
+
+    Examples
+    --------
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentError: seed must be an integer >= 0, got -1
+    """
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ArgumentError(f"seed must be an integer >= 0, got {seed!r}")
+    return int(seed)
 
 
 def check_vector(value, name: str, size: int = 3) -> np.ndarray:

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._checks import check_alpha, check_positive, check_positive_int
+from ._checks import check_alpha, check_positive, check_positive_int, check_seed
 from .analysis.certificate import Certificate
 from .analysis.feature import FeatureSize, feature_size
 from .analysis.topology import topology_report
@@ -74,6 +74,7 @@ def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> Pla
     if isinstance(alpha, str) and alpha == "auto":
         return auto_mesh(region, seed=seed, **sampling_options)
     _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
+    check_seed(seed)
     samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)

@@ -7,7 +7,7 @@ import math
 import re
 from pathlib import Path
 
-from .._checks import check_alpha, check_positive_int
+from .._checks import check_alpha, check_positive_int, check_seed
 
 __all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "glue_negative_values"]
 
@@ -126,8 +126,9 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--slices", type=_section_count, metavar="N",
                        help=f"N evenly spaced sections across the solid (at most "
                             f"{MAX_SECTIONS:,})")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="random seed; the same seed gives the same mesh (default 0)")
+    parser.add_argument("--seed", type=_seed, default=0,
+                        help="random seed, an integer >= 0; the same seed gives the same "
+                             "mesh (default 0)")
     parser.add_argument("--max-samples", type=_positive_int, metavar="N",
                         help="refuse sections that would need more samples (default "
                              "5,000,000); with --jobs the processes share it")
@@ -151,7 +152,7 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
 def _demo_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="DIR", type=Path, default=Path("pds-demo"),
                         help="directory for the files (created; default ./pds-demo)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
 
 
 def glue_negative_values(argv: list[str]) -> list[str]:
@@ -207,6 +208,13 @@ def _offsets(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(f"at most {MAX_SECTIONS:,} offsets per run, got "
                                          f"{len(values):,}; split the run")
     return values
+
+
+def _seed(text: str) -> int:
+    try:
+        return check_seed(int(text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
 
 
 def _section_count(text: str) -> int:

@@ -201,7 +201,13 @@ def _results(tasks: list[Task], jobs: int):
         return
     from multiprocessing import get_context
 
-    pool = get_context("spawn").Pool(jobs, initializer=_start_worker, initargs=(os.getpid(),))
+    stops = {signal.SIGINT, signal.SIGTERM}
+    signal.pthread_sigmask(signal.SIG_BLOCK, stops)    # a stop now would orphan workers
+    try:
+        pool = get_context("spawn").Pool(jobs, initializer=_start_worker,
+                                          initargs=(os.getpid(),))
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, stops)   # a pending stop lands below
     try:
         yield from pool.imap(mesh_section, tasks)
         pool.close()
@@ -217,6 +223,7 @@ def _start_worker(parent: int) -> None:
     started it dies, however it died."""
     from .._parallel import set_threads
 
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})  # inherited
     set_threads(1)
     if sys.platform.startswith("linux"):
         import ctypes
