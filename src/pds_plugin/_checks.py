@@ -118,6 +118,19 @@ def check_positive_int(value, name: str) -> int:
 def check_seed(seed) -> int:
     """``seed`` as an int >= 0, what ``numpy.random.default_rng`` takes.
 
+    Parameters
+    ----------
+    seed : int
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ArgumentError
+        If ``seed`` is not an integer >= 0 (``bool`` refused).
+
     Examples
     --------
     >>> check_seed(-1)

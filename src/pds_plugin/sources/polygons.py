@@ -189,6 +189,19 @@ def _chain_ids(chains) -> np.ndarray:
 def snap(points, tolerance) -> np.ndarray:
     """Replace each cluster of points closer than ``tolerance`` by its first member.
 
+    Parameters
+    ----------
+    points : (n, 2) float ndarray
+    tolerance : float
+        Points closer than this (chains of them included) form one cluster.
+
+    Returns
+    -------
+    (n, 2) float ndarray
+        A new array: every point replaced by the first point of its cluster.
+
+    Examples
+    --------
     >>> snap(np.array([[0.0, 0.0], [1e-12, 0.0], [1.0, 0.0]]), 1e-9).tolist()
     [[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]]
     """
