@@ -116,20 +116,8 @@ def check_positive_int(value, name: str) -> int:
 
 
 def check_seed(seed) -> int:
-    """``seed`` as an int >= 0, what ``numpy.random.default_rng`` takes.
-
-    Parameters
-    ----------
-    seed : int
-
-    Returns
-    -------
-    int
-
-    Raises
-    ------
-    ArgumentError
-        If ``seed`` is not an integer >= 0 (``bool`` refused).
+    """``seed`` as an int >= 0, what ``numpy.random.default_rng`` takes; an
+    :class:`~pds_plugin.errors.ArgumentError` otherwise (``bool`` refused).
 
     Examples
     --------
