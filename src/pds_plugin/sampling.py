@@ -38,8 +38,8 @@ __all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "DEFA
 
 DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples. At the cap, mesh_region of a unit
-square makes 4.97 M samples and 9.9 M triangles and peaks at 2.0 GiB resident (measured
-with /usr/bin/time -v: Python 3.11, numba 0.68.1)."""
+square makes 4.97 M samples and 9.9 M triangles and peaked at 2.0 GiB resident (measured
+with /usr/bin/time -v with the numba kernels, before the compiled engine)."""
 
 _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
