@@ -303,7 +303,7 @@ def test_too_many_samples_passes_the_estimate_and_the_largest_alpha(part_stl, tm
 
 
 @pytest.mark.parametrize("output, plot, words", [
-    ("out.stl", None, "output suffix"),
+    ("out.xyz", None, "output suffix"),
     ("nowhere/out.ply", None, "does not exist"),
     ("out.ply", "picture.xyz", "picture suffix"),
 ])
@@ -369,3 +369,139 @@ def test_a_bug_keeps_its_traceback(part_stl, tmp_path, monkeypatch):
     monkeypatch.setattr(mesh_command, "mesh_region", broken)
     with pytest.raises(ZeroDivisionError, match="a bug"):
         main([part_stl, "-o", tmp_path / "x.ply", "--axis", "z", "--alpha", "0.2"])
+
+
+def two_slabs(folder):
+    """Two 2x2x1 slabs with nothing between z = 1 and z = 2."""
+    slabs = trimesh.util.concatenate([trimesh.creation.box(extents=(2, 2, 1)).apply_translation(
+        (0, 0, z)) for z in (0.5, 2.5)])
+    path = folder / "slabs.stl"
+    slabs.export(path)
+    return path
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_failing_later_section_leaves_no_file(tmp_path, capsys, jobs):
+    """The plane z = 1.5 cuts no material: the run fails and writes none of the sections
+    (not part_000.ply), nor the pictures or the report."""
+    slabs = two_slabs(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    status = main([slabs, "-o", out / "part.ply", "--axis", "z", "--at", "0.5,1.5,2.5",
+                   "--alpha", "0.2", "--plot", out / "part.png", "--report", out / "r.json",
+                   "--jobs", jobs])
+    assert status == 1
+    assert "cuts no material" in one_error_line(capsys.readouterr().err)
+    assert list(out.iterdir()) == []
+
+
+def test_a_report_path_that_is_a_folder_fails_before_any_mesh(part_stl, tmp_path, capsys):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "0.1",
+                 "--report", tmp_path]) == 1
+    assert "is a directory" in one_error_line(capsys.readouterr().err)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_an_output_that_is_a_folder_is_named(part_stl, tmp_path, capsys):
+    (tmp_path / "o.ply").mkdir()
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "0.1"]) == 1
+    assert "is a directory" in one_error_line(capsys.readouterr().err)
+
+
+def test_a_negative_seed_is_a_usage_error(part_stl, tmp_path, capsys):
+    """Was a ValueError traceback from numpy."""
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "0.1",
+                 "--seed", "-1"]) == 2
+    assert "integer >= 0" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("option, value", [("--slices", "1000000000"),
+                                           ("--at", ",".join(["0.1"] * 10_001))])
+def test_the_number_of_sections_is_bounded(part_stl, tmp_path, capsys, option, value):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "0.1", option,
+                 value]) == 2
+    assert "at most 10,000" in capsys.readouterr().err
+
+
+def test_jobs_are_capped_at_the_cores_and_share_the_budget():
+    import os
+    from pds_plugin.cli.mesh import _workers
+
+    cores = len(os.sched_getaffinity(0))
+    assert _workers(1000, 50) == min(cores, 50)
+    assert _workers(1000, 1) == 1 and _workers(1, 50) == 1
+
+
+def process_tree(pid):
+    """``pid`` and every process below it, from /proc."""
+    from pathlib import Path
+    found, todo = [], [pid]
+    while todo:
+        current = todo.pop()
+        found.append(current)
+        try:
+            todo += map(int, Path(f"/proc/{current}/task/{current}/children").read_text().split())
+        except OSError:
+            pass
+    return found
+
+
+def alive(pid):
+    from pathlib import Path
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.parametrize("signum", ["SIGTERM", "SIGKILL", "SIGINT"])
+def test_no_worker_outlives_pds_mesh(tmp_path, signum):
+    """pds-mesh --jobs 2 stopped by a signal while meshing: its workers end too, and no
+    file is left under a final name."""
+    import os
+    import signal
+    import time
+
+    block = tmp_path / "block.stl"
+    trimesh.creation.box(extents=(4, 4, 4)).export(block)
+    child = subprocess.Popen([sys.executable, "-m", "pds_plugin.cli", block, "-o", "s.ply",
+                              "--axis", "z", "--slices", "4", "--alpha", "0.004", "--jobs", "2"],
+                             cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120
+    while len(process_tree(child.pid)) < 3 and time.monotonic() < deadline:
+        time.sleep(0.2)
+    workers = process_tree(child.pid)[1:]
+    assert len(workers) >= 2, "the workers did not start"
+    time.sleep(2.0)
+    os.kill(child.pid, getattr(signal, signum))
+    child.wait(timeout=60)
+    deadline = time.monotonic() + 20
+    while any(map(alive, workers)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    orphans = [pid for pid in workers if alive(pid)]
+    for pid in orphans:
+        os.kill(pid, signal.SIGKILL)
+    assert orphans == []
+    assert [p.name for p in tmp_path.iterdir() if not p.name.startswith(".")] == ["block.stl"]
+    if signum != "SIGKILL":
+        assert child.returncode == 130 and "interrupted" in child.stderr.read().decode()
+
+
+def test_the_default_middle_plane_on_a_step_moves_off_it(tmp_path, capsys):
+    """A stepped block has its step face at exactly half height: the automatic middle
+    plane moves just above it (a warning says so); an explicit plane there needs
+    --on-face."""
+    import manifold3d as m3
+
+    part = (m3.Manifold.cube((2, 2, 1)) + m3.Manifold.cube((1, 1, 1)).translate((0, 0, 1)))
+    mesh = part.to_mesh64()
+    block = tmp_path / "block.stl"
+    trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], mesh.tri_verts).export(block)
+    assert main([block, "-o", tmp_path / "mid.ply", "--axis", "z", "--alpha", "0.1"]) == 0
+    assert "just above" in capsys.readouterr().err
+    assert main([block, "-o", tmp_path / "at.ply", "--axis", "z", "--at", "1",
+                 "--alpha", "0.1"]) == 1
+    assert "on_face" in one_error_line(capsys.readouterr().err)
+    assert main([block, "-o", tmp_path / "below.ply", "--axis", "z", "--at", "1",
+                 "--alpha", "0.1", "--on-face", "below"]) == 0
+    assert trimesh.load_mesh(tmp_path / "below.ply").area > 3.9     # the 2 x 2 base, not the step

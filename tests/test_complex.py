@@ -97,3 +97,21 @@ def test_bad_points_are_refused(points, message):
 def test_bad_alpha_is_refused():
     with pytest.raises(ValueError, match="alpha must be a positive finite number"):
         pds.solid_alpha_complex(np.random.default_rng(0).random((5, 2)), -1)
+
+
+def test_many_cocircular_points_are_refused_quickly():
+    """100 points on a circle: every triangle ties; the exact tie-break would take minutes."""
+    angles = np.arange(100) * 2 * np.pi / 100
+    with pytest.raises(pds.PdsError, match="cocircular"):
+        pds.solid_alpha_complex(np.column_stack([np.cos(angles), np.sin(angles)]), 1.5)
+
+
+def test_an_alpha_far_above_the_spacing_is_refused_before_any_work():
+    points = np.random.default_rng(0).random((5000, 2))
+    with pytest.raises(pds.PdsError, match="within 2 alpha"):
+        pds.solid_alpha_complex(points, 10.0)
+
+
+def test_points_spanning_the_float_range_are_refused():
+    with pytest.raises(pds.PdsError, match="cells"):
+        pds.solid_alpha_complex(np.array([[1e308, 1e308], [-1e308, 0], [0, 1]]), 0.5)

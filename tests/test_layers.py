@@ -20,7 +20,7 @@ LAYERS = [
     (0, "pds_plugin._sampling_kernels"), (0, "pds_plugin._complex_kernels"),
     (0, "pds_plugin._geometry_kernels"), (0, "pds_plugin._mesh_kernels"),
     (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._parallel"),
-    (0, "pds_plugin._version"),
+    (0, "pds_plugin._version"), (0, "pds_plugin._atomic"),
     (1, "pds_plugin.errors"), (1, "pds_plugin.silence"),
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"),

@@ -209,3 +209,43 @@ def test_bad_sample_budgets(bad):
         suggest_alpha(square, max_samples=bad)
     with pytest.raises(ValueError, match="max_samples must be a positive integer"):
         auto_mesh(square, max_samples=bad)
+
+
+def test_an_alpha_below_the_coordinates_resolution_is_refused_at_once():
+    """A unit square at 1e15 (float spacing 0.125): alpha 0.02 used to run for minutes
+    past 8 GB; 0.1 gave overlapping triangles."""
+    import time
+
+    far = pds.Region.from_shapely(box(1e15, 1e15, 1e15 + 1, 1e15 + 1))
+    for alpha in (0.02, 0.05, 0.1):
+        started = time.monotonic()
+        with pytest.raises(pds.PdsError, match="translate the region towards the origin"):
+            pds.mesh_region(far, alpha)
+        assert time.monotonic() - started < 5
+
+
+def test_a_region_far_from_the_origin_meshes_like_one_at_it():
+    near = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.1)
+    far = pds.mesh_region(pds.Region.from_shapely(box(1e8, 1e8, 1e8 + 1, 1e8 + 1)), 0.1)
+    assert far.certificate().ok and abs(len(far.vertices) - len(near.vertices)) < 20
+
+
+@pytest.mark.parametrize("keywords, words", [
+    ({"alpha": True}, "alpha must be a positive number"),
+    ({"alpha": 1e-300}, "translate"),
+    ({"alpha": 0.1, "max_samples": 0}, "max_samples"),
+    ({"alpha": 0.1, "max_samples": float("nan")}, "max_samples"),
+    ({"alpha": 0.1, "seed": -1}, "seed"),
+])
+def test_bad_numbers_get_the_package_error(keywords, words):
+    with pytest.raises(pds.PdsError, match=words):
+        pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), **keywords)
+
+
+def test_auto_alpha_warns_when_the_budget_caps_it_below_a_slot():
+    """A 10 x 10 plate with a 1e-4-wide slot: 20,000 samples cannot resolve it, the
+    bridged slot keeps the topology, so only a warning can tell."""
+    plate = pds.Region.from_shapely(box(0, 0, 10, 10).difference(box(2, 5 - 5e-5, 10, 5 + 5e-5)))
+    with pytest.warns(UserWarning, match=r"gap of width 0\.0001.*raise max_samples"):
+        mesh = pds.mesh_region(plate, "auto", max_samples=20_000)
+    assert mesh.alpha > 1e-4

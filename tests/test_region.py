@@ -6,6 +6,8 @@ import shapely
 from shapely.geometry import LineString, MultiPolygon, Point, Polygon, box
 
 import pds_plugin as pds
+from pds_plugin import Region
+from pds_plugin.errors import ArgumentError, RegionError
 
 
 def test_rings_are_oriented_and_open():
@@ -89,3 +91,17 @@ def test_turning_angles_of_a_ring_sum_to_one_turn_with_the_region_on_the_left():
     outer, hole = pds.Region.from_shapely(Point(0, 0).buffer(2).difference(Point(0, 0).buffer(1))).rings
     assert turning_angles(outer).sum() == pytest.approx(2 * np.pi, rel=1e-12)
     assert turning_angles(hole).sum() == pytest.approx(-2 * np.pi, rel=1e-12)
+
+
+@pytest.mark.parametrize("size", [1e-150, 1e101])
+def test_regions_beyond_float64_squares_are_refused(size):
+    """At 1e-150 the certificate found -17 holes (squares of coordinates underflow)."""
+    with pytest.raises(RegionError, match="scale the geometry"):
+        Region.from_shapely(box(0, 0, size, size))
+
+
+def test_a_singular_frame_is_refused():
+    frame = np.eye(4)
+    frame[:3, 1] = frame[:3, 0]
+    with pytest.raises(ArgumentError, match="rank 2"):
+        Region.from_shapely(box(0, 0, 1, 1), frame=frame)

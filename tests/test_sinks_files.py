@@ -93,9 +93,9 @@ def test_obj_round_trip_through_trimesh_and_pymeshlab(mesh, tmp_path, suffix):
     np.testing.assert_array_equal(ms.current_mesh().face_matrix(), mesh.faces)
 
 
-@pytest.mark.parametrize("name", ["plate.stl", "plate", "plate.ply.gz"])
+@pytest.mark.parametrize("name", ["plate.xyz", "plate", "plate.ply.gz"])
 def test_unknown_suffix_names_it_and_the_supported_ones(mesh, tmp_path, name):
-    message = r"cannot export to .*supported suffixes are .*\.obj, \.ply"
+    message = r"cannot export to .*supported suffixes are .*\.obj, \.off, \.ply, \.stl"
     with pytest.raises(ValueError, match=message):
         export(mesh, tmp_path / name)
     assert not (tmp_path / name).exists()
@@ -120,8 +120,72 @@ def test_registered_writer_is_used_by_suffix(mesh, tmp_path, monkeypatch):
     def write_xyz(mesh, path):
         np.savetxt(path, mesh.vertices_3d)
 
-    assert writers() == [".obj", ".ply", ".xyz"]
+    assert writers() == [".3mf", ".glb", ".obj", ".off", ".ply", ".stl", ".xyz"]
     export(mesh, tmp_path / "plate.xyz")
     np.testing.assert_allclose(np.loadtxt(tmp_path / "plate.xyz"), mesh.vertices_3d, rtol=1e-15)
     with pytest.raises(ValueError, match="starts with a dot"):
         register_writer("xyz")
+
+
+@pytest.mark.parametrize("suffix", [".stl", ".off", ".glb", ".3mf"])
+def test_every_format_trimesh_writes(mesh, tmp_path, suffix):
+    """Through trimesh, read back by trimesh: the same triangles, in the format's
+    precision (STL, GLB and 3MF store float32)."""
+    path = tmp_path / f"plate{suffix}"
+    export(mesh, path)
+    back = trimesh.load(path, force="mesh", process=False)
+    assert len(back.faces) == len(mesh.faces)
+    assert np.isclose(back.area, to_trimesh(mesh).area, rtol=1e-5)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]
+
+
+def test_a_failing_writer_leaves_no_file_and_keeps_the_old_one(mesh, tmp_path, monkeypatch):
+    monkeypatch.setattr(export_module, "_WRITERS", dict(export_module._WRITERS))
+
+    @register_writer(".half")
+    def write_half(mesh, path):
+        path.write_text("half a mesh")
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        export(mesh, tmp_path / "plate.half")
+    assert list(tmp_path.iterdir()) == []
+    (tmp_path / "plate.half").write_text("the old file")
+    with pytest.raises(KeyboardInterrupt):
+        export(mesh, tmp_path / "plate.half")
+    assert [p.name for p in tmp_path.iterdir()] == ["plate.half"]
+    assert (tmp_path / "plate.half").read_text() == "the old file"
+
+
+WRITER = """
+import sys, pds_plugin as pds
+from shapely.geometry import box
+mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.002)
+print(len(mesh.vertices), len(mesh.faces), flush=True)
+sys.stdin.readline()
+mesh.export(sys.argv[1])
+"""
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".obj"])
+def test_kill_during_export_leaves_the_whole_file_or_none(tmp_path, suffix):
+    """SIGKILL at several moments of a ~300k-triangle write: whatever exists under the
+    final name is the complete mesh."""
+    import subprocess
+    import sys
+    import time
+
+    path = tmp_path / f"mesh{suffix}"
+    for delay in (0.0, 0.05, 0.2):
+        path.unlink(missing_ok=True)
+        child = subprocess.Popen([sys.executable, "-c", WRITER, str(path)], text=True,
+                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        vertices, faces = map(int, child.stdout.readline().split())
+        child.stdin.write("go\n")
+        child.stdin.flush()
+        time.sleep(delay)
+        child.kill()
+        child.wait()
+        if path.exists():
+            back = trimesh.load_mesh(path, process=False)
+            assert (len(back.vertices), len(back.faces)) == (vertices, faces)

@@ -10,6 +10,7 @@ import pytest
 import shapely
 
 from pds_plugin import load_svg
+from pds_plugin.errors import SourceError
 from pds_plugin.sources.polygons import outline_geometry
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
@@ -455,3 +456,47 @@ def test_example_runs_on_its_builtin_drawing(tmp_path):
     written = trimesh.load_mesh(tmp_path / "builtin_drawing.ply")
     assert len(written.faces) > 0
     assert written.bounds[:, :2].ravel().tolist() == pytest.approx([10, 10, 105, 70], abs=1.5)
+
+
+def _svg(tmp_path, body, attributes='viewBox="0 0 10 10"'):
+    path = tmp_path / "drawing.svg"
+    path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" {attributes}>{body}</svg>')
+    return path
+
+
+def test_a_use_bomb_is_refused_before_it_is_built(tmp_path):
+    """Eight levels of ten <use> each: 10^8 rects from 1 KB."""
+    groups = "".join(f'<g id="g{i}">' + f'<use href="#g{i - 1}"/>' * 10 + "</g>"
+                     for i in range(1, 9))
+    bomb = _svg(tmp_path, f'<defs><g id="g0"><rect width="1" height="1"/></g>{groups}</defs>'
+                          '<use href="#g8"/>')
+    with pytest.raises(SourceError, match="max_elements"):
+        load_svg(bomb)
+
+
+def test_a_use_cycle_is_named(tmp_path):
+    cycle = _svg(tmp_path, '<g id="a"><use href="#b"/></g><g id="b"><use href="#a"/></g>'
+                           '<rect width="2" height="2"/>')
+    with pytest.raises(SourceError, match="<use> cycle"):
+        load_svg(cycle)
+
+
+def test_size_and_segment_limits_name_their_keywords(tmp_path):
+    steps = " ".join(f"L{i % 100} {i // 100}" for i in range(2000))
+    path = _svg(tmp_path, f'<path d="M0 0 {steps} Z"/>')
+    with pytest.raises(SourceError, match="max_segments"):
+        load_svg(path, max_segments=1000)
+    assert load_svg(path, max_segments=5000).area > 0
+    with pytest.raises(SourceError, match="max_bytes"):
+        load_svg(path, max_bytes=1000)
+
+
+@pytest.mark.parametrize("body, attributes, words", [
+    ('<rect width="10" height="10"/>', 'viewBox="0 0 0 0"', "viewBox"),
+    ('<path d="M0 0 Q1e300 5 10 0 L5 5Z"/>', 'viewBox="0 0 10 10"', "chords"),
+    ('<circle cx="5" cy="5" r="-5"/>', 'viewBox="0 0 10 10"', "negative size"),
+    ('<rect width="-10" height="10"/>', 'viewBox="0 0 10 10"', "negative size"),
+])
+def test_degenerate_drawings_get_the_package_error(tmp_path, body, attributes, words):
+    with pytest.raises(SourceError, match=words):
+        load_svg(_svg(tmp_path, body, attributes))

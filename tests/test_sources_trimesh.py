@@ -161,7 +161,7 @@ def test_plane_misses_the_solid_gives_the_extent():
 
 @pytest.mark.parametrize("z", [0.5, -0.5, 0.5 - 1e-9])
 def test_plane_on_a_face_is_refused_with_advice(z):
-    with pytest.raises(ValueError, match="lies on 2 face.*offset the plane"):
+    with pytest.raises(ValueError, match="lies on 2 face.*on_face='above' or 'below'"):
         section(trimesh.creation.box(), (0, 0, z), (0, 0, 1))
 
 
@@ -269,3 +269,111 @@ def test_example_runs_on_its_builtin_part(tmp_path):
     example.main(tmp_path)
     written = trimesh.load_mesh(tmp_path / "section_trimesh.ply")
     assert len(written.faces) > 0 and np.abs(written.vertices[:, 2]).max() < 1e-12
+
+
+def shells(*boxes):
+    """One mesh of several box shells (x0, y0, z0, x1, y1, z1), not merged: what
+    multi-body STL exports write."""
+    meshes = []
+    for x0, y0, z0, x1, y1, z1 in boxes:
+        box = trimesh.creation.box(extents=(x1 - x0, y1 - y0, z1 - z0))
+        meshes.append(box.apply_translation(((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)))
+    return trimesh.util.concatenate(meshes)
+
+
+def test_overlapping_shells_give_their_union():
+    """Two overlapping 2x2x2 boxes: the solid (winding number >= 1) is one 3x2 block,
+    not the even-odd 2 x (1x2) of the cut curves."""
+    region = section(shells((0, 0, 0, 2, 2, 2), (1, 0, 0, 3, 2, 2)), (0, 0, 1), (0, 0, 1))
+    assert region.betti == (1, 0)
+    assert math.isclose(region.area, 6.0, rel_tol=1e-12)
+
+
+def test_a_shell_inside_a_shell_is_no_hole_but_an_inward_shell_is_a_void():
+    nested = shells((0, 0, 0, 4, 4, 4), (1, 1, 1, 3, 3, 3))
+    region = section(nested, (0, 0, 2), (0, 0, 1))
+    assert region.betti == (1, 0) and math.isclose(region.area, 16.0, rel_tol=1e-12)
+    void = trimesh.creation.box(extents=(1, 1, 1))
+    void.invert()                                  # normals inward: a cavity in the solid
+    hollow = trimesh.util.concatenate([trimesh.creation.box(extents=(3, 3, 3)), void])
+    region = section(hollow, (0, 0, 0), (0, 0, 1))
+    assert region.betti == (1, 1) and math.isclose(region.area, 8.0, rel_tol=1e-12)
+
+
+def test_a_mesh_turned_inside_out_is_read_as_its_solid():
+    box = trimesh.creation.box(extents=(2, 2, 2))
+    box.invert()
+    assert math.isclose(section(box, (0, 0, 0), (0, 0, 1)).area, 4.0, rel_tol=1e-12)
+
+
+def test_far_plane_origin_keeps_the_holes():
+    """The plane origin is the 2D origin: at (1e11, 1e11) the section's coordinates are
+    1.4e11 large, but the cut points are joined relative to the part, not to that."""
+    path = data_file("featuretype.STL")
+    mesh = trimesh.load_mesh(path)
+    middle = mesh.bounds.mean(axis=0)
+    near = section(path, middle, (0, 0, 1))
+    far = section(path, (1e11, 1e11, middle[2]), (0, 0, 1))
+    assert far.betti == near.betti == (2, 8)
+    assert math.isclose(far.area, near.area, rel_tol=1e-5)
+
+
+def test_a_stray_part_far_away_does_not_inflate_the_tolerance():
+    """A 1-unit box 1e8 away from a 10-unit box with ten 0.2-wide holes: the holes stay."""
+    plate = trimesh.creation.box(extents=(10, 10, 1))
+    for i in range(10):
+        hole = trimesh.creation.box(extents=(0.2, 0.2, 2)).apply_translation((-4.5 + i, 0, 0))
+        plate = plate.difference(hole)
+    stray = trimesh.creation.box(extents=(1, 1, 1)).apply_translation((1e8, 1e8, 0))
+    region = section(trimesh.util.concatenate([plate, stray]), (0, 0, 0), (0, 0, 1))
+    assert region.betti == (2, 10)
+    assert math.isclose(region.area, 100 - 10 * 0.04 + 1, rel_tol=1e-6)   # shoelace at 1e8
+
+
+def stepped_block():
+    """A 2 x 2 x 1 block with a 1 x 1 x 1 step on top, made with manifold3d: a face at
+    exactly half the height, as CAD parts often have."""
+    import manifold3d as m3
+
+    part = m3.Manifold.cube((2, 2, 1)) + m3.Manifold.cube((1, 1, 1)).translate((0, 0, 1))
+    mesh = part.to_mesh64()
+    return trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], mesh.tri_verts)
+
+
+def test_an_explicit_plane_on_a_face_is_cut_above_or_below_on_request():
+    block = stepped_block()
+    with pytest.raises(ValueError, match="lies on .* face.*on_face"):
+        section(block, (0, 0, 1), (0, 0, 1))
+    above = section(block, (0, 0, 1), (0, 0, 1), on_face="above")
+    below = section(block, (0, 0, 1), (0, 0, 1), on_face="below")
+    assert math.isclose(above.area, 1.0, rel_tol=1e-9) and math.isclose(below.area, 4.0,
+                                                                          rel_tol=1e-9)
+    assert 0 < above.frame[2, 3] - 1 < 1e-5 and 0 < 1 - below.frame[2, 3] < 1e-5
+    with pytest.raises(ValueError, match="on_face must be"):
+        section(block, (0, 0, 1), (0, 0, 1), on_face="middle")
+
+
+def test_automatic_planes_move_off_faces_and_say_so():
+    """The middle plane of the stepped block (count=1) is on its step: it moves just
+    above it, with a warning, instead of failing."""
+    with pytest.warns(UserWarning, match="lies on .* face.*just above"):
+        (region,) = sections(stepped_block(), (0, 0, 1), count=1)
+    assert math.isclose(region.area, 1.0, rel_tol=1e-9)
+
+
+def test_a_tiny_part_is_not_on_its_faces():
+    """trimesh's absolute tolerance (1e-8) flagged every face of a 1e-9 box."""
+    tiny = trimesh.creation.box(extents=(1e-9, 2e-9, 1e-9))
+    region = section(tiny, (0, 0, 0), (0, 0, 1))
+    assert math.isclose(region.area, 2e-18, rel_tol=1e-9)
+
+
+def test_a_truncated_binary_stl_and_a_folder_are_named(tmp_path):
+    """Was: "No module named 'charset_normalizer'" and "no such file"."""
+    data = trimesh.creation.box().export(file_type="stl")
+    (tmp_path / "cut.stl").write_bytes(data[:300])
+    with pytest.raises(ValueError, match="binary STL cut short.*12 triangles"):
+        section(tmp_path / "cut.stl", (0, 0, 0), (0, 0, 1))
+    (tmp_path / "folder.stl").mkdir()
+    with pytest.raises(IsADirectoryError, match="is a folder"):
+        section(tmp_path / "folder.stl", (0, 0, 0), (0, 0, 1))

@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
-__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_vector",
+__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_vector",
            "check_output_directory", "check_has_triangles", "import_optional"]
 
 
@@ -51,7 +51,9 @@ def check_positive(value, name: str) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"{name} must be a positive number, got {value!r}") from None
+        number = None
+    if number is None or isinstance(value, (bool, np.bool_)):     # True is not a length
+        raise ArgumentTypeError(f"{name} must be a positive number, got {value!r}")
     if not math.isfinite(number) or number <= 0:
         raise ArgumentError(f"{name} must be a positive finite number, got {number}")
     return number
@@ -113,6 +115,22 @@ def check_positive_int(value, name: str) -> int:
     return int(value)
 
 
+def check_seed(seed) -> int:
+    """``seed`` as an int >= 0, what ``numpy.random.default_rng`` takes; an
+    :class:`~pds_plugin.errors.ArgumentError` otherwise (``bool`` refused).
+
+    Examples
+    --------
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentError: seed must be an integer >= 0, got -1
+    """
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ArgumentError(f"seed must be an integer >= 0, got {seed!r}")
+    return int(seed)
+
+
 def check_vector(value, name: str, size: int = 3) -> np.ndarray:
     """``value`` as a finite float64 vector of ``size`` numbers.
 
@@ -168,6 +186,8 @@ def check_output_directory(path) -> Path:
     ------
     FileNotFoundError
         If the parent directory of ``path`` does not exist.
+    IsADirectoryError
+        If ``path`` is a directory.
 
     Examples
     --------
@@ -180,6 +200,8 @@ def check_output_directory(path) -> Path:
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: directory {path.parent} does not exist; "
                                 "create it first")
+    if path.is_dir():
+        raise IsADirectoryError(f"cannot write {path}: it is a directory; give a file name")
     return path
 
 

@@ -27,6 +27,8 @@ from .errors import ArgumentError, ArgumentTypeError, BudgetError
 __all__ = ["solid_alpha_complex"]
 
 _MAX_CELLS = 200_000_000
+_MAX_NEIGHBOURS = 256      # points within 2 alpha of one point: the local work grows as its cube
+_MAX_UNSURE = 5000         # triangles left to the exact (rational) empty-circle test
 
 
 def solid_alpha_complex(points, alpha: float) -> np.ndarray:
@@ -71,12 +73,15 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
         return np.empty((0, 3), np.int64)
     h = alpha
     x0, y0 = points.min(axis=0)
+    with np.errstate(over="ignore"):                 # an inf span is refused just below
+        cells = np.prod(np.floor((points.max(axis=0) - points.min(axis=0)) / h) + 1)
+    if not cells <= _MAX_CELLS:
+        raise BudgetError(f"the points span {cells:.3g} cells of side alpha={alpha:.6g} "
+                          f"(the limit is {_MAX_CELLS:.0e}); use a larger alpha or split the "
+                          "point set into parts that are far apart")
+    _check_work(points, alpha)
     nx = int((points[:, 0].max() - x0) / h) + 1
     ny = int((points[:, 1].max() - y0) / h) + 1
-    if nx * ny > _MAX_CELLS:
-        raise BudgetError(f"the points span {nx * ny:.3g} cells of side alpha={alpha:.6g} "
-                         f"(the limit is {_MAX_CELLS:.0e}); use a larger alpha or split the "
-                         "point set into parts that are far apart")
     order, start = kern.bin_points(points, x0, y0, h, nx, ny)
     binned = points[order]                       # cell by cell: local memory access
     _check_distinct(binned, order, start)
@@ -88,12 +93,30 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
             break
         max_neighbours *= 4
     unsure = np.flatnonzero(flags == kern.UNSURE)
+    if len(unsure) > _MAX_UNSURE:
+        raise BudgetError(f"{len(unsure)} candidate triangles have four or more cocircular "
+                          f"points (a circle or lattice of points), more than the {_MAX_UNSURE} "
+                          f"the exact tie-break settles in reasonable time; perturb the points "
+                          f"slightly or use a smaller alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
         keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny)
                         for f in faces[unsure]]
         faces = faces[keep]
     return order[faces]
+
+
+def _check_work(points, alpha) -> None:
+    """Refuse, before any work, a point set whose neighbourhoods of radius 2 alpha are so
+    crowded that the local complex is far from linear time (alpha huge for the points)."""
+    from scipy.spatial import cKDTree
+
+    crowd = int(cKDTree(points).query_ball_point(points, 2 * alpha, return_length=True).max())
+    if crowd > _MAX_NEIGHBOURS:
+        raise BudgetError(f"{crowd} points lie within 2 alpha={2 * alpha:.6g} of one point, "
+                          f"more than {_MAX_NEIGHBOURS} (a Poisson sampling has about 20): alpha "
+                          f"is far larger than the points' spacing; use a smaller alpha (or "
+                          f"subsample the points)")
 
 
 def _checked_points(points) -> np.ndarray:

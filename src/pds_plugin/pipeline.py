@@ -13,7 +13,9 @@ from __future__ import annotations
 import warnings
 from typing import NamedTuple
 
-from ._checks import check_positive, check_positive_int
+import numpy as np
+
+from ._checks import check_alpha, check_positive, check_positive_int, check_seed
 from .analysis.certificate import Certificate
 from .analysis.feature import FeatureSize, feature_size
 from .analysis.topology import topology_report
@@ -71,6 +73,8 @@ def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> Pla
     """
     if isinstance(alpha, str) and alpha == "auto":
         return auto_mesh(region, seed=seed, **sampling_options)
+    _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
+    check_seed(seed)
     samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
@@ -122,11 +126,17 @@ def suggest_alpha(region: Region, max_samples: int | None = None,
     if estimate_samples(region, alpha) <= budget:
         return alpha
     capped = largest_alpha(region, budget)
-    warnings.warn(f"alpha {alpha:.6g} needed for the {size} would take about "
-                  f"{estimate_samples(region, alpha):.3g} samples, over the budget of "
-                  f"{budget}; using alpha {capped:.6g}, which may lose that feature",
-                  stacklevel=2)
+    _warn_over_budget(region, size, budget, capped)
     return capped
+
+
+def _warn_over_budget(region: Region, size: FeatureSize, budget: int, used: float) -> None:
+    """Say that the budget keeps alpha above what the narrowest feature needs."""
+    needed = size.lfs / 2
+    warnings.warn(f"alpha {needed:.6g} needed for the {size} would take about "
+                  f"{estimate_samples(region, needed):.3g} samples, over the budget of "
+                  f"{budget}; using alpha {used:.6g}, which may lose that feature (raise "
+                  f"max_samples to keep it)", stacklevel=3)
 
 
 def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
@@ -156,7 +166,9 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     Returns
     -------
     PlanarMesh
-        Its ``certificate().topology_ok`` is True.
+        Its ``certificate().topology_ok`` is True. When the sample budget keeps alpha
+        above what the narrowest feature needs (a slot may then be bridged without
+        changing the topology), a warning says so, as :func:`suggest_alpha` does.
 
     Raises
     ------
@@ -184,6 +196,10 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
         report = topology_report(mesh)
         if report.topology_ok:
+            # the paper's complex bridges gaps narrower than alpha too, topology kept
+            needs = size if mesh.conforming else _usable_feature_size(region, False)
+            if mesh.alpha > needs.lfs / 2 and smallest > needs.lfs / 2:
+                _warn_over_budget(region, needs, budget, mesh.alpha)  # e.g. a slot bridged
             return mesh
         if alpha <= smallest:
             break
@@ -192,6 +208,22 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
                      f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
                      f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
                      "that feature")
+
+
+ALPHA_RESOLUTION = 1e3
+"""Smallest alpha, in units of the float spacing at the region's coordinates."""
+
+
+def _check_resolution(region: Region, alpha: float) -> None:
+    """Refuse an alpha the region's coordinates cannot resolve (the sampler would run
+    away trying to place samples that rounding puts on top of each other)."""
+    if alpha < ALPHA_RESOLUTION * region.resolution:
+        raise ArgumentError(
+            f"alpha={alpha:.6g} is below {ALPHA_RESOLUTION:g} times the float64 spacing "
+            f"{region.resolution:.3g} of the region's coordinates (up to "
+            f"{np.abs(region.bounds).max():.6g}); translate the region towards the origin "
+            f"(move its frame's origin with it) or use alpha >= "
+            f"{ALPHA_RESOLUTION * region.resolution:.3g}")
 
 
 def _budget(max_samples) -> int:

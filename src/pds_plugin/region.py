@@ -96,6 +96,7 @@ class Region:
         if not polygons:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(MultiPolygon(polygons))
+        _check_scale(geometry)
         return cls(geometry, _checked_frame(frame))
 
     @cached_property
@@ -168,6 +169,17 @@ class Region:
         return tuple(float(v) for v in self.geometry.bounds)
 
     @property
+    def resolution(self) -> float:
+        """The spacing of float64 numbers at the region's largest coordinate: no two
+        points of the region closer than this can be told apart.
+
+        >>> from shapely.geometry import box
+        >>> Region.from_shapely(box(1e15, 0, 1e15 + 1, 1)).resolution
+        0.125
+        """
+        return float(np.spacing(np.abs(self.bounds).max()))
+
+    @property
     def perimeter(self) -> float:
         """The total length of the boundary rings."""
         return float(self.geometry.length)
@@ -228,12 +240,31 @@ def _invalidity(polygons) -> str:
             "fix the outline or pass repair=True (shapely.make_valid)")
 
 
+SCALE_LIMITS = (1e-100, 1e100)
+"""Smallest extent and largest coordinate of a region: areas and distances square the
+coordinates, which float64 holds only within about 1e±150."""
+
+
+def _check_scale(geometry) -> None:
+    low, high = SCALE_LIMITS
+    xmin, ymin, xmax, ymax = geometry.bounds
+    extent, largest = max(xmax - xmin, ymax - ymin), max(map(abs, geometry.bounds))
+    if not (extent > low and largest < high):
+        raise RegionError(f"the region spans {extent:.3g} with coordinates up to {largest:.3g}: "
+                          f"areas and distances need an extent above {low:g} and coordinates "
+                          f"below {high:g}; scale the geometry (e.g. change its units)")
+
+
 def _checked_frame(frame) -> np.ndarray:
     if frame is None:
         return np.eye(4)
     frame = np.array(frame, dtype=float)
     if frame.shape != (4, 4) or not np.isfinite(frame).all():
         raise ArgumentError(f"frame must be a finite 4x4 matrix, got shape {frame.shape}")
+    if not np.linalg.norm(np.cross(frame[:3, 0], frame[:3, 1])) > 0:
+        raise ArgumentError("frame maps the plane onto a line or a point (its first two "
+                            "columns are parallel or zero); give a 2D -> 3D map of rank 2, "
+                            "e.g. a rigid transform")
     return frame
 
 

@@ -30,14 +30,16 @@ import numpy as np
 import shapely
 
 from . import _sampling_kernels as kern
-from ._checks import check_alpha
+from ._checks import check_alpha, check_positive_int
 from .errors import BudgetError
 from .region import Region, require_region, turning_angles
 
 __all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "DEFAULT_MAX_SAMPLES"]
 
 DEFAULT_MAX_SAMPLES = 5_000_000
-"""Refuse samplings expected to exceed this many samples (about 1 GB of working memory)."""
+"""Refuse samplings expected to exceed this many samples. At the cap, mesh_region of a unit
+square makes 4.97 M samples and 9.9 M triangles and peaked at 2.0 GiB resident (measured
+with /usr/bin/time -v with the numba kernels, before the compiled engine)."""
 
 _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
@@ -93,7 +95,7 @@ def estimate_samples(region: Region, alpha: float) -> float:
     >>> round(estimate_samples(Region.from_shapely(box(0, 0, 1, 1)), 0.01))
     7400
     """
-    return 0.7 * region.area / alpha**2 + region.perimeter / alpha
+    return 0.7 * region.area / alpha / alpha + region.perimeter / alpha   # inf, never an error
 
 
 def largest_alpha(region: Region, max_samples: int) -> float:
@@ -164,6 +166,7 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     """
     require_region(region, "poisson_disc")
     alpha = check_alpha(alpha)
+    max_samples = check_positive_int(max_samples, "max_samples")
     expected = estimate_samples(region, alpha)
     if expected > max_samples:
         raise BudgetError(

@@ -19,7 +19,9 @@ line; anything else is a bug and keeps its traceback.
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 
 from ..errors import PdsError
 from . import demo, mesh
@@ -55,6 +57,9 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
     if not argv or argv[0] not in (*COMMANDS, "-h", "--help"):
         argv = ["mesh", *argv]
+    main_thread = threading.current_thread() is threading.main_thread()
+    if main_thread:                       # SIGTERM ends a run as Ctrl-C does
+        terminate = signal.signal(signal.SIGTERM, _interrupt)
     try:
         args = parser().parse_args(glue_negative_values(argv))
         return _RUN[args.command](args)
@@ -66,3 +71,10 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, terminate)
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt

@@ -7,14 +7,16 @@ import math
 import re
 from pathlib import Path
 
-from .._checks import check_alpha, check_positive_int
+from .._checks import check_alpha, check_positive_int, check_seed
 
-__all__ = ["PROG", "AXES", "COMMANDS", "parser", "glue_negative_values"]
+__all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "glue_negative_values"]
 
 PROG = "pds-mesh"
 COMMANDS = ("mesh", "demo")
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 _NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
+MAX_SECTIONS = 10_000
+"""Most sections one run cuts (--slices, --at): each is a mesh file; split bigger jobs."""
 
 _DESCRIPTION = """\
 Certified triangle meshes of planar sections: cut a mesh file with planes
@@ -115,19 +117,26 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     plane.add_argument("--plane-origin", type=_point, metavar="X,Y,Z",
                        help="a point of the plane (default: the world origin)")
     where = plane.add_mutually_exclusive_group()
-    where.add_argument("--at", type=_numbers, metavar="H[,H...]",
+    where.add_argument("--at", type=_offsets, metavar="H[,H...]",
                        help="offset(s) of the plane along the unit normal from the origin; "
                             "several give several sections")
-    where.add_argument("--slices", type=_positive_int, metavar="N",
-                       help="N evenly spaced sections across the solid")
+    plane.add_argument("--on-face", choices=("above", "below"),
+                       help="a plane given by --at or --plane-origin that lies on faces of "
+                            "the solid is cut just above or below them (refused otherwise); "
+                            "the automatic planes (the middle, --slices) move off faces "
+                            "by themselves, with a warning")
+    where.add_argument("--slices", type=_section_count, metavar="N",
+                       help=f"N evenly spaced sections across the solid (at most "
+                            f"{MAX_SECTIONS:,})")
     parser.add_argument("--layer", action="append", metavar="NAME",
                         help="DXF drawings: read this layer (repeat for several; default: "
                              "every layer with outline curves or hatches)")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="random seed; the same seed gives the same mesh (default 0)")
+    parser.add_argument("--seed", type=_seed, default=0,
+                        help="random seed, an integer >= 0; the same seed gives the same "
+                             "mesh (default 0)")
     parser.add_argument("--max-samples", type=_positive_int, metavar="N",
                         help="refuse sections that would need more samples (default "
-                             "5,000,000)")
+                             "5,000,000); with --jobs the processes share it")
     parser.add_argument("--report", type=Path, metavar="REPORT.json",
                         help="write the quality statistics and certificate of every "
                              "section as JSON")
@@ -138,7 +147,9 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--discs", action="store_true",
                         help="with --plot, also draw each sample's disc of radius alpha")
     parser.add_argument("-j", "--jobs", type=_positive_int, default=1, metavar="N",
-                        help="mesh sections in N parallel processes (same results as 1)")
+                        help="mesh sections in N parallel processes, at most one per core "
+                             "(same results as 1 unless a section needs the whole "
+                             "--max-samples, which the processes share)")
     parser.add_argument("-q", "--quiet", action="store_true",
                         help="print nothing but warnings and errors")
 
@@ -146,7 +157,7 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
 def _demo_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="DIR", type=Path, default=Path("pds-demo"),
                         help="directory for the files (created; default ./pds-demo)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
 
 
 def glue_negative_values(argv: list[str]) -> list[str]:
@@ -194,6 +205,29 @@ def _numbers(text: str) -> list[float]:
     if not all(math.isfinite(v) for v in values):
         raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}")
     return values
+
+
+def _offsets(text: str) -> list[float]:
+    values = _numbers(text)
+    if len(values) > MAX_SECTIONS:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SECTIONS:,} offsets per run, got "
+                                         f"{len(values):,}; split the run")
+    return values
+
+
+def _seed(text: str) -> int:
+    try:
+        return check_seed(int(text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+
+
+def _section_count(text: str) -> int:
+    count = _positive_int(text)
+    if count > MAX_SECTIONS:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SECTIONS:,} slices per run, got "
+                                         f"{text}; split the run with --at offsets")
+    return count
 
 
 def _point(text: str) -> tuple[float, float, float]:

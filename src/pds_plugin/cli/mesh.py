@@ -2,15 +2,22 @@
 
 from __future__ import annotations
 
+import os
+import signal
 import sys
+import threading
+import time
 import warnings
+from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 
+from .._atomic import atomic_path
 from .._checks import check_output_directory, import_optional
 from ..errors import ArgumentError, PdsError
 from ..pipeline import mesh_region, section_report
 from ..region import Region
+from ..sampling import DEFAULT_MAX_SAMPLES
 from ..sinks.files import writers
 from ..sinks.plot import plot_report
 from ..sources.solids import sections
@@ -39,6 +46,9 @@ class Task:
         The picture to draw, if any.
     discs : bool
         Draw each sample's disc in the picture.
+    write_output, write_plot : Path or None
+        Where to write the mesh and the picture now, if not under their names: the
+        temporary names a run of several sections renames into place when all succeeded.
     """
 
     region: Region
@@ -48,6 +58,8 @@ class Task:
     output: Path
     plot: Path | None
     discs: bool
+    write_output: Path | None = None
+    write_plot: Path | None = None
 
 
 def mesh_section(task: Task) -> dict:
@@ -83,9 +95,9 @@ def mesh_section(task: Task) -> dict:
         warnings.simplefilter("always")
         try:
             mesh = mesh_region(task.region, task.alpha, seed=task.seed, **budget)
-            mesh.export(task.output)
+            mesh.export(task.write_output or task.output)
             if task.plot is not None:
-                plot_report(mesh, task.plot, discs=task.discs)
+                plot_report(mesh, task.write_plot or task.plot, discs=task.discs)
         except PdsError as error:         # say which of several sections failed
             raise type(error)(f"{task.output}: {error}") from error
         mesh.certificate()
@@ -128,55 +140,104 @@ def run(args) -> int:
     if args.output.suffix.lower() not in writers():
         raise ArgumentError(f"cannot write {args.output}: the output suffix must be one of "
                             f"{', '.join(writers())}")
-    for path in (args.output, args.report, args.plot):
-        if path is not None:
-            check_output_directory(path)
+    _check_outputs([args.output, args.report, args.plot], args.input)
     if args.plot is not None:
         _check_picture(args.plot)
     regions = _regions(args)
     outputs = _numbered(args.output, len(regions))
-    if any(path.resolve() == Path(args.input).resolve() for path in outputs):
-        raise ArgumentError(f"the output {args.output} would overwrite the input; choose "
-                            f"another name")
     plots = _numbered(args.plot, len(regions)) if args.plot else [None] * len(regions)
-    tasks = [Task(region, args.alpha, args.seed, args.max_samples, output, plot, args.discs)
-             for region, output, plot in zip(regions, outputs, plots)]
-    entries = _run(tasks, args.jobs, progress=len(tasks) > 1 and not args.quiet)
+    _check_outputs([*outputs, *plots], args.input)
+    workers = _workers(args.jobs, len(regions))
+    budget = args.max_samples or DEFAULT_MAX_SAMPLES
+    if workers > 1:                       # the processes share the memory of one budget
+        budget = max(1, budget // workers)
+    with ExitStack() as files:            # every file renamed into place, or none
+        staged = [[files.enter_context(atomic_path(p)) if p else None for p in pair]
+                  for pair in zip(outputs, plots)]
+        tasks = [Task(region, args.alpha, args.seed, budget, output, plot, args.discs,
+                      write_output, write_plot)
+                 for region, output, plot, (write_output, write_plot)
+                 in zip(regions, outputs, plots, staged)]
+        entries = _run(tasks, workers, progress=len(tasks) > 1 and not args.quiet)
+        if args.report is not None:
+            write_report(args.report, args.input, entries)
     for entry in entries:
         warn_about(entry)
         if not args.quiet:
             print(summary(entry))
-    if args.report is not None:
-        write_report(args.report, args.input, entries)
-        if not args.quiet:
-            print(f"report: {args.report}")
+    if args.report is not None and not args.quiet:
+        print(f"report: {args.report}")
     return 0
+
+
+def _check_outputs(paths, source) -> None:
+    """Fail before any work if a file to write cannot be written or is the input."""
+    for path in paths:
+        if path is None:
+            continue
+        check_output_directory(path)
+        if path.resolve() == Path(source).resolve():
+            raise ArgumentError(f"the output {path} would overwrite the input; choose "
+                                f"another name")
+
+
+def _workers(jobs: int, sections: int) -> int:
+    """Processes to use: at most one per section and one per core of this machine."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return max(1, min(jobs, sections, cores or 1))
 
 
 def _results(tasks: list[Task], jobs: int):
     """Report entries of ``tasks`` in order, meshed in ``jobs`` processes.
 
     Workers are spawned, not forked: a child forked after the parallel kernels started
-    GNU OpenMP is terminated by it. Each worker runs its kernels in one thread.
+    GNU OpenMP is terminated by it. Each worker runs its kernels in one thread. When a
+    section fails or the run is interrupted the workers are terminated at once (no
+    queued section is meshed or written), and a worker whose parent dies (even by
+    SIGKILL) ends too.
     """
     if jobs == 1 or len(tasks) == 1:
         yield from map(mesh_section, tasks)
         return
-    from concurrent.futures import ProcessPoolExecutor
     from multiprocessing import get_context
 
+    stops = {signal.SIGINT, signal.SIGTERM}
+    signal.pthread_sigmask(signal.SIG_BLOCK, stops)    # a stop now would orphan workers
+    try:
+        pool = get_context("spawn").Pool(jobs, initializer=_start_worker,
+                                          initargs=(os.getpid(),))
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, stops)   # a pending stop lands below
+    try:
+        yield from pool.imap(mesh_section, tasks)
+        pool.close()
+    except BaseException:
+        pool.terminate()
+        raise
+    finally:
+        pool.join()
+
+
+def _start_worker(parent: int) -> None:
+    """In a worker: run the kernels in one thread, and exit when the process that
+    started it dies, however it died."""
     from .._parallel import set_threads
 
-    with ProcessPoolExecutor(max_workers=min(jobs, len(tasks)),
-                             mp_context=get_context("spawn"),
-                             initializer=set_threads, initargs=(1,)) as pool:
-        futures = [pool.submit(mesh_section, task) for task in tasks]
-        try:
-            for future in futures:
-                yield future.result()
-        finally:
-            for future in futures:
-                future.cancel()
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})  # inherited
+    set_threads(1)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGTERM)                      # PR_SET_PDEATHSIG
+    if os.getppid() != parent:                             # it died before we could ask
+        os._exit(1)
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+    threading.Thread(target=watch, daemon=True).start()
 
 
 def _run(tasks: list[Task], jobs: int, progress: bool) -> list[dict]:
@@ -192,7 +253,17 @@ def _run(tasks: list[Task], jobs: int, progress: bool) -> list[dict]:
 
 
 def _regions(args) -> list[Region]:
-    """The sections the arguments ask for, checked against the input's kind."""
+    """The sections the arguments ask for, checked against the input's kind; what the
+    sources warn about (open strokes, automatic planes moved off faces) is said."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        regions = _read_regions(args)
+    for warning in caught:
+        say("warning", warning.message)
+    return regions
+
+
+def _read_regions(args) -> list[Region]:
     path = Path(args.input)
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
@@ -203,8 +274,8 @@ def _regions(args) -> list[Region]:
     if args.layer and kind != ".dxf":
         raise ArgumentError(f"--layer selects layers of a DXF drawing; {path} is not one")
     if kind in READERS:
-        given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices")
-                 if getattr(args, name) is not None]
+        given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices",
+                                   "on_face") if getattr(args, name) is not None]
         if given:
             raise ArgumentError(f"{path} is a {kind[1:].upper()} drawing, which is already "
                                 f"planar: drop --{given[0].replace('_', '-')}")
@@ -224,7 +295,8 @@ def _regions(args) -> list[Region]:
         return sections(path, normal, count=args.slices)
     if args.at is None and args.plane_origin is None:
         return sections(path, normal, count=1)          # the middle of the solid
-    return sections(path, normal, offsets=args.at or [0.0], plane_origin=args.plane_origin)
+    return sections(path, normal, offsets=args.at or [0.0], plane_origin=args.plane_origin,
+                    on_face=args.on_face)
 
 
 def _numbered(path: Path, count: int) -> list[Path]:

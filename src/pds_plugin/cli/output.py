@@ -6,6 +6,7 @@ import json
 import sys
 from pathlib import Path
 
+from .._atomic import atomic_path
 from .._version import __version__
 from ..region import plane_label
 from .arguments import PROG
@@ -114,4 +115,5 @@ def write_report(path: Path, source, entries: list[dict]) -> None:
     []
     """
     report = {"pds_plugin": __version__, "input": str(source), "sections": entries}
-    path.write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")
+    with atomic_path(path) as partial:
+        partial.write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")

@@ -1,9 +1,11 @@
-"""Sink to files: a PlanarMesh in 3D as a trimesh object or a file (binary PLY, OBJ).
+"""Sink to files: a PlanarMesh in 3D as a trimesh object or a file (PLY, OBJ, STL, OFF...).
 
 Each file format registers its writer under its suffix with :func:`register_writer`;
-:func:`export` only looks the suffix up. Both writers are plain numpy and write the
-coordinates as 64-bit floats (trimesh's own PLY exporter rounds them to float32, which
-moves CAD coordinates of a few hundred millimetres by about 1e-5).
+:func:`export` only looks the suffix up and writes through a temporary name, so a file
+under the final name is always complete. The PLY and OBJ writers are plain numpy and
+write the coordinates as 64-bit floats (trimesh's own PLY exporter rounds them to
+float32, which moves CAD coordinates of a few hundred millimetres by about 1e-5); the
+other formats trimesh writes (STL, OFF, GLB, 3MF) go through :func:`to_trimesh`.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from .._atomic import atomic_path
 from .._checks import check_has_triangles, check_output_directory
 from ..errors import ArgumentError
 
@@ -50,7 +53,8 @@ def register_writer(suffix: str):
     ... def write_xyz(mesh, path):
     ...     np.savetxt(path, mesh.vertices_3d)
     >>> writers()
-    ['.obj', '.ply', '.xyz']
+    ['.3mf', '.glb', '.obj', '.off', '.ply', '.stl', '.xyz']
+    >>> del _WRITERS[".xyz"]
     """
     suffix = suffix.lower()
     if not suffix.startswith("."):
@@ -115,7 +119,9 @@ def export(mesh: PlanarMesh, path) -> None:
     - ``.ply``: binary PLY with double coordinates, per-face ``quality`` = aspect ratio
       L²/A and per-vertex ``quality`` = 1.0 on boundary samples, 0.0 inside. MeshLab
       reads both as its face and vertex quality.
-    - ``.obj``: the geometry only (OBJ has no per-face scalars).
+    - ``.obj``: the geometry only (OBJ has no per-face scalars), 17 significant digits.
+    - ``.stl``, ``.off``, ``.glb``, ``.3mf``: written by trimesh (:func:`to_trimesh`), in
+      the precision of the format (STL and GLB store float32).
 
     Every sample is written, including isolated ones (not in any triangle), so vertex
     ``i`` of the file is sample ``i`` of the mesh.
@@ -152,7 +158,8 @@ def export(mesh: PlanarMesh, path) -> None:
                             f"{', '.join(writers())}")
     check_output_directory(path)
     check_has_triangles(mesh, "to export")
-    writer(mesh, path)
+    with atomic_path(path) as partial:        # never a half-written file under the name
+        writer(mesh, partial)
 
 
 @register_writer(".ply")
@@ -225,3 +232,21 @@ def write_obj(mesh: PlanarMesh, path) -> None:
         f.write(f"# pds_plugin mesh, alpha {mesh.alpha!r}\n")
         np.savetxt(f, mesh.vertices_3d, fmt="v %.17g %.17g %.17g")
         np.savetxt(f, np.asarray(mesh.faces) + 1, fmt="f %d %d %d")
+
+
+_TRIMESH_FORMATS = (".stl", ".off", ".glb", ".3mf")
+"""Formats written by trimesh's exporters (PLY and OBJ keep the exact writers above)."""
+
+
+def _trimesh_writer(suffix: str) -> Callable:
+    def write(mesh, path) -> None:
+        tm = to_trimesh(mesh)
+        for attributes in (tm.vertex_attributes, tm.face_attributes):   # glTF: no booleans
+            attributes.update({k: np.asarray(v, np.float32) for k, v in attributes.items()})
+        tm.export(path, file_type=suffix.lstrip("."))
+    write.__doc__ = f"{suffix[1:].upper()} through trimesh's exporter (see :func:`export`)."
+    return write
+
+
+for _suffix in _TRIMESH_FORMATS:
+    register_writer(_suffix)(_trimesh_writer(_suffix))

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._atomic import atomic_path
 from .._checks import check_has_triangles, check_output_directory, import_optional
 from ..analysis.quality import ASPECT_BOUND, ASPECT_EQUILATERAL
 from ..errors import ArgumentError
@@ -266,7 +267,8 @@ def plot_report(mesh, path, discs: bool = False, dpi: int = 120):
     plot_samples(mesh, discs=discs, ax=samples_ax)
     plot_mesh(mesh, ax=mesh_ax)
     plot_histogram(mesh, ax=histogram_ax)
-    figure.savefig(path, dpi=dpi)
+    with atomic_path(path) as partial:          # never a half-written picture
+        figure.savefig(partial, dpi=dpi)
     return figure
 
 
@@ -325,5 +327,6 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
                      f"{len(mesh.faces)} triangles")
     _colorbar(figure, triangles, list(axes), meshes)
     if path is not None:
-        figure.savefig(path, dpi=dpi)
+        with atomic_path(path) as partial:          # never a half-written picture
+            figure.savefig(partial, dpi=dpi)
     return figure

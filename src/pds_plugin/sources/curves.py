@@ -18,6 +18,8 @@ __all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
 
 RELATIVE_TOLERANCE = 1e-4
 """Default tolerance of the drawing readers, as a fraction of the drawing's diagonal."""
+MAX_CHORDS = 1_000_000
+"""Chords of one curve beyond which it is refused: the curve is broken or the tolerance tiny."""
 
 
 def checked_file(path, kind: str) -> str:
@@ -107,8 +109,13 @@ def steps(bound, tolerance) -> np.ndarray:
     >>> steps(8.0, 0.25).tolist()                      # sqrt(8 / 2) = 2 intervals
     [0.5, 1.0]
     """
-    count = max(1, int(np.ceil(np.sqrt(bound / (8 * tolerance)))))
-    return np.linspace(0, 1, count + 1)[1:]
+    with np.errstate(all="ignore"):
+        count = np.ceil(np.sqrt(bound / (8 * tolerance)))
+    if not count <= MAX_CHORDS:                  # also NaN, from control points near 1e308
+        raise SourceError(f"a curve of the drawing needs more than {MAX_CHORDS:,} chords to "
+                          f"stay within the tolerance (its control points span {bound:.3g}); "
+                          f"pass a larger tolerance or fix the curve")
+    return np.linspace(0, 1, max(1, int(count)) + 1)[1:]
 
 
 def elliptic_points(center, radii, start, sweep, tolerance) -> np.ndarray:

@@ -16,7 +16,7 @@ import shapely
 
 from ..errors import ArgumentError
 
-__all__ = ["winding_numbers", "fill_geometry", "outline_geometry"]
+__all__ = ["winding_numbers", "fill_geometry", "outline_geometry", "snap"]
 
 
 def winding_numbers(points, segments) -> np.ndarray:
@@ -101,7 +101,7 @@ def fill_geometry(rings, rule: str = "nonzero"):
     return shapely.union_all(faces[keep])
 
 
-def outline_geometry(chains, tolerance: float):
+def outline_geometry(chains, tolerance: float, rule: str = "evenodd"):
     """Polygons bounded by loose curves: join, nest by even-odd containment, find open ends.
 
     Near-coincident points of different chains are merged, so chain ends meet and
@@ -121,6 +121,11 @@ def outline_geometry(chains, tolerance: float):
     tolerance : float
         The largest distance between points merged (chain ends, and vertices of curves
         drawn twice).
+    rule : {"evenodd", "winding"}
+        ``evenodd`` fills the faces nested inside an odd number of loops (drawings, whose
+        curves have no direction); ``winding`` fills the faces of winding number >= 1
+        about the chains as directed (sections of solids: the material on the left of
+        every chain, so overlapping shells give their union).
 
     Returns
     -------
@@ -136,6 +141,8 @@ def outline_geometry(chains, tolerance: float):
     >>> geometry.area, len(open_ends)
     (3.0, 0)
     """
+    if rule not in ("evenodd", "winding"):
+        raise ArgumentError(f"rule must be 'evenodd' or 'winding', got {rule!r}")
     chains = [np.array(c, dtype=float).reshape(-1, 2) for c in chains]
     chains = [c for c in chains if len(c) >= 2]
     if not chains:
@@ -151,10 +158,14 @@ def outline_geometry(chains, tolerance: float):
     open_ends = nodes[degree == 1]
     if not len(faces):
         return shapely.Polygon(), open_ends
+    inside = shapely.get_coordinates(shapely.point_on_surface(faces))
+    if rule == "winding":
+        same = chain_ids[1:] == chain_ids[:-1]
+        directed = np.stack([coords[:-1][same], coords[1:][same]], axis=1)
+        return shapely.union_all(faces[winding_numbers(inside, directed) >= 1]), open_ends
     boundary = _unique_segments(np.concatenate(
         [_ring_segments(ring) for ring in shapely.get_rings(faces)]))
-    depth = winding_numbers(shapely.get_coordinates(shapely.point_on_surface(faces)), boundary)
-    return shapely.union_all(faces[depth % 2 == 1]), open_ends
+    return shapely.union_all(faces[winding_numbers(inside, boundary) % 2 == 1]), open_ends
 
 
 def _arrangement(lines):
@@ -239,3 +250,34 @@ def _snap(points, chain_ids, tolerance, levels: int = 8) -> np.ndarray:
         target[pending[keep]] = first[group[keep]]
         pending, radius = pending[~keep], radius / 4
     return points[target]
+
+
+def snap(points, tolerance) -> np.ndarray:
+    """Replace each cluster of points closer than ``tolerance`` by its first member.
+
+    Parameters
+    ----------
+    points : (n, 2) float ndarray
+    tolerance : float
+        Points closer than this (chains of them included) form one cluster.
+
+    Returns
+    -------
+    (n, 2) float ndarray
+        A new array: every point replaced by the first point of its cluster.
+
+    Examples
+    --------
+    >>> snap(np.array([[0.0, 0.0], [1e-12, 0.0], [1.0, 0.0]]), 1e-9).tolist()
+    [[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]]
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(points).query_pairs(tolerance, output_type="ndarray")
+    n = len(points)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    _, first = np.unique(label, return_index=True)
+    return points[first[label]]

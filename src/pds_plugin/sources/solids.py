@@ -13,15 +13,18 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 
 import numpy as np
+import shapely
+import shapely.affinity
 
 from .._checks import check_positive_int, check_vector
 from ..errors import ArgumentError, ArgumentTypeError, SectionError, SourceError
 from ..region import Region, lift
 from . import manifold as manifold_backend
 from . import trimesh as trimesh_backend
-from .polygons import outline_geometry
+from .polygons import outline_geometry, snap
 
 __all__ = ["section", "sections"]
 
@@ -29,7 +32,7 @@ __all__ = ["section", "sections"]
 _SOLIDS = (("trimesh", "Trimesh", trimesh_backend), ("manifold3d", "Manifold", manifold_backend))
 
 
-def section(solid, plane_origin, plane_normal) -> Region:
+def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
     """Cut a solid with a plane and return the section as a :class:`Region`.
 
     The 2D coordinates are those of ``trimesh.geometry.plane_transform(origin, normal)``:
@@ -45,6 +48,11 @@ def section(solid, plane_origin, plane_normal) -> Region:
         A point of the plane.
     plane_normal : (3,) array_like
         The plane's normal (any non-zero length).
+    on_face : {None, "above", "below"}
+        What to do when the plane lies on faces of the solid (a CAD part's step, say):
+        None refuses it (the section is ambiguous there); "above" / "below" cut just above
+        / below those faces instead, 1e-6 of the solid's size along the normal, and
+        ``region.frame`` holds the plane used.
 
     Returns
     -------
@@ -73,18 +81,27 @@ def section(solid, plane_origin, plane_normal) -> Region:
     >>> region = pds.section(tube, plane_origin=(0, 0, 0), plane_normal=(0, 0, 1))
     >>> region.betti
     (1, 1)
+    >>> step = trimesh.creation.box(extents=(2, 2, 1)).union(
+    ...     trimesh.creation.box(extents=(1, 1, 1)).apply_translation((0, 0, 1)))
+    >>> round(pds.section(step, (0, 0, 0.5), (0, 0, 1), on_face="above").area, 6)
+    1.0
     """
     origin, normal = _plane(plane_origin, plane_normal)
-    return _Solid(solid).cut(origin, normal)
+    return _Solid(solid).cut(origin, normal, _on_face(on_face))
 
 
-def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None) -> list[Region]:
+def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None,
+             on_face=None) -> list[Region]:
     """Cut a solid with parallel planes and return one :class:`Region` per plane.
 
     Give either ``offsets`` (the planes' signed distances along the unit normal from
     ``plane_origin``) or ``count`` (that many planes, one in the middle of each of
     ``count`` equal slabs of the solid's extent along the normal, so all strictly
     inside it). All regions share the same in-plane axes (see :func:`section`).
+
+    The planes ``count`` places are automatic: one that lies on faces of the solid (a
+    CAD part often has a face at half height) moves to the nearest plane that does not,
+    just above them, with a warning. Planes at ``offsets`` follow ``on_face``.
 
     Parameters
     ----------
@@ -94,6 +111,8 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     count : int, optional
     plane_origin : (3,) array_like, optional
         The point offsets are measured from; the world origin by default.
+    on_face : {None, "above", "below"}
+        For planes at ``offsets`` that lie on faces, as in :func:`section`.
 
     Returns
     -------
@@ -120,7 +139,8 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
                             plane_normal)
     solid = _Solid(solid)
     heights = _offsets(offsets, count, solid.heights(origin, normal))
-    return [solid.cut(origin + height * normal, normal) for height in heights]
+    on_face = "nearest" if count is not None else _on_face(on_face)
+    return [solid.cut(origin + height * normal, normal, on_face) for height in heights]
 
 
 class _Solid:
@@ -134,20 +154,24 @@ class _Solid:
             raise SourceError("the solid has NaN or infinite vertex coordinates; "
                              "clean the mesh first")
         self.scale = float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
+        self.shell = _shells(self.faces, len(self.vertices))
+        # outward normals give the material winding number +1; a mesh turned inside out
+        # (negative volume) is read the other way round
+        corners = self.vertices[self.faces] - self.vertices.mean(axis=0)
+        volume = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))
+        self.outward = 1.0 if volume.sum() >= 0 else -1.0
 
     def heights(self, origin, normal) -> np.ndarray:
         """Signed distances of the vertices to the plane."""
         return (self.vertices - origin) @ normal
 
-    def cut(self, origin, normal) -> Region:
+    def cut(self, origin, normal, on_face=None) -> Region:
+        origin = self._off_faces(origin, normal, on_face)
         to_2d, to_3d = _frames(origin, normal)
         local = self.vertices @ to_2d[:3, :3].T + to_2d[:3, 3]   # z: height above the plane
         offset = float(origin @ normal)
         self._check_plane(local[:, 2], offset)
-        # the intersections' rounding is relative to the coordinates' magnitude
-        snap = max(1e-9 * self.scale, 1e-12 * np.abs(local[:, :2]).max())
-        geometry, open_ends = outline_geometry(list(trimesh_backend.cut(local, self.faces)),
-                                              tolerance=snap)
+        geometry, open_ends = self._section_geometry(local)
         if len(open_ends):
             where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
                               lift(open_ends[:5], to_3d))
@@ -162,22 +186,115 @@ class _Solid:
                 f"material (it passes through a gap between parts); move the plane")
         return Region.from_shapely(geometry, frame=to_3d)
 
+    def _section_geometry(self, local):
+        """The section in the plane's 2D coordinates, and the open ends of its curves.
+
+        The solid is where the winding number of its shells is >= 1, so overlapping and
+        nested shells (multi-body exports) give their union, and an inward shell a void.
+        The cut is computed about the middle of the solid, not the plane origin, and each
+        shell's cut points are joined within 1e-9 of that shell's size, so neither a far
+        plane origin nor a far-away part inflates the tolerance.
+        """
+        centre = np.zeros(3)
+        centre[:2] = (local[:, :2].min(axis=0) + local[:, :2].max(axis=0)) / 2
+        unit = _unit(local[:, 2])
+        local = (local - centre) / unit
+        segments, face = trimesh_backend.cut(local, self.faces)
+        corners = local[self.faces[face]]
+        outward = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])[:, :2]
+        direction = segments[:, 1] - segments[:, 0]
+        material_right = (direction[:, 1] * outward[:, 0] - direction[:, 0] * outward[:, 1]) \
+            * self.outward < 0
+        segments[material_right] = segments[material_right, ::-1]     # material on the left
+        segments = _snap_by_shell(segments, self.shell[face], local, self.shell, self.faces)
+        floor = 64 * np.spacing(np.abs(segments).max(initial=1.0))
+        geometry, open_ends = outline_geometry(list(segments), tolerance=floor, rule="winding")
+        geometry = shapely.affinity.affine_transform(
+            geometry, [unit, 0.0, 0.0, unit, centre[0], centre[1]])
+        return geometry, open_ends * unit + centre[:2]
+
+    def _faces_on(self, heights) -> int:
+        """How many faces lie on the plane, given the vertices' heights above it."""
+        from trimesh.constants import tol
+
+        return int((np.abs(heights / _unit(heights)) <= tol.merge)[self.faces].all(axis=1).sum())
+
+    def _off_faces(self, origin, normal, on_face):
+        """The plane origin, moved off the faces it lies on as ``on_face`` says."""
+        offset = float(origin @ normal)
+        flat = self._faces_on(self.heights(origin, normal))
+        if not flat or on_face is None:
+            return origin                  # refused, if on faces, by _check_plane
+        step = 1e-6 * self.scale
+        for shift in ([step, -step] if on_face == "nearest" else
+                      [step if on_face == "above" else -step]):
+            for _ in range(20):            # past any other face within a few steps
+                moved = origin + shift * normal
+                if not self._faces_on(self.heights(moved, normal)):
+                    if on_face == "nearest":
+                        warnings.warn(
+                            f"the plane at normal·x = {offset:.9g} lies on {flat} face(s) of "
+                            f"the solid; cut at {offset + shift:.9g} instead, just "
+                            f"{'above' if shift > 0 else 'below'} them", UserWarning,
+                            stacklevel=4)
+                    return moved
+                shift *= 2
+        return origin
+
     def _check_plane(self, heights, offset) -> None:
         """Refuse a plane that lies on a face or misses the solid (heights: of the vertices)."""
         from trimesh.constants import tol
 
-        flat = (np.abs(heights) <= tol.merge)[self.faces].all(axis=1)
-        if flat.any():
+        flat = self._faces_on(heights)
+        if flat:
             raise SectionError(
-                f"the plane lies on {int(flat.sum())} face(s) of the solid "
-                f"(normal·x = {offset:.9g}), so the section is ambiguous; offset the plane "
-                f"slightly along the normal, e.g. by ±{1e-6 * self.scale:.3g}")
-        if not (heights.min() < -tol.merge and heights.max() > tol.merge):
+                f"the plane lies on {flat} face(s) of the solid (normal·x = {offset:.9g}), "
+                f"so the section is ambiguous; pass on_face='above' or 'below' (CLI: move "
+                f"the plane, e.g. by ±{1e-6 * self.scale:.3g})")
+        margin = tol.merge * _unit(heights)
+        if not (heights.min() < -margin and heights.max() > margin):
             low, high = offset + heights.min(), offset + heights.max()
             raise SectionError(
                 f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
                 f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside "
                 f"that range")
+
+
+def _unit(heights) -> float:
+    """The solid's extent along the normal, rounded to a power of two (so scaling by it is
+    exact): the cut runs in these units, so that trimesh's absolute tolerance for a vertex
+    on the plane (``tol.merge``) is relative to the part, tiny or huge."""
+    extent = float(np.ptp(heights))
+    return 2.0 ** np.round(np.log2(extent)) if extent > 0 else 1.0
+
+
+def _on_face(on_face):
+    if on_face not in (None, "above", "below"):
+        raise ArgumentError(f"on_face must be None, 'above' or 'below', got {on_face!r}")
+    return on_face
+
+
+def _shells(faces, count) -> np.ndarray:
+    """The connected component (shell) of each face, through shared vertices."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    rows = np.repeat(np.arange(len(faces)), 3)
+    graph = coo_matrix((np.ones(rows.size), (rows, faces.ravel())),
+                       shape=(len(faces), count)).tocsr()
+    _, label = connected_components(graph @ graph.T, directed=False)
+    return label
+
+
+def _snap_by_shell(segments, shell_of_segment, local, shell, faces) -> np.ndarray:
+    """Join the cut points of each shell within 1e-9 of that shell's diagonal."""
+    snapped = segments.copy()
+    for label in np.unique(shell_of_segment):
+        corners = local[faces[shell == label]].reshape(-1, 3)
+        tolerance = 1e-9 * float(np.linalg.norm(np.ptp(corners, axis=0)))
+        mine = shell_of_segment == label
+        snapped[mine] = snap(segments[mine].reshape(-1, 2), tolerance).reshape(-1, 2, 2)
+    return snapped
 
 
 def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:

@@ -8,12 +8,15 @@ outline's open ends reported as for every drawing (:mod:`.curves`).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import shapely
 
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from ._svg_limits import MAX_BYTES, MAX_ELEMENTS, MAX_SEGMENTS, check_svg_limits
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
 
@@ -22,7 +25,9 @@ __all__ = ["load_svg"]
 _UNITS = ("px", "pt", "mm", "cm", "in")
 
 
-def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
+def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
+             max_bytes: int = MAX_BYTES, max_elements: int = MAX_ELEMENTS,
+             max_segments: int = MAX_SEGMENTS) -> Region:
     """Read an SVG drawing as a :class:`Region` in the drawing's plane (z = 0).
 
     Two kinds of drawing are understood:
@@ -59,6 +64,10 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
         ``auto`` reads the filled shapes if they enclose any area, and the outline of all
         visible shapes otherwise (an outline drawing's strokes must then be unfilled,
         ``fill="none"``, as CAD exports write them; or pass ``mode="outline"``).
+    max_bytes, max_elements, max_segments : int
+        Limits checked before the drawing is built (see :mod:`._svg_limits`): the file's
+        size (20 MB), the elements it expands to with every ``<use>`` copy (200,000), and
+        its path and polygon segments (2,000,000). Raise them for bigger drawings.
 
     Returns
     -------
@@ -70,7 +79,8 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     FileNotFoundError
         If the file does not exist.
     SourceError
-        If the file is empty or not SVG.
+        If the file is empty or not SVG, exceeds a limit, has a negative shape size or an
+        empty ``viewBox``.
     RegionError
         If it has nothing to mesh (no visible shape, no area, or no loop that closes: the
         message gives the open ends).
@@ -92,7 +102,7 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     if units is not None and units not in _UNITS:
         raise ArgumentError(f"units must be None (the drawing's user units) or one of "
                          f"{_UNITS}, got {units!r}")
-    document, name = _parse(path)
+    document, name = _parse(path, max_bytes, max_elements, max_segments)
     matrix = _output_matrix(document, units)
     shapes = _visible_shapes(document)
     if not shapes:
@@ -111,10 +121,11 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto") -> Region:
     return Region.from_shapely(geometry)
 
 
-def _parse(path):
+def _parse(path, max_bytes, max_elements, max_segments):
     import svgelements
 
     name = checked_file(path, "SVG")
+    check_svg_limits(name, max_bytes, max_elements, max_segments)
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
     except Exception as error:  # the XML parser raises several kinds
@@ -129,7 +140,15 @@ def _output_matrix(document, units) -> np.ndarray:
     import svgelements
 
     if units is None:  # undo the viewBox -> viewport map: back to user units
-        view = svgelements.Matrix(document.viewbox_transform)
+        try:
+            view = svgelements.Matrix(document.viewbox_transform)
+        except ZeroDivisionError:               # svgelements' own viewBox maths
+            view = svgelements.Matrix([0, 0, 0, 0, 0, 0])
+        if not (math.isfinite(view.determinant) and view.determinant != 0):
+            raise SourceError(f"the drawing's viewBox or size ({document.values.get('viewBox')}"
+                              f", width {document.values.get('width')}, height "
+                              f"{document.values.get('height')}) is empty or not finite: give "
+                              f"the <svg> element a viewBox with a positive width and height")
         view.inverse()
         matrix = np.array([[view.a, view.c, view.e], [view.b, view.d, view.f]])
     else:

@@ -11,7 +11,7 @@ import os
 
 import numpy as np
 
-from ..errors import SourceError
+from ..errors import SectionError, SourceError
 
 
 def load(solid):
@@ -27,10 +27,11 @@ def load(solid):
 
     Raises
     ------
-    FileNotFoundError
-        If the path does not exist.
+    FileNotFoundError, IsADirectoryError
+        If the path does not exist, or is a folder.
     SourceError
-        If the file is empty or holds no triangles trimesh can read, or the mesh has none.
+        If the file is empty, a binary STL cut short, or holds no triangles trimesh can
+        read, or the mesh has none.
 
     Examples
     --------
@@ -44,6 +45,8 @@ def load(solid):
         mesh, name = solid, "the mesh"
     else:
         path = os.fspath(solid)
+        if os.path.isdir(path):
+            raise IsADirectoryError(f"{path!r} is a folder, not a mesh file")
         if not os.path.isfile(path):
             raise FileNotFoundError(f"no such mesh file: {path!r}")
         if os.path.getsize(path) == 0:
@@ -52,8 +55,13 @@ def load(solid):
         if suffix in (".svg", ".dxf"):
             raise SourceError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
                               f"pds_plugin.load_{suffix[1:]}")
+        _check_binary_stl(path)
         try:
             mesh = trimesh.load_mesh(path)
+        except ImportError as error:  # trimesh guesses a text encoding with an optional module
+            raise SourceError(f"cannot read {path!r} as a mesh: it is neither a valid binary "
+                              f"file nor plain text (trimesh: {error}); give a file trimesh "
+                              f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
         except Exception as error:  # trimesh raises many kinds for unreadable files
             raise SourceError(f"cannot read {path!r} as a mesh ({error}); give a file trimesh "
                              f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
@@ -64,8 +72,24 @@ def load(solid):
     return mesh
 
 
-def cut(vertices, faces) -> np.ndarray:
-    """The segments (m, 2, 2) where the plane z = 0 cuts a mesh given in the plane's frame.
+def _check_binary_stl(path) -> None:
+    """Refuse a binary STL shorter than its header says (an interrupted download or copy)."""
+    if not path.lower().endswith(".stl"):
+        return
+    with open(path, "rb") as file:
+        head = file.read(84)
+    if len(head) < 84 or head[:5].lower() == b"solid":      # text STL: trimesh judges
+        return
+    count = int.from_bytes(head[80:84], "little")
+    size, expected = os.path.getsize(path), 84 + 50 * count
+    if size < expected:
+        raise SourceError(f"{path!r} is a binary STL cut short: its header announces {count} "
+                          f"triangles ({expected:,} bytes) but the file has {size:,} bytes; "
+                          f"copy or export it again")
+
+
+def cut(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
+    """Where the plane z = 0 cuts a mesh given in the plane's frame.
 
     Intersections are computed in float64 by trimesh's ``mesh_plane``, on coordinates
     relative to the plane so that rounding stays relative to the part's size; a vertex
@@ -79,14 +103,16 @@ def cut(vertices, faces) -> np.ndarray:
 
     Returns
     -------
-    (s, 2, 2) float64 ndarray
-        The segments' 2D end points, in no particular order.
+    segments : (s, 2, 2) float64 ndarray
+        The segments' 2D end points, in no particular order or direction.
+    face : (s,) int ndarray
+        The face each segment comes from.
 
     Examples
     --------
     >>> import trimesh
     >>> box = trimesh.creation.box(extents=(2, 2, 2))
-    >>> segments = cut(box.vertices, box.faces)
+    >>> segments, face = cut(box.vertices, box.faces)
     >>> float(np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1).sum())   # perimeter
     8.0
     """
@@ -94,5 +120,14 @@ def cut(vertices, faces) -> np.ndarray:
     from trimesh.intersections import mesh_plane
 
     local = trimesh.Trimesh(vertices, faces, process=False, validate=False)
-    lines = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0], plane_origin=[0.0, 0.0, 0.0])
-    return np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)[:, :, :2]
+    try:
+        lines, face = mesh_plane(local, plane_normal=[0.0, 0.0, 1.0],
+                                 plane_origin=[0.0, 0.0, 0.0], return_faces=True)
+    except AssertionError:            # trimesh's intersections lost to rounding
+        low, high = vertices.min(axis=0), vertices.max(axis=0)
+        raise SectionError(
+            f"the plane cannot be cut through this mesh in float64: its vertices span "
+            f"{low.tolist()} to {high.tolist()} about the plane, too wide for its smallest "
+            f"faces; look for stray vertices far from the part") from None
+    return (np.asarray(lines, dtype=np.float64).reshape(-1, 2, 3)[:, :, :2],
+            np.asarray(face, dtype=np.int64))
