@@ -1,0 +1,86 @@
+"""Atomic file writes: write to a temporary name beside the file, then rename into place.
+
+A reader, a crash, a killed worker or a Ctrl-C then sees either the old file or the
+complete new one, never a half-written file under the final name. ``os.replace`` is
+atomic when both names are on the same file system, which a temporary name in the same
+folder guarantees.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+import secrets
+from contextlib import contextmanager
+from pathlib import Path
+
+__all__ = ["atomic_path", "temporary_names"]
+
+_TEMPORARY = ".tmp"
+
+
+@contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside ``path``; on success rename it to ``path``.
+
+    Write the file to the yielded path (a fresh random name, so concurrent writers of
+    the same file, e.g. a task run twice, never share one). When the block ends
+    normally the file replaces ``path`` in one step; when it raises (including
+    ``KeyboardInterrupt``) the temporary file is removed and ``path`` is left as it was. The temporary name is hidden and keeps the suffix,
+    ``.STEM.RANDOM.tmp.SUFFIX`` (writers choose the format by the suffix), so it never
+    looks like a finished output; :func:`temporary_names` finds leftovers.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The final name. Its folder must exist.
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary file to write.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "mesh.txt"
+    >>> with atomic_path(out) as partial:
+    ...     _ = partial.write_text("complete")
+    >>> out.read_text(), sorted(p.name for p in out.parent.iterdir())
+    ('complete', ['mesh.txt'])
+    >>> try:
+    ...     with atomic_path(out) as partial:
+    ...         _ = partial.write_text("half")
+    ...         raise KeyboardInterrupt
+    ... except KeyboardInterrupt:
+    ...     pass
+    >>> out.read_text(), sorted(p.name for p in out.parent.iterdir())
+    ('complete', ['mesh.txt'])
+    """
+    path = Path(path)
+    # not mkstemp: its file is private (0600), the writer's open() gives the usual mode
+    partial = path.with_name(f".{path.stem}.{secrets.token_hex(8)}{_TEMPORARY}{path.suffix}")
+    try:
+        yield partial
+        os.replace(partial, path)
+    except BaseException:
+        partial.unlink(missing_ok=True)
+        raise
+
+
+def temporary_names(path) -> list[Path]:
+    """The temporary files :func:`atomic_path` left beside ``path`` (only a process
+    killed outright, e.g. by SIGKILL, leaves one).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "mesh.ply"
+    >>> _ = (out.parent / ".mesh.0123456789abcdef.tmp.ply").write_bytes(b"half")
+    >>> [p.name for p in temporary_names(out)]
+    ['.mesh.0123456789abcdef.tmp.ply']
+    """
+    path = Path(path)
+    random = "[0-9a-f]" * 16
+    pattern = f".{glob.escape(path.stem)}.{random}{_TEMPORARY}{glob.escape(path.suffix)}"
+    return sorted(path.parent.glob(pattern))
