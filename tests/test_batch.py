@@ -378,3 +378,16 @@ def test_a_killed_worker_loses_nothing(cluster, parts, tmp_path):
     assert len({row["output"] for row in rows}) == len(jobs)
     for row in rows:
         check_output(row["output"], records[Path(row["output"] + ".json")])
+
+
+def test_a_rerun_in_the_same_client_redoes_deleted_outputs(cluster, parts, tmp_path):
+    """Dask caches pure tasks by their arguments: a rerun must not get the old rows."""
+    _, client = cluster
+    jobs = ring_jobs(2)
+    first = mesh_batch(jobs, tmp_path, executor=client.get_executor(), progress=False,
+                       base_dir=parts)
+    Path(first[0]["output"]).unlink()
+    again = mesh_batch(jobs, tmp_path, executor=client.get_executor(), progress=False,
+                       base_dir=parts)
+    assert [row["status"] for row in again] == ["ok", "skipped"]
+    check_output(first[0]["output"], json.loads(Path(first[0]["output"] + ".json").read_text()))

@@ -17,7 +17,9 @@ import json
 import os
 import signal
 import sys
+import uuid
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import replace
 from pathlib import Path
 
 from .._atomic import atomic_path, temporary_names
@@ -96,7 +98,7 @@ def mesh_batch(jobs, out_dir, *, executor=None, progress=True, workers=None,
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    checked = _check(list(jobs), out_dir, base_dir)
+    checked = _check(list(jobs), out_dir, base_dir, run=uuid.uuid4().hex)
     runnable = [job for job in checked if isinstance(job, Job)]
     rows = [None if isinstance(job, Job) else job for job in checked]
     own = executor is None and bool(runnable)
@@ -105,7 +107,6 @@ def mesh_batch(jobs, out_dir, *, executor=None, progress=True, workers=None,
     futures, interrupted = {}, False
     try:
         for job in runnable:
-            Path(job.output).parent.mkdir(parents=True, exist_ok=True)
             futures[executor.submit(run_job, job)] = job
         with _progress_bar(len(checked), progress) as bar:
             bar.update(len(checked) - len(runnable))
@@ -151,13 +152,13 @@ def local_executor(workers: int) -> ProcessPoolExecutor:
                                initializer=_start_local_worker)
 
 
-def _check(mappings: list, out_dir: Path, base_dir) -> list:
-    """Each job checked (a :class:`Job`) or its error row; an output two jobs would
-    write is an error for the later job."""
+def _check(mappings: list, out_dir: Path, base_dir, run: str) -> list:
+    """Each job checked (a :class:`Job` of this ``run``) or its error row; an output two
+    jobs would write is an error for the later job."""
     checked, owner = [], {}
     for index, mapping in enumerate(mappings):
         try:
-            job = parse_job(mapping, index, out_dir, base_dir)
+            job = replace(parse_job(mapping, index, out_dir, base_dir), run=run)
         except ValueError as error:
             checked.append(_unchecked_row(index, mapping, str(error)))
             continue

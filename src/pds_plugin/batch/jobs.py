@@ -40,6 +40,10 @@ class Job:
     options : tuple of (str, value) pairs
         The options that determine the meshes (plane, alpha, graded, seed, budget), in
         a fixed order; a rerun with other options is not skipped.
+    run : str
+        Which :func:`~pds_plugin.mesh_batch` call sent it (set there): each run's tasks
+        differ, so an executor that caches results by their arguments (Dask's pure
+        tasks) runs a rerun's job again instead of returning the old row.
     """
 
     index: int
@@ -47,6 +51,7 @@ class Job:
     output: str
     outputs: tuple
     options: tuple
+    run: str = ""
 
     @property
     def settings(self) -> dict:

@@ -58,6 +58,7 @@ def run_job(job) -> dict:
         if record is not None:
             return result_row(job, "skipped", started, record["certificate_ok"])
         job.record.unlink(missing_ok=True)
+        Path(job.output).parent.mkdir(parents=True, exist_ok=True)
         # every file under a temporary name until all are written; then the record is
         # renamed into place first, the meshes after it (ExitStack: last in, first out),
         # so a final-name mesh always has its record, and an interrupted job leaves at
