@@ -1,0 +1,175 @@
+"""Batches on Dask: throughput with 1 and 2 workers and the batch's overhead per job.
+
+    python bench/batch.py                      # 100 sections of the shared parts (~3 min)
+    python bench/batch.py --sections 10 --out /tmp/batch.md      # a smoke run
+
+The jobs are single-plane sections of ``../shared/data`` featuretype.STL and
+angle_block.STL, spread across each part's height. They run
+
+1. in this process, one after the other (:func:`pds_plugin.batch.worker.run_job`, one
+   kernel thread): the work itself, no batch machinery;
+2. with :func:`pds_plugin.mesh_batch` on a Dask ``LocalCluster`` of 1, then 2 worker
+   processes (one thread, one kernel thread each), after each worker has meshed a
+   warm-up square (its start-up, numba's cache load included, is timed apart);
+3. again on 2 workers into the same folder: every job is skipped (the cost of a rerun).
+
+Throughput ratio = wall(1 worker) / wall(2 workers) (target >= 1.7). Overhead per job
+= (wall(1 worker) - wall(in process)) / jobs (target <= 50 ms): what scheduling,
+shipping the job, and the result cost on top of the same work. Every run's outputs are
+compared byte for byte (through their records' SHA-256). The table is printed and
+written as a section of docs/benchmarks.md (which peers.py keeps).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")    # the in-process run: one kernel thread
+
+import argparse                                                     # noqa: E402
+import json                                                         # noqa: E402
+import shlex                                                        # noqa: E402
+import sys                                                          # noqa: E402
+import tempfile                                                     # noqa: E402
+import time                                                         # noqa: E402
+from pathlib import Path                                            # noqa: E402
+
+from _environment import machine                                    # noqa: E402
+from _sections import put_section                                   # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT.parent / "shared" / "data"
+# part: (alpha, z range strictly inside the part); alphas give ~0.2-0.4 s jobs
+PARTS = {"featuretype.STL": (0.05, (0.0, 1.375)), "angle_block.STL": (0.015, (-1.352, 0.0))}
+TARGET_RATIO, TARGET_OVERHEAD = 1.7, 0.050
+
+
+def jobs(count: int) -> list[dict]:
+    """``count`` single-plane jobs, alternating parts, planes spread over each part's
+    height (offset from the slab middles so that no plane lies on a CAD face)."""
+    per_part = {name: (count + i) // len(PARTS) for i, name in enumerate(reversed(PARTS))}
+    result = []
+    for name, (alpha, (low, high)) in PARTS.items():
+        n = per_part[name]
+        result += [{"input": name, "axis": "z", "alpha": alpha,
+                    "at": round(low + (i + 0.37) * (high - low) / n, 9)} for i in range(n)]
+    return sorted(result, key=lambda job: (job["at"], job["input"]))
+
+
+def warm_up() -> float:
+    """Mesh and certify a small square (numba's kernels loaded); seconds taken."""
+    start = time.perf_counter()
+    from shapely.geometry import box
+
+    import pds_plugin as pds
+    pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.1).certificate()
+    return time.perf_counter() - start
+
+
+def in_process(batch: list[dict], out: Path) -> tuple[float, list[dict]]:
+    from pds_plugin.batch.jobs import parse_job
+    from pds_plugin.batch.worker import run_job
+
+    warm_up()
+    start = time.perf_counter()
+    rows = [run_job(parse_job(job, i, out, DATA)) for i, job in enumerate(batch)]
+    return time.perf_counter() - start, rows
+
+
+def on_dask(batch: list[dict], workers: int, out: Path, rerun: bool = False) -> dict:
+    from distributed import Client, LocalCluster
+
+    import pds_plugin as pds
+
+    start = time.perf_counter()
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                      dashboard_address=":0", env={"NUMBA_NUM_THREADS": "1"},
+                      silence_logs=50) as cluster, Client(cluster) as client:
+        started = time.perf_counter() - start
+        warm = client.run(warm_up)                         # once on every worker
+        result = {"start": started, "warm_up": max(warm.values())}
+        for run in ("first", "rerun") if rerun else ("first",):
+            begin = time.perf_counter()
+            rows = pds.mesh_batch(batch, out, executor=client.get_executor(),
+                                  progress=False, base_dir=DATA)
+            result[run] = (time.perf_counter() - begin, rows)
+    return result
+
+
+def digests(out: Path) -> dict:
+    """Output name -> SHA-256, from the records."""
+    found = {}
+    for record in out.glob("*.ply.json"):
+        found.update({Path(k).name: v for k, v in json.loads(record.read_text())["outputs"].items()})
+    return found
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sections", type=int, default=100, help="jobs (default 100)")
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks.md",
+                        help="the report whose 'bench/batch.py' section is (re)written")
+    args = parser.parse_args(argv)
+    missing = [name for name in PARTS if not (DATA / name).exists()]
+    if missing:
+        sys.exit(f"bench/batch.py needs {', '.join(missing)} in {DATA}")
+    command = shlex.join(["python", "bench/batch.py", *(sys.argv[1:] if argv is None else argv)])
+    start = machine()
+    batch = jobs(args.sections)
+    with tempfile.TemporaryDirectory() as scratch:
+        scratch = Path(scratch)
+        serial, serial_rows = in_process(batch, scratch / "serial")
+        print(f"in process: {serial:.2f} s", flush=True)
+        one = on_dask(batch, 1, scratch / "one")
+        print(f"1 worker: {one['first'][0]:.2f} s", flush=True)
+        two = on_dask(batch, 2, scratch / "two", rerun=True)
+        print(f"2 workers: {two['first'][0]:.2f} s", flush=True)
+        same = digests(scratch / "serial") == digests(scratch / "one") == digests(scratch / "two")
+    end_load = os.getloadavg()
+    rows = [serial_rows, one["first"][1], two["first"][1]]
+    failed = sum(row["status"] != "ok" for run in rows for row in run)
+    skipped = sum(row["status"] == "skipped" for row in two["rerun"][1])
+    n = len(batch)
+    ratio = one["first"][0] / two["first"][0]
+    overhead = (one["first"][0] - serial) / n
+    work = sum(row["seconds"] for row in one["first"][1]) / n
+    verdict = {True: "**holds**", False: "**misses**"}
+    table = "\n".join([
+        "## Batches on Dask (bench/batch.py)\n",
+        f"Written by `{command}` on {start['date']} (commit `{start['commit']}`); "
+        f"{start['cores']} cores; load average (1, 5, 15 min) "
+        f"{' '.join(f'{v:.2f}' for v in start['load'])} at the start, "
+        f"{' '.join(f'{v:.2f}' for v in end_load)} at the end. {n} single-plane sections of "
+        f"featuretype.STL (alpha {PARTS['featuretype.STL'][0]}) and angle_block.STL (alpha "
+        f"{PARTS['angle_block.STL'][0]}); one thread and one kernel thread per worker.\n",
+        "| run | wall (s) | jobs/s | per job (ms) | × 1 worker |",
+        "|---|---|---|---|---|",
+        f"| in process, one after the other | {serial:.2f} | {n / serial:.2f} | "
+        f"{1000 * serial / n:.0f} | — |",
+        *(f"| Dask LocalCluster, {w} worker{'s' if w > 1 else ''} | {r['first'][0]:.2f} | "
+          f"{n / r['first'][0]:.2f} | {1000 * r['first'][0] / n:.0f} | "
+          f"{one['first'][0] / r['first'][0]:.2f} |" for w, r in ((1, one), (2, two))),
+        f"| rerun on 2 workers (all skipped) | {two['rerun'][0]:.2f} | {n / two['rerun'][0]:.1f} | "
+        f"{1000 * two['rerun'][0] / n:.0f} | — |",
+        "",
+        "| target | measured | verdict |",
+        "|---|---|---|",
+        f"| 2 workers ≥ {TARGET_RATIO}× the throughput of 1 | {ratio:.2f}× | "
+        f"{verdict[ratio >= TARGET_RATIO]} |",
+        f"| overhead ≤ {1000 * TARGET_OVERHEAD:.0f} ms per job | {1000 * overhead:.1f} ms "
+        f"(1 worker vs in process; the work itself {1000 * work:.0f} ms per job on the "
+        f"worker) | {verdict[overhead <= TARGET_OVERHEAD]} |",
+        "",
+        f"Worker start-up, apart: cluster start {one['start']:.2f} s (1 worker), "
+        f"{two['start']:.2f} s (2 workers); first mesh on a fresh worker (imports and "
+        f"numba's cache load) {one['warm_up']:.2f} s / {two['warm_up']:.2f} s. "
+        f"Failed jobs: {failed}. Rerun: {skipped} of {n} skipped. Outputs of the three runs "
+        f"identical byte for byte: {'yes' if same else 'NO'}.",
+    ])
+    print(table)
+    put_section(args.out, "bench/batch.py", table)
+    print(f"written to {args.out}")
+
+
+if __name__ == "__main__":
+    main()
