@@ -24,12 +24,13 @@ import trimesh
 
 import pds_plugin as pds
 from conftest import DATA
+from pds_plugin.analysis.quality import ASPECT_BOUND
 from pds_plugin.batch import RESULTS, mesh_batch, read_manifest
 from pds_plugin.batch.jobs import parse_job
 from pds_plugin.batch.worker import file_digest
 from pds_plugin.cli import main
-from pds_plugin.demo import demo_part
-from pds_plugin.quality import ASPECT_BOUND
+from pds_plugin.errors import ArgumentError
+from pds_plugin.sources.demo import demo_part
 
 STATUSES = {"ok", "error", "skipped", "cancelled"}
 
@@ -115,7 +116,7 @@ def mesh_here(job):
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "sead": 1}, "unknown option 'sead'"),
 ])
 def test_bad_jobs_are_refused_with_the_option_named(job, message, tmp_path):
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ArgumentError, match=message):
         parse_job(job, 0, tmp_path)
 
 
@@ -147,7 +148,7 @@ def test_manifests_in_json_lines_and_csv_give_the_same_jobs(tmp_path):
 ])
 def test_unreadable_manifests_say_where(name, text, message, tmp_path):
     (tmp_path / name).write_text(text)
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ArgumentError, match=message):
         read_manifest(tmp_path / name)
 
 
@@ -266,7 +267,7 @@ def test_ctrl_c_leaves_no_partial_file_and_consistent_results(presses, parts, tm
     workers are killed mid-job and their temporary files removed. Either way every mesh
     under a final name is complete and proven, and a rerun does exactly the rest."""
     manifest = tmp_path / "jobs.jsonl"
-    jobs = [dict(job, input=str(parts / "ring.stl")) for job in ring_jobs(8, alpha=0.03)]
+    jobs = [dict(job, input=str(parts / "ring.stl")) for job in ring_jobs(6, alpha=0.05)]
     manifest.write_text("".join(json.dumps(job) + "\n" for job in jobs))
     out = tmp_path / "out"
     batch = run_cli(manifest, "-o", out, "--workers", "2", start_new_session=True)
@@ -292,7 +293,7 @@ def test_ctrl_c_leaves_no_partial_file_and_consistent_results(presses, parts, tm
     for row in done:
         check_output(row["output"], records[Path(row["output"] + ".json")])
 
-    rerun = run_cli(manifest, "-o", out, "--workers", "2")
+    rerun = run_cli(manifest, "-o", out, "--workers", "1")
     _, stderr = rerun.communicate(timeout=300)
     assert rerun.returncode == 0, stderr
     statuses = [row["status"] for row in read_results(out)]

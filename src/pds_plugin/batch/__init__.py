@@ -23,6 +23,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from .._atomic import atomic_path, temporary_names
+from ..errors import PdsError
 from .jobs import Job, parse_job
 from .manifest import read_manifest
 from .worker import result_row, run_job
@@ -159,7 +160,7 @@ def _check(mappings: list, out_dir: Path, base_dir, run: str) -> list:
     for index, mapping in enumerate(mappings):
         try:
             job = replace(parse_job(mapping, index, out_dir, base_dir), run=run)
-        except ValueError as error:
+        except PdsError as error:
             checked.append(_unchecked_row(index, mapping, str(error)))
             continue
         clash = next((owner[path] for path in (*job.outputs, str(job.record))

@@ -13,7 +13,13 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["Job", "parse_job", "OPTIONS"]
+from .._checks import check_alpha, check_positive_int, check_vector
+from ..errors import ArgumentError
+from ..sinks.files import writers
+from ..sources.solids import sections
+from ..sources.svg import load_svg
+
+__all__ = ["Job", "parse_job", "numbered", "plane_sections", "OPTIONS", "AXES"]
 
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 _PLANE_OPTIONS = ("axis", "plane_normal", "plane_origin", "at", "slices")
@@ -66,18 +72,46 @@ class Job:
 
     def regions(self) -> list:
         """Load the input and cut it: the job's sections as :class:`~pds_plugin.Region`\\ s."""
-        from ..sources import load_svg, sections
-
-        o = self.settings
         if _is_svg(self.input):
             return [load_svg(self.input)]
-        normal = AXES.get(o["axis"], o["plane_normal"])
-        if o["slices"] is not None:
-            return sections(self.input, normal, count=o["slices"])
-        if o["at"] is None and o["plane_origin"] is None:
-            return sections(self.input, normal, count=1)          # the middle of the solid
-        return sections(self.input, normal, offsets=o["at"] or [0.0],
-                        plane_origin=o["plane_origin"])
+        o = self.settings
+        return plane_sections(self.input, AXES.get(o["axis"], o["plane_normal"]),
+                              plane_origin=o["plane_origin"], at=o["at"], slices=o["slices"])
+
+
+def plane_sections(solid, normal, *, plane_origin=None, at=None, slices=None) -> list:
+    """The sections of ``solid`` the command line's plane options ask for.
+
+    ``slices`` planes across the solid; else the planes through ``plane_origin`` (the
+    world origin by default) moved by each offset of ``at`` along the unit normal; with
+    neither ``at`` nor ``plane_origin``, the middle of the solid.
+
+    Parameters
+    ----------
+    solid : str, os.PathLike, trimesh.Trimesh or manifold3d.Manifold
+    normal : (3,) array_like
+    plane_origin : (3,) array_like, optional
+    at : sequence of float, optional
+    slices : int, optional
+
+    Returns
+    -------
+    list of Region
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> box = trimesh.creation.box(extents=(2, 2, 2))
+    >>> [float(r.frame[2, 3]) for r in plane_sections(box, AXES["z"], at=[0.5])]
+    [0.5]
+    >>> [float(r.frame[2, 3]) for r in plane_sections(box, AXES["z"])]
+    [0.0]
+    """
+    if slices is not None:
+        return sections(solid, normal, count=slices)
+    if at is None and plane_origin is None:
+        return sections(solid, normal, count=1)
+    return sections(solid, normal, offsets=at or [0.0], plane_origin=plane_origin)
 
 
 def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
@@ -103,7 +137,7 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
 
     Raises
     ------
-    ValueError
+    ArgumentError
         Naming the option that is wrong and what to write instead.
 
     Examples
@@ -115,22 +149,20 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     >>> parse_job({"input": "part.stl", "alpha": 0.1, "axes": "z"}, 3, "/out")
     Traceback (most recent call last):
     ...
-    ValueError: unknown option 'axes'; a job has input, output, axis, plane_normal, plane_origin, at, slices, alpha, graded, seed, max_samples
+    pds_plugin.errors.ArgumentError: unknown option 'axes'; a job has input, output, axis, plane_normal, plane_origin, at, slices, alpha, graded, seed, max_samples
     """
-    from ..export import writers
-
     if not hasattr(mapping, "items"):
-        raise ValueError(f"a job is a mapping of options (a JSON object), got "
+        raise ArgumentError(f"a job is a mapping of options (a JSON object), got "
                          f"{type(mapping).__name__}")
     given = {str(key).strip(): value for key, value in mapping.items()
              if not (value is None or (isinstance(value, str) and not value.strip()))}
     unknown = sorted(set(given) - set(OPTIONS))
     if unknown:
-        raise ValueError(f"unknown option {unknown[0]!r}; a job has {', '.join(OPTIONS)}")
+        raise ArgumentError(f"unknown option {unknown[0]!r}; a job has {', '.join(OPTIONS)}")
     if "input" not in given:
-        raise ValueError("the job has no input: give the mesh file or SVG drawing to mesh")
+        raise ArgumentError("the job has no input: give the mesh file or SVG drawing to mesh")
     if "alpha" not in given:
-        raise ValueError("the job has no alpha: give the disc radius or 'auto'")
+        raise ArgumentError("the job has no alpha: give the disc radius or 'auto'")
     source = Path(base_dir, str(given["input"])).absolute()
     settings = {name: _PARSERS[name](given[name], name) if name in given else None
                 for name in OPTIONS[2:]}
@@ -141,11 +173,11 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     output = Path(out_dir, str(given["output"]) if "output" in given
                   else _derived_name(source, settings)).absolute()
     if output.suffix.lower() not in writers():
-        raise ValueError(f"cannot write {output.name}: the output suffix must be one of "
+        raise ArgumentError(f"cannot write {output.name}: the output suffix must be one of "
                          f"{', '.join(writers())}")
     outputs = tuple(map(str, numbered(output, count)))
     if str(source) in outputs:
-        raise ValueError(f"the output {output} would overwrite the input; choose another")
+        raise ArgumentError(f"the output {output} would overwrite the input; choose another")
     options = tuple((name, tuple(v) if isinstance(v, list) else v)
                     for name, v in settings.items())
     return Job(index, str(source), str(output), outputs, options)
@@ -172,49 +204,52 @@ def _is_svg(path) -> bool:
 
 
 def _numbers(value, name) -> list[float]:
+    """Numbers given as a list, one number, or text like ``"0.5,1"``."""
     items = value.split(",") if isinstance(value, str) else \
         (value if isinstance(value, (list, tuple)) else [value])
     try:
-        numbers = [float(item) for item in items if not isinstance(item, bool)]
+        if not items or any(isinstance(item, bool) for item in items):
+            raise ValueError
+        return check_vector([float(item) for item in items], name, size=len(items)).tolist()
     except (TypeError, ValueError):
-        numbers = []
-    if len(numbers) != len(items) or not numbers or not all(map(math.isfinite, numbers)):
-        raise ValueError(f"{name} must be finite numbers (a list, or text like '0.5,1'), "
-                         f"got {value!r}")
-    return numbers
+        raise ArgumentError(f"{name} must be finite numbers (a list, or text like '0.5,1'), "
+                            f"got {value!r}") from None
 
 
 def _point(value, name) -> list[float]:
     point = _numbers(value, name)
     if len(point) != 3:
-        raise ValueError(f"{name} must be three numbers x, y, z, got {value!r}")
+        raise ArgumentError(f"{name} must be three numbers x, y, z, got {value!r}")
     if name == "plane_normal" and not any(point):
-        raise ValueError(f"{name} is the zero vector; give the direction the plane faces, "
-                         f"e.g. [0, 0, 1]")
+        raise ArgumentError(f"{name} is the zero vector; give the direction the plane "
+                            f"faces, e.g. [0, 0, 1]")
     return point
 
 
 def _integer(value, name) -> int:
+    """An integer given as a number or text; positive but for the seed."""
     try:
-        number = int(value) if isinstance(value, str) or float(value).is_integer() else None
-    except (TypeError, ValueError, OverflowError):
+        number = int(value) if isinstance(value, str) else value
+    except ValueError:
         number = None
-    if isinstance(value, bool) or number is None or (name != "seed" and number < 1):
-        kind = "an integer" if name == "seed" else "a positive integer"
-        raise ValueError(f"{name} must be {kind}, got {value!r}")
-    return number
+    if isinstance(number, float) and number.is_integer():
+        number = int(number)
+    if name == "seed" and isinstance(number, int) and not isinstance(number, bool):
+        return number
+    if name == "seed" or number is None:
+        raise ArgumentError(f"{name} must be an integer, got {value!r}")
+    return check_positive_int(number, name)
 
 
 def _alpha(value, name):
     if isinstance(value, str) and value.strip() == "auto":
         return "auto"
+    if isinstance(value, (list, tuple, bool)):
+        raise ArgumentError(f"alpha must be a positive number or 'auto', got {value!r}")
     try:
-        numbers = _numbers(value, name) if not isinstance(value, (list, tuple)) else []
+        return check_alpha(value)
     except ValueError:
-        numbers = []
-    if len(numbers) != 1 or not numbers[0] > 0:
-        raise ValueError(f"alpha must be a positive number or 'auto', got {value!r}")
-    return numbers[0]
+        raise ArgumentError(f"alpha must be a positive number or 'auto', got {value!r}") from None
 
 
 def _boolean(value, name) -> bool:
@@ -222,12 +257,12 @@ def _boolean(value, name) -> bool:
         return value
     if str(value).strip().lower() in _TRUE + _FALSE:
         return str(value).strip().lower() in _TRUE
-    raise ValueError(f"{name} must be true or false, got {value!r}")
+    raise ArgumentError(f"{name} must be true or false, got {value!r}")
 
 
 def _axis(value, name) -> str:
     if value not in AXES:
-        raise ValueError(f"{name} must be one of {', '.join(AXES)}, got {value!r}")
+        raise ArgumentError(f"{name} must be one of {', '.join(AXES)}, got {value!r}")
     return value
 
 
@@ -241,18 +276,18 @@ def _check_plane(settings: dict, source: Path) -> None:
     given = [name for name in _PLANE_OPTIONS if settings[name] is not None]
     if _is_svg(source):
         if given:
-            raise ValueError(f"{source.name} is an SVG drawing, which is already planar: "
+            raise ArgumentError(f"{source.name} is an SVG drawing, which is already planar: "
                              f"drop {given[0]}")
         return
     if settings["axis"] is not None and settings["plane_normal"] is not None:
-        raise ValueError("give either axis or plane_normal, not both")
+        raise ArgumentError("give either axis or plane_normal, not both")
     if settings["at"] is not None and settings["slices"] is not None:
-        raise ValueError("give either at (offsets) or slices (a count), not both")
+        raise ArgumentError("give either at (offsets) or slices (a count), not both")
     if settings["axis"] is None and settings["plane_normal"] is None:
-        raise ValueError(f"{source.name} is a solid: say where to cut it with axis or "
+        raise ArgumentError(f"{source.name} is a solid: say where to cut it with axis or "
                          f"plane_normal (and at, plane_origin or slices)")
     if settings["slices"] is not None and settings["plane_origin"] is not None:
-        raise ValueError("slices spreads the planes across the whole solid: drop "
+        raise ArgumentError("slices spreads the planes across the whole solid: drop "
                          "plane_origin, or give at offsets from it instead")
 
 

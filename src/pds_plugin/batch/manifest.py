@@ -6,6 +6,8 @@ import csv
 import json
 from pathlib import Path
 
+from ..errors import ArgumentError
+
 __all__ = ["read_manifest"]
 
 
@@ -27,7 +29,7 @@ def read_manifest(path) -> list[dict]:
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If the file is not valid JSON Lines / CSV (the message gives the line), or holds
         no job.
     FileNotFoundError
@@ -47,7 +49,7 @@ def read_manifest(path) -> list[dict]:
     text = path.read_text(encoding="utf-8-sig")
     jobs = _csv(text, path) if path.suffix.lower() == ".csv" else _json_lines(text, path)
     if not jobs:
-        raise ValueError(f"{path} holds no job: write one job per line")
+        raise ArgumentError(f"{path} holds no job: write one job per line")
     return jobs
 
 
@@ -59,11 +61,11 @@ def _json_lines(text: str, path: Path) -> list[dict]:
         try:
             job = json.loads(line)
         except json.JSONDecodeError as error:
-            raise ValueError(f"{path}, line {number}: not JSON ({error.msg}); a JSON Lines "
+            raise ArgumentError(f"{path}, line {number}: not JSON ({error.msg}); a JSON Lines "
                              f"manifest has one job object per line, e.g. "
                              f'{{"input": "part.stl", "axis": "z", "alpha": "auto"}}') from None
         if not isinstance(job, dict):
-            raise ValueError(f"{path}, line {number}: a job is a JSON object {{...}}, got "
+            raise ArgumentError(f"{path}, line {number}: a job is a JSON object {{...}}, got "
                              f"{type(job).__name__}")
         jobs.append(job)
     return jobs
@@ -72,12 +74,12 @@ def _json_lines(text: str, path: Path) -> list[dict]:
 def _csv(text: str, path: Path) -> list[dict]:
     reader = csv.DictReader(text.splitlines())
     if not reader.fieldnames or "input" not in [n.strip() for n in reader.fieldnames]:
-        raise ValueError(f"{path}: a CSV manifest starts with a header row of option "
+        raise ArgumentError(f"{path}: a CSV manifest starts with a header row of option "
                          f"names, with at least 'input' and 'alpha'")
     jobs = []
     for row in reader:
         if None in row:
-            raise ValueError(f"{path}, line {reader.line_num}: more cells than header "
+            raise ArgumentError(f"{path}, line {reader.line_num}: more cells than header "
                              f"columns")
         if any(value.strip() for value in row.values() if value is not None):
             jobs.append({name.strip(): value for name, value in row.items()})

@@ -19,13 +19,15 @@ import warnings
 from contextlib import ExitStack
 from pathlib import Path
 
-from .. import __version__
 from .._atomic import atomic_path
+from .._version import __version__
+from ..errors import ArgumentError, PdsError
+from ..pipeline import mesh_region, section_report
 
 __all__ = ["run_job", "result_row", "file_digest"]
 
 # What a job's own input can raise; anything else is a bug, reported as such.
-_INPUT_ERRORS = (ValueError, TypeError, OSError, ImportError)
+_INPUT_ERRORS = (PdsError, OSError)
 
 
 def run_job(job) -> dict:
@@ -126,20 +128,22 @@ def file_digest(path) -> str:
 
 def _mesh_section(job, region, output: str, partial) -> dict:
     """Mesh one section, write it to ``partial``, and return its report."""
-    from ..mesh import mesh_region
-
     o = job.settings
     if o["graded"]:
-        raise ValueError("graded meshes are not available in this version of pds_plugin; "
-                         "drop graded")
+        raise ArgumentError("graded meshes are not available in this version of "
+                            "pds_plugin; drop graded")
     budget = {} if o["max_samples"] is None else {"max_samples": o["max_samples"]}
-    try:
-        mesh = mesh_region(region, o["alpha"], seed=o["seed"], **budget)
-        mesh.export(partial)
-    except ValueError as error:              # say which of several sections failed
-        raise ValueError(f"{Path(output).name}: {error}") from error
-    return {"output": output, "alpha": mesh.alpha, "samples": len(mesh.vertices),
-            "triangles": len(mesh.faces), "certificate": mesh.certificate().as_dict()}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            mesh = mesh_region(region, o["alpha"], seed=o["seed"], **budget)
+            mesh.export(partial)
+        except PdsError as error:            # say which of several sections failed
+            raise type(error)(f"{Path(output).name}: {error}") from error
+        mesh.certificate()
+    return section_report(mesh, seed=o["seed"],
+                          alpha_mode="auto" if o["alpha"] == "auto" else "given",
+                          output=output, warnings=[str(w.message) for w in caught])
 
 
 def _matching_record(job, digest: str) -> dict | None:
