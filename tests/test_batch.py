@@ -221,6 +221,19 @@ def test_rerun_skips_done_jobs_untouched_and_redoes_what_changed(parts, tmp_path
     assert all(r["input_sha256"] == file_digest(source) for r in records.values())
 
 
+def test_leftovers_of_killed_writers_are_removed_for_this_batch_only(parts, tmp_path):
+    [job] = ring_jobs(1)
+    out = tmp_path / "out"
+    out.mkdir()
+    ours = out / ".ring_z-0.9.0123456789abcdef.tmp.ply"        # a SIGKILLed worker's
+    theirs = out / ".other.0123456789abcdef.tmp.ply"
+    for path in (ours, theirs):
+        path.write_bytes(b"ply\nhalf")
+    with ThreadPoolExecutor(1) as pool:
+        mesh_batch([job], out, executor=pool, progress=False, base_dir=parts)
+    assert not ours.exists() and theirs.exists()
+
+
 def test_a_job_failing_after_success_leaves_no_stale_record(parts, tmp_path):
     source = tmp_path / "ring.stl"
     source.write_bytes((parts / "ring.stl").read_bytes())

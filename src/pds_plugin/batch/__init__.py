@@ -22,7 +22,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
 
-from .._atomic import atomic_path, temporary_names
+from .._atomic import atomic_path, leftovers
 from ..errors import PdsError
 from .jobs import Job, parse_job
 from .manifest import read_manifest
@@ -214,11 +214,13 @@ def _stop(pool: ProcessPoolExecutor, interrupted: bool) -> None:
 
 
 def _sweep(jobs: list[Job]) -> None:
-    """Remove temporary files left by workers killed outright (SIGKILL) mid-write."""
-    for job in jobs:
-        for name in (*job.outputs, job.record):
-            for leftover in temporary_names(name):
-                leftover.unlink(missing_ok=True)
+    """Remove the temporary files that workers killed outright (SIGKILL) left mid-write
+    for this batch's files (one listing per output folder)."""
+    ours = {Path(name) for job in jobs for name in (*job.outputs, job.record)}
+    for folder in {path.parent for path in ours}:
+        for partial, final in leftovers(folder).items():
+            if final in ours:
+                partial.unlink(missing_ok=True)
 
 
 def _write_results(path: Path, rows: list[dict]) -> None:
