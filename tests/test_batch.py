@@ -314,6 +314,21 @@ def test_ctrl_c_leaves_no_partial_file_and_consistent_results(presses, parts, tm
     assert statuses.count("ok") == len(jobs) - len(complete)
 
 
+def test_local_workers_run_the_kernels_on_one_thread(tmp_path):
+    """Even when the kernels were loaded before the pool's initializer ran (the main
+    script imports pds_plugin.batch, as pds-mesh does)."""
+    script = tmp_path / "threads.py"
+    script.write_text("import numba\n"
+                      "from pds_plugin.batch import local_executor\n"
+                      "if __name__ == '__main__':\n"
+                      "    with local_executor(2) as pool:\n"
+                      "        print(pool.submit(numba.get_num_threads).result())\n")
+    result = subprocess.run([sys.executable, script], capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "1"
+
+
 def test_cli_usage_errors_exit_2(tmp_path, capsys):
     assert main(["batch", tmp_path / "none.jsonl", "-o", tmp_path]) == 2
     assert "no such manifest" in capsys.readouterr().err

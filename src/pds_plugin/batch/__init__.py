@@ -23,6 +23,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from .._atomic import atomic_path, leftovers
+from .._threads import limit_kernel_threads
 from ..errors import PdsError
 from .jobs import Job, parse_job
 from .manifest import read_manifest
@@ -144,8 +145,8 @@ def local_executor(workers: int) -> ProcessPoolExecutor:
     Examples
     --------
     >>> with local_executor(1) as pool:
-    ...     pool.submit(os.getenv, "NUMBA_NUM_THREADS").result()
-    '1'
+    ...     pool.submit(os.getpid).result() != os.getpid()
+    True
     """
     from multiprocessing import get_context
 
@@ -193,7 +194,7 @@ def _row(future, job: Job) -> dict:
 
 def _start_local_worker() -> None:
     """Pool initializer: one kernel thread, and deaf to Ctrl-C (the driver decides)."""
-    os.environ["NUMBA_NUM_THREADS"] = "1"
+    limit_kernel_threads(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -153,7 +152,7 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     """
     if not hasattr(mapping, "items"):
         raise ArgumentError(f"a job is a mapping of options (a JSON object), got "
-                         f"{type(mapping).__name__}")
+                            f"{type(mapping).__name__}")
     given = {str(key).strip(): value for key, value in mapping.items()
              if not (value is None or (isinstance(value, str) and not value.strip()))}
     unknown = sorted(set(given) - set(OPTIONS))
@@ -173,8 +172,8 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     output = Path(out_dir, str(given["output"]) if "output" in given
                   else _derived_name(source, settings)).absolute()
     if output.suffix.lower() not in writers():
-        raise ArgumentError(f"cannot write {output.name}: the output suffix must be one of "
-                         f"{', '.join(writers())}")
+        raise ArgumentError(f"cannot write {output.name}: the output suffix must be one "
+                            f"of {', '.join(writers())}")
     outputs = tuple(map(str, numbered(output, count)))
     if str(source) in outputs:
         raise ArgumentError(f"the output {output} would overwrite the input; choose another")
