@@ -112,6 +112,7 @@ def mesh_here(job):
     ({"input": "p.stl", "axis": "z", "slices": 0, "alpha": 0.1}, "positive integer"),
     ({"input": "p.stl", "axis": "z", "slices": 2, "at": 1, "alpha": 0.1}, "not both"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "maybe"}, "true or false"),
+    ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "yes"}, "graded meshes are not"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "output": "p.stl"}, "suffix must be"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "sead": 1}, "unknown option 'sead'"),
 ])

@@ -166,6 +166,9 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     settings = {name: _PARSERS[name](given[name], name) if name in given else None
                 for name in OPTIONS[2:]}
     settings["graded"] = bool(settings["graded"])
+    if settings["graded"]:
+        raise ArgumentError("graded meshes are not available in this version of "
+                            "pds_plugin; drop graded")
     settings["seed"] = settings["seed"] or 0
     _check_plane(settings, source)
     count = settings["slices"] or len(settings["at"] or [0.0])

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from .._atomic import atomic_path
 from .._version import __version__
-from ..errors import ArgumentError, PdsError
+from ..errors import PdsError
 from ..pipeline import mesh_region, section_report
 
 __all__ = ["run_job", "result_row", "file_digest"]
@@ -129,9 +129,6 @@ def file_digest(path) -> str:
 def _mesh_section(job, region, output: str, partial) -> dict:
     """Mesh one section, write it to ``partial``, and return its report."""
     o = job.settings
-    if o["graded"]:
-        raise ArgumentError("graded meshes are not available in this version of "
-                            "pds_plugin; drop graded")
     budget = {} if o["max_samples"] is None else {"max_samples": o["max_samples"]}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
