@@ -74,6 +74,15 @@ def leftovers(folder) -> dict[Path, Path]:
     outright, e.g. by SIGKILL, leaves one), each with the final name it was meant for.
     One listing of the folder, however many files it holds.
 
+    Parameters
+    ----------
+    folder : str or os.PathLike
+
+    Returns
+    -------
+    dict
+        Temporary path -> the final path it was written for.
+
     Examples
     --------
     >>> import tempfile, pathlib

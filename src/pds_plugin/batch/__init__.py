@@ -81,6 +81,13 @@ def mesh_batch(jobs, out_dir, *, executor=None, progress=True, workers=None,
         ``ok``, ``error``, ``skipped`` or ``cancelled``, ``output``, ``seconds``,
         ``certificate_ok``, ``error``; also written to ``out_dir/results.jsonl``.
 
+    Raises
+    ------
+    OSError
+        If ``out_dir`` cannot be created or ``results.jsonl`` written.
+    KeyboardInterrupt
+        Again, after Ctrl-C, once ``results.jsonl`` is written.
+
     Examples
     --------
     >>> import tempfile, trimesh
@@ -140,7 +147,15 @@ def local_executor(workers: int) -> ProcessPoolExecutor:
 
     Spawned, not forked: a child forked after the parallel numba kernels started GNU
     OpenMP is terminated by it. One kernel thread per process: the processes already
-    share the cores.
+    share the cores. Its processes ignore Ctrl-C: :func:`mesh_batch` decides.
+
+    Parameters
+    ----------
+    workers : int
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor
 
     Examples
     --------

@@ -97,6 +97,11 @@ def plane_sections(solid, normal, *, plane_origin=None, at=None, slices=None) ->
     -------
     list of Region
 
+    Raises
+    ------
+    SectionError, SourceError, ArgumentError, OSError
+        As :func:`pds_plugin.sections`.
+
     Examples
     --------
     >>> import trimesh
@@ -187,6 +192,17 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
 
 def numbered(path: Path, count: int) -> list[Path]:
     """``path`` itself for one section, else ``stem_000.suffix``, ``stem_001.suffix``...
+
+    Parameters
+    ----------
+    path : pathlib.Path
+    count : int
+        The number of sections.
+
+    Returns
+    -------
+    list of pathlib.Path
+        Zero-padded to 3 digits, more when there are more sections.
 
     Examples
     --------

@@ -91,11 +91,30 @@ def result_row(job, status: str, started: float | None = None, certificate_ok=No
                error: str | None = None) -> dict:
     """One line of ``results.jsonl``.
 
-    Keys: ``job`` (position in the batch), ``input``, ``status`` (``ok``, ``error``,
-    ``skipped``, or ``cancelled`` when the batch was interrupted first), ``output`` (the
-    file, or the list of files of a job with several sections), ``seconds`` (on the
-    worker), ``certificate_ok`` (every section certified; ``None`` without a mesh),
-    ``error`` (the message, or ``None``).
+    Parameters
+    ----------
+    job : Job
+    status : {"ok", "error", "skipped", "cancelled"}
+    started : float, optional
+        ``time.perf_counter()`` when the job started; None if it never ran.
+    certificate_ok : bool, optional
+    error : str, optional
+
+    Returns
+    -------
+    dict
+        ``job`` (position in the batch), ``input``, ``status`` (``cancelled`` when the
+        batch was interrupted first), ``output`` (the file, or the list of files of a
+        job with several sections), ``seconds`` (on the worker), ``certificate_ok``
+        (every section certified; ``None`` without a mesh), ``error`` (the message, or
+        ``None``).
+
+    Examples
+    --------
+    >>> from pds_plugin.batch.jobs import parse_job
+    >>> job = parse_job({"input": "a.svg", "alpha": 1}, 4, "/out", "/in")
+    >>> result_row(job, "cancelled")["output"]
+    '/out/a.ply'
     """
     outputs = list(job.outputs)
     return {"job": job.index, "input": job.input, "status": status,
@@ -107,6 +126,19 @@ def result_row(job, status: str, started: float | None = None, certificate_ok=No
 def file_digest(path) -> str:
     """SHA-256 of a file's bytes, in hex.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    FileNotFoundError, IsADirectoryError
+        If ``path`` is not a file.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -116,9 +148,10 @@ def file_digest(path) -> str:
     'e3b0c44298fc1c14'
     """
     path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"no such file: {path}")
     if not path.is_file():
-        raise FileNotFoundError(f"no such file: {path}" if not path.exists() else
-                                f"{path} is a directory, not a mesh file or an SVG drawing")
+        raise IsADirectoryError(f"{path} is a directory, not a mesh file or an SVG drawing")
     digest = hashlib.sha256()
     with open(path, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):
