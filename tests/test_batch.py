@@ -338,6 +338,11 @@ def test_cli_usage_errors_exit_2(tmp_path, capsys):
     assert main(["batch", tmp_path / "jobs.jsonl", "-o", tmp_path, "--workers", "0"]) == 2
     assert main(["batch", tmp_path / "jobs.jsonl", "-o", tmp_path, "--workers", "1",
                  "--scheduler", "tcp://nowhere:1"]) == 2
+    capsys.readouterr()
+    assert main(["batch", tmp_path / "jobs.jsonl", "-o", tmp_path,
+                 "--scheduler", "tcp://127.0.0.1:1"]) == 2     # nobody listens there
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1" in capsys.readouterr().err
+    assert not (tmp_path / "results.jsonl").exists()
 
 
 # --- Dask: a real LocalCluster with 2 worker processes ------------------------------------

@@ -8,10 +8,10 @@ read, a scheduler that cannot be reached), 130 when interrupted.
 from __future__ import annotations
 
 import sys
-from contextlib import contextmanager
 
+from .._checks import import_optional
 from ..batch import RESULTS, mesh_batch, read_manifest
-from ..errors import PdsError
+from ..errors import ArgumentError, PdsError
 from .output import say
 
 __all__ = ["run"]
@@ -34,15 +34,18 @@ def run(args) -> int:
     """
     try:
         jobs = read_manifest(args.manifest)
+        client = _client(args.scheduler)
     except (PdsError, OSError) as error:
         say("error", error)
         return USAGE_ERROR
-    with _executor(args.scheduler) as executor:
-        if executor is None and args.scheduler is not None:
-            return USAGE_ERROR
-        rows = mesh_batch(jobs, args.output, executor=executor, workers=args.workers,
+    try:
+        rows = mesh_batch(jobs, args.output, workers=args.workers,
+                          executor=None if client is None else client.get_executor(),
                           base_dir=args.manifest.parent,
                           progress=not args.quiet and sys.stderr.isatty())
+    finally:
+        if client is not None:
+            client.close()
     failed = [row for row in rows if row["status"] == "error"]
     for row in failed:
         say("error", f"job {row['job']} ({row['input']}): {row['error']}")
@@ -69,26 +72,14 @@ def _summary(rows: list[dict], results) -> str:
             f"results: {results}")
 
 
-@contextmanager
-def _executor(address):
-    """A Dask executor on the cluster at ``address`` (closed afterwards); None without an
-    address, or (after saying why) when the cluster cannot be used."""
+def _client(address):
+    """A Dask client of the cluster at ``address``, or None without an address."""
     if address is None:
-        yield None
-        return
+        return None
+    distributed = import_optional("distributed", "dask", "pds-mesh batch --scheduler")
     try:
-        from distributed import Client
-    except ImportError:
-        say("error", '--scheduler needs Dask: pip install "pds_plugin[dask]"')
-        yield None
-        return
-    try:
-        client = Client(address, timeout="10s")
-    except (OSError, ValueError, TypeError) as error:
-        say("error", f"cannot reach the Dask scheduler at {address}: {error}")
-        yield None
-        return
-    try:
-        yield client.get_executor()
-    finally:
-        client.close()
+        return distributed.Client(address, timeout="10s")
+    except (OSError, ValueError) as error:      # refused, timed out, not an address
+        raise ArgumentError(f"cannot reach the Dask scheduler at {address}: {error}; "
+                            f"start one with 'dask scheduler' (see pds-mesh batch "
+                            f"--help)") from error
