@@ -10,7 +10,7 @@ angle_block.STL, spread across each part's height. They run
    kernel thread), after the same warm-up: the work itself, no batch machinery;
 2. with :func:`pds_plugin.mesh_batch` on a Dask ``LocalCluster`` of 1, then 2 worker
    processes (one thread, one kernel thread each), after each worker has run one job of
-   each part elsewhere (its start-up, imports and numba's cache load, timed apart);
+   each part elsewhere (its start-up and imports, timed apart);
 3. again on 2 workers into the same folder: every job is skipped (the cost of a rerun).
 
 Throughput ratio = wall(1 worker) / wall(2 workers) (target >= 1.7). Overhead per job
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import os
 
-os.environ.setdefault("NUMBA_NUM_THREADS", "1")    # the in-process run: one kernel thread
+os.environ.setdefault("PDS_THREADS", "1")          # the in-process run: one kernel thread
 
 import argparse                                                     # noqa: E402
 import json                                                         # noqa: E402
@@ -91,7 +91,7 @@ def on_dask(batch: list[dict], workers: int, out: Path, rerun: bool = False) -> 
 
     start = time.perf_counter()
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", env={"NUMBA_NUM_THREADS": "1"},
+                      dashboard_address=":0", env={"PDS_THREADS": "1"},
                       silence_logs=50) as cluster, Client(cluster) as client:
         started = time.perf_counter() - start
         warm = client.run(warm_up, batch)                  # once on every worker
@@ -200,7 +200,7 @@ def main(argv=None) -> None:
         "",
         f"Worker start-up, apart: cluster start {one['start']:.2f} s (1 worker), "
         f"{two['start']:.2f} s (2 workers); a fresh worker's first two jobs (one per part: "
-        f"imports and numba's cache load) {one['warm_up']:.2f} s / {two['warm_up']:.2f} s. "
+        f"imports) {one['warm_up']:.2f} s / {two['warm_up']:.2f} s. "
         f"Failed jobs: {failed}. Rerun: {skipped} of {n} skipped. Outputs of the three runs "
         f"identical byte for byte: {'yes' if same else 'NO'}.",
     ])

@@ -320,15 +320,17 @@ def test_local_workers_run_the_kernels_on_one_thread(tmp_path):
     """Even when the kernels were loaded before the pool's initializer ran (the main
     script imports pds_plugin.batch, as pds-mesh does)."""
     script = tmp_path / "threads.py"
-    script.write_text("import numba\n"
+    script.write_text("from pds_plugin import _parallel\n"
                       "from pds_plugin.batch import local_executor\n"
                       "if __name__ == '__main__':\n"
+                      "    _parallel.set_threads(2)\n"
                       "    with local_executor(2) as pool:\n"
-                      "        print(pool.submit(numba.get_num_threads).result())\n")
+                      "        print(_parallel.get_threads(), "
+                      "pool.submit(_parallel.get_threads).result())\n")
     result = subprocess.run([sys.executable, script], capture_output=True, text=True,
                             timeout=300)
     assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "1"
+    assert result.stdout.split() == ["2", "1"]
 
 
 def test_cli_usage_errors_exit_2(tmp_path, capsys):
@@ -352,7 +354,7 @@ def test_cli_usage_errors_exit_2(tmp_path, capsys):
 def cluster():
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=":0", env={"NUMBA_NUM_THREADS": "1"},
+                                  dashboard_address=":0", env={"PDS_THREADS": "1"},
                                   silence_logs=logging.ERROR) as cluster, \
             distributed.Client(cluster) as client:
         yield cluster, client

@@ -22,7 +22,6 @@ LAYERS = [
     (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._parallel"),
     (0, "pds_plugin._version"),
     (1, "pds_plugin.errors"), (1, "pds_plugin.silence"), (1, "pds_plugin._atomic"),
-    (1, "pds_plugin._threads"),
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"),
     (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"),

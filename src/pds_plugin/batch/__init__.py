@@ -23,7 +23,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from .._atomic import atomic_path, leftovers
-from .._threads import limit_kernel_threads
+from .._parallel import set_threads
 from ..errors import PdsError
 from .jobs import Job, parse_job
 from .manifest import read_manifest
@@ -145,8 +145,8 @@ def mesh_batch(jobs, out_dir, *, executor=None, progress=True, workers=None,
 def local_executor(workers: int) -> ProcessPoolExecutor:
     """A pool of ``workers`` spawned processes, each meshing with one kernel thread.
 
-    Spawned, not forked: a child forked after the parallel numba kernels started GNU
-    OpenMP is terminated by it. One kernel thread per process: the processes already
+    Spawned, not forked: a child forked after the parallel kernels started GNU OpenMP
+    is terminated by it. One kernel thread per process: the processes already
     share the cores. Its processes ignore Ctrl-C: :func:`mesh_batch` decides.
 
     Parameters
@@ -209,7 +209,7 @@ def _row(future, job: Job) -> dict:
 
 def _start_local_worker() -> None:
     """Pool initializer: one kernel thread, and deaf to Ctrl-C (the driver decides)."""
-    limit_kernel_threads(1)
+    set_threads(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
