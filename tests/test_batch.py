@@ -106,6 +106,8 @@ def mesh_here(job):
     ({"input": "p.stl", "axis": "w", "alpha": 0.1}, "axis must be one of x, y, z"),
     ({"input": "p.stl", "alpha": 0.1}, "is a solid: say where to cut it"),
     ({"input": "p.svg", "axis": "z", "alpha": 0.1}, "SVG drawing, which is already planar"),
+    ({"input": "p.dxf", "slices": 2, "alpha": 0.1}, "DXF drawing, which is already planar"),
+    ({"input": "p.svg", "layer": "A", "alpha": 0.1}, "layers of a DXF drawing"),
     ({"input": "p.stl", "plane_normal": "0,0,0", "alpha": 0.1}, "zero vector"),
     ({"input": "p.stl", "plane_normal": [1, 2], "alpha": 0.1}, "three numbers"),
     ({"input": "p.stl", "axis": "z", "at": "1,x", "alpha": 0.1}, "at must be finite numbers"),

@@ -54,7 +54,7 @@ def mesh_batch(jobs, out_dir, *, executor=None, progress=True, workers=None,
     Parameters
     ----------
     jobs : iterable of mapping
-        Each with the CLI's options (``_`` for ``-``): ``input`` (mesh file or SVG);
+        Each with the CLI's options (``_`` for ``-``): ``input`` (mesh file, SVG or DXF drawing);
         a plane by ``axis`` or ``plane_normal``, with ``at`` (offsets), ``plane_origin``
         or ``slices``; ``alpha`` (number or ``"auto"``), ``graded``, ``seed``,
         ``max_samples``; ``output`` (optional: derived from the input name and the plane,

@@ -15,15 +15,16 @@ from pathlib import Path
 from .._checks import check_alpha, check_positive_int, check_vector
 from ..errors import ArgumentError
 from ..sinks.files import writers
+from ..sources.drawing import READERS, load_drawing
 from ..sources.solids import sections
-from ..sources.svg import load_svg
 
 __all__ = ["Job", "parse_job", "numbered", "plane_sections", "OPTIONS", "AXES"]
 
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 _PLANE_OPTIONS = ("axis", "plane_normal", "plane_origin", "at", "slices")
 #: The keys a job may have: the CLI's options, with ``_`` for ``-``.
-OPTIONS = ("input", "output", *_PLANE_OPTIONS, "alpha", "graded", "seed", "max_samples")
+OPTIONS = ("input", "output", *_PLANE_OPTIONS, "layer", "alpha", "graded", "seed",
+           "max_samples")
 _TRUE, _FALSE = ("true", "yes", "1"), ("false", "no", "0")
 
 
@@ -36,7 +37,7 @@ class Job:
     index : int
         Position in the batch (0-based), the order of ``results.jsonl``.
     input : str
-        Absolute path of the mesh file or SVG drawing.
+        Absolute path of the mesh file or drawing (SVG, DXF).
     output : str
         Absolute path of the output; with several sections the files are
         ``STEM_000.SUFFIX``, ``STEM_001.SUFFIX``... (see ``outputs``).
@@ -71,9 +72,9 @@ class Job:
 
     def regions(self) -> list:
         """Load the input and cut it: the job's sections as :class:`~pds_plugin.Region`\\ s."""
-        if _is_svg(self.input):
-            return [load_svg(self.input)]
         o = self.settings
+        if _is_drawing(self.input):
+            return [load_drawing(self.input, **({"layers": o["layer"]} if o["layer"] else {}))]
         return plane_sections(self.input, AXES.get(o["axis"], o["plane_normal"]),
                               plane_origin=o["plane_origin"], at=o["at"], slices=o["slices"])
 
@@ -153,7 +154,7 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     >>> parse_job({"input": "part.stl", "alpha": 0.1, "axes": "z"}, 3, "/out")
     Traceback (most recent call last):
     ...
-    pds_plugin.errors.ArgumentError: unknown option 'axes'; a job has input, output, axis, plane_normal, plane_origin, at, slices, alpha, graded, seed, max_samples
+    pds_plugin.errors.ArgumentError: unknown option 'axes'; a job has input, output, axis, plane_normal, plane_origin, at, slices, layer, alpha, graded, seed, max_samples
     """
     if not hasattr(mapping, "items"):
         raise ArgumentError(f"a job is a mapping of options (a JSON object), got "
@@ -164,7 +165,7 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     if unknown:
         raise ArgumentError(f"unknown option {unknown[0]!r}; a job has {', '.join(OPTIONS)}")
     if "input" not in given:
-        raise ArgumentError("the job has no input: give the mesh file or SVG drawing to mesh")
+        raise ArgumentError("the job has no input: give the mesh file or drawing to mesh")
     if "alpha" not in given:
         raise ArgumentError("the job has no alpha: give the disc radius or 'auto'")
     source = Path(base_dir, str(given["input"])).absolute()
@@ -217,8 +218,8 @@ def numbered(path: Path, count: int) -> list[Path]:
 
 # --- option values -------------------------------------------------------------------
 
-def _is_svg(path) -> bool:
-    return Path(path).suffix.lower() == ".svg"
+def _is_drawing(path) -> bool:
+    return Path(path).suffix.lower() in READERS
 
 
 def _numbers(value, name) -> list[float]:
@@ -278,13 +279,23 @@ def _boolean(value, name) -> bool:
     raise ArgumentError(f"{name} must be true or false, got {value!r}")
 
 
+def _names(value, name) -> list[str]:
+    """Names given as a list or as text like ``"OUTLINE,HOLES"``."""
+    names = value.split(",") if isinstance(value, str) else value
+    if not isinstance(names, (list, tuple)) or not all(isinstance(n, str) and n.strip()
+                                                       for n in names):
+        raise ArgumentError(f"{name} must be names (a list, or text like 'OUTLINE,HOLES'), "
+                            f"got {value!r}")
+    return [n.strip() for n in names]
+
+
 def _axis(value, name) -> str:
     if value not in AXES:
         raise ArgumentError(f"{name} must be one of {', '.join(AXES)}, got {value!r}")
     return value
 
 
-_PARSERS = {"axis": _axis, "plane_normal": _point, "plane_origin": _point, "at": _numbers,
+_PARSERS = {"layer": _names, "axis": _axis, "plane_normal": _point, "plane_origin": _point, "at": _numbers,
             "slices": _integer, "alpha": _alpha, "graded": _boolean, "seed": _integer,
             "max_samples": _integer}
 
@@ -292,10 +303,12 @@ _PARSERS = {"axis": _axis, "plane_normal": _point, "plane_origin": _point, "at":
 def _check_plane(settings: dict, source: Path) -> None:
     """The plane options make sense for the input's kind (the CLI's rules)."""
     given = [name for name in _PLANE_OPTIONS if settings[name] is not None]
-    if _is_svg(source):
+    if settings["layer"] is not None and source.suffix.lower() != ".dxf":
+        raise ArgumentError(f"layer selects layers of a DXF drawing; {source.name} is not one")
+    if _is_drawing(source):
         if given:
-            raise ArgumentError(f"{source.name} is an SVG drawing, which is already planar: "
-                             f"drop {given[0]}")
+            raise ArgumentError(f"{source.name} is a {source.suffix[1:].upper()} drawing, "
+                                f"which is already planar: drop {given[0]}")
         return
     if settings["axis"] is not None and settings["plane_normal"] is not None:
         raise ArgumentError("give either axis or plane_normal, not both")
@@ -310,10 +323,10 @@ def _check_plane(settings: dict, source: Path) -> None:
 
 
 def _derived_name(source: Path, settings: dict) -> str:
-    """``part.ply`` (SVG), ``part_z0.5.ply``, ``part_z_middle.ply``, ``part_z_slices10.ply``;
+    """``part.ply`` (a drawing), ``part_z0.5.ply``, ``part_z_middle.ply``, ``part_z_slices10.ply``;
     any other plane: ``part_plane-HASH.ply`` from the plane options."""
     axis, at, slices = settings["axis"], settings["at"], settings["slices"]
-    if _is_svg(source):
+    if _is_drawing(source):
         label = ""
     elif axis is not None and settings["plane_origin"] is None:
         if slices is not None:

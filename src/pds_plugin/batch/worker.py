@@ -151,7 +151,7 @@ def file_digest(path) -> str:
     if not path.exists():
         raise FileNotFoundError(f"no such file: {path}")
     if not path.is_file():
-        raise IsADirectoryError(f"{path} is a directory, not a mesh file or an SVG drawing")
+        raise IsADirectoryError(f"{path} is a directory, not a mesh file or a drawing")
     digest = hashlib.sha256()
     with open(path, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):

@@ -69,7 +69,7 @@ manifest (JSON Lines, one job per line; or CSV with these column names):
   {"input": "bracket.stl", "plane_origin": [0, 0, 5], "plane_normal": [0, 1, 1], "alpha": 0.2}
   {"input": "logo.svg", "alpha": 2.5, "output": "logos/logo.obj"}
   The options of 'pds-mesh mesh' with _ for -: input, output, axis, plane_normal,
-  plane_origin, at, slices, alpha, graded, seed, max_samples. Relative inputs are read
+  plane_origin, at, slices, layer, alpha, graded, seed, max_samples. Relative inputs are read
   from the manifest's folder, relative outputs written to DIR; without output the name
   comes from the input and the plane (bracket_z0.5.ply).
 
