@@ -251,15 +251,16 @@ def test_a_job_failing_after_success_leaves_no_stale_record(parts, tmp_path):
     assert not parse_job(job, 0, tmp_path / "out", tmp_path).record.exists()
 
 
-def test_an_svg_drawing_and_the_shared_parts(parts, tmp_path):
+def test_drawings_and_the_shared_parts(parts, tmp_path):
     if not DATA.is_dir():
         pytest.skip(f"{DATA} not available")
     jobs = [{"input": "MIL.svg", "alpha": 30.0},
             {"input": "featuretype.STL", "axis": "z", "alpha": 0.05},
-            {"input": "angle_block.STL", "axis": "z", "slices": 2, "alpha": 0.04}]
+            {"input": "angle_block.STL", "axis": "z", "slices": 2, "alpha": 0.04},
+            {"input": "wrench.dxf", "alpha": 0.03}]
     with ThreadPoolExecutor(2) as pool:
         rows = mesh_batch(jobs, tmp_path, executor=pool, progress=False, base_dir=DATA)
-    assert [row["status"] for row in rows] == ["ok"] * 3, rows
+    assert [row["status"] for row in rows] == ["ok"] * 4, rows
     records = records_and_outputs(tmp_path)
     betti = {Path(r["input"]).name: r["sections"][0]["certificate"]["betti_region"]
              for r in records.values()}
