@@ -8,6 +8,7 @@ from pathlib import Path
 
 from _metrics import PROBES_PER_ALPHA
 from _rows import Row, sampling_rate
+from _sections import kept_sections
 from _targets import Target
 
 COLUMNS = ("peer", "time (s)", "× pds", "peak MiB", "vertices", "triangles", "min ∠", "max ∠",
@@ -31,6 +32,7 @@ def write(path: Path, *, command: str, machine: dict, load_end, load_peak: float
         _figures(path, figures),
         _method(timeout),
         ("## Regions left out\n\n" + "".join(f"- {m}\n" for m in missing)) if missing else "",
+        kept_sections(path),             # e.g. bench/batch.py's, which it writes itself
     ]
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(part for part in parts if part))

@@ -5,7 +5,7 @@ Every import in src/pds_plugin is read with ast, function-level ones included (o
 layers of the README's Layout section:
 
     kernels, errors, checks -> region -> sampling, complex -> mesh -> analysis
-    -> pipeline -> sources, sinks -> workflows -> cli -> the package's lazy names
+    -> pipeline -> sources, sinks -> workflows, batch -> cli -> the package's lazy names
 """
 
 import ast
@@ -20,8 +20,8 @@ LAYERS = [
     (0, "pds_plugin._sampling_kernels"), (0, "pds_plugin._complex_kernels"),
     (0, "pds_plugin._geometry_kernels"), (0, "pds_plugin._mesh_kernels"),
     (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._parallel"),
-    (0, "pds_plugin._version"), (0, "pds_plugin._atomic"),
-    (1, "pds_plugin.errors"), (1, "pds_plugin.silence"),
+    (0, "pds_plugin._version"),
+    (1, "pds_plugin.errors"), (1, "pds_plugin.silence"), (1, "pds_plugin._atomic"),
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"),
     (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"),
@@ -29,13 +29,14 @@ LAYERS = [
     (6, "pds_plugin.analysis"),
     (7, "pds_plugin.pipeline"),
     (8, "pds_plugin.sources"), (8, "pds_plugin.sinks"),
-    (9, "pds_plugin.workflows"),
+    (9, "pds_plugin.workflows"), (9, "pds_plugin.batch"),
     (10, "pds_plugin.cli"),
     (11, "pds_plugin"),
 ]
 # Packages whose modules may import each other (without cycles); sources and sinks,
 # on the same layer, may not import each other.
-SIBLINGS = ("pds_plugin.analysis", "pds_plugin.sources", "pds_plugin.sinks", "pds_plugin.cli")
+SIBLINGS = ("pds_plugin.analysis", "pds_plugin.sources", "pds_plugin.sinks", "pds_plugin.batch",
+            "pds_plugin.cli")
 # PlanarMesh's methods quality(), certificate(), to_trimesh(), to_meshset() and export()
 # are the public shortcuts of DESIGN.md §4: they import their layer when called. These
 # are the only imports allowed to go up, and they still may not close a cycle.

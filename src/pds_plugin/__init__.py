@@ -56,6 +56,7 @@ _PUBLIC = {
                                    "RegionError", "SourceError", "SectionError", "BudgetError",
                                    "TopologyError", "EmptyMeshError",
                                    "MissingDependencyError")},
+    "mesh_batch": "batch",
 }
 
 __all__ = sorted(_PUBLIC)

@@ -27,6 +27,7 @@ from .sources.drawing import load_drawing as load_drawing
 from .sources.demo import demo_part as demo_part
 from .sinks.meshlab import meshlab_quality as meshlab_quality
 from .workflows import add_section_meshes as add_section_meshes
+from .batch import mesh_batch as mesh_batch
 from .silence import silenced as silenced
 from .errors import (
     ArgumentError as ArgumentError,
@@ -68,6 +69,7 @@ __all__ = [
     "load_drawing",
     "load_dxf",
     "load_svg",
+    "mesh_batch",
     "mesh_region",
     "meshlab_quality",
     "multiresolution",

@@ -8,15 +8,16 @@ folder guarantees.
 
 from __future__ import annotations
 
-import glob
 import os
+import re
 import secrets
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_path", "temporary_names"]
+__all__ = ["atomic_path", "leftovers"]
 
 _TEMPORARY = ".tmp"
+_LEFTOVER = re.compile(r"\.(?P<stem>.+)\.[0-9a-f]{16}\.tmp(?P<suffix>(\.[^.]*)?)")
 
 
 @contextmanager
@@ -28,7 +29,7 @@ def atomic_path(path):
     normally the file replaces ``path`` in one step; when it raises (including
     ``KeyboardInterrupt``) the temporary file is removed and ``path`` is left as it was. The temporary name is hidden and keeps the suffix,
     ``.STEM.RANDOM.tmp.SUFFIX`` (writers choose the format by the suffix), so it never
-    looks like a finished output; :func:`temporary_names` finds leftovers.
+    looks like a finished output; :func:`leftovers` finds those of killed processes.
 
     Parameters
     ----------
@@ -68,19 +69,33 @@ def atomic_path(path):
         raise
 
 
-def temporary_names(path) -> list[Path]:
-    """The temporary files :func:`atomic_path` left beside ``path`` (only a process
-    killed outright, e.g. by SIGKILL, leaves one).
+def leftovers(folder) -> dict[Path, Path]:
+    """The temporary files :func:`atomic_path` left in ``folder`` (only a process killed
+    outright, e.g. by SIGKILL, leaves one), each with the final name it was meant for.
+    One listing of the folder, however many files it holds.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+
+    Returns
+    -------
+    dict
+        Temporary path -> the final path it was written for.
 
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> out = pathlib.Path(tempfile.mkdtemp()) / "mesh.ply"
-    >>> _ = (out.parent / ".mesh.0123456789abcdef.tmp.ply").write_bytes(b"half")
-    >>> [p.name for p in temporary_names(out)]
-    ['.mesh.0123456789abcdef.tmp.ply']
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / ".mesh.0123456789abcdef.tmp.ply").write_bytes(b"half")
+    >>> _ = (folder / "mesh.ply").write_bytes(b"whole")
+    >>> [(p.name, final.name) for p, final in leftovers(folder).items()]
+    [('.mesh.0123456789abcdef.tmp.ply', 'mesh.ply')]
     """
-    path = Path(path)
-    random = "[0-9a-f]" * 16
-    pattern = f".{glob.escape(path.stem)}.{random}{_TEMPORARY}{glob.escape(path.suffix)}"
-    return sorted(path.parent.glob(pattern))
+    folder = Path(folder)
+    found = {}
+    for entry in os.scandir(folder):
+        match = _LEFTOVER.fullmatch(entry.name)
+        if match and entry.is_file(follow_symlinks=False):
+            found[folder / entry.name] = folder / f"{match['stem']}{match['suffix']}"
+    return found

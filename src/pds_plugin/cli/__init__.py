@@ -1,13 +1,14 @@
 """The ``pds-mesh`` command: certified triangle meshes of CAD sections and 2D drawings.
 
-``pds-mesh demo`` runs the whole product on a built-in part; ``pds-mesh mesh INPUT -o
+``pds-mesh demo`` runs the whole product on a built-in part; ``pds-mesh batch MANIFEST
+-o DIR`` meshes many parts and planes, locally or on Dask; ``pds-mesh mesh INPUT -o
 OUT`` (or just ``pds-mesh INPUT -o OUT``) meshes one or several sections of a mesh file
 (STL, OBJ, PLY, OFF, 3MF, GLB), or an SVG or DXF drawing, and writes the meshes (binary PLY with
 face quality = aspect ratio, or OBJ), optionally a JSON report of every certificate and a
 picture per mesh. Run ``pds-mesh --help`` for the options.
 
 - :mod:`.arguments`: the parser, one subcommand per command;
-- :mod:`.mesh` and :mod:`.demo`: the commands;
+- :mod:`.mesh`, :mod:`.demo` and :mod:`.batch`: the commands;
 - :mod:`.output`: messages, summaries and the JSON report.
 
 Exit status: 0 on success (also when a certificate fails: that is reported as a
@@ -24,19 +25,19 @@ import sys
 import threading
 
 from ..errors import PdsError
-from . import demo, mesh
+from . import batch, demo, mesh
 from .arguments import COMMANDS, PROG, glue_negative_values, parser
 from .output import say
 
 __all__ = ["main"]
 
-_RUN = {"mesh": mesh.run, "demo": demo.run}
+_RUN = {"mesh": mesh.run, "demo": demo.run, "batch": batch.run}
 
 
 def main(argv=None) -> int:
     """Run ``pds-mesh`` with ``argv`` (default ``sys.argv[1:]``); return the exit status.
 
-    A first argument that is not a command (``mesh``, ``demo``) nor ``-h``/``--help``
+    A first argument that is not a command (``mesh``, ``demo``, ``batch``) nor ``-h``/``--help``
     means ``mesh``: ``pds-mesh part.stl ...`` is ``pds-mesh mesh part.stl ...``, and a
     file named ``demo`` is meshed with ``pds-mesh mesh demo ...``.
 

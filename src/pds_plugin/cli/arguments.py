@@ -8,12 +8,12 @@ import re
 from pathlib import Path
 
 from .._checks import check_alpha, check_positive_int, check_seed
+from ..batch.jobs import AXES
 
 __all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "glue_negative_values"]
 
 PROG = "pds-mesh"
-COMMANDS = ("mesh", "demo")
-AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
+COMMANDS = ("mesh", "demo", "batch")
 _NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
 MAX_SECTIONS = 10_000
 """Most sections one run cuts (--slices, --at): each is a mesh file; split bigger jobs."""
@@ -29,6 +29,9 @@ commands:
                                                     omitted; 'pds-mesh mesh demo' meshes a
                                                     file named demo)
   pds-mesh demo [-o DIR]                            see every output on a built-in part
+  pds-mesh batch MANIFEST -o DIR [--scheduler ADDRESS | --workers N]
+                                                    many parts and planes, locally or on
+                                                    a Dask cluster; resumable
 
 Run 'pds-mesh demo' first, and 'pds-mesh mesh --help' for the options."""
 
@@ -59,6 +62,31 @@ alpha:
   and refines alpha until the mesh has the section's holes and components (Theorem 2).
 
 exit status: 0 success (a failed certificate is a warning), 1 bad input, 2 usage error.
+"""
+
+
+_BATCH_EPILOG = """\
+manifest (JSON Lines, one job per line; or CSV with these column names):
+  {"input": "bracket.stl", "axis": "z", "slices": 10, "alpha": "auto"}
+  {"input": "bracket.stl", "plane_origin": [0, 0, 5], "plane_normal": [0, 1, 1], "alpha": 0.2}
+  {"input": "logo.svg", "alpha": 2.5, "output": "logos/logo.obj"}
+  The options of 'pds-mesh mesh' with _ for -: input, output, axis, plane_normal,
+  plane_origin, at, slices, layer, alpha, graded, seed, max_samples. Relative inputs are read
+  from the manifest's folder, relative outputs written to DIR; without output the name
+  comes from the input and the plane (bracket_z0.5.ply).
+
+results:
+  DIR/results.jsonl, one line per job in manifest order: status (ok, error, skipped,
+  cancelled), output, seconds, certificate_ok, error. Each output has a record
+  OUTPUT.json (input SHA-256, options, section reports); a rerun skips the jobs whose
+  record still matches and leaves their files untouched. Ctrl-C lets the running jobs
+  finish (again: stops them) and cancels the rest.
+
+examples:
+  pds-mesh batch parts.jsonl -o meshes/                             local processes
+  pds-mesh batch parts.csv -o /shared/meshes --scheduler tcp://head:8786
+
+exit status: 0 every job ok or skipped, 1 some job failed, 2 usage error.
 """
 
 
@@ -97,6 +125,12 @@ def parser() -> argparse.ArgumentParser:
                     "slot and a sharp notch, made with manifold3d) with the automatic "
                     "alpha, write the solid, the mesh, its report and its picture, and "
                     "print a summary."))
+    _batch_arguments(commands.add_parser(
+        "batch", help="mesh every job of a manifest, locally or on a Dask cluster",
+        formatter_class=argparse.RawDescriptionHelpFormatter, epilog=_BATCH_EPILOG,
+        description="Mesh every job of a manifest (many parts, many planes) in parallel "
+                    "processes or on a Dask cluster; resumable: a rerun only does what "
+                    "is missing."))
     return top
 
 
@@ -158,6 +192,22 @@ def _demo_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="DIR", type=Path, default=Path("pds-demo"),
                         help="directory for the files (created; default ./pds-demo)")
     parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
+
+
+def _batch_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("manifest", metavar="MANIFEST", type=Path,
+                        help="the jobs: JSON Lines (.jsonl, one job object per line) or CSV "
+                             "(.csv, a header row of option names)")
+    parser.add_argument("-o", "--output", metavar="DIR", type=Path, required=True,
+                        help="folder for the meshes and results.jsonl (created)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on this Dask cluster, e.g. tcp://head:8786 (needs "
+                            "pip install \"pds_plugin[dask]\")")
+    where.add_argument("-w", "--workers", type=_positive_int, metavar="N",
+                       help="local processes (default: one per core)")
+    parser.add_argument("-q", "--quiet", action="store_true",
+                        help="print nothing but the failed jobs")
 
 
 def glue_negative_values(argv: list[str]) -> list[str]:

@@ -14,13 +14,13 @@ from pathlib import Path
 
 from .._atomic import atomic_path
 from .._checks import check_output_directory, import_optional
+from ..batch.jobs import numbered, plane_sections
 from ..errors import ArgumentError, PdsError
 from ..pipeline import mesh_region, section_report
 from ..region import Region
 from ..sampling import DEFAULT_MAX_SAMPLES
 from ..sinks.files import writers
 from ..sinks.plot import plot_report
-from ..sources.solids import sections
 from ..sources.drawing import READERS, load_drawing
 from .arguments import AXES, PROG
 from .output import say, summary, warn_about, write_report
@@ -144,8 +144,8 @@ def run(args) -> int:
     if args.plot is not None:
         _check_picture(args.plot)
     regions = _regions(args)
-    outputs = _numbered(args.output, len(regions))
-    plots = _numbered(args.plot, len(regions)) if args.plot else [None] * len(regions)
+    outputs = numbered(args.output, len(regions))
+    plots = numbered(args.plot, len(regions)) if args.plot else [None] * len(regions)
     _check_outputs([*outputs, *plots], args.input)
     workers = _workers(args.jobs, len(regions))
     budget = args.max_samples or DEFAULT_MAX_SAMPLES
@@ -288,23 +288,11 @@ def _read_regions(args) -> list[Region]:
     if normal is None:
         raise ArgumentError(f"{path} is a solid: say where to cut it with --axis or "
                             f"--plane-normal (and --at, --plane-origin or --slices)")
-    if args.slices is not None:
-        if args.plane_origin is not None:
-            raise ArgumentError("--slices spreads the planes across the whole solid: drop "
-                                "--plane-origin, or give --at offsets from it instead")
-        return sections(path, normal, count=args.slices)
-    if args.at is None and args.plane_origin is None:
-        return sections(path, normal, count=1)          # the middle of the solid
-    return sections(path, normal, offsets=args.at or [0.0], plane_origin=args.plane_origin,
-                    on_face=args.on_face)
-
-
-def _numbered(path: Path, count: int) -> list[Path]:
-    """``path`` itself for one section, else ``stem_000.suffix``, ``stem_001.suffix``..."""
-    if count == 1:
-        return [path]
-    width = max(3, len(str(count - 1)))
-    return [path.with_name(f"{path.stem}_{i:0{width}d}{path.suffix}") for i in range(count)]
+    if args.slices is not None and args.plane_origin is not None:
+        raise ArgumentError("--slices spreads the planes across the whole solid: drop "
+                            "--plane-origin, or give --at offsets from it instead")
+    return plane_sections(path, normal, plane_origin=args.plane_origin, at=args.at,
+                          slices=args.slices, on_face=args.on_face)
 
 
 def _check_picture(path: Path) -> None:
