@@ -115,7 +115,7 @@ def mesh_here(job):
     ({"input": "p.stl", "axis": "z", "slices": 2, "at": 1, "alpha": 0.1}, "not both"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "maybe"}, "true or false"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "yes"}, "graded meshes are not"),
-    ({"input": "p.stl", "axis": "z", "alpha": 0.1, "output": "p.stl"}, "suffix must be"),
+    ({"input": "p.stl", "axis": "z", "alpha": 0.1, "output": "p.xyz"}, "suffix must be"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "sead": 1}, "unknown option 'sead'"),
 ])
 def test_bad_jobs_are_refused_with_the_option_named(job, message, tmp_path):
