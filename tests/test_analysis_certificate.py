@@ -12,6 +12,7 @@ from conftest import min_distance, probe_gap, visible_min_distance, visible_prob
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from pds_plugin import _parallel
+from pds_plugin._certificate_kernels import segment_distances
 from pds_plugin._geometry_kernels import circumcircles
 from pds_plugin.analysis.conformity import SampledBoundary
 
@@ -187,6 +188,30 @@ def test_certificate_does_not_depend_on_the_thread_count():
         finally:
             _parallel.set_threads(previous)
     assert values[0] == values[1] == values[2]
+
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_segment_distances_are_shapelys_bit_for_bit(seed):
+    rng = np.random.default_rng(seed)
+    # short boundary-like segments, a few long ones, a degenerate one, and a shared end
+    starts = rng.random((300, 2)) * 10
+    ends = starts + rng.normal(0, 0.05, (300, 2))
+    ends[:5] = rng.random((5, 2)) * 10
+    ends[5] = starts[5]
+    starts[6] = ends[7]
+    segments = np.stack([starts, ends], axis=1)
+    near = starts[:, None] + rng.random((300, 8, 1)) * (ends - starts)[:, None]
+    points = np.concatenate([near.reshape(-1, 2) + rng.normal(0, 0.01, (2400, 2)),
+                             rng.random((500, 2)) * 30 - 10])       # and far ones
+    found = segment_distances(points, segments, 0.1, 8)
+    tree = shapely.STRtree(shapely.linestrings(segments))
+    expected = tree.query_nearest(shapely.points(points), all_matches=False,
+                                  return_distance=True)[1]
+    settled = ~np.isnan(found)
+    assert settled[:2400].mean() > 0.99 and not settled.all()
+    assert np.array_equal(found[settled], expected[settled])
+    assert np.array_equal(segment_distances(points, segments, 0.1, 10**6), expected)
 
 
 # --- conformity, and separation and coverage with the visibility rule ------------------

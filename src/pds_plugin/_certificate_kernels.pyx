@@ -272,3 +272,106 @@ def boundary_gaps(start, direction, length, reach, points, order, binned, cell_s
         free(t)
         free(c)
     return gap_array, where_array
+
+
+cdef inline double _point_segment(double px, double py, double ax, double ay, double bx,
+                                  double by) noexcept nogil:
+    """Distance from p to the segment ab, computed as GEOS does (Distance::pointToSegment),
+    so that it equals shapely's distance bit for bit."""
+    cdef double len2, r, s, dx, dy
+    if ax == bx and ay == by:
+        dx, dy = px - ax, py - ay
+        return sqrt(dx * dx + dy * dy)
+    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    r = ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / len2
+    if r <= 0.0:
+        dx, dy = px - ax, py - ay
+        return sqrt(dx * dx + dy * dy)
+    if r >= 1.0:
+        dx, dy = px - bx, py - by
+        return sqrt(dx * dx + dy * dy)
+    s = ((ay - py) * (bx - ax) - (ax - px) * (by - ay)) / len2
+    return abs(s) * sqrt(len2)
+
+
+cdef void _bin_segment(const double[:, :, :] sg, Py_ssize_t s, double x0, double y0,
+                       double h, Py_ssize_t nx, Py_ssize_t ny, int64_t[::1] fill,
+                       int64_t[::1] entry, bint write) noexcept nogil:
+    """Count (or with ``write`` file) segment s in every cell its pieces of length <= h
+    touch, each piece's box widened by 1e-9 h against rounding."""
+    cdef double ax = sg[s, 0, 0], ay = sg[s, 0, 1], bx = sg[s, 1, 0], by = sg[s, 1, 1]
+    cdef double length = sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
+    cdef Py_ssize_t pieces = <Py_ssize_t>(length / h) + 1, k, gx, gy
+    cdef double u0, u1, px0, py0, px1, py1, pad = 1e-9 * h
+    for k in range(pieces):
+        u0, u1 = <double>k / pieces, <double>(k + 1) / pieces
+        px0, px1 = ax + u0 * (bx - ax), ax + u1 * (bx - ax)
+        py0, py1 = ay + u0 * (by - ay), ay + u1 * (by - ay)
+        for gy in range(max(_cell_index(min(py0, py1) - pad, y0, h, ny), 0),
+                        min(_cell_index(max(py0, py1) + pad, y0, h, ny), ny - 1) + 1):
+            for gx in range(max(_cell_index(min(px0, px1) - pad, x0, h, nx), 0),
+                            min(_cell_index(max(px0, px1) + pad, x0, h, nx), nx - 1) + 1):
+                if write:
+                    entry[fill[gy * nx + gx]] = s
+                    fill[gy * nx + gx] += 1
+                else:
+                    fill[gy * nx + gx + 1] += 1
+
+
+def segment_distances(points, segments, double h, Py_ssize_t rings):
+    """Distance from each point to the nearest of the (K, 2, 2) ``segments``, equal bit
+    for bit to shapely's (GEOS) point-to-segment distance; NaN for a point whose nearest
+    segment is not settled within ``rings`` rings of cells around it.
+
+    The segments are filed in square cells of side ``h`` (or larger, at most about four
+    cells per segment); each point searches ring after ring of cells around its own until
+    no segment in a farther ring can be nearer.
+    """
+    cdef const double[:, :] pt = np.asarray(points, dtype=np.float64)
+    cdef const double[:, :, :] sg = np.asarray(segments, dtype=np.float64)
+    cdef Py_ssize_t m = pt.shape[0], k = sg.shape[0], s, f, c, ring, gx, gy, e, cx, cy
+    distance_array = np.full(m, np.nan)
+    if k == 0 or m == 0:
+        return distance_array
+    flat = np.asarray(segments, dtype=np.float64).reshape(-1, 2)
+    low, high = flat.min(axis=0), flat.max(axis=0)
+    span = high - low
+    h = max(h, float(np.sqrt(span[0] * span[1] / (4 * k))), float(span.max()) / (4 * k))
+    cdef double x0 = low[0], y0 = low[1]
+    cdef Py_ssize_t nx = int(span[0] / h) + 1, ny = int(span[1] / h) + 1
+    start_array = np.zeros(nx * ny + 1, np.int64)
+    cdef int64_t[::1] start = start_array
+    cdef int64_t[::1] none = np.empty(0, np.int64)
+    with nogil:
+        for s in range(k):
+            _bin_segment(sg, s, x0, y0, h, nx, ny, start, none, False)
+    np.cumsum(start_array, out=start_array)
+    entry_array = np.empty(start[nx * ny], np.int64)
+    cdef int64_t[::1] entry = entry_array
+    cdef int64_t[::1] fill = start_array[:nx * ny].copy()
+    with nogil:
+        for s in range(k):
+            _bin_segment(sg, s, x0, y0, h, nx, ny, fill, entry, True)
+    cdef double[::1] distance = distance_array
+    cdef double best, d
+    for f in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
+        cx = min(max(_cell_index(pt[f, 0], x0, h, nx), 0), nx - 1)
+        cy = min(max(_cell_index(pt[f, 1], y0, h, ny), 0), ny - 1)
+        best = INFINITY
+        for ring in range(rings + 1):
+            for gy in range(max(cy - ring, 0), min(cy + ring, ny - 1) + 1):
+                for gx in range(max(cx - ring, 0), min(cx + ring, nx - 1) + 1):
+                    if gy != cy - ring and gy != cy + ring and gx != cx - ring and gx != cx + ring:
+                        continue                        # inside the ring: searched already
+                    c = gy * nx + gx
+                    for e in range(start[c], start[c + 1]):
+                        d = _point_segment(pt[f, 0], pt[f, 1], sg[entry[e], 0, 0],
+                                           sg[entry[e], 0, 1], sg[entry[e], 1, 0],
+                                           sg[entry[e], 1, 1])
+                        if d < best:
+                            best = d
+            if best <= (ring - 1e-6) * h or (ring >= cx and ring >= cy and ring >= nx - 1 - cx
+                                             and ring >= ny - 1 - cy):
+                distance[f] = best                  # no farther cell holds a nearer segment
+                break
+    return distance_array
