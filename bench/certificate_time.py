@@ -4,7 +4,8 @@ at most 0.5x), region by region, and where its time goes.
 Each round meshes the region with ``mesh_region`` (timed), then certifies a fresh copy of
 the mesh (timed: nothing cached, so the certificate pays for the mesh's edges, quality
 and outline as a first call of ``mesh.certificate()`` does). Meshing and certificate
-alternate, so both see the same machine load; the table gives medians.
+alternate, so both see the same machine load; the table gives medians of wall time and
+of CPU time (``time.process_time``, all threads: much less sensitive to a busy machine).
 
     python bench/certificate_time.py                     # every region, 3 rounds
     python bench/certificate_time.py --regions plate,square --square-sizes 1e6
@@ -33,20 +34,21 @@ from pds_plugin import _parallel
 from _regions import FIXED, alpha_for, cases
 
 STAGES = {             # function name in the profile -> what the table calls it
-    "boundary_report": "boundary report (conformity)",
-    "_deviation": "· boundary deviation",
-    "_areas_off": "· areas outside / missing",
-    "__init__": "sampled boundary (chords)",
-    "topology_report": "topology report",
     "triangle_quality": "triangle quality",
     "mesh_edges": "mesh edges",
     "mesh_betti": "mesh components, Betti",
     "mesh_union": "mesh outline",
+    "closest_distance": "separation (closest pair)",
+    "_visible_separation": "separation (visibility)",
     "_coverage_gap": "coverage gap",
     "_boundary_gap": "· along the boundary",
     "_missing_delaunay_circles": "· missing Delaunay triangles",
-    "closest_distance": "separation (closest pair)",
-    "_visible_separation": "separation (visibility)",
+    "_delaunay_triangles_outside": "· missing Delaunay triangles (before c30a0b0)",
+    "__init__": "sampled boundary (chords)",
+    "boundary_report": "boundary report (conformity)",
+    "_deviation": "· boundary deviation",
+    "_areas_off": "· areas outside / missing",
+    "topology_report": "topology report",
 }
 
 
@@ -82,6 +84,13 @@ def fresh(mesh) -> pds.PlanarMesh:
                           mesh.alpha, conforming=mesh.conforming)
 
 
+def _timed(run) -> tuple[float, float]:
+    """Wall and CPU seconds of ``run()``."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    run()
+    return time.perf_counter() - wall, time.process_time() - cpu
+
+
 def stage_times(mesh) -> dict[str, float]:
     """Cumulative seconds of the certificate's stages (cProfile, so somewhat slowed)."""
     profile = cProfile.Profile()
@@ -112,8 +121,9 @@ def main():
     parser.add_argument("--profile", action="store_true")
     args = parser.parse_args()
     print(f"threads {_parallel.get_threads()}, load {os.getloadavg()[0]:.1f} at the start\n")
-    print("| region | vertices | mesh_region s | certificate() s | certificate / mesh | ≤ 0.5 |")
-    print("|---|---|---|---|---|---|")
+    print("| region | vertices | mesh_region s | certificate() s | certificate / mesh | "
+          "CPU: mesh_region s | certificate() s | certificate / mesh | CPU ≤ 0.5 |")
+    print("|---|---|---|---|---|---|---|---|---|")
     profiles = []
     for name, region, alpha in regions(args):
         with warnings.catch_warnings():
@@ -122,21 +132,20 @@ def main():
             fresh(mesh).certificate()
         meshing, certifying = [], []
         for _ in range(args.rounds):
-            start = time.perf_counter()
-            pds.mesh_region(region, alpha)
-            meshing.append(time.perf_counter() - start)
+            meshing.append(_timed(lambda: pds.mesh_region(region, alpha)))
             copy = fresh(mesh)
-            start = time.perf_counter()
-            copy.certificate()
-            certifying.append(time.perf_counter() - start)
-        m, c = statistics.median(meshing), statistics.median(certifying)
+            certifying.append(_timed(copy.certificate))
+        (m, m_cpu), (c, c_cpu) = (tuple(map(statistics.median, zip(*times)))
+                                  for times in (meshing, certifying))
         print(f"| {name} | {len(mesh.vertices):,} | {m:.3f} | {c:.3f} | {c / m:.2f} | "
-              f"{'yes' if c <= 0.5 * m else 'no'} |", flush=True)
+              f"{m_cpu:.3f} | {c_cpu:.3f} | {c_cpu / m_cpu:.2f} | "
+              f"{'yes' if c_cpu <= 0.5 * m_cpu else 'no'} |", flush=True)
         if args.profile:
             profiles.append((name, stage_times(mesh)))
     print(f"\nload {os.getloadavg()[0]:.1f} at the end")
     if profiles:
-        labels = list(dict.fromkeys(label for _, times in profiles for label in times))
+        found = {label for _, times in profiles for label in times}
+        labels = [label for label in ("certify (total)", *STAGES.values()) if label in found]
         print("\nStages of certify() (cProfile, cumulative s; '·' rows are parts of the row above)\n")
         print("| stage | " + " | ".join(name for name, _ in profiles) + " |")
         print("|---|" + "---|" * len(profiles))

@@ -464,7 +464,7 @@ class _SampleGrid:
             i, j = _closest_by_tree(self.points)
         else:
             p, q, squared = kern.closest_pair(self.binned, self.start, self.nx, self.ny)
-            if not squared <= (self.h * (1 - 1e-6)) ** 2:
+            if not np.sqrt(squared) <= self.h * (1 - 1e-6):     # (no underflow of h²)
                 # the pair found may not be the closest: cells as large as its distance
                 # (or four times larger when no two samples were neighbours) settle it
                 side = np.sqrt(squared) * 1.001 if np.isfinite(squared) else 4 * self.h
