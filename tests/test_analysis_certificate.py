@@ -14,6 +14,7 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 from pds_plugin import _parallel
 from pds_plugin._certificate_kernels import segment_distances
 from pds_plugin._geometry_kernels import circumcircles
+from pds_plugin.analysis.certificate import _SampleGrid
 from pds_plugin.analysis.conformity import SampledBoundary
 
 
@@ -190,6 +191,25 @@ def test_certificate_does_not_depend_on_the_thread_count():
     assert values[0] == values[1] == values[2]
 
 
+
+@pytest.mark.parametrize("cell", [0.01, 0.05, 0.3])
+def test_the_sample_grid_answers_pair_and_circle_queries_exactly(cell):
+    rng = np.random.default_rng(3)
+    points = np.concatenate([rng.random((400, 2)), rng.normal(0.5, 0.005, (30, 2))])
+    grid = _SampleGrid(points, cell)
+    d = points[:, None] - points[None]
+    distance = np.sqrt(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1])
+    for limit in (0.004, 0.05, 0.2):
+        i, j = np.nonzero(np.triu(distance <= limit, k=1))
+        found = np.sort(grid.pairs_within(limit), axis=1)
+        assert len(found) == len(i)
+        assert set(map(tuple, found.tolist())) == set(zip(i.tolist(), j.tolist()))
+    centre = rng.random((300, 2)) * 1.4 - 0.2
+    radius = rng.random(300) * 0.1
+    c = centre[:, None] - points[None]
+    inside = (np.sqrt(c[..., 0] * c[..., 0] + c[..., 1] * c[..., 1]) < radius[:, None]).any(axis=1)
+    assert 0 < inside.sum() < len(inside)
+    assert np.array_equal(grid.sample_within(centre, radius), inside)
 
 @pytest.mark.parametrize("seed", range(3))
 def test_segment_distances_are_shapelys_bit_for_bit(seed):
