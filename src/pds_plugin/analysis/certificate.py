@@ -31,8 +31,9 @@ exactly along every boundary piece (see ``_certificate_kernels``).
 The Delaunay triangulation DT(P) is never built whole. The solid alpha-complex T holds
 its triangles of circumradius <= alpha; every other Delaunay triangle has all three
 vertices on the boundary of T (a vertex inside T has its whole Delaunay star in T) or in
-no triangle of T. Those vertices B are few, so DT(B) is cheap, and its triangles whose
-circumcircle holds no sample are exactly the Delaunay triangles missing from T. Only
+no triangle of T. Those vertices B are few, so DT(B) (Qhull) costs far less than DT(P),
+and its triangles whose circumcircle holds no sample are exactly the Delaunay triangles
+missing from T. Only
 those with their circumcentre in the region count for the coverage gap.
 
 Every distance query (closest pair, pairs closer than the shortest edge, empty
