@@ -33,8 +33,8 @@ its triangles of circumradius <= alpha; every other Delaunay triangle has all th
 vertices on the boundary of T (a vertex inside T has its whole Delaunay star in T) or in
 no triangle of T. Those vertices B are few, so DT(B) (Qhull) costs far less than DT(P),
 and its triangles whose circumcircle holds no sample are exactly the Delaunay triangles
-missing from T. Only
-those with their circumcentre in the region count for the coverage gap.
+missing from T. Only those with their circumcentre in the region count for the coverage
+gap.
 
 Every distance query (closest pair, pairs closer than the shortest edge, empty
 circumcircles, the samples near each boundary piece) runs on one grid of the samples,
