@@ -15,6 +15,7 @@ import xml.etree.ElementTree as ElementTree
 
 import numpy as np
 
+from .._checks import check_positive_int
 from ..errors import SourceError
 
 __all__ = ["MAX_BYTES", "MAX_ELEMENTS", "MAX_SEGMENTS", "check_svg_limits"]
@@ -31,14 +32,14 @@ _NUMBER = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _LINK = ("href", "{http://www.w3.org/1999/xlink}href")
 
 
-def check_svg_limits(path, max_bytes=MAX_BYTES, max_elements=MAX_ELEMENTS,
-                     max_segments=MAX_SEGMENTS) -> None:
-    """Refuse an SVG file that is too large, or expands to too many elements or segments.
+def check_svg_limits(path, max_elements=MAX_ELEMENTS, max_segments=MAX_SEGMENTS) -> None:
+    """Refuse an SVG file that expands to too many elements or segments (its size is
+    checked by :func:`.curves.checked_file`, with ``MAX_BYTES``).
 
     Parameters
     ----------
     path : str or os.PathLike
-    max_bytes, max_elements, max_segments : int
+    max_elements, max_segments : int
         The limits; each error names the keyword of :func:`pds_plugin.load_svg` that
         raises it.
 
@@ -46,6 +47,8 @@ def check_svg_limits(path, max_bytes=MAX_BYTES, max_elements=MAX_ELEMENTS,
     ------
     SourceError
         If a limit is exceeded, or a shape has a negative size (an error in SVG).
+    ArgumentError
+        If a limit is not a positive integer.
 
     Examples
     --------
@@ -62,10 +65,8 @@ def check_svg_limits(path, max_bytes=MAX_BYTES, max_elements=MAX_ELEMENTS,
     pds_plugin.errors.SourceError: ... expands to more than 100,000 elements (its <use> copies counted); pass a larger max_elements to read it
     """
     name = os.fspath(path)
-    size = os.path.getsize(name)
-    if size > max_bytes:
-        raise SourceError(f"{name!r} is {size:,} bytes, more than {max_bytes:,}; pass a larger "
-                          f"max_bytes to read it")
+    max_elements = check_positive_int(max_elements, "max_elements")
+    max_segments = check_positive_int(max_segments, "max_segments")
     with open(name, "rb") as file:
         data = file.read()
     try:

@@ -10,6 +10,7 @@ import warnings
 
 import numpy as np
 
+from .._checks import check_positive_int
 from ..errors import RegionError, SourceError
 from .polygons import outline_geometry
 
@@ -22,14 +23,16 @@ MAX_CHORDS = 1_000_000
 """Chords of one curve beyond which it is refused: the curve is broken or the tolerance tiny."""
 
 
-def checked_file(path, kind: str) -> str:
-    """The path of an existing, non-empty drawing file.
+def checked_file(path, kind: str, max_bytes: int | None = None) -> str:
+    """The path of an existing, non-empty drawing file of at most ``max_bytes``.
 
     Parameters
     ----------
     path : str or os.PathLike
     kind : str
         The format, for messages ("SVG", "DXF").
+    max_bytes : int, optional
+        The largest file accepted; the error names the reader's keyword ``max_bytes``.
 
     Returns
     -------
@@ -40,7 +43,9 @@ def checked_file(path, kind: str) -> str:
     FileNotFoundError
         If there is no such file.
     SourceError
-        If the file is empty.
+        If the file is empty or larger than ``max_bytes``.
+    ArgumentError
+        If ``max_bytes`` is not a positive integer.
 
     Examples
     --------
@@ -52,8 +57,12 @@ def checked_file(path, kind: str) -> str:
     name = os.fspath(path)
     if not os.path.isfile(name):
         raise FileNotFoundError(f"no such {kind} file: {name!r}")
-    if os.path.getsize(name) == 0:
+    size = os.path.getsize(name)
+    if size == 0:
         raise SourceError(f"the {kind} file {name!r} is empty")
+    if max_bytes is not None and size > check_positive_int(max_bytes, "max_bytes"):
+        raise SourceError(f"{name!r} is {size:,} bytes, more than {max_bytes:,}; pass a larger "
+                          f"max_bytes to read it")
     return name
 
 

@@ -66,8 +66,8 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
         ``fill="none"``, as CAD exports write them; or pass ``mode="outline"``).
     max_bytes, max_elements, max_segments : int
         Limits checked before the drawing is built (see :mod:`._svg_limits`): the file's
-        size (20 MB), the elements it expands to with every ``<use>`` copy (200,000), and
-        its path and polygon segments (2,000,000). Raise them for bigger drawings.
+        size (20 MB), the elements it expands to with every ``<use>`` copy (100,000), and
+        its path and polygon segments (100,000). Raise them for bigger drawings.
 
     Returns
     -------
@@ -124,8 +124,8 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
 def _parse(path, max_bytes, max_elements, max_segments):
     import svgelements
 
-    name = checked_file(path, "SVG")
-    check_svg_limits(name, max_bytes, max_elements, max_segments)
+    name = checked_file(path, "SVG", max_bytes)
+    check_svg_limits(name, max_elements, max_segments)
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
     except Exception as error:  # the XML parser raises several kinds
