@@ -10,6 +10,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
+from ._checks import check_flag
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 
 __all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region"]
@@ -67,7 +68,9 @@ class Region:
             If it is empty, has non-finite coordinates, is invalid (the message gives
             shapely's reason and location) or has zero-area parts, and ``repair`` is off.
         ArgumentError
-            If ``frame`` is not a finite 4x4 matrix.
+            If ``frame`` is not a finite 4x4 matrix of rank 2 in its first two columns.
+        ArgumentTypeError
+            If ``frame`` is not numbers, or ``repair`` not a bool.
 
         Examples
         --------
@@ -80,6 +83,7 @@ class Region:
         >>> Region.from_shapely(bowtie, repair=True).betti
         (2, 0)
         """
+        repair = check_flag(repair, "repair")
         polygons = _polygons_of(geometry)
         coords = shapely.get_coordinates(geometry)
         if not np.isfinite(coords).all():
@@ -258,9 +262,14 @@ def _check_scale(geometry) -> None:
 def _checked_frame(frame) -> np.ndarray:
     if frame is None:
         return np.eye(4)
-    frame = np.array(frame, dtype=float)
-    if frame.shape != (4, 4) or not np.isfinite(frame).all():
-        raise ArgumentError(f"frame must be a finite 4x4 matrix, got shape {frame.shape}")
+    try:
+        frame = np.array(frame, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"frame must be a 4x4 matrix of numbers, got {frame!r}") from None
+    if frame.shape != (4, 4):
+        raise ArgumentError(f"frame must be a 4x4 matrix, got shape {frame.shape}")
+    if not np.isfinite(frame).all():
+        raise ArgumentError("frame has NaN or infinite entries; give a finite 4x4 matrix")
     if not np.linalg.norm(np.cross(frame[:3, 0], frame[:3, 1])) > 0:
         raise ArgumentError("frame maps the plane onto a line or a point (its first two "
                             "columns are parallel or zero); give a 2D -> 3D map of rank 2, "

@@ -124,7 +124,9 @@ def topology_report(mesh: PlanarMesh) -> TopologyReport:
     >>> print(report.problems[0])         # doctest: +ELLIPSIS
     hole 0 of component 0 at (0, 0), about 0.599... wide, is filled by the mesh; keep it with alpha <= 0.149...
     """
-    return _Comparison(mesh).report()
+    from ..mesh import require_mesh
+
+    return _Comparison(require_mesh(mesh, "topology_report")).report()
 
 
 class _Comparison:

@@ -230,7 +230,10 @@ def meshlab_quality(mesh_or_meshset, bins: int = 20, range=(0.0, 1.0)) -> MeshLa
                              "there is no triangle quality to measure")
         work.add_mesh(current, current.label())
     else:
-        work.add_mesh(meshlab_mesh(mesh_or_meshset), "pds_plugin mesh")
+        from ..mesh import require_mesh
+
+        work.add_mesh(meshlab_mesh(require_mesh(mesh_or_meshset, "meshlab_quality")),
+                      "pds_plugin mesh")
     with silenced():
         work.compute_scalar_by_aspect_ratio_per_face(metric="inradius/circumradius")
         statistics = work.get_scalar_statistics_per_face()

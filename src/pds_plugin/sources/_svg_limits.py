@@ -9,6 +9,7 @@ as the element it copies), refusing before any of it is built.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import xml.etree.ElementTree as ElementTree
@@ -30,6 +31,8 @@ holds each in several kilobytes."""
 
 _NUMBER = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _LINK = ("href", "{http://www.w3.org/1999/xlink}href")
+_GEOMETRY = frozenset({"d", "points", "transform", "x", "y", "width", "height", "r", "rx", "ry",
+                       "cx", "cy", "x1", "y1", "x2", "y2", "viewBox"})
 
 
 def check_svg_limits(path, max_elements=MAX_ELEMENTS, max_segments=MAX_SEGMENTS) -> None:
@@ -46,7 +49,8 @@ def check_svg_limits(path, max_elements=MAX_ELEMENTS, max_segments=MAX_SEGMENTS)
     Raises
     ------
     SourceError
-        If a limit is exceeded, or a shape has a negative size (an error in SVG).
+        If a limit is exceeded, a shape has a negative size (an error in SVG), or a
+        geometric attribute holds NaN, infinity or a number beyond float64.
     ArgumentError
         If a limit is not a positive integer.
 
@@ -83,6 +87,13 @@ def check_svg_limits(path, max_elements=MAX_ELEMENTS, max_segments=MAX_SEGMENTS)
                           f"pass a larger max_segments to read it")
     for element in root.iter():
         tag = element.tag.rsplit("}", 1)[-1]
+        for attribute in _GEOMETRY.intersection(element.keys()):
+            value = element.get(attribute)
+            if _non_finite(value):
+                shown = value if len(value) <= 40 else value[:37] + "..."
+                raise SourceError(f"{name!r} has a <{tag}> with {attribute}=\"{shown}\": NaN, "
+                                  f"infinite and out-of-range numbers (beyond ±1.8e308) cannot "
+                                  f"be drawn; fix the drawing")
         for size_name in {"circle": ("r",), "ellipse": ("rx", "ry"),
                           "rect": ("width", "height")}.get(tag, ()):
             value = element.get(size_name, "").strip()
@@ -115,6 +126,17 @@ def _expanded(root, by_id, max_elements, max_segments, name) -> tuple[int, int]:
         cost[element] = (min(1 + sum(c[0] for c in counted), max_elements + 1),
                          min(own + sum(c[1] for c in counted), max_segments + 1))
     return cost[root]
+
+
+def _non_finite(text: str) -> bool:
+    """Whether ``text`` holds NaN, infinity or a number float64 cannot hold (svgelements
+    would drop the attribute, or the shape, without a word). No SVG keyword of a
+    geometric attribute contains "nan" or "inf"."""
+    lowered = text.lower()
+    if "nan" in lowered or "inf" in lowered:
+        return True
+    return any(not math.isfinite(float(number)) for number in _NUMBER.findall(text.encode())
+               if len(number) > 300 or b"e" in number.lower())
 
 
 def _count_numbers(text: str) -> int:

@@ -10,7 +10,7 @@ import warnings
 
 import numpy as np
 
-from .._checks import check_positive_int
+from .._checks import check_path, check_positive_int
 from ..errors import RegionError, SourceError
 from .polygons import outline_geometry
 
@@ -40,8 +40,10 @@ def checked_file(path, kind: str, max_bytes: int | None = None) -> str:
 
     Raises
     ------
-    FileNotFoundError
-        If there is no such file.
+    FileNotFoundError, IsADirectoryError
+        If there is no such file, or it is a folder.
+    ArgumentTypeError
+        If ``path`` is not a file name.
     SourceError
         If the file is empty or larger than ``max_bytes``.
     ArgumentError
@@ -54,7 +56,9 @@ def checked_file(path, kind: str, max_bytes: int | None = None) -> str:
     ...
     FileNotFoundError: no such DXF file: 'absent.dxf'
     """
-    name = os.fspath(path)
+    name = check_path(path)
+    if os.path.isdir(name):
+        raise IsADirectoryError(f"{name!r} is a folder, not a {kind} file")
     if not os.path.isfile(name):
         raise FileNotFoundError(f"no such {kind} file: {name!r}")
     size = os.path.getsize(name)
@@ -81,7 +85,7 @@ def default_tolerance(points) -> float:
     Raises
     ------
     RegionError
-        If the box has zero size (no points, or all the same).
+        If the box has zero size (no points, or all the same), or a point is not finite.
 
     Examples
     --------
@@ -89,6 +93,9 @@ def default_tolerance(points) -> float:
     0.005
     """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
+    if not np.isfinite(points).all():
+        raise RegionError("the drawing's coordinates overflow float64 (a transform or a size "
+                          "beyond ±1.8e308 makes them infinite): fix the drawing or its units")
     diagonal = np.linalg.norm(np.ptp(points, axis=0)) if len(points) else 0.0
     if not diagonal > 0:
         raise RegionError("the drawing has zero size: nothing to mesh")

@@ -29,6 +29,7 @@ import shapely
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from ._sniff import misnamed
 from ._dxf_limits import MAX_BYTES, MAX_ENTITIES, MAX_SEGMENTS, check_dxf_limits
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
@@ -173,6 +174,9 @@ def _read(path, max_bytes):
     try:
         document = ezdxf.readfile(name)
     except Exception as error:  # ezdxf raises several kinds for damaged or foreign files
+        other = misnamed(name, "a DXF drawing", {"dxf"})
+        if other:
+            raise SourceError(f"cannot read {name!r} as DXF: {other}") from error
         detail = str(error) or type(error).__name__
         raise SourceError(f"cannot read {name!r} as DXF ({detail}): the file is not DXF, or "
                           f"it is truncated or damaged; export it again from the CAD program "

@@ -20,13 +20,16 @@ import shapely
 import shapely.affinity
 
 from .._checks import check_positive_int, check_vector
-from ..errors import ArgumentError, ArgumentTypeError, SectionError, SourceError
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
 from ..region import Region, lift
 from . import manifold as manifold_backend
 from . import trimesh as trimesh_backend
 from .polygons import outline_geometry, snap
 
-__all__ = ["section", "sections"]
+__all__ = ["section", "sections", "MAX_SECTIONS"]
+
+MAX_SECTIONS = 10_000
+"""Most planes one call of :func:`sections` cuts (each section is a Region in memory)."""
 
 # Backends by the library their solids come from: (library, class name, backend module).
 _SOLIDS = (("trimesh", "Trimesh", trimesh_backend), ("manifold3d", "Manifold", manifold_backend))
@@ -124,7 +127,8 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     PdsError
         As :func:`section` for any plane, and an :class:`~pds_plugin.errors.ArgumentError`
         if neither or both of ``offsets`` and ``count`` are given, or they are not finite /
-        not a positive integer.
+        not a positive integer; a :class:`~pds_plugin.errors.BudgetError` for more than
+        ``MAX_SECTIONS`` (10,000) planes.
 
     Examples
     --------
@@ -254,10 +258,15 @@ class _Solid:
         margin = tol.merge * _unit(heights)
         if not (heights.min() < -margin and heights.max() > margin):
             low, high = offset + heights.min(), offset + heights.max()
+            if heights.min() > margin or heights.max() < -margin:
+                raise SectionError(
+                    f"the plane misses the solid: it is at normal·x = {offset:.9g} but the "
+                    f"solid spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin "
+                    f"inside that range")
             raise SectionError(
-                f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
-                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside "
-                f"that range")
+                f"the plane at normal·x = {offset:.9g} only touches the solid (at an edge or "
+                f"a corner where the solid spans normal·x in [{low:.9g}, {high:.9g}]), so the "
+                f"section has no area; put the plane strictly inside that range")
 
 
 def _unit(heights) -> float:
@@ -335,7 +344,9 @@ def _offsets(offsets, count, heights) -> np.ndarray:
         raise ArgumentError("give either offsets (distances along the normal) or count "
                          "(number of evenly spaced planes), not both and not neither")
     if count is not None:
-        check_positive_int(count, "count")
+        if check_positive_int(count, "count") > MAX_SECTIONS:
+            raise BudgetError(f"count={count:,} sections is more than {MAX_SECTIONS:,}; cut "
+                              f"the solid in several calls")
         low, high = heights.min(), heights.max()
         return low + (np.arange(count) + 0.5) * (high - low) / count
     try:
@@ -344,4 +355,7 @@ def _offsets(offsets, count, heights) -> np.ndarray:
         offsets = None
     if offsets is None or offsets.ndim != 1 or not len(offsets) or not np.isfinite(offsets).all():
         raise ArgumentError(f"offsets must be a non-empty list of finite numbers, got {offsets!r}")
+    if len(offsets) > MAX_SECTIONS:
+        raise BudgetError(f"{len(offsets):,} offsets is more than {MAX_SECTIONS:,} sections; "
+                          f"cut the solid in several calls")
     return offsets

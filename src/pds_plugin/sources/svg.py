@@ -16,6 +16,7 @@ import shapely
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from ._sniff import misnamed
 from ._svg_limits import MAX_BYTES, MAX_ELEMENTS, MAX_SEGMENTS, check_svg_limits
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
@@ -129,9 +130,11 @@ def _parse(path, max_bytes, max_elements, max_segments):
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
     except Exception as error:  # the XML parser raises several kinds
-        raise SourceError(f"cannot read {name!r} as SVG ({error})") from error
+        raise SourceError(f"cannot read {name!r} as SVG: "
+                          f"{misnamed(name, 'an SVG drawing', {'svg'}) or error}") from error
     if not isinstance(document, svgelements.SVG):
-        raise SourceError(f"{name!r} has no <svg> element: it is not an SVG drawing")
+        raise SourceError(f"{name!r} has no <svg> element: "
+                          f"{misnamed(name, 'an SVG drawing', {'svg'}) or 'it is not an SVG drawing'}")
     return document, repr(name)
 
 
