@@ -377,3 +377,20 @@ def test_a_truncated_binary_stl_and_a_folder_are_named(tmp_path):
     (tmp_path / "folder.stl").mkdir()
     with pytest.raises(IsADirectoryError, match="is a folder"):
         section(tmp_path / "folder.stl", (0, 0, 0), (0, 0, 1))
+
+
+@pytest.mark.parametrize("flipped", range(12))
+def test_one_triangle_the_wrong_way_round_is_reoriented_with_a_warning(flipped):
+    """An STL with one reversed triangle used to lose the section ("cuts no material ...
+    a gap between parts") when that triangle crossed the plane."""
+    box = trimesh.creation.box(extents=(2, 2, 2))
+    faces = box.faces.copy()
+    faces[flipped] = faces[flipped][::-1]
+    mesh = trimesh.Trimesh(box.vertices, faces, process=False)
+    given = mesh.faces.copy()
+    for origin, normal in [((0, 0, 0.3), (0, 0, 1)), ((0.3, 0, 0), (1, 0, 0)),
+                           ((0, 0.3, 0), (0, 1, 0))]:
+        with pytest.warns(UserWarning, match="not consistently oriented"):
+            region = section(mesh, origin, normal)
+        assert region.area == pytest.approx(4.0, rel=1e-12) and region.betti == (1, 0)
+    assert np.array_equal(mesh.faces, given)                 # the caller's mesh is untouched

@@ -151,7 +151,7 @@ class _Solid:
     """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
 
     def __init__(self, solid):
-        self.mesh = _source_of(solid).load(solid)
+        self.mesh = _consistently_oriented(_source_of(solid).load(solid))
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
         if not np.isfinite(self.vertices).all():
@@ -267,6 +267,23 @@ class _Solid:
                 f"the plane at normal·x = {offset:.9g} only touches the solid (at an edge or "
                 f"a corner where the solid spans normal·x in [{low:.9g}, {high:.9g}]), so the "
                 f"section has no area; put the plane strictly inside that range")
+
+
+def _consistently_oriented(mesh):
+    """``mesh``, or a copy whose faces agree in orientation with their neighbours and face
+    out of each body, with a warning. One triangle written the wrong way round (common in
+    STL exports) would otherwise turn its part of the section inside out."""
+    if mesh.is_winding_consistent:
+        return mesh
+    import trimesh
+
+    fixed = mesh.copy()                        # the caller's mesh is never modified
+    trimesh.repair.fix_normals(fixed, multibody=True)
+    warnings.warn("the mesh's faces are not consistently oriented (some triangles are "
+                  "written the wrong way round); each body was re-oriented outwards before "
+                  "cutting (trimesh.repair.fix_normals): a cavity drawn as an inward shell "
+                  "is then read as solid", UserWarning, stacklevel=4)
+    return fixed
 
 
 def _unit(heights) -> float:
