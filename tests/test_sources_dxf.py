@@ -513,3 +513,18 @@ def test_example_meshes_its_bracket_with_an_ok_certificate(tmp_path, capsys):
     corners, slot, holes = (4 - math.pi) / 16, 0.2 + math.pi / 100, 2 * math.pi * 0.04
     assert region.betti == (1, 3)
     assert_area(region, (8 - corners - slot - holes) * 25.4**2, region.perimeter, 1e-3)
+
+
+def test_an_arc_with_equal_start_and_end_angles_draws_nothing(tmp_path):
+    """ezdxf reads such an ARC as empty (span 0); it used to become a full circle, a
+    phantom hole of radius 2 in this square (area 87.4 instead of 100)."""
+    doc, msp = new()
+    square(msp, 0, 0, 10)
+    arc = msp.add_arc((5, 5), 2, 30, 30)
+    assert arc.construction_tool().angle_span == 0
+    assert load_dxf(save(doc, tmp_path)).area == pytest.approx(100.0, rel=1e-12)
+    full, full_msp = new()
+    square(full_msp, 0, 0, 10)
+    full_msp.add_arc((5, 5), 2, 30, 390)                      # a whole turn
+    assert load_dxf(save(full, tmp_path, "full.dxf"), tolerance=1e-6).area == \
+        pytest.approx(100 - 4 * math.pi, rel=1e-5)

@@ -244,9 +244,11 @@ def _invalidity(polygons) -> str:
             "fix the outline or pass repair=True (shapely.make_valid)")
 
 
-SCALE_LIMITS = (1e-100, 1e100)
-"""Smallest extent and largest coordinate of a region: areas and distances square the
-coordinates, which float64 holds only within about 1e±150."""
+SCALE_LIMITS = (1e-50, 1e50)
+"""Smallest extent and largest coordinate of a region. The sampler's and the complex's
+predicates raise coordinates to powers of up to about six, which float64 holds only
+within about 1e±51: a square of side 1e54 (or 1e-54) got triangles of aspect ratio 9 and
+more, a square of side 1e90 of 312."""
 
 
 def _check_scale(geometry) -> None:

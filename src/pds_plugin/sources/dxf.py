@@ -382,7 +382,14 @@ def _line(start, end):
 
 
 def _arc(center, radius, start_degrees, end_degrees):
-    """A circular arc of the entity's coordinate system, counter-clockwise."""
+    """A circular arc of the entity's coordinate system, counter-clockwise; equal start
+    and end angles draw nothing (a point), as ezdxf reads them, while 0 to 360 is a
+    full turn."""
+    if start_degrees == end_degrees:
+        theta = math.radians(start_degrees)
+        point = (center[0] + radius * math.cos(theta), center[1] + radius * math.sin(theta),
+                 center[2] if len(center) > 2 else 0.0)
+        return _line(point, point)
     sweep = (end_degrees - start_degrees) % 360.0
     return _conic(center, (radius, 0, 0), (0, radius, 0), math.radians(start_degrees),
                   math.radians(sweep) if sweep else 2 * math.pi)

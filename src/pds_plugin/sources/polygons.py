@@ -94,6 +94,10 @@ def fill_geometry(rings, rule: str = "nonzero"):
     closed = [np.vstack([ring, ring[:1]]) for ring in map(np.asarray, rings) if len(ring) >= 3]
     if not closed:
         return shapely.Polygon()
+    if len(closed) == 1:                  # a simple ring fills its inside under either rule
+        single = shapely.Polygon(closed[0])
+        if single.is_valid:
+            return single
     _, faces = _arrangement(shapely.linestrings(np.concatenate(closed), indices=_chain_ids(closed)))
     segments = np.concatenate([np.stack([c[:-1], c[1:]], axis=1) for c in closed])
     winding = winding_numbers(shapely.get_coordinates(shapely.point_on_surface(faces)), segments)
