@@ -228,3 +228,31 @@ def test_svg_limits_are_documented_as_they_are():
     doc = pds.load_svg.__doc__
     assert f"({_svg_limits.MAX_ELEMENTS:,})" in doc and f"({_svg_limits.MAX_SEGMENTS:,})" in doc
     assert math.isclose(_svg_limits.MAX_BYTES, 20e6) and "(20 MB)" in doc
+
+
+@pytest.mark.parametrize("text, words", [
+    # each was "... has no <svg> element: it is not an SVG drawing"
+    ('<svg xmlns="http://example.com/x" viewBox="0 0 10 10"><rect width="10" height="10"/>'
+     '</svg>', "in the namespace 'http://example.com/x', not SVG's"),
+    ('<SVG xmlns="http://www.w3.org/2000/svg"><RECT width="10" height="10"/></SVG>',
+     "element names are lower case"),
+    ("<html><body>hi</body></html>", "root element is <html>, not <svg>"),
+    # was "maximum recursion depth exceeded while calling a Python object"
+    (SVG.format("<g>" * 10_000 + '<rect width="5" height="5"/>' + "</g>" * 10_000),
+     "nested too deep"),
+])
+def test_an_xml_file_that_is_not_svg_says_why(tmp_path, text, words):
+    with pytest.raises(pds.SourceError, match="cannot read .* as SVG") as caught:
+        pds.load_svg(write(tmp_path, "drawing.svg", text))
+    assert words in str(caught.value) and "recursion" not in str(caught.value)
+
+
+def test_the_cli_says_an_output_that_is_a_folder_is_one(tmp_path):
+    write(tmp_path, "drawing.svg", SVG.format('<rect width="10" height="10"/>'))
+    (tmp_path / "meshes").mkdir()
+    process = subprocess.run([sys.executable, "-m", "pds_plugin.cli", "drawing.svg", "-o",
+                              "meshes", "--alpha", "1"], cwd=tmp_path, capture_output=True,
+                             text=True)
+    # was "cannot write meshes: the output suffix must be one of .3mf, ..."
+    assert process.returncode == 1
+    assert "cannot write meshes: it is a directory; give a file name" in process.stderr

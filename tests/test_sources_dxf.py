@@ -528,3 +528,26 @@ def test_an_arc_with_equal_start_and_end_angles_draws_nothing(tmp_path):
     full_msp.add_arc((5, 5), 2, 30, 390)                      # a whole turn
     assert load_dxf(save(full, tmp_path, "full.dxf"), tolerance=1e-6).area == \
         pytest.approx(100 - 4 * math.pi, rel=1e-5)
+
+
+@pytest.mark.parametrize("far", [1e308, -1e308, 1e60])
+def test_an_outline_vertex_beyond_the_scale_limit_is_a_region_error(tmp_path, far):
+    """A polyline vertex at 1e308 used to overflow scipy's KD-tree (a ValueError about
+    Minkowski p) while joining the curve ends."""
+    doc, msp = new()
+    msp.add_lwpolyline([(0, 0), (far, 0), (10, 10), (0, 10)], close=True)
+    with pytest.raises(RegionError, match="coordinates up to .*below 1e\\+50"):
+        load_dxf(save(doc, tmp_path))
+
+
+def test_a_drawing_far_from_the_origin_says_to_translate_it(tmp_path):
+    """A unit square at 1e15 used to be 'no closed loop ... nothing to mesh': its sides
+    were dropped as rounding steps before the curves were joined."""
+    doc, msp = new()
+    square(msp, 1e15, 1e15, 1)
+    with pytest.raises(RegionError, match="rounding .* exceeds the tolerance .* translate "
+                                          "the drawing towards the origin"):
+        load_dxf(save(doc, tmp_path))
+    near, near_msp = new()
+    square(near_msp, 1e6, 1e6, 1)
+    assert load_dxf(save(near, tmp_path, "near.dxf")).area == pytest.approx(1.0, rel=1e-9)

@@ -138,8 +138,10 @@ def run(args) -> int:
     0
     """
     if args.output.suffix.lower() not in writers():
-        raise ArgumentError(f"cannot write {args.output}: the output suffix must be one of "
-                            f"{', '.join(writers())}")
+        raise ArgumentError(f"cannot write {args.output}: " + (
+            f"it is a directory; give a file name, e.g. {args.output / 'section.ply'}"
+            if args.output.is_dir() else
+            f"the output suffix must be one of {', '.join(writers())}"))
     _check_outputs([args.output, args.report, args.plot], args.input)
     if args.plot is not None:
         _check_picture(args.plot)

@@ -12,7 +12,8 @@ import numpy as np
 
 from .._checks import check_path, check_positive_int
 from ..errors import RegionError, SourceError
-from .polygons import outline_geometry
+from ..region import SCALE_LIMITS
+from .polygons import ROUNDING, outline_geometry
 
 __all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
            "elliptic_points", "outline"]
@@ -194,7 +195,8 @@ def outline(chains, tolerance, name, kind="curve"):
     Raises
     ------
     RegionError
-        If no loop closes (the message gives the open ends).
+        If no loop closes (the message gives the open ends), or a coordinate is beyond
+        the region's limit (:data:`pds_plugin.region.SCALE_LIMITS`).
 
     Warns
     -----
@@ -207,6 +209,16 @@ def outline(chains, tolerance, name, kind="curve"):
     >>> outline(square, 1e-9, "'square.svg'", kind="stroke").area
     16.0
     """
+    largest = max((float(np.abs(chain).max()) for chain in chains if len(chain)), default=0.0)
+    if not largest < SCALE_LIMITS[1]:          # before the KD-tree of the ends overflows
+        raise RegionError(f"the outline drawing {name} has coordinates up to {largest:.3g}: "
+                          f"a region needs coordinates below {SCALE_LIMITS[1]:g}; fix the "
+                          f"drawing or scale it (e.g. change its units)")
+    if ROUNDING * largest >= tolerance:        # every step would be taken for rounding
+        raise RegionError(f"the outline drawing {name} lies at coordinates up to "
+                          f"{largest:.3g}, where rounding ({ROUNDING:g} of them) exceeds the "
+                          f"tolerance {tolerance:.3g}: its curves cannot be joined; translate "
+                          f"the drawing towards the origin, or pass a larger tolerance")
     geometry, open_ends = outline_geometry(chains, tolerance)
     where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
     where += ", ..." if len(open_ends) > 5 else ""

@@ -129,13 +129,36 @@ def _parse(path, max_bytes, max_elements, max_segments):
     check_svg_limits(name, max_elements, max_segments)
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
+    except RecursionError as error:
+        raise SourceError(f"cannot read {name!r} as SVG: its elements are nested too deep "
+                          f"(thousands of groups inside groups); flatten the groups") from error
     except Exception as error:  # the XML parser raises several kinds
         raise SourceError(f"cannot read {name!r} as SVG: "
                           f"{misnamed(name, 'an SVG drawing', {'svg'}) or error}") from error
     if not isinstance(document, svgelements.SVG):
-        raise SourceError(f"{name!r} has no <svg> element: "
-                          f"{misnamed(name, 'an SVG drawing', {'svg'}) or 'it is not an SVG drawing'}")
+        raise SourceError(f"cannot read {name!r} as SVG: "
+                          f"{misnamed(name, 'an SVG drawing', {'svg'}) or _not_svg(name)}")
     return document, repr(name)
+
+
+def _not_svg(name) -> str:
+    """Why the root element of an XML file is not an SVG drawing's."""
+    import xml.etree.ElementTree as ElementTree
+
+    try:
+        tag = next(ElementTree.iterparse(name, events=("start",)))[1].tag
+    except (ElementTree.ParseError, StopIteration, OSError):
+        return "it has no <svg> element: it is not an SVG drawing"
+    space, _, local = tag[1:].rpartition("}") if tag.startswith("{") else ("", "", tag)
+    if local.lower() == "svg" and local != "svg":
+        return f"its root element is <{local}>, but SVG element names are lower case (<svg>)"
+    if local == "svg":
+        return (f"its root <svg> element is in the namespace {space!r}, not SVG's "
+                f"('{_SVG_NAMESPACE}'); set xmlns=\"{_SVG_NAMESPACE}\"")
+    return f"its root element is <{local}>, not <svg>: it is not an SVG drawing"
+
+
+_SVG_NAMESPACE = "http://www.w3.org/2000/svg"
 
 
 def _output_matrix(document, units) -> np.ndarray:
