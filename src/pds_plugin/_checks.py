@@ -17,7 +17,7 @@ import numpy as np
 from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
 __all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_vector",
-           "check_flag", "check_path", "check_faces", "check_output_directory",
+           "check_instance", "check_flag", "check_path", "check_faces", "check_output_directory",
            "check_has_triangles", "import_optional"]
 
 
@@ -170,6 +170,36 @@ def check_vector(value, name: str, size: int = 3) -> np.ndarray:
     if not np.isfinite(vector).all():
         raise ArgumentError(f"{name} has NaN or infinite values: {vector.tolist()}")
     return vector
+
+
+def check_instance(value, kind: type, who: str, make: str):
+    """``value`` itself if it is a ``kind`` (a pds_plugin class), else a clear error.
+
+    Parameters
+    ----------
+    value : object
+    kind : type
+    who : str
+        The function that needs it, for the message.
+    make : str
+        How to make one, for the message.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a ``kind``.
+
+    Examples
+    --------
+    >>> check_instance("a square", dict, "poisson_disc", "dict()")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: poisson_disc needs a pds_plugin.dict, got str; make one with dict()
+    """
+    if not isinstance(value, kind):
+        raise ArgumentTypeError(f"{who} needs a pds_plugin.{kind.__name__}, got "
+                                f"{type(value).__name__}; make one with {make}")
+    return value
 
 
 def check_flag(value, name: str) -> bool:

@@ -19,8 +19,8 @@ from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Polygon
 
 from ._mesh_kernels import edges_of
-from ._checks import check_alpha, check_faces
-from .errors import ArgumentError, ArgumentTypeError
+from ._checks import check_alpha, check_faces, check_instance
+from .errors import ArgumentError
 from .region import Region, lift, require_region
 
 if TYPE_CHECKING:
@@ -369,32 +369,12 @@ def mesh_union(vertices, boundary):
 
 
 def require_mesh(value, who: str) -> PlanarMesh:
-    """``value`` itself if it is a :class:`PlanarMesh`, else a clear error.
+    """``value`` itself if it is a :class:`PlanarMesh`, else an ``ArgumentTypeError``
+    naming ``who`` needs it (see :func:`~pds_plugin._checks.check_instance`).
 
-    Parameters
-    ----------
-    value : object
-    who : str
-        The function that needs the mesh, for the message.
-
-    Returns
-    -------
-    PlanarMesh
-
-    Raises
-    ------
-    ArgumentTypeError
-        If ``value`` is not a PlanarMesh.
-
-    Examples
-    --------
     >>> require_mesh(None, "topology_report")
     Traceback (most recent call last):
     ...
     pds_plugin.errors.ArgumentTypeError: topology_report needs a pds_plugin.PlanarMesh, got NoneType; make one with pds_plugin.mesh_region(region, alpha)
     """
-    if not isinstance(value, PlanarMesh):
-        raise ArgumentTypeError(f"{who} needs a pds_plugin.PlanarMesh, got "
-                                f"{type(value).__name__}; make one with "
-                                f"pds_plugin.mesh_region(region, alpha)")
-    return value
+    return check_instance(value, PlanarMesh, who, "pds_plugin.mesh_region(region, alpha)")

@@ -10,7 +10,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-from ._checks import check_flag
+from ._checks import check_flag, check_instance
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 
 __all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region"]
@@ -390,7 +390,4 @@ def require_region(value, who: str) -> Region:
     ...
     pds_plugin.errors.ArgumentTypeError: poisson_disc needs a pds_plugin.Region, got str; make one with Region.from_shapely(polygon)
     """
-    if not isinstance(value, Region):
-        raise ArgumentTypeError(f"{who} needs a pds_plugin.Region, got {type(value).__name__}; "
-                                "make one with Region.from_shapely(polygon)")
-    return value
+    return check_instance(value, Region, who, "Region.from_shapely(polygon)")
