@@ -17,7 +17,7 @@ import numpy as np
 from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
 __all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_vector",
-           "check_instance", "check_flag", "check_path", "check_faces", "check_output_directory",
+           "check_instance", "check_planar_mesh", "check_flag", "check_path", "check_faces", "check_output_directory",
            "check_has_triangles", "import_optional"]
 
 
@@ -199,6 +199,36 @@ def check_instance(value, kind: type, who: str, make: str):
     if not isinstance(value, kind):
         raise ArgumentTypeError(f"{who} needs a pds_plugin.{kind.__name__}, got "
                                 f"{type(value).__name__}; make one with {make}")
+    return value
+
+
+def check_planar_mesh(value, who: str):
+    """``value`` itself if it has a PlanarMesh's attributes, else a clear error (by its
+    attributes: the analysis and sink layers cannot import the mesh layer's class back).
+
+    Parameters
+    ----------
+    value : object
+    who : str
+        The function that needs the mesh, for the message.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a mesh.
+
+    Examples
+    --------
+    >>> check_planar_mesh(None, "topology_report")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: topology_report needs a pds_plugin.PlanarMesh, got NoneType; make one with pds_plugin.mesh_region(region, alpha)
+    """
+    if not all(hasattr(value, name) for name in ("vertices", "faces", "on_boundary", "region",
+                                                  "alpha")):
+        raise ArgumentTypeError(f"{who} needs a pds_plugin.PlanarMesh, got "
+                                f"{type(value).__name__}; make one with "
+                                f"pds_plugin.mesh_region(region, alpha)")
     return value
 
 

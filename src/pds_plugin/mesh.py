@@ -19,7 +19,7 @@ from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Polygon
 
 from ._mesh_kernels import edges_of
-from ._checks import check_alpha, check_faces, check_instance
+from ._checks import check_alpha, check_faces
 from .errors import ArgumentError
 from .region import Region, lift, require_region
 
@@ -367,14 +367,3 @@ def mesh_union(vertices, boundary):
     covered = np.isin(same[len(boundary):], same[:len(boundary)])
     return shapely.union_all(pieces[covered])
 
-
-def require_mesh(value, who: str) -> PlanarMesh:
-    """``value`` itself if it is a :class:`PlanarMesh`, else an ``ArgumentTypeError``
-    naming ``who`` needs it (see :func:`~pds_plugin._checks.check_instance`).
-
-    >>> require_mesh(None, "topology_report")
-    Traceback (most recent call last):
-    ...
-    pds_plugin.errors.ArgumentTypeError: topology_report needs a pds_plugin.PlanarMesh, got NoneType; make one with pds_plugin.mesh_region(region, alpha)
-    """
-    return check_instance(value, PlanarMesh, who, "pds_plugin.mesh_region(region, alpha)")
