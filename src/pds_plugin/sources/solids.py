@@ -175,6 +175,7 @@ class _Solid:
         local = self.vertices @ to_2d[:3, :3].T + to_2d[:3, 3]   # z: height above the plane
         offset = float(origin @ normal)
         self._check_plane(local[:, 2], offset)
+        self._check_compact(local)
         geometry, open_ends = self._section_geometry(local)
         if len(open_ends):
             where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
@@ -217,6 +218,27 @@ class _Solid:
             geometry, [unit, 0.0, 0.0, unit, centre[0], centre[1]])
         return geometry, open_ends * unit + centre[:2]
 
+    def _check_compact(self, local) -> None:
+        """Refuse a shell with stray vertices: the cut points of a shell are joined within
+        1e-9 of its size, so a vertex 1e9 times farther out than the rest of its shell
+        spans (a damaged file) would merge the whole part."""
+        vertex_shell = np.full(len(local), -1)
+        vertex_shell[self.faces.ravel()] = np.repeat(self.shell, 3)
+        used = np.flatnonzero(vertex_shell >= 0)
+        order = used[np.argsort(vertex_shell[used], kind="stable")]
+        for members in np.split(order, np.flatnonzero(np.diff(vertex_shell[order])) + 1):
+            corners = local[members]
+            size = float(np.linalg.norm(np.ptp(corners, axis=0)))
+            spread = float(np.median(np.abs(corners - np.median(corners, axis=0)), axis=0).max())
+            if spread > 0 and 1e-9 * size > 1e-3 * spread:
+                far = members[np.argmax(np.abs(corners - np.median(corners, axis=0)).max(axis=1))]
+                raise SectionError(
+                    f"a part of the mesh spans {size:.3g} but most of its vertices lie within "
+                    f"{spread:.3g} of each other: a vertex far from the rest (one at "
+                    f"({', '.join(f'{v:.6g}' for v in self.vertices[far])})) would merge the "
+                    f"whole part when the cut is joined; remove the stray vertices (a "
+                    f"damaged file?)")
+
     def _faces_on(self, heights) -> int:
         """How many faces lie on the plane, given the vertices' heights above it."""
         from trimesh.constants import tol
@@ -246,9 +268,20 @@ class _Solid:
         return origin
 
     def _check_plane(self, heights, offset) -> None:
-        """Refuse a plane that lies on a face or misses the solid (heights: of the vertices)."""
+        """Refuse a plane that lies on a face or misses the solid, or a mesh whose stray
+        vertices make the on-plane tolerance as coarse as the part (heights: of the
+        vertices)."""
         from trimesh.constants import tol
 
+        middle = np.median(heights)
+        spread = float(np.median(np.abs(heights - middle)))
+        if spread > 0 and tol.merge * _unit(heights) > 1e-2 * spread:
+            raise SectionError(
+                f"the mesh spans normal·x in [{offset + heights.min():.6g}, "
+                f"{offset + heights.max():.6g}], but most of its vertices lie within "
+                f"{spread:.3g} of normal·x = {offset + middle:.6g}: vertices far from the part "
+                f"make the cut's tolerance ({tol.merge * _unit(heights):.3g}) as coarse as the "
+                f"part itself; remove the stray vertices, or split the mesh into its parts")
         flat = self._faces_on(heights)
         if flat:
             raise SectionError(
