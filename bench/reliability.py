@@ -1,6 +1,6 @@
 """Try every class of bad and hostile input and write docs/reliability.md.
 
-    python bench/reliability.py                      # every class (about 10 minutes)
+    python bench/reliability.py                      # every class (about 5 minutes)
     python bench/reliability.py --classes "SVG files,point sets" --time-limit 10
 
 Each class's inputs (bench/_corpus.py lists the classes) run one after the other in a worker process,
