@@ -142,7 +142,8 @@ def test_a_planar_mesh_checks_its_other_arguments(square):
 
 
 @pytest.mark.parametrize("call, who", [(pds.topology_report, "topology_report"),
-                                       (pds.meshlab_quality, "meshlab_quality")])
+                                       (pds.meshlab_quality, "meshlab_quality"),
+                                       (pds.certify, "certify")])
 def test_analyses_of_something_that_is_not_a_mesh_say_so(call, who):
     # was AttributeError: 'NoneType' object has no attribute 'region'
     with pytest.raises(pds.ArgumentTypeError, match=f"{who} needs a pds_plugin.PlanarMesh, "

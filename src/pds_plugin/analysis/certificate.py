@@ -51,6 +51,7 @@ import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from .. import _certificate_kernels as kern
+from .._checks import check_planar_mesh
 from .._complex_kernels import bin_points
 from .._geometry_kernels import circumcircles
 from .conformity import AREA_TOL, SampledBoundary, boundary_report
@@ -283,6 +284,7 @@ def certify(mesh: PlanarMesh) -> Certificate:
     >>> cert.min_separation >= 1, cert.coverage_gap <= 1, cert.max_aspect_ratio <= cert.aspect_bound
     (True, True, True)
     """
+    check_planar_mesh(mesh, "certify")
     points, alpha = mesh.vertices, mesh.alpha
     faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     quality = mesh.quality()
