@@ -50,8 +50,8 @@ class Peer:
 
     @property
     def ours(self) -> bool:
-        """True for pds_plugin itself (in any thread setting)."""
-        return self.run is run_pds
+        """True for pds_plugin itself (in any thread setting, conforming or not)."""
+        return self.key.startswith("pds")
 
 
 def peak_rss_mb() -> float:
@@ -103,28 +103,30 @@ def boundary_seeds(region, spacing: float) -> np.ndarray:
 
 # ----------------------------------------------------------------------------- pds_plugin
 
-def run_pds(region, alpha, target, options):
-    """mesh_region end to end; then its certificate; then sampling and complex again,
-    each timed apart (same seed, so the same samples)."""
-    import pds_plugin as pds
+def _pds(conforming: bool):
+    def run(region, alpha, target, options):
+        """mesh_region end to end; then its certificate; then sampling and complex again,
+        each timed apart (same seed, so the same samples)."""
+        import pds_plugin as pds
 
-    start = perf_counter()
-    mesh = pds.mesh_region(region, alpha, seed=options.seed)
-    meshed = perf_counter()
-    peak = peak_rss_mb()
-    certificate = mesh.certificate()
-    certified = perf_counter()
-    peak_certified = peak_rss_mb()
-    samples = pds.poisson_disc(region, alpha, seed=options.seed)
-    sampled = perf_counter()
-    pds.solid_alpha_complex(samples.points, alpha)
-    done = perf_counter()
-    return Run(mesh.vertices, mesh.faces, alpha, samples=mesh.vertices, peak_mb=peak,
-               times={"total": meshed - start, "certificate": certified - meshed,
-                      "sampling": sampled - certified, "complex": done - sampled},
-               info={"certificate_ok": certificate.ok,
-                     "certificate_gap": certificate.coverage_gap,
-                     "peak_mb_with_certificate": peak_certified})
+        start = perf_counter()
+        mesh = pds.mesh_region(region, alpha, seed=options.seed, conforming=conforming)
+        meshed = perf_counter()
+        peak = peak_rss_mb()
+        certificate = mesh.certificate()
+        certified = perf_counter()
+        peak_certified = peak_rss_mb()
+        samples = pds.poisson_disc(region, alpha, seed=options.seed, conforming=conforming)
+        sampled = perf_counter()
+        pds.solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
+        done = perf_counter()
+        return Run(mesh.vertices, mesh.faces, alpha, samples=mesh.vertices, peak_mb=peak,
+                   times={"total": meshed - start, "certificate": certified - meshed,
+                          "sampling": sampled - certified, "complex": done - sampled},
+                   info={"certificate_ok": certificate.ok,
+                         "certificate_gap": certificate.coverage_gap,
+                         "peak_mb_with_certificate": peak_certified})
+    return run
 
 
 # ----------------------------------------------------------------------------- scipy
@@ -327,9 +329,11 @@ def _gmsh_geometry(geo, region, size: float) -> None:
 
 
 PEERS = {peer.key: peer for peer in [
-    Peer("pds", "pds_plugin mesh_region", run_pds, ("pds_plugin",)),
-    Peer("pds-1thread", "pds_plugin mesh_region, 1 thread", run_pds, ("pds_plugin",),
-         env={"PDS_THREADS": "1"}),
+    Peer("pds", "pds_plugin mesh_region", _pds(conforming=True), ("pds_plugin",)),
+    Peer("pds-1thread", "pds_plugin mesh_region, 1 thread", _pds(conforming=True),
+         ("pds_plugin",), env={"PDS_THREADS": "1"}),
+    Peer("pds-pure", "pds_plugin mesh_region, conforming=False", _pds(conforming=False),
+         ("pds_plugin",)),
     Peer("scipy", "scipy PoissonDisk + Delaunay α", run_scipy, ("scipy",)),
     Peer("meshlab", "MeshLab Poisson-disk + 2D α", _meshlab_filtered(seeded=False),
          ("pymeshlab", "trimesh")),

@@ -48,7 +48,7 @@ def draw_region(ax, region):
 def main(out_dir: Path = OUT, coarse: float = 0.12, fine: float = 0.03) -> dict:
     region = pds.Region.from_shapely(shapely.union_all([mask(-0.95, smile=False),
                                                         mask(0.95, smile=True)]))
-    meshes = {alpha: pds.mesh_region(region, alpha, seed=1) for alpha in (coarse, fine)}
+    meshes = {alpha: pds.mesh_region(region, alpha, seed=1, conforming=False) for alpha in (coarse, fine)}
     figure = Figure(figsize=(16, 4.6), layout="constrained")
     axes = figure.subplots(1, 4)
     draw_region(axes[0], region)

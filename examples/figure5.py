@@ -21,7 +21,7 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 
 def main(out_dir: Path = OUT, alpha: float = 0.06, seeds=(1, 2)) -> dict:
     region = pds.Region.from_shapely(box(0, 0, 2, 1))
-    meshes = [pds.mesh_region(region, alpha, seed=seed) for seed in seeds]
+    meshes = [pds.mesh_region(region, alpha, seed=seed, conforming=False) for seed in seeds]
     figure = Figure(figsize=(12, 8), layout="constrained")
     axes = figure.subplots(2, len(meshes), height_ratios=[1, 1.1])
     stats = []

@@ -47,7 +47,7 @@ def pipe_hole():
 
 def draw(name, region, alphas, out_dir, seed=0):
     """Mesh at each alpha, print the topology reports, write the strip; return reports."""
-    meshes = [pds.mesh_region(region, alpha, seed=seed) for alpha in alphas]
+    meshes = [pds.mesh_region(region, alpha, seed=seed, conforming=False) for alpha in alphas]
     reports = [pds.topology_report(mesh) for mesh in meshes]
     figure = plot_multiresolution(meshes)
     for ax, mesh, report in zip(figure.axes, meshes, reports):

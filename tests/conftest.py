@@ -102,3 +102,23 @@ def visible_min_distance(domain, points, edges=()):
     distance = np.hypot(*(points[i] - points[j]).T)
     joined = [np.hypot(*(points[a] - points[b])) for a, b in edges]
     return min(distance[seen].min(initial=np.inf), min(joined, default=np.inf))
+
+
+def chord_region(points, rings, region):
+    """The region bounded by the chords between consecutive boundary samples."""
+    rings = [points[r] for r in rings]
+    polygons, k = [], 0
+    for polygon in region.geometry.geoms:
+        n = 1 + len(polygon.interiors)
+        polygons.append(shapely.Polygon(rings[k], rings[k + 1:k + n]))
+        k += n
+    return shapely.MultiPolygon(polygons)
+
+
+def visible_pairs_closer_than(points, domain, alpha):
+    """Pairs of samples closer than alpha whose segment stays in ``domain``."""
+    pairs = cKDTree(points).query_pairs(alpha * (1 - 1e-9), output_type="ndarray")
+    if not len(pairs):
+        return pairs
+    lines = shapely.linestrings(np.stack([points[pairs[:, 0]], points[pairs[:, 1]]], axis=1))
+    return pairs[shapely.covers(domain.buffer(1e-9 * alpha), lines)]

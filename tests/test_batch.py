@@ -125,10 +125,14 @@ def test_bad_jobs_are_refused_with_the_option_named(job, message, tmp_path):
 
 def test_text_values_mean_the_same_as_typed_values(tmp_path):
     typed = parse_job({"input": "p.stl", "plane_normal": [0, 1, 1], "at": [0.5, 1],
-                       "alpha": 0.25, "seed": 3, "graded": False}, 0, tmp_path)
+                       "alpha": 0.25, "seed": 3, "graded": False, "conforming": False}, 0,
+                      tmp_path)
     text = parse_job({"input": "p.stl", "plane_normal": "0,1,1", "at": "0.5,1",
-                      "alpha": "0.25", "seed": "3", "graded": "false", "slices": ""}, 0, tmp_path)
-    assert typed == text
+                      "alpha": "0.25", "seed": "3", "graded": "false", "conforming": "no",
+                      "slices": ""}, 0, tmp_path)
+    assert typed == text and dict(typed.options)["conforming"] is False
+    default = parse_job({"input": "p.stl", "axis": "z", "alpha": 0.25}, 0, tmp_path)
+    assert dict(default.options)["conforming"] is True
     assert len(typed.outputs) == 2 and typed.outputs[0].endswith("_000.ply")
 
 
@@ -164,7 +168,8 @@ def test_batch_meshes_every_job_and_reports_failures_without_stopping(parts, tmp
             {"input": "broken.stl", "axis": "z", "alpha": 0.2},
             {"input": "ring.stl", "axis": "z", "at": 5, "alpha": 0.2},        # misses
             {"input": "ring.stl", "axis": "z", "at": 0.1, "alpha": 0.2, "max_samples": 10},
-            {"input": "ring.stl", "axis": "z", "at": 0.2, "alpha": 10},          # too large
+            {"input": "ring.stl", "axis": "z", "at": 0.2, "alpha": 10,           # too large
+             "conforming": False},            # (a conforming mesh keeps its boundary samples)
             {"input": "box.stl", "axis": "z", "alpha": 0.3, "output": "ring_z-0.9.ply"},
             {"input": "ring.stl", "axis": "z", "alpha": 0.2, "colour": "red"}]
     with ThreadPoolExecutor(2) as pool:

@@ -177,7 +177,8 @@ def test_auto_alpha_keeps_every_hole(part_stl, tmp_path, capsys):
 
 def test_too_large_alpha_warns_which_hole_is_lost_and_the_alpha_to_keep_it(part_stl,
                                                                            tmp_path, capsys):
-    assert main([part_stl, "-o", tmp_path / "m.ply", "--axis", "z", "--alpha", "0.4"]) == 0
+    assert main([part_stl, "-o", tmp_path / "m.ply", "--axis", "z", "--alpha", "0.4",
+                 "--no-conforming"]) == 0         # a conforming mesh keeps every hole
     failed, *problems = capsys.readouterr().err.splitlines()
     assert failed == f"pds-mesh: warning: {tmp_path / 'm.ply'}: certificate FAILED (topology)"
     assert problems and all(p.startswith("pds-mesh: warning: ") for p in problems)
@@ -316,7 +317,9 @@ def test_bad_outputs_are_refused_before_meshing(part_stl, tmp_path, capsys, outp
 
 def test_an_alpha_too_large_for_any_triangle_names_the_section(part_stl, tmp_path, capsys):
     out = tmp_path / "s.ply"
-    assert main([part_stl, "-o", out, "--axis", "z", "--at", "-0.1,0.1", "--alpha", "50"]) == 1
+    # the paper's construction (a conforming mesh keeps the corners, so it has triangles)
+    assert main([part_stl, "-o", out, "--axis", "z", "--at", "-0.1,0.1", "--alpha", "50",
+                 "--no-conforming"]) == 1
     line = one_error_line(capsys.readouterr().err)
     assert str(tmp_path / "s_000.ply") in line and "no triangles" in line
 

@@ -115,3 +115,31 @@ def test_an_alpha_far_above_the_spacing_is_refused_before_any_work():
 def test_points_spanning_the_float_range_are_refused():
     with pytest.raises(pds.PdsError, match="cells"):
         pds.solid_alpha_complex(np.array([[1e308, 1e308], [-1e308, 0], [0, 1]]), 0.5)
+
+
+@settings(max_examples=200, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), scale=st.sampled_from([1.0, 1e-8, 1e8]))
+def test_orientation_sign_is_exact_on_nearly_collinear_points(seed, scale):
+    """The segment-crossing test of the constrained complex rests on this sign."""
+    from fractions import Fraction
+    from pds_plugin._visibility_kernels import orient
+    rng = np.random.default_rng(seed)
+    a, b = rng.random(2) * scale, rng.random(2) * scale
+    t = rng.random()
+    c = a + t * (b - a) + rng.integers(-2, 3, 2) * np.spacing(scale)   # on the line, or an ulp off
+    exact = ((Fraction(a[0]) - Fraction(c[0])) * (Fraction(b[1]) - Fraction(c[1]))
+             - (Fraction(a[1]) - Fraction(c[1])) * (Fraction(b[0]) - Fraction(c[0])))
+    assert orient(*a, *b, *c) == (exact > 0) - (exact < 0)
+
+
+def test_boundary_keeps_triangles_out_of_a_notch():
+    """The constrained complex of a V-notched pentagon: no triangle spans the notch, and
+    the union of the triangles is the pentagon."""
+    import shapely
+    points = np.array([[0, 0], [2, 0], [2, 2], [1, 0.2], [0, 2]], float)
+    faces = pds.solid_alpha_complex(points, 3.0, boundary=[[0, 1, 2, 3, 4]])
+    union = shapely.union_all(shapely.polygons(points[faces]))
+    assert union.symmetric_difference(shapely.Polygon(points)).area == 0
+    assert_valid_triangulation(points, faces)
+    bridged = pds.solid_alpha_complex(points, 3.0)
+    assert shapely.union_all(shapely.polygons(points[bridged])).area > union.area

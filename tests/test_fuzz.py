@@ -35,7 +35,7 @@ from shapely.geometry import Point, box
 
 import pds_plugin as pds
 from pds_plugin.errors import PdsError
-from conftest import delaunay_alpha_faces, probe_gap
+from conftest import chord_region, delaunay_alpha_faces, probe_gap, visible_pairs_closer_than
 from regions import box_unions, star_polygons
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
@@ -80,6 +80,25 @@ def assert_certified_mesh(mesh, region_geometry, alpha):
     inside = shapely.contains_xy(shapely.buffer(region_geometry, alpha * slack + 1e-12),
                                  points[:, 0], points[:, 1])
     assert inside.all()                                          # samples lie in the region
+
+
+def assert_certified_conforming_mesh(mesh, alpha, seed):
+    """Theorem 1, and the separation and the outline with the visibility rule, measured
+    without the package: samples that see each other through the region bounded by the
+    chords are alpha apart, and the triangles tile that region."""
+    points, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+    slack = 1e-9 + ulp_slack(points, alpha)
+    rings = pds.poisson_disc(mesh.region, alpha, seed=seed, conforming=True).rings
+    domain = chord_region(points, rings, mesh.region)
+    assert not len(visible_pairs_closer_than(points, domain, alpha * (1 - slack)))
+    a, b, c = (points[faces[:, k]] for k in range(3))
+    lengths = np.stack([np.hypot(*(b - a).T), np.hypot(*(c - b).T), np.hypot(*(a - c).T)])
+    area = 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    assert (area > 0).all()
+    assert (lengths.max(axis=0) ** 2 / area).max() <= ASPECT_BOUND * (1 + slack)
+    union = shapely.union_all(triangles(points, faces))
+    assert math.isclose(union.area, area.sum(), rel_tol=1e-9 + slack)
+    assert union.symmetric_difference(domain).area <= (1e-9 + slack) * domain.area
 
 
 def refused_cleanly(call, *args, **kwargs):
@@ -127,8 +146,13 @@ def test_random_regions_get_certified_meshes(geometry, fraction, seed):
         return
     alpha = fraction * math.sqrt(region.area)
     before = digest(region, geometry)
+    paper = pds.mesh_region(region, alpha, seed=seed, conforming=False)
+    assert_certified_mesh(paper, region.geometry, alpha)
+    # a conforming mesh keeps short edges and sharp corners, exceptions to Theorem 1 that
+    # its certificate must report: whenever it says ok, the mesh is certified
     mesh = pds.mesh_region(region, alpha, seed=seed)
-    assert_certified_mesh(mesh, region.geometry, alpha)
+    if mesh.certificate().ok:
+        assert_certified_conforming_mesh(mesh, alpha, seed)
     assert digest(region, geometry) == before
 
 
@@ -158,7 +182,7 @@ def test_hostile_alphas_are_refused_cleanly(alpha):
     assert not isinstance(alpha, (bool, str)) and float(alpha) > 1e-3
     if len(mesh.faces) == 0:                   # an alpha too large: the certificate says so
         assert not mesh.certificate().ok
-    else:
+    if mesh.certificate().ok:
         assert_certified_mesh(mesh, region.geometry, float(alpha))
 
 
@@ -184,9 +208,12 @@ def test_extreme_alphas_are_refused_with_the_package_error(alpha):
 
 
 def test_an_alpha_larger_than_the_region_is_reported_by_the_certificate():
-    mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 1e300)
+    mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 1e300, conforming=False)
     assert len(mesh.faces) == 0 and not mesh.certificate().ok
     assert "keep it with alpha <=" in str(mesh.certificate())
+    # a conforming mesh keeps the four corners: two triangles, but samples 1e-300 alpha apart
+    conforming = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 1e300)
+    assert len(conforming.faces) == 2 and not conforming.certificate().ok
 
 
 def test_zero_sample_budget_is_refused_with_the_package_error():

@@ -20,7 +20,8 @@ def assert_theorem_1(mesh):
 @settings(max_examples=30, deadline=None)
 @given(region=regions, alpha=st.floats(0.04, 0.2), seed=st.integers(0, 2**32 - 1))
 def test_theorem_1_and_a_maximal_sampling_on_generated_regions(region, alpha, seed):
-    mesh = pds.mesh_region(region, alpha, seed=seed)
+    """The paper's construction; conforming meshes are tested in test_conforming.py."""
+    mesh = pds.mesh_region(region, alpha, seed=seed, conforming=False)
     assert_theorem_1(mesh)
     cert = mesh.certificate()
     assert cert.sampling_ok and cert.quality_ok, str(cert)
@@ -29,7 +30,8 @@ def test_theorem_1_and_a_maximal_sampling_on_generated_regions(region, alpha, se
 @pytest.mark.parametrize("angle", [10, 29, 31, 59, 61, 90])
 def test_theorem_1_at_sharp_corners(angle):
     for seed in range(3):
-        assert_theorem_1(pds.mesh_region(pds.Region.from_shapely(wedge(angle)), 0.04, seed=seed))
+        assert_theorem_1(pds.mesh_region(pds.Region.from_shapely(wedge(angle)), 0.04, seed=seed,
+                                         conforming=False))
 
 
 def test_certified_mesh_of_a_plate_with_holes():
@@ -38,7 +40,8 @@ def test_certified_mesh_of_a_plate_with_holes():
     cert = mesh.certificate()
     assert cert.ok, str(cert)
     assert cert.betti_mesh == (1, 2)
-    assert 0.98 < cert.area_ratio <= 1.0
+    # the holes' chords cut circular segments of height <= (√3 alpha)² / 8r off them
+    assert 1.0 <= cert.area_ratio <= 1.002
 
 
 def test_same_seed_gives_the_same_mesh_bit_for_bit():

@@ -25,7 +25,9 @@ def disc_with_hole(radius=0.15):
 
 def test_levels_follow_the_alphas_and_carry_their_certificates():
     region = disc_with_hole()
-    levels = pds.multiresolution(region, [0.4, 0.1, 0.05], seed=3)
+    # the paper's construction: Theorem 1 at every level (a conforming mesh of a hole
+    # smaller than alpha has the exceptions of docs/conforming.md)
+    levels = pds.multiresolution(region, [0.4, 0.1, 0.05], seed=3, conforming=False)
     assert [level.alpha for level in levels] == [0.4, 0.1, 0.05]
     for level in levels:
         assert isinstance(level, Resolution)
@@ -37,9 +39,10 @@ def test_levels_follow_the_alphas_and_carry_their_certificates():
 
 
 def test_coarse_levels_lose_the_hole_fine_levels_keep_it():
-    # a hole of radius r closes near alpha = r and is kept with alpha <= r/2 (Theorem 2)
+    # a hole of radius r closes near alpha = r and is kept with alpha <= r/2 (Theorem 2,
+    # the paper's construction; a conforming mesh keeps holes at any alpha)
     r = 0.15
-    coarse, fine = pds.multiresolution(disc_with_hole(r), [2 * r, r / 2])
+    coarse, fine = pds.multiresolution(disc_with_hole(r), [2 * r, r / 2], conforming=False)
     assert coarse.certificate.betti_mesh == (1, 0) and not coarse.certificate.topology_ok
     assert "hole 0 of component 0" in coarse.certificate.topology.problems[0]
     assert fine.certificate.betti_mesh == (1, 1) and fine.certificate.topology_ok
@@ -153,13 +156,14 @@ DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 
 
 def test_auto_mesh_refines_a_coarse_start_until_the_topology_is_right():
+    # the paper's construction closes the hole at a coarse alpha (a conforming mesh keeps it)
     disc = region(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.15)))
-    mesh = auto_mesh(disc, max_alpha=1.0, seed=2)
+    mesh = auto_mesh(disc, max_alpha=1.0, seed=2, conforming=False)
     assert mesh.certificate().topology_ok
     steps = math.log(mesh.alpha) / math.log(0.7)
     assert steps == pytest.approx(round(steps)) and round(steps) >= 1
     # the level before it still lost the hole
-    coarser = topology_report(pds.mesh_region(disc, mesh.alpha / 0.7, seed=2))
+    coarser = topology_report(pds.mesh_region(disc, mesh.alpha / 0.7, seed=2, conforming=False))
     assert not coarser.topology_ok
 
 
@@ -169,6 +173,11 @@ def test_auto_mesh_names_the_feature_when_the_budget_runs_out():
     with pytest.raises(ValueError, match=r"wall of width 0.001 .* needs alpha <= 0.00025.*"
                                          r"hole 0 of component 0"):
         auto_mesh(hairline, max_samples=2000)
+    # two parts 0.001 apart: the paper's complex joins them below alpha 0.00025
+    hairline = region(box(0, 0, 5, 5).union(box(5.001, 0, 10.001, 5)))
+    with pytest.raises(ValueError, match=r"gap of width 0.001 .* needs alpha <= 0.00025.*"
+                                         r"components 0 and 1 are joined"):
+        auto_mesh(hairline, max_samples=2000, conforming=False)   # conforming keeps the gap
 
 
 @pytest.mark.parametrize("bad", [0, -1, float("inf"), float("nan")])
@@ -198,7 +207,11 @@ def test_auto_mesh_recovers_the_topology_of_real_parts(name, betti):
     mesh = auto_mesh(reg)
     certificate = mesh.certificate()
     assert certificate.topology_ok and certificate.betti_mesh == betti
-    assert certificate.quality_ok
+    # Theorem 1 wherever samples are alpha apart: the parts' boundary pieces shorter than
+    # alpha are kept, with the exceptions of docs/conforming.md
+    quality = mesh.quality()
+    regular = (quality.edge_lengths >= mesh.alpha * (1 - 1e-9)).all(axis=1)
+    assert quality.aspect_ratio[regular].max() <= 4 * math.sqrt(3) * (1 + 1e-9)
     assert mesh.alpha == pytest.approx(feature_size(reg).value / 4)
 
 
@@ -247,5 +260,15 @@ def test_auto_alpha_warns_when_the_budget_caps_it_below_a_slot():
     bridged slot keeps the topology, so only a warning can tell."""
     plate = pds.Region.from_shapely(box(0, 0, 10, 10).difference(box(2, 5 - 5e-5, 10, 5 + 5e-5)))
     with pytest.warns(UserWarning, match=r"gap of width 0\.0001.*raise max_samples"):
-        mesh = pds.mesh_region(plate, "auto", max_samples=20_000)
+        mesh = pds.mesh_region(plate, "auto", max_samples=20_000, conforming=False)
     assert mesh.alpha > 1e-4
+    # a conforming mesh keeps the slot open at that alpha: nothing to warn about
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        kept = pds.mesh_region(plate, "auto", max_samples=20_000)
+    certificate = kept.certificate()
+    assert certificate.boundary_ok and certificate.topology_ok
+    assert certificate.outside_area_ratio == 0 and certificate.missing_area_ratio == 0
+    # the slot's end is an edge 1e-4 long between two corners: an exception to Theorem 1
+    # the certificate must not hide
+    assert certificate.min_separation < 0.001 and not certificate.ok

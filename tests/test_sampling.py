@@ -104,3 +104,27 @@ def test_too_many_samples_is_refused_with_the_estimate_and_a_usable_alpha():
 def test_a_polygon_is_not_a_region():
     with pytest.raises(TypeError, match="Region.from_shapely"):
         pds.poisson_disc(box(0, 0, 1, 1), 0.1)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_conforming_boundary_spacing_and_visible_separation(seed):
+    """Consecutive boundary samples are alpha to √3 alpha apart along pieces longer than
+    2 alpha, and samples closer than alpha never see each other (slot of 0.3 alpha)."""
+    alpha = 0.05
+    geometry = slotted_plate(0.3 * alpha)
+    samples = pds.poisson_disc(pds.Region.from_shapely(geometry), alpha, seed=seed, conforming=True)
+    points = samples.points
+    for ring in samples.rings:
+        spacing = np.linalg.norm(points[ring] - points[np.roll(ring, -1)], axis=1)
+        short = spacing < alpha * (1 - 1e-12)
+        assert spacing.max() <= np.sqrt(3) * alpha * (1 + 1e-12)
+        assert short.sum() <= 2                   # the slot's end, 0.3 alpha wide
+    from scipy.spatial import cKDTree
+    pairs = cKDTree(points).query_pairs(alpha * (1 - 1e-12), output_type="ndarray")
+    lines = shapely.linestrings(np.stack([points[pairs[:, 0]], points[pairs[:, 1]]], axis=1))
+    seen = pairs[shapely.covers(geometry.buffer(1e-9 * alpha), lines)]
+    consecutive = {tuple(sorted(e)) for ring in samples.rings
+                   for e in zip(ring.tolist(), np.roll(ring, -1).tolist())}
+    assert len(pairs) > len(seen)                 # close pairs across the slot exist...
+    assert {tuple(sorted(e)) for e in seen.tolist()} <= consecutive   # ...only the slot's end sees
+    assert shapely.distance(geometry, shapely.points(points)).max() <= 1e-9 * alpha

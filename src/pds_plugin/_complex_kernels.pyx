@@ -7,11 +7,12 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 import numpy as np
 
 from cython.parallel cimport parallel, prange
-from libc.math cimport INFINITY
+from libc.math cimport INFINITY, hypot
 from libc.stdlib cimport free, malloc
 from libc.stdint cimport int8_t, int32_t, int64_t
 
 from ._parallel cimport threads_for
+from ._visibility_kernels cimport Chords, chords_of, near_boundary, orient_sign, sees
 
 ACCEPT, REJECT, UNSURE = 1, 0, 2
 cdef enum:
@@ -90,11 +91,93 @@ cdef int _incircle_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b,
     return 0
 
 
+cdef inline Py_ssize_t _out(const Chords *vis, Py_ssize_t v) noexcept nogil:
+    """The outgoing chord of point v, -1 if none."""
+    return vis.out[v] if vis.out else -1
+
+
+cdef bint _edge_ok(const double[:, ::1] points, Py_ssize_t u, Py_ssize_t v,
+                   const Chords *vis) noexcept nogil:
+    """Is u -> v, an edge of a counter-clockwise triangle, seen through the region and
+    not a chord run backwards (the triangle would lie on the chord's outer side)?"""
+    if not sees(points[u, 0], points[u, 1], _out(vis, u), points[v, 0], points[v, 1],
+                _out(vis, v), vis):
+        return False
+    cdef Py_ssize_t e = _out(vis, v)
+    return not (e >= 0 and vis.xy[4 * e + 2] == points[u, 0]
+                and vis.xy[4 * e + 3] == points[u, 1])
+
+
+cdef bint _constrained_ok(const double[:, ::1] points, Py_ssize_t i, Py_ssize_t a,
+                          Py_ssize_t b, const Chords *vis) noexcept nogil:
+    """May counter-clockwise (i, a, b) be a triangle of the constrained complex?"""
+    return (_edge_ok(points, i, a, vis) and _edge_ok(points, a, b, vis)
+            and _edge_ok(points, b, i, vis))
+
+
+cdef bint _in_arc(const double[:, ::1] points, Py_ssize_t v, Py_ssize_t p, Py_ssize_t q,
+                  double cx, double cy) noexcept nogil:
+    """Is the direction from point v to (cx, cy) strictly inside the smaller angle
+    between the directions from v to points p and q?"""
+    cdef double vx = points[v, 0], vy = points[v, 1]
+    cdef int turn = orient_sign(vx, vy, points[p, 0], points[p, 1], points[q, 0], points[q, 1])
+    return (turn != 0 and orient_sign(vx, vy, points[p, 0], points[p, 1], cx, cy) == turn
+            and orient_sign(vx, vy, cx, cy, points[q, 0], points[q, 1]) == turn)
+
+
+cdef bint _wedge_between(const double[:, ::1] points, Py_ssize_t v, Py_ssize_t p, Py_ssize_t q,
+                         double ux, double uy, double wx, double wy, double mx,
+                         double my) noexcept nogil:
+    """Does the outside wedge at v (rays to u and w, m inside it) meet the smaller angle
+    between the directions to p and q?"""
+    return (_in_arc(points, v, p, q, ux, uy) or _in_arc(points, v, p, q, wx, wy)
+            or _in_arc(points, v, p, q, mx, my))
+
+
+cdef bint _seen_near(const double[:, ::1] points, Py_ssize_t other, Py_ssize_t v, Py_ssize_t a,
+                     Py_ssize_t b, const Chords *vis) noexcept nogil:
+    """Does ``other`` see points of the triangle (v, a, b) near its vertex v? It must
+    see v, and if v is a reflex boundary vertex, the smaller angle between the
+    directions to ``other`` and to a (or b) must not pass through the outside wedge at
+    v (the triangle and ``other`` may be on the two sides of a notch)."""
+    if not sees(points[other, 0], points[other, 1], _out(vis, other), points[v, 0],
+                points[v, 1], _out(vis, v), vis):
+        return False
+    cdef Py_ssize_t e = _out(vis, v), before
+    if e < 0:
+        return True
+    before = vis.prev[e]
+    cdef double ux = vis.xy[4 * before], uy = vis.xy[4 * before + 1]
+    cdef double vx = points[v, 0], vy = points[v, 1]
+    cdef double wx = vis.xy[4 * e + 2], wy = vis.xy[4 * e + 3]
+    if orient_sign(ux, uy, vx, vy, wx, wy) >= 0:
+        return True                     # convex: the region's cone holds both directions
+    cdef double lu = hypot(ux - vx, uy - vy), lw = hypot(wx - vx, wy - vy)
+    cdef double mx = vx + (ux - vx) / lu + (wx - vx) / lw      # inside the outside wedge
+    cdef double my = vy + (uy - vy) / lu + (wy - vy) / lw
+    return (not _wedge_between(points, v, other, a, ux, uy, wx, wy, mx, my)
+            or not _wedge_between(points, v, other, b, ux, uy, wx, wy, mx, my))
+
+
+cdef bint _seen_by_triangle(const double[:, ::1] points, Py_ssize_t i, Py_ssize_t a,
+                            Py_ssize_t b, Py_ssize_t other, const Chords *vis) noexcept nogil:
+    return (_seen_near(points, other, i, a, b, vis) or _seen_near(points, other, a, b, i, vis)
+            or _seen_near(points, other, b, i, a, vis))
+
+
+def seen_by_triangle(points, Py_ssize_t i, Py_ssize_t a, Py_ssize_t b, Py_ssize_t other,
+                     tuple vis) -> bool:
+    """Does ``other`` see the inside of the triangle (i, a, b) (near one of its
+    vertices)? Only those points count in the constrained empty-circle test."""
+    cdef Chords ch = chords_of(vis)
+    return _seen_by_triangle(points, i, a, b, other, &ch)
+
+
 cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double alpha2,
                             const int64_t[::1] start, double x0, double y0, double h,
                             Py_ssize_t nx, Py_ssize_t ny, int64_t *nbr, Py_ssize_t max_nbr,
                             int32_t *found_j, int32_t *found_k, int8_t *found_flag,
-                            Py_ssize_t room) noexcept nogil:
+                            Py_ssize_t room, const Chords *vis) noexcept nogil:
     """Triangles whose smallest vertex index is i, counter-clockwise as (i, j, k):
     written to found_* (the first ``room`` of them). Returns how many there are, or -1
     if i has more than ``max_nbr`` neighbours within 2 alpha (the size of ``nbr``).
@@ -109,6 +192,7 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
     cdef Py_ssize_t m = 0, found = 0, jx, jy, c, j, k, p, r, q, other, a, b
     cdef double dx, dy, bx, by, b2, cx, cy, cross, c2, d2, ux, uy, far2, ox, oy
     cdef int status, sign
+    cdef bint constrained = near_boundary(xi, yi, vis)
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
         for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
             c = jy * nx + jx
@@ -158,11 +242,16 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
                 if ox * ox + oy * oy > far2:
                     continue
                 sign = _incircle_sign(points, i, a, b, other)
+                if sign >= 0 and constrained and not _seen_by_triangle(points, i, a, b, other,
+                                                                       vis):
+                    continue
                 if sign > 0:
                     status = C_REJECT
                     break
                 if sign == 0:
                     status = C_UNSURE
+            if status != C_REJECT and constrained and not _constrained_ok(points, i, a, b, vis):
+                status = C_REJECT
             if status != C_REJECT:
                 if found < room:
                     found_j[found] = <int32_t>a
@@ -173,10 +262,12 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
 
 
 def local_complex(points, double alpha, start, double x0, double y0, double h,
-                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours):
+                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, tuple vis):
     """Every triangle of ``points`` (binned: cell c holds points start[c]:start[c+1])
     with circumradius <= alpha and an empty circumcircle, found from its smallest
-    vertex. Returns (faces, flags, complete): flags ACCEPT or UNSURE; complete is False,
+    vertex; with chords in ``vis`` (indexed like ``points``), constrained: edges seen
+    through the region and only points that see the triangle in the empty-circle test.
+    Returns (faces, flags, complete): flags ACCEPT or UNSURE; complete is False,
     with nothing found, if a point has more than ``max_neighbours`` neighbours within
     2 alpha."""
     cdef const double[:, ::1] p = points
@@ -191,11 +282,12 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
     cdef int32_t *more_j
     cdef int32_t *more_k
     cdef int8_t *more_flag
+    cdef Chords ch = chords_of(vis)
     with nogil, parallel(num_threads=threads_for(n)):
         nbr = <int64_t *>malloc(max_neighbours * sizeof(int64_t))
         for i in prange(n, schedule="dynamic", chunksize=CHUNK):
             counts[i] = _scan_point(p, i, alpha2, st, x0, y0, h, nx, ny, nbr, max_neighbours,
-                                    &slot_j[i, 0], &slot_k[i, 0], &slot_flag[i, 0], SLOTS)
+                                    &slot_j[i, 0], &slot_k[i, 0], &slot_flag[i, 0], SLOTS, &ch)
         free(nbr)
     for i in range(n):
         if counts[i] < 0:
@@ -218,7 +310,7 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
                 more_k = <int32_t *>malloc(counts[i] * sizeof(int32_t))
                 more_flag = <int8_t *>malloc(counts[i] * sizeof(int8_t))
                 _scan_point(p, i, alpha2, st, x0, y0, h, nx, ny, nbr, max_neighbours,
-                            more_j, more_k, more_flag, counts[i])
+                            more_j, more_k, more_flag, counts[i], &ch)
                 for f in range(counts[i]):
                     faces[offsets[i] + f, 0] = i
                     faces[offsets[i] + f, 1] = more_j[f]

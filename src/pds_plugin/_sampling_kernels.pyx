@@ -1,11 +1,14 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
 """Compiled kernels of the Poisson disc sampler (see sampling.py for the algorithm).
 
-The sampler keeps one background grid of square cells of side ``s < alpha/√2``, so a
-cell holds at most one sample (``grid[iy, ix]`` is its index or -1), and every sample
-closer than ``alpha`` to a point lies in the 5x5 block of cells around that point's cell.
+The sampler keeps one background grid of square cells of side ``s < alpha/√2``, and
+every sample closer than ``alpha`` to a point lies in the 5x5 block of cells around that
+point's cell. ``grid[iy, ix]`` is the last sample placed in a cell (or -1) and
+``nxt[q]`` the sample placed there before q: without a boundary to see through, a cell
+holds at most one sample; conforming samplings may hold samples on both sides of a wall.
 Each cell is split into SUB x SUB sub-cells; ``covered[j, i]`` is set once a single sample
-disc contains sub-cell (i, j) whole.
+disc contains sub-cell (i, j) whole and the sample sees all of it (``vis``, see
+_visibility_kernels: two samples conflict only if they see each other).
 
 Conventions of the kernel modules: see ``_parallel.pyx`` (bool arrays are passed to the
 typed code as ``uint8`` views).
@@ -15,10 +18,12 @@ import numpy as np
 
 from cython.parallel cimport prange
 from libc.math cimport ceil, floor, hypot, sqrt
+from libc.stdlib cimport free, malloc
 from libc.stdlib cimport qsort
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
+from ._visibility_kernels cimport Chords, box_seen, chords_of, near_boundary, sees
 
 cdef enum:
     C_OUTSIDE = 0
@@ -103,9 +108,10 @@ def classify_cells(seg, double x0, double y0, double s, Py_ssize_t nx, Py_ssize_
     return status_array
 
 
-cdef bint _free(double x, double y, const int32_t[:, ::1] grid, const double[:, ::1] points,
-                double alpha2, double x0, double y0, double s) noexcept nogil:
-    """True if no sample is closer than alpha to (x, y)."""
+cdef bint _free(double x, double y, const int32_t[:, ::1] grid, const int32_t[::1] nxt,
+                const double[:, ::1] points, double alpha2, double x0, double y0, double s,
+                const Chords *vis) noexcept nogil:
+    """True if no sample that (x, y) sees is closer than alpha to it."""
     cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], ix, iy, jx, jy
     cdef int32_t q
     cdef double dx, dy
@@ -113,24 +119,43 @@ cdef bint _free(double x, double y, const int32_t[:, ::1] grid, const double[:, 
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
         for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
             q = grid[jy, jx]
-            if q >= 0:
+            while q >= 0:
                 dx = points[q, 0] - x
                 dy = points[q, 1] - y
-                if dx * dx + dy * dy < alpha2:
+                if dx * dx + dy * dy < alpha2 and sees(x, y, -1, points[q, 0], points[q, 1],
+                                                       vis.out[q] if vis.out else -1, vis):
                     return False
+                q = nxt[q]
     return True
 
 
-cdef void _place(double x, double y, int32_t[:, ::1] grid, uint8_t[:, ::1] covered,
-                 double[:, ::1] points, Py_ssize_t count, double alpha2, double x0, double y0,
-                 double s) noexcept nogil:
-    """Add sample (x, y) as sample ``count`` and mark the sub-cells its disc contains."""
-    cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], ix, iy, i, j
-    cdef double h = s / CSUB, alpha = sqrt(alpha2), fy, w
+cdef void _link(double x, double y, int32_t[:, ::1] grid, int32_t[::1] nxt,
+                double[:, ::1] points, Py_ssize_t count, double x0, double y0,
+                double s) noexcept nogil:
+    """Store sample ``count`` at (x, y) and put it in its cell."""
+    cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], ix, iy
     _cell_of(x, y, x0, y0, s, nx, ny, &ix, &iy)
     points[count, 0] = x
     points[count, 1] = y
+    nxt[count] = grid[iy, ix]
     grid[iy, ix] = <int32_t>count
+
+
+cdef void _place(double x, double y, int32_t[:, ::1] grid, int32_t[::1] nxt,
+                 uint8_t[:, ::1] covered, double[:, ::1] points, Py_ssize_t count,
+                 double alpha2, double x0, double y0, double s, const Chords *vis) noexcept nogil:
+    """Add sample (x, y) as sample ``count`` and mark the sub-cells its disc contains."""
+    _link(x, y, grid, nxt, points, count, x0, y0, s)
+    _mark(count, points, covered, alpha2, x0, y0, s, vis)
+
+
+cdef void _mark(Py_ssize_t q, const double[:, ::1] points, uint8_t[:, ::1] covered,
+                double alpha2, double x0, double y0, double s, const Chords *vis) noexcept nogil:
+    """Mark the sub-cells that the disc of sample q contains and q sees whole."""
+    cdef double x = points[q, 0], y = points[q, 1]
+    cdef Py_ssize_t q_out = vis.out[q] if vis.out else -1, i, j
+    cdef bint walls = near_boundary(x, y, vis)
+    cdef double h = s / CSUB, alpha = sqrt(alpha2), fy, w
     # rows of sub-cells the disc can contain, and in each the columns it contains whole
     for j in range(max(<Py_ssize_t>((y - alpha - y0) / h), 0),
                    min(<Py_ssize_t>((y + alpha - y0) / h) + 1, covered.shape[0])):
@@ -140,13 +165,16 @@ cdef void _place(double x, double y, int32_t[:, ::1] grid, uint8_t[:, ::1] cover
         w = sqrt(alpha2 - fy * fy)
         for i in range(max(<Py_ssize_t>ceil((x - w - x0) / h), 0),
                        min(<Py_ssize_t>floor((x + w - x0) / h), covered.shape[1])):
-            covered[j, i] = True
+            if not walls or (not covered[j, i] and box_seen(x, y, q_out, x0 + i * h, y0 + j * h,
+                                                            h, 1e-9 * alpha, vis)):
+                covered[j, i] = True
 
 
-def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double s):
-    """For each cell without a sample, a dart uniform in one of its sub-cells that no
-    disc covers yet, the sub-cell chosen uniformly (``u`` (n, 3) in [0, 1)).
-    Returns (darts, is_open); closed cells get no dart."""
+def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double s,
+                           bint one_per_cell):
+    """For each cell without a sample (any cell unless ``one_per_cell``), a dart uniform
+    in one of its sub-cells that no disc covers yet, the sub-cell chosen uniformly
+    (``u`` (n, 3) in [0, 1)). Returns (darts, is_open); closed cells get no dart."""
     cdef const int64_t[::1] c = cells
     cdef const double[:, ::1] uu = u
     cdef const int32_t[:, ::1] g = grid
@@ -160,7 +188,7 @@ def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
         iy = c[k] // nx
         ix = c[k] % nx
-        if g[iy, ix] >= 0:
+        if one_per_cell and g[iy, ix] >= 0:
             continue
         free = 0
         for j in range(iy * CSUB, iy * CSUB + CSUB):
@@ -180,23 +208,25 @@ def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double
     return darts_array, is_open_array
 
 
-def insert_where_free(cand, grid, covered, points, Py_ssize_t count, double alpha,
-                      double x0, double y0, double s):
+def insert_where_free(cand, grid, nxt, covered, points, Py_ssize_t count, double alpha,
+                      double x0, double y0, double s, tuple vis):
     """Insert the candidates in order wherever the Poisson condition allows.
 
     Returns the new sample count.
     """
     cdef const double[:, ::1] cd = cand
     cdef int32_t[:, ::1] g = grid
+    cdef int32_t[::1] nx_ = nxt
     cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
     cdef double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha, x, y
     cdef Py_ssize_t k
+    cdef Chords ch = chords_of(vis)
     with nogil:
         for k in range(cd.shape[0]):
             x, y = cd[k, 0], cd[k, 1]
-            if _free(x, y, g, pts, alpha2, x0, y0, s):
-                _place(x, y, g, cov, pts, count, alpha2, x0, y0, s)
+            if _free(x, y, g, nx_, pts, alpha2, x0, y0, s, &ch):
+                _place(x, y, g, nx_, cov, pts, count, alpha2, x0, y0, s, &ch)
                 count += 1
     return count
 
@@ -215,9 +245,9 @@ cdef void _sort_by(const double *key, Py_ssize_t *index, Py_ssize_t m) noexcept 
         index[b] = r
 
 
-def sample_boundary_pieces(start, direction, length, order, u, grid, covered, points,
+def sample_boundary_pieces(start, direction, length, order, u, grid, nxt, covered, points,
                            Py_ssize_t count, double alpha, double margin, double x0, double y0,
-                           double s):
+                           double s, tuple vis):
     """Maximal 1D sampling of the boundary pieces (each shorter than alpha).
 
     Pieces are visited in ``order``; on each, the part farther than ``alpha`` from
@@ -231,9 +261,11 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
     cdef const int64_t[:] od = order
     cdef const double[:] uu = u
     cdef int32_t[:, ::1] g = grid
+    cdef int32_t[::1] nx_ = nxt
     cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
     cdef double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha
+    cdef Chords ch = chords_of(vis)
     cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], k, p, ix, iy, jx, jy, m, gcount, r, a
     cdef int32_t q
     cdef double lo[64]
@@ -253,7 +285,7 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
             for jy in range(max(iy - 3, 0), min(iy + 4, ny)):
                 for jx in range(max(ix - 3, 0), min(ix + 4, nx)):
                     q = g[jy, jx]
-                    if q >= 0:
+                    while q >= 0:
                         dx = pts[q, 0] - ax
                         dy = pts[q, 1] - ay
                         t = dx * ux + dy * uy
@@ -264,6 +296,7 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
                                 lo[m] = t - half - margin
                                 hi[m] = t + half + margin
                                 m += 1
+                        q = nx_[q]
             # free gaps of [0, L] minus the chords, left to right (the order of equal
             # chord starts does not change the gaps)
             total = 0.0
@@ -295,18 +328,18 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, covered, po
                 target -= width
             x = ax + t * ux
             y = ay + t * uy
-            if _free(x, y, g, pts, alpha2, x0, y0, s):
-                _place(x, y, g, cov, pts, count, alpha2, x0, y0, s)
+            if _free(x, y, g, nx_, pts, alpha2, x0, y0, s, &ch):
+                _place(x, y, g, nx_, cov, pts, count, alpha2, x0, y0, s, &ch)
                 count += 1
     return count
 
 
 cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
                                const int8_t[::1] state, const int64_t[::1] head, double alpha2,
-                               Py_ssize_t nx, Py_ssize_t ny, int32_t *out,
+                               Py_ssize_t nx, Py_ssize_t ny, const Chords *vis, int32_t *out,
                                Py_ssize_t room) noexcept nogil:
-    """Count the open darts closer than alpha to open dart d; list the first ``room``
-    of them in ``out``."""
+    """Count the open darts closer than alpha to open dart d that it sees; list the
+    first ``room`` of them in ``out``."""
     cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
     cdef Py_ssize_t jx, jy, c, e
     cdef double dx, dy
@@ -318,7 +351,8 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
                 if e != d and state[e] == 0:
                     dx = darts[e, 0] - darts[d, 0]
                     dy = darts[e, 1] - darts[d, 1]
-                    if dx * dx + dy * dy < alpha2:
+                    if dx * dx + dy * dy < alpha2 and sees(darts[d, 0], darts[d, 1], -1,
+                                                           darts[e, 0], darts[e, 1], -1, vis):
                         if found < room:
                             out[found] = <int32_t>e
                         found += 1
@@ -326,8 +360,8 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     return found
 
 
-def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t count,
-                double alpha, double x0, double y0, double s):
+def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssize_t count,
+                double alpha, double x0, double y0, double s, tuple vis):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
     each that is in the region (``ok``) and at least alpha from every sample so far.
 
@@ -345,8 +379,10 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
     cdef const int64_t[::1] rk = rank
     cdef const uint8_t[::1] good = ok.view(np.uint8)
     cdef int32_t[:, ::1] g = grid
+    cdef int32_t[::1] nx_ = nxt
     cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
     cdef int64_t[::1] hd = head
+    cdef Chords ch = chords_of(vis)
     cdef double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha
     cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
@@ -361,7 +397,7 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
         for d in range(m - 1, -1, -1):
             hd[cl[d]] = d
     for d in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
-        if good[d] and _free(dt[d, 0], dt[d, 1], g, pts, alpha2, x0, y0, s):
+        if good[d] and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch):
             state[d] = UNDECIDED
         else:
             state[d] = REJECTED
@@ -378,7 +414,7 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
-        degree[d + 1] = _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &slot[t, 0],
+        degree[d + 1] = _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &ch, &slot[t, 0],
                                        CONFLICT_SLOTS)
     with nogil:
         for d in range(m):
@@ -388,7 +424,7 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
                     num_threads=threads_for(n_todo)):
         d = todo[t]
         if degree[d + 1] - degree[d] > CONFLICT_SLOTS:
-            _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &conflict[degree[d]],
+            _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &ch, &conflict[degree[d]],
                            degree[d + 1] - degree[d])
         else:
             for q in range(degree[d + 1] - degree[d]):
@@ -421,19 +457,48 @@ def throw_darts(darts, cell, rank, ok, grid, covered, head, points, Py_ssize_t c
             if state[d] == ACCEPTED:
                 todo[n_accepted] = d
                 n_accepted += 1
-    # add the accepted darts as samples count, count + 1, ...: each writes its own cell
-    # and point, and sub-cells two discs both cover are only ever set, so the result
-    # does not depend on the order
-    for t in prange(n_accepted, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(n_accepted)):
-        d = todo[t]
-        _place(dt[d, 0], dt[d, 1], g, cov, pts, count + t, alpha2, x0, y0, s)
+    # add the accepted darts as samples count, count + 1, ..., linked into their cells in
+    # that order; then mark what their discs cover
+    with nogil:
+        for t in range(n_accepted):
+            d = todo[t]
+            _link(dt[d, 0], dt[d, 1], g, nx_, pts, count + t, x0, y0, s)
+    _mark_all(count, count + n_accepted, pts, cov, alpha2, x0, y0, s, &ch)
     return count + n_accepted
 
 
-def open_subcells(status, grid, covered):
+def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,
+              double y0, double s, tuple vis):
+    """Add the samples ``new`` as samples count, count + 1, ... (linked into their cells
+    in that order), and mark what their discs cover."""
+    cdef const double[:, ::1] nw = new
+    cdef int32_t[:, ::1] g = grid
+    cdef int32_t[::1] nx_ = nxt
+    cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
+    cdef double[:, ::1] pts = points
+    cdef Chords ch = chords_of(vis)
+    cdef Py_ssize_t k
+    with nogil:
+        for k in range(nw.shape[0]):
+            _link(nw[k, 0], nw[k, 1], g, nx_, pts, count + k, x0, y0, s)
+    _mark_all(count, count + nw.shape[0], pts, cov, alpha * alpha, x0, y0, s, &ch)
+
+
+cdef void _mark_all(Py_ssize_t first, Py_ssize_t stop, const double[:, ::1] points,
+                    uint8_t[:, ::1] covered, double alpha2, double x0, double y0, double s,
+                    const Chords *vis) noexcept:
+    """Mark the covered sub-cells of samples first..stop-1. Sub-cells are only ever set,
+    and whether one is set does not depend on the others, so the result does not
+    depend on the order."""
+    cdef Py_ssize_t q
+    for q in prange(first, stop, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(stop - first)):
+        _mark(q, points, covered, alpha2, x0, y0, s, vis)
+
+
+def open_subcells(status, grid, covered, bint one_per_cell):
     """Flat level-0 cell and (sub_x, sub_y) of every uncovered sub-cell of the region's
-    cells that have no sample."""
+    cells (that have no sample, if ``one_per_cell``)."""
     cdef const int8_t[:, ::1] st = status
     cdef const int32_t[:, ::1] g = grid
     cdef const_flags2 cov = covered.view(np.uint8)
@@ -448,7 +513,7 @@ def open_subcells(status, grid, covered):
         with nogil:
             for iy in range(ny):
                 for ix in range(nx):
-                    if st[iy, ix] == C_OUTSIDE or g[iy, ix] >= 0:
+                    if st[iy, ix] == C_OUTSIDE or (one_per_cell and g[iy, ix] >= 0):
                         continue
                     for j in range(CSUB):
                         for i in range(CSUB):
@@ -462,36 +527,116 @@ def open_subcells(status, grid, covered):
 
 
 cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, double size,
-                       const int32_t[:, ::1] grid, const double[:, ::1] points,
-                       double alpha2) noexcept nogil:
-    """True if one sample disc contains the box [x_lo, x_lo+size]² of level-0 cell (ix, iy)."""
+                       const int32_t[:, ::1] grid, const int32_t[::1] nxt,
+                       const double[:, ::1] points, double alpha2,
+                       const Chords *vis) noexcept nogil:
+    """True if one sample disc contains the box [x_lo, x_lo+size]² of level-0 cell
+    (ix, iy) and the sample sees all of the box that is in the region."""
     cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], jx, jy
     cdef double x_hi = x_lo + size, y_hi = y_lo + size, qx, qy, fx, fy
     cdef int32_t q
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
         for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
             q = grid[jy, jx]
-            if q >= 0:
+            while q >= 0:
                 qx, qy = points[q, 0], points[q, 1]
                 fx = max(abs(qx - x_lo), abs(qx - x_hi))   # farthest corner
                 fy = max(abs(qy - y_lo), abs(qy - y_hi))
-                if fx * fx + fy * fy <= alpha2:
+                if fx * fx + fy * fy <= alpha2 and box_seen(
+                        qx, qy, vis.out[q] if vis.out else -1, x_lo, y_lo, size,
+                        1e-9 * sqrt(alpha2), vis):
                     return True
+                q = nxt[q]
     return False
 
 
-def uncovered_boxes(parent, bx, by, double size, grid, points, double alpha):
+def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha, tuple vis):
     """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
-    where no single sample disc contains the whole box."""
+    where no single sample disc contains the whole box (and sees it)."""
     cdef const int64_t[:] pr = parent
     cdef const double[:] x = bx
     cdef const double[:] y = by
     cdef const int32_t[:, ::1] g = grid
+    cdef const int32_t[::1] nx_ = nxt
     cdef const double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha
+    cdef Chords ch = chords_of(vis)
     cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k
     keep_array = np.empty(n, bool)
     cdef uint8_t[::1] keep = keep_array.view(np.uint8)
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
-        keep[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, pts, alpha2)
+        keep[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, nx_, pts,
+                                   alpha2, &ch)
     return keep_array
+
+
+def split_gaps(lo, hi, u, double alpha):
+    """Random points splitting each gap (lo[g], hi[g]) of a line into parts of length
+    in [alpha, √3 alpha], where the gap allows it.
+
+    A gap of length G >= 2 alpha gets a point x uniform among the positions leaving
+    both parts in S = [alpha, √3 alpha] ∪ [2 alpha, ∞) (never empty for G >= 2 alpha),
+    and the parts are split again; gaps shorter than 2 alpha are left whole. Random
+    numbers ``u`` are used in order (at most sum(G / alpha) of them). Returns
+    (positions, gap index of each).
+    """
+    cdef const double[:] lo_ = np.ascontiguousarray(lo, np.float64)
+    cdef const double[:] hi_ = np.ascontiguousarray(hi, np.float64)
+    cdef const double[:] uu = np.ascontiguousarray(u, np.float64)
+    cdef double r = sqrt(3.0) * alpha, a, b, G, t, total, target, width, s_lo, s_hi
+    cdef double ends[8]
+    cdef double i_lo[2]
+    cdef double i_hi[2]
+    cdef double j_lo[2]
+    cdef double j_hi[2]
+    cdef Py_ssize_t cap = 0, n = 0, used = 0, top, g, m, k, ii, jj
+    for g in range(lo_.shape[0]):
+        cap += <Py_ssize_t>((hi_[g] - lo_[g]) / alpha) + 1
+    pos_array = np.empty(cap)
+    owner_array = np.empty(cap, np.int64)
+    cdef double[::1] pos = pos_array
+    cdef int64_t[::1] owner = owner_array
+    cdef double[::1] stack_lo = np.empty(cap + 1)
+    cdef double[::1] stack_hi = np.empty(cap + 1)
+    with nogil:
+        for g in range(lo_.shape[0]):
+            stack_lo[0], stack_hi[0] = lo_[g], hi_[g]
+            top = 1
+            while top:
+                top -= 1
+                a, b = stack_lo[top], stack_hi[top]
+                G = b - a
+                if G < 2.0 * alpha:
+                    continue
+                # allowed t = x - a:
+                # ([alpha, r] ∪ [2 alpha, G - alpha]) ∩ ([alpha, G - 2 alpha] ∪ [G - r, G - alpha])
+                i_lo[0], i_hi[0], i_lo[1], i_hi[1] = alpha, r, 2.0 * alpha, G - alpha
+                j_lo[0], j_hi[0], j_lo[1], j_hi[1] = alpha, G - 2.0 * alpha, G - r, G - alpha
+                m = 0
+                total = 0.0
+                for ii in range(2):
+                    for jj in range(2):
+                        s_lo, s_hi = max(i_lo[ii], j_lo[jj]), min(i_hi[ii], j_hi[jj])
+                        if s_hi > s_lo:
+                            ends[2 * m], ends[2 * m + 1] = s_lo, s_hi
+                            total += s_hi - s_lo
+                            m += 1
+                if m == 0:
+                    t = 0.5 * G
+                else:
+                    target = uu[used] * total
+                    t = ends[2 * m - 1]
+                    for k in range(m):
+                        width = ends[2 * k + 1] - ends[2 * k]
+                        if target < width:
+                            t = ends[2 * k] + target
+                            break
+                        target -= width
+                used += 1
+                pos[n] = a + t
+                owner[n] = g
+                n += 1
+                stack_lo[top], stack_hi[top] = a, a + t
+                stack_lo[top + 1], stack_hi[top + 1] = a + t, b
+                top += 2
+    return pos_array[:n], owner_array[:n]

@@ -12,6 +12,13 @@ cocircular points) are broken by symbolic perturbation (Edelsbrunner and Mücke'
 simulation of simplicity, a lifting perturbation that decreases with the point index).
 The result is always part of one Delaunay triangulation: no overlaps, every edge shared
 by at most two triangles.
+
+Given the ``boundary`` (rings of points joined by chords, the region on their left) the
+complex is *constrained*: a triangle's edges must run through the region bounded by the
+chords, no chord may be an edge with the triangle on its outer side, and only points
+that see a vertex of the triangle through the region count in the empty-circle test
+(a constrained Delaunay triangulation, docs/conforming.md). The chords are looked up in a
+grid, only near the boundary.
 """
 
 from __future__ import annotations
@@ -21,6 +28,7 @@ from fractions import Fraction
 import numpy as np
 
 from . import _complex_kernels as kern
+from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha
 from .errors import ArgumentError, ArgumentTypeError, BudgetError
 
@@ -31,7 +39,7 @@ _MAX_NEIGHBOURS = 256      # points within 2 alpha of one point: the local work 
 _MAX_UNSURE = 5000         # triangles left to the exact (rational) empty-circle test
 
 
-def solid_alpha_complex(points, alpha: float) -> np.ndarray:
+def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
     """The triangles of the Delaunay triangulation of ``points`` with circumradius
     ``<= alpha``, counter-clockwise, as an (M, 3) int64 array.
 
@@ -44,6 +52,10 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
         Distinct, finite points.
     alpha : float
         The largest circumradius kept.
+    boundary : sequence of (k,) int array_like, optional
+        Rings of point indices (at least 3 each), each with the region on its left, as
+        :func:`pds_plugin.poisson_disc` gives them (``Samples.rings``): the complex is
+        then constrained to the region they bound (constrained Delaunay).
 
     Returns
     -------
@@ -66,9 +78,15 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
     [[0, 1, 2], [0, 2, 3]]
     >>> len(solid_alpha_complex(square, 0.7))         # circumradius 0.707 > 0.7
     0
+    >>> notch = np.array([[0, 0], [2, 0], [2, 2], [1, 0.2], [0, 2]], float)   # a V-notch
+    >>> solid_alpha_complex(notch, 3.0).tolist()      # the notch bridged
+    [[0, 1, 3], [0, 3, 4], [1, 2, 3], [2, 4, 3]]
+    >>> solid_alpha_complex(notch, 3.0, boundary=[[0, 1, 2, 3, 4]]).tolist()
+    [[0, 1, 3], [0, 3, 4], [1, 2, 3]]
     """
     points = _checked_points(points)
     alpha = check_alpha(alpha)
+    rings = _checked_rings(boundary, len(points))
     if len(points) < 3:
         return np.empty((0, 3), np.int64)
     h = alpha
@@ -85,10 +103,12 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
     order, start = kern.bin_points(points, x0, y0, h, nx, ny)
     binned = points[order]                       # cell by cell: local memory access
     _check_distinct(binned, order, start)
+    vis = vis_kern.chord_bundle(points, rings, len(points), 2 * alpha)
+    vis = vis[:2] + (np.ascontiguousarray(vis[2][order]),) + vis[3:]   # indexed like binned
     max_neighbours = 64
     while True:
         faces, flags, complete = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
-                                                    max_neighbours)
+                                                    max_neighbours, vis)
         if complete:
             break
         max_neighbours *= 4
@@ -100,7 +120,7 @@ def solid_alpha_complex(points, alpha: float) -> np.ndarray:
                           f"slightly or use a smaller alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny)
+        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis)
                         for f in faces[unsure]]
         faces = faces[keep]
     return order[faces]
@@ -131,6 +151,21 @@ def _checked_points(points) -> np.ndarray:
     return np.ascontiguousarray(points)
 
 
+def _checked_rings(boundary, n) -> list[np.ndarray]:
+    if boundary is None:
+        return []
+    rings = []
+    for ring in boundary:
+        ring = np.asarray(ring)
+        if ring.ndim != 1 or len(ring) < 3 or not np.issubdtype(ring.dtype, np.integer):
+            raise ArgumentError("each boundary ring must be a sequence of at least 3 point indices")
+        if ring.min() < 0 or ring.max() >= n or len(np.unique(ring)) != len(ring):
+            raise ArgumentError(f"boundary ring indices must be distinct and in [0, {n}); "
+                                f"got {ring.tolist()[:8]}")
+        rings.append(ring.astype(np.int64))
+    return rings
+
+
 def _check_distinct(binned, order, start):
     """Duplicate points make the Delaunay triangulation undefined: refuse them."""
     p, q = kern.first_duplicate(binned, start)
@@ -140,9 +175,10 @@ def _check_distinct(binned, order, start):
                          "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 
 
-def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny) -> bool:
+def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis) -> bool:
     """The empty-circle test of one counter-clockwise face (positions in ``binned``), in
-    exact arithmetic, ties broken by the points' original indices ``order``."""
+    exact arithmetic, ties broken by the points' original indices ``order``; only the
+    points that see the face count (``vis``)."""
     a, b, c = (binned[v] for v in face)
     # circumcentre (floating point is fine here: it only selects the cells to look in)
     bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
@@ -154,7 +190,8 @@ def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny) -> bool:
     for jy in range(max(iy - 1, 0), min(iy + 2, ny)):
         for jx in range(max(ix - 1, 0), min(ix + 2, nx)):
             for m in range(start[jy * nx + jx], start[jy * nx + jx + 1]):
-                if m not in face and _inside_perturbed(*corners, (binned[m], int(order[m]))):
+                if (m not in face and _inside_perturbed(*corners, (binned[m], int(order[m])))
+                        and kern.seen_by_triangle(binned, *face, m, vis)):
                     return False
     return True
 

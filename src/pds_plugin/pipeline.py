@@ -29,9 +29,17 @@ __all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multireso
            "section_report"]
 
 
-def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> PlanarMesh:
+def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True,
+                **sampling_options) -> PlanarMesh:
     """Sample ``region`` with a maximal Poisson disc sampling of radius ``alpha`` and
     mesh the samples with the solid alpha-complex of the same radius.
+
+    By default the mesh is *conforming*: consecutive boundary samples are joined by mesh
+    edges (the mesh's boundary is the chords between them, so on polygonal regions the
+    union of the triangles is the region), and *constrained*: samples conflict, and
+    triangles form, only between samples that see each other through the region, so
+    notches, slots and gaps narrower than alpha stay open (docs/conforming.md).
+    ``conforming=False`` gives the paper's pure solid alpha-complex.
 
     By Theorem 1 of the paper every triangle then has aspect ratio L²/A ≤ 4√3 (all
     angles in [30°, 120°]); :meth:`PlanarMesh.certificate` measures it. With
@@ -46,6 +54,8 @@ def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> Pla
         The radius of both the sampling and the complex, in the region's units.
     seed : int
         Seed of the random generator; the same seed gives the same mesh, bit for bit.
+    conforming : bool
+        Conforming and constrained (the default), or the paper's pure construction.
     **sampling_options
         Passed to :func:`pds_plugin.poisson_disc` (``max_samples``, ``feature_angle``),
         or with ``"auto"`` to :func:`auto_mesh` (also ``max_alpha``, ``refine``).
@@ -70,14 +80,16 @@ def mesh_region(region: Region, alpha, seed: int = 0, **sampling_options) -> Pla
     >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), alpha=0.1, seed=0)
     >>> mesh.certificate().ok
     True
+    >>> mesh.conforming, mesh.outline.equals(box(0, 0, 1, 1))
+    (True, True)
     """
     if isinstance(alpha, str) and alpha == "auto":
-        return auto_mesh(region, seed=seed, **sampling_options)
+        return auto_mesh(region, seed=seed, conforming=conforming, **sampling_options)
     _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
     check_seed(seed)
-    samples = poisson_disc(region, alpha, seed=seed, **sampling_options)
-    faces = solid_alpha_complex(samples.points, alpha)
-    return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha)
+    samples = poisson_disc(region, alpha, seed=seed, conforming=conforming, **sampling_options)
+    faces = solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
+    return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha, conforming)
 
 
 def suggest_alpha(region: Region, max_samples: int | None = None,
@@ -181,7 +193,7 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     --------
     >>> from shapely.geometry import Point
     >>> region = Region.from_shapely(Point(0, 0).buffer(1).difference(Point(0.4, 0).buffer(0.2)))
-    >>> mesh = auto_mesh(region, max_alpha=1.0)
+    >>> mesh = auto_mesh(region, max_alpha=1.0, conforming=False)   # the paper's complex
     >>> mesh.certificate().topology_ok, mesh.alpha < 0.2
     (True, True)
     """
@@ -300,7 +312,8 @@ def multiresolution(region: Region, alphas, seed: int = 0, **sampling_options) -
     >>> from shapely.geometry import Point
     >>> import pds_plugin as pds
     >>> disc = Point(0, 0).buffer(1).difference(Point(0.5, 0).buffer(0.15))
-    >>> levels = pds.multiresolution(pds.Region.from_shapely(disc), [0.4, 0.05])
+    >>> levels = pds.multiresolution(pds.Region.from_shapely(disc), [0.4, 0.05],
+    ...                              conforming=False)   # conforming meshes keep the hole
     >>> [level.certificate.betti_mesh for level in levels]
     [(1, 0), (1, 1)]
     """

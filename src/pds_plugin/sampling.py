@@ -17,6 +17,15 @@ components):
    or children are smaller than ``1e-10 * alpha`` (so the coverage radius is alpha to
    that tolerance).
 
+**Conforming** samplings (the default of :func:`pds_plugin.mesh_region`) change stages 1
+and 2 and constrain stage 3 (docs/conforming.md): every sharp corner is sampled; the
+boundary between corners gets samples at consecutive distances in [alpha, √3 alpha]
+(a "guard" sample is added inside where a piece is too short to split that way);
+consecutive boundary samples are joined by *chords*, the mesh's boundary; and two samples
+conflict, and a sample covers a point, only if they see each other through the region
+bounded by the chords. Walls of notches and gaps narrower than alpha are then sampled on
+both sides.
+
 Every random number comes from ``numpy.random.default_rng(seed)`` in a fixed order, so
 the same region, alpha and seed give the same samples bit for bit.
 """
@@ -30,6 +39,7 @@ import numpy as np
 import shapely
 
 from . import _sampling_kernels as kern
+from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
 from .errors import BudgetError
 from .region import Region, require_region, turning_angles
@@ -44,6 +54,7 @@ with /usr/bin/time -v with the numba kernels, before the compiled engine)."""
 _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
 _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
+_CURVE_PASSES = 4     # boundary splits redone with longer arcs where a chord is below alpha
 
 
 @dataclass(frozen=True)
@@ -58,6 +69,9 @@ class Samples:
         True for the samples placed on the region's boundary.
     alpha : float
         The disc radius.
+    rings : tuple of (k,) int ndarray
+        Conforming samplings: the boundary rings as sample indices, each with the region
+        on its left (consecutive samples are joined by the mesh's boundary); else empty.
 
     Examples
     --------
@@ -70,6 +84,7 @@ class Samples:
     points: np.ndarray
     on_boundary: np.ndarray
     alpha: float
+    rings: tuple = ()
 
     def __len__(self) -> int:
         return len(self.points)
@@ -124,7 +139,7 @@ def largest_alpha(region: Region, max_samples: int) -> float:
 
 def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
                  max_samples: int = DEFAULT_MAX_SAMPLES,
-                 feature_angle: float = 30.0) -> Samples:
+                 feature_angle: float = 30.0, conforming: bool = False) -> Samples:
     """Maximal Poisson disc sampling of ``region`` with radius ``alpha``.
 
     Every two samples are at least ``alpha`` apart, every point of the region is within
@@ -143,6 +158,10 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     feature_angle : float
         Boundary vertices where the outline turns by at least this many degrees are
         sampled first, as feature points.
+    conforming : bool
+        Sample for a conforming, constrained mesh (see the module docstring): the
+        result's ``rings`` give the boundary to pass to
+        :func:`pds_plugin.solid_alpha_complex`.
 
     Returns
     -------
@@ -163,6 +182,9 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     >>> samples = poisson_disc(region, 0.1, seed=1)
     >>> bool(samples.on_boundary.any()), samples.points.shape[1]
     (True, 2)
+    >>> conforming = poisson_disc(region, 0.1, seed=1, conforming=True)
+    >>> [len(ring) >= 4 for ring in conforming.rings]     # corners and more, in order
+    [True]
     """
     require_region(region, "poisson_disc")
     alpha = check_alpha(alpha)
@@ -174,21 +196,62 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
             f"max_samples={max_samples}; use alpha >= {largest_alpha(region, max_samples):.6g} "
             "or raise max_samples")
     rng = np.random.default_rng(seed)
-    sampler = _Sampler(region, alpha)
-    sampler.add_corners(feature_angle)
-    sampler.add_boundary(rng)
-    n_boundary = sampler.count
+    sampler = _Sampler(region, alpha, conforming)
+    if conforming:
+        n_boundary = sampler.add_conforming_boundary(feature_angle, rng)
+    else:
+        sampler.add_corners(feature_angle)
+        sampler.add_boundary(rng)
+        n_boundary = sampler.count
     sampler.add_interior(rng)
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
-    return Samples(points, on_boundary, alpha)
+    return Samples(points, on_boundary, alpha, sampler.rings)
+
+
+def _ring_positions(ring, sharp, alpha, rng):
+    """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
+    (or one random point if it has none), the pieces between them split by
+    ``split_gaps``, and at least three in all."""
+    closed = np.vstack([ring, ring[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    length = cum[-1]
+    corners = cum[:-1][sharp] if sharp.any() else np.array([rng.random() * length])
+    lo = corners
+    hi = np.append(corners[1:], corners[0] + length)
+    spacing = alpha
+    for _ in range(_CURVE_PASSES):
+        # on a curve a chord is shorter than its arc: where a chord of a split piece
+        # falls below alpha, split again with the arc lengths scaled up to match
+        u = rng.random(int(np.sum((hi - lo) // spacing)) + len(lo))
+        inner, _ = kern.split_gaps(lo, hi, u, spacing)
+        at = np.unique(np.concatenate([corners, inner]) % length)   # corners a rounding apart: one
+        if not len(inner):
+            break
+        ends = np.append(at, at[0] + length)
+        xy = np.column_stack([np.interp(ends % length, cum, closed[:, 0]),
+                              np.interp(ends % length, cum, closed[:, 1])])
+        chord = np.hypot(*np.diff(xy, axis=0).T)
+        arc = np.diff(ends)
+        split = arc >= spacing * (1 - 1e-12)            # not a piece shorter than alpha
+        shortest = chord[split].min(initial=np.inf)
+        if shortest >= alpha * (1 - 1e-12):
+            break
+        spacing *= alpha / shortest * (1 + 1e-9)
+    if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
+        at = np.sort((at[0] + length * np.arange(3) / 3) % length)
+    while len(at) < 3:
+        gaps = np.diff(np.append(at, at[0] + length))
+        k = int(np.argmax(gaps))
+        at = np.sort(np.append(at, (at[k] + 0.5 * gaps[k]) % length))
+    return at, cum, closed
 
 
 class _Sampler:
     """The state of one sampling: grid of cells, cell status, samples so far."""
 
-    def __init__(self, region: Region, alpha: float):
+    def __init__(self, region: Region, alpha: float, conforming: bool = False):
         self.region = region
         self.alpha = alpha
         self.s = alpha / math.sqrt(2) * (1 - 1e-9)   # cell side: < alpha/√2, one sample per cell
@@ -208,14 +271,31 @@ class _Sampler:
         self.head = np.full(self.ny * self.nx, -1, np.int64)     # scratch of throw_darts
         capacity = int(np.count_nonzero(self.status))
         self.points = np.empty((capacity, 2))
+        self.nxt = np.empty(capacity, np.int32)
+        self.vis = vis_kern.no_chords(capacity)
+        self.one_per_cell = not conforming
+        self.rings = ()
         self.count = 0
         self.geometry = region.geometry
         shapely.prepare(self.geometry)
 
+    def _reserve(self, extra: int):
+        """Room for ``extra`` more samples (a conforming sampling may need more than
+        one per cell)."""
+        need = self.count + extra
+        if need > len(self.points):
+            size = max(need, 2 * len(self.points))
+            self.points = np.concatenate([self.points, np.empty((size - len(self.points), 2))])
+            self.nxt = np.concatenate([self.nxt, np.empty(size - len(self.nxt), np.int32)])
+            out = np.full(size, -1, np.int64)
+            out[:len(self.vis[2])] = self.vis[2]
+            self.vis = self.vis[:2] + (out,) + self.vis[3:]
+
     def _insert(self, candidates):
+        self._reserve(len(candidates))
         self.count = kern.insert_where_free(np.ascontiguousarray(candidates, float), self.grid,
-                                            self.covered, self.points, self.count, self.alpha,
-                                            self.x0, self.y0, self.s)
+                                            self.nxt, self.covered, self.points, self.count,
+                                            self.alpha, self.x0, self.y0, self.s, self.vis)
 
     def add_corners(self, feature_angle: float):
         corners, turns = [], []
@@ -232,8 +312,36 @@ class _Sampler:
         order = rng.permutation(len(start))
         u = rng.random(len(start))
         self.count = kern.sample_boundary_pieces(
-            start, direction, length, order, u, self.grid, self.covered, self.points, self.count,
-            self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s)
+            start, direction, length, order, u, self.grid, self.nxt, self.covered, self.points,
+            self.count, self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s, self.vis)
+
+    def add_conforming_boundary(self, feature_angle: float, rng) -> int:
+        """Sample every ring (sharp corners, then the pieces between them), join
+        consecutive samples by chords, and add guard samples inside pieces too short to
+        split. The chords become the boundary that visibility is measured through and
+        the chord polygons the domain of the interior. Returns the number of boundary
+        samples."""
+        alpha = self.alpha
+        ring_xy = []
+        for ring in self.region.rings:
+            sharp = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
+            at, cum, closed = _ring_positions(ring, sharp, alpha, rng)
+            ring_xy.append(np.column_stack([np.interp(at, cum, closed[:, 0]),
+                                            np.interp(at, cum, closed[:, 1])]))
+        sizes = [len(xy) for xy in ring_xy]
+        boundary = np.concatenate(ring_xy)
+        ends = np.cumsum(sizes)
+        self.rings = tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+        self._reserve(len(boundary))
+        self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), 2 * alpha)
+        kern.place_all(boundary, self.grid, self.nxt, self.covered, self.points, 0, alpha,
+                       self.x0, self.y0, self.s, self.vis)
+        self.count = len(boundary)
+        self.geometry = _chord_polygons(self.region, ring_xy)
+        shapely.prepare(self.geometry)
+        guards = _guards(boundary, self.rings, alpha)
+        self._insert(guards[shapely.contains_xy(self.geometry, guards[:, 0], guards[:, 1])])
+        return len(boundary)
 
     def add_interior(self, rng):
         s = self.s
@@ -242,12 +350,14 @@ class _Sampler:
         cells = np.flatnonzero(self.status.ravel())
         for _ in range(_PHASE1_PASSES):
             darts, is_open = kern.darts_in_open_subcells(cells, rng.random((len(cells), 3)),
-                                                         self.grid, self.covered, self.x0, self.y0, s)
+                                                         self.grid, self.covered, self.x0, self.y0, s,
+                                                         self.one_per_cell)
             cells = cells[is_open]
             self._throw(cells, darts[is_open], rng)
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
-        parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered)
+        parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered,
+                                                  self.one_per_cell)
         level = int(np.log2(kern.SUB))
         while len(parent):
             size = s / 2**level
@@ -260,6 +370,11 @@ class _Sampler:
             parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
             self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
             keep = self._uncovered(parent, bx, by, size)
+            if not self.one_per_cell and keep.sum() > self.nx * self.ny:
+                # the visible-coverage test is conservative; where it fails over a whole
+                # area the boxes would multiply by four per level: stop (the certificate
+                # measures the coverage that is left)
+                break
             if size / 2 < _RESOLUTION * self.alpha:
                 break
             level += 1
@@ -274,7 +389,8 @@ class _Sampler:
                 self.y0 + (cells // self.nx) * self.s + sub_y * size)
 
     def _uncovered(self, cells, bx, by, size):
-        return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.points, self.alpha)
+        return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.nxt, self.points,
+                                    self.alpha, self.vis)
 
     def _in_region(self, cells, darts):
         """True for darts in the region; only darts in boundary cells need the test."""
@@ -286,6 +402,35 @@ class _Sampler:
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
         ``cells`` is sorted)."""
+        self._reserve(len(cells))
         self.count = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
-                                      self._in_region(cells, darts), self.grid, self.covered,
-                                      self.head, self.points, self.count, self.alpha, self.x0, self.y0, self.s)
+                                      self._in_region(cells, darts), self.grid, self.nxt,
+                                      self.covered, self.head, self.points, self.count, self.alpha,
+                                      self.x0, self.y0, self.s, self.vis)
+
+
+def _chord_polygons(region: Region, ring_xy) -> shapely.Geometry:
+    """The region bounded by the chords: each polygon's rings replaced by the polygons
+    through their boundary samples (``ring_xy`` in ``region.rings`` order)."""
+    polygons, k = [], 0
+    for polygon in region.geometry.geoms:
+        n = 1 + len(polygon.interiors)
+        polygons.append(shapely.Polygon(ring_xy[k], ring_xy[k + 1:k + n]))
+        k += n
+    geometry = shapely.MultiPolygon(polygons)
+    return geometry if geometry.is_valid else shapely.make_valid(geometry)
+
+
+def _guards(boundary, rings, alpha) -> np.ndarray:
+    """A guard sample inside each chord longer than √3 alpha (a piece that cannot be
+    split into parts in [alpha, √3 alpha]): on the chord's bisector at distance alpha,
+    so that the triangle of the chord and the guard has circumradius
+    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md)."""
+    a = np.concatenate([ring for ring in rings])
+    b = np.concatenate([np.roll(ring, -1) for ring in rings])
+    p, q = boundary[a], boundary[b]
+    chord = q - p
+    g = np.hypot(chord[:, 0], chord[:, 1])
+    long = g > math.sqrt(3) * alpha
+    inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[long, None]
+    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha * inward)

@@ -347,8 +347,11 @@ class SampledBoundary:
         return polygon if polygon.is_valid else shapely.make_valid(polygon)
 
     def area(self) -> float:
-        """Signed area of Q from its chords (shoelace): exteriors count positive, holes negative."""
-        a, b = self.points[self.a], self.points[self.b]
+        """Signed area of Q from its chords (shoelace): exteriors count positive, holes negative.
+        Taken about a point of Q (the sum over closed rings does not depend on it): about
+        the origin, coordinates far from it would cancel to nothing."""
+        origin = self.points[self.a].min(axis=0) if len(self.a) else np.zeros(2)
+        a, b = self.points[self.a] - origin, self.points[self.b] - origin
         return float((a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum() / 2)
 
 

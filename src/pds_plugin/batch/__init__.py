@@ -56,7 +56,8 @@ def mesh_batch(jobs, out_dir, *, executor=None, progress=True, workers=None,
     jobs : iterable of mapping
         Each with the CLI's options (``_`` for ``-``): ``input`` (mesh file, SVG or DXF drawing);
         a plane by ``axis`` or ``plane_normal``, with ``at`` (offsets), ``plane_origin``
-        or ``slices``; ``alpha`` (number or ``"auto"``), ``graded``, ``seed``,
+        or ``slices``; ``alpha`` (number or ``"auto"``), ``graded``, ``conforming``
+        (default true; false for the paper's pure complex, ``--no-conforming``), ``seed``,
         ``max_samples``; ``output`` (optional: derived from the input name and the plane,
         ``part_z0.5.ply``). See :func:`~pds_plugin.batch.jobs.parse_job`.
     out_dir : str or os.PathLike

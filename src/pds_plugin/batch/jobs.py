@@ -23,7 +23,7 @@ __all__ = ["Job", "parse_job", "numbered", "plane_sections", "OPTIONS", "AXES"]
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 _PLANE_OPTIONS = ("axis", "plane_normal", "plane_origin", "at", "slices")
 #: The keys a job may have: the CLI's options, with ``_`` for ``-``.
-OPTIONS = ("input", "output", *_PLANE_OPTIONS, "layer", "alpha", "graded", "seed",
+OPTIONS = ("input", "output", *_PLANE_OPTIONS, "layer", "alpha", "graded", "conforming", "seed",
            "max_samples")
 _TRUE, _FALSE = ("true", "yes", "1"), ("false", "no", "0")
 
@@ -44,7 +44,8 @@ class Job:
     outputs : tuple of str
         Every mesh file the job writes, in the order of its planes.
     options : tuple of (str, value) pairs
-        The options that determine the meshes (plane, alpha, graded, seed, budget), in
+        The options that determine the meshes (plane, alpha, graded, conforming, seed,
+        budget), in
         a fixed order; a rerun with other options is not skipped.
     run : str
         Which :func:`~pds_plugin.mesh_batch` call sent it (set there): each run's tasks
@@ -159,7 +160,7 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     >>> parse_job({"input": "part.stl", "alpha": 0.1, "axes": "z"}, 3, "/out")
     Traceback (most recent call last):
     ...
-    pds_plugin.errors.ArgumentError: unknown option 'axes'; a job has input, output, axis, plane_normal, plane_origin, at, slices, layer, alpha, graded, seed, max_samples
+    pds_plugin.errors.ArgumentError: unknown option 'axes'; a job has input, output, axis, plane_normal, plane_origin, at, slices, layer, alpha, graded, conforming, seed, max_samples
     """
     if not hasattr(mapping, "items"):
         raise ArgumentError(f"a job is a mapping of options (a JSON object), got "
@@ -180,6 +181,7 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     if settings["graded"]:
         raise ArgumentError("graded meshes are not available in this version of "
                             "pds_plugin; drop graded")
+    settings["conforming"] = settings["conforming"] is not False     # the default: True
     settings["seed"] = settings["seed"] or 0
     _check_plane(settings, source)
     count = settings["slices"] or len(settings["at"] or [0.0])
@@ -301,7 +303,8 @@ def _axis(value, name) -> str:
 
 
 _PARSERS = {"layer": _names, "axis": _axis, "plane_normal": _point, "plane_origin": _point, "at": _numbers,
-            "slices": _integer, "alpha": _alpha, "graded": _boolean, "seed": _integer,
+            "slices": _integer, "alpha": _alpha, "graded": _boolean, "conforming": _boolean,
+            "seed": _integer,
             "max_samples": _integer}
 
 

@@ -166,7 +166,8 @@ def _mesh_section(job, region, output: str, partial) -> dict:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            mesh = mesh_region(region, o["alpha"], seed=o["seed"], **budget)
+            mesh = mesh_region(region, o["alpha"], seed=o["seed"], conforming=o["conforming"],
+                               **budget)
             mesh.export(partial)
         except PdsError as error:            # say which of several sections failed
             raise type(error)(f"{Path(output).name}: {error}") from error

@@ -168,6 +168,10 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=_seed, default=0,
                         help="random seed, an integer >= 0; the same seed gives the same "
                              "mesh (default 0)")
+    parser.add_argument("--no-conforming", dest="conforming", action="store_false",
+                        help="the paper's pure solid alpha-complex: boundary edges are not "
+                             "kept and notches or gaps narrower than alpha may be bridged "
+                             "(default: conforming, constrained to the section)")
     parser.add_argument("--max-samples", type=_positive_int, metavar="N",
                         help="refuse sections that would need more samples (default "
                              "5,000,000); with --jobs the processes share it")

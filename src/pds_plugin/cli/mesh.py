@@ -49,6 +49,8 @@ class Task:
     write_output, write_plot : Path or None
         Where to write the mesh and the picture now, if not under their names: the
         temporary names a run of several sections renames into place when all succeeded.
+    conforming : bool
+        Conforming and constrained (the default), or the paper's pure construction.
     """
 
     region: Region
@@ -60,6 +62,7 @@ class Task:
     discs: bool
     write_output: Path | None = None
     write_plot: Path | None = None
+    conforming: bool = True
 
 
 def mesh_section(task: Task) -> dict:
@@ -94,7 +97,8 @@ def mesh_section(task: Task) -> dict:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            mesh = mesh_region(task.region, task.alpha, seed=task.seed, **budget)
+            mesh = mesh_region(task.region, task.alpha, seed=task.seed,
+                               conforming=task.conforming, **budget)
             mesh.export(task.write_output or task.output)
             if task.plot is not None:
                 plot_report(mesh, task.write_plot or task.plot, discs=task.discs)
@@ -157,7 +161,7 @@ def run(args) -> int:
         staged = [[files.enter_context(atomic_path(p)) if p else None for p in pair]
                   for pair in zip(outputs, plots)]
         tasks = [Task(region, args.alpha, args.seed, budget, output, plot, args.discs,
-                      write_output, write_plot)
+                      write_output, write_plot, args.conforming)
                  for region, output, plot, (write_output, write_plot)
                  in zip(regions, outputs, plots, staged)]
         entries = _run(tasks, workers, progress=len(tasks) > 1 and not args.quiet)

@@ -1,0 +1,400 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Compiled kernels of visibility through the mesh's boundary (see docs/conforming.md).
+
+The boundary is a set of *chords*: straight segments between consecutive boundary
+samples along each ring, oriented with the region on their left. Chord ``e`` runs from
+sample ``a`` to the next sample of its ring; ``chord_prev[e]`` is the chord before it.
+Samples that are chord vertices know their outgoing chord (``out_chord``, -1 for
+interior samples).
+
+Chords are binned in a grid of square cells of side ``h`` (CSR ``start``/``items``): a
+cell lists every chord within ``reach`` of any of its points, so every visibility
+question about points within ``reach`` of a point of the cell is answered from its list
+alone. Far from the boundary the lists are empty and every test is a single lookup.
+
+Python passes the chords around as a ``vis`` bundle (a tuple, :func:`no_chords`,
+:func:`chord_bundle`); the sampling and complex kernels read it as a :c:type:`Chords`
+struct (``chords_of``) and call the ``nogil`` tests of this module.
+
+Orientation signs are exact: a floating-point filter with Shewchuk's error bound and an
+exact expansion fallback. Conventions of the kernel modules: see ``_parallel.pyx``.
+
+>>> orient(0.0, 0.0, 1.0, 0.0, 0.5, 1e-300), orient(0.0, 0.0, 1.0, 1.0, 3.0, 3.0)
+(1, 0)
+"""
+
+import numpy as np
+
+from libc.math cimport ceil, hypot
+from libc.stdint cimport int64_t
+
+cdef double _SPLITTER = 134217729.0                  # 2^27 + 1
+cdef double _ORIENT_ERR = 3.3306690738754716e-16     # (3 + 16 eps) eps, Shewchuk's ccwerrboundA
+
+
+cdef inline void _two_sum(double a, double b, double *x, double *y) noexcept nogil:
+    cdef double s = a + b, bv, av
+    bv = s - a
+    av = s - bv
+    x[0] = s
+    y[0] = (a - av) + (b - bv)
+
+
+cdef inline void _split(double a, double *hi, double *lo) noexcept nogil:
+    cdef double c = _SPLITTER * a
+    hi[0] = c - (c - a)
+    lo[0] = a - hi[0]
+
+
+cdef inline void _two_product(double a, double b, double *x, double *y) noexcept nogil:
+    cdef double p = a * b, ahi, alo, bhi, blo, err
+    _split(a, &ahi, &alo)
+    _split(b, &bhi, &blo)
+    err = p - ahi * bhi - alo * bhi - ahi * blo
+    x[0] = p
+    y[0] = alo * blo - err
+
+
+cdef int _orient_exact(double ax, double ay, double bx, double by, double cx,
+                       double cy) noexcept nogil:
+    """Sign of ax*by - ax*cy - cx*by - ay*bx + ay*cx + cy*bx, summed exactly."""
+    cdef double left[6]
+    cdef double right[6]
+    cdef double terms[12]
+    cdef double expansion[13]
+    cdef double q
+    cdef int k, i, t, m = 0
+    left[0], right[0] = ax, by
+    left[1], right[1] = ax, -cy
+    left[2], right[2] = -cx, by
+    left[3], right[3] = -ay, bx
+    left[4], right[4] = ay, cx
+    left[5], right[5] = cy, bx
+    for k in range(6):
+        _two_product(left[k], right[k], &terms[2 * k], &terms[2 * k + 1])
+    for t in range(12):                     # Shewchuk's grow-expansion
+        q = terms[t]
+        for i in range(m):
+            _two_sum(q, expansion[i], &q, &expansion[i])
+        expansion[m] = q
+        m += 1
+    for i in range(m - 1, -1, -1):          # the largest non-zero component has the sign
+        if expansion[i] > 0.0:
+            return 1
+        if expansion[i] < 0.0:
+            return -1
+    return 0
+
+
+cdef int orient_sign(double ax, double ay, double bx, double by, double cx,
+                     double cy) noexcept nogil:
+    """Exact sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise,
+    0 collinear."""
+    cdef double left = (ax - cx) * (by - cy)
+    cdef double right = (ay - cy) * (bx - cx)
+    cdef double det = left - right
+    cdef double bound = _ORIENT_ERR * (abs(left) + abs(right))
+    if det > bound:
+        return 1
+    if det < -bound:
+        return -1
+    return _orient_exact(ax, ay, bx, by, cx, cy)
+
+
+def orient(double ax, double ay, double bx, double by, double cx, double cy) -> int:
+    """Exact sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise,
+    0 collinear."""
+    return orient_sign(ax, ay, bx, by, cx, cy)
+
+
+def bin_chords(chords, double x0, double y0, double h, Py_ssize_t nx, Py_ssize_t ny,
+               double reach):
+    """CSR lists (start, items) of the chords within ``reach`` of each cell."""
+    cdef const double[:, :, ::1] ch = chords
+    cdef Py_ssize_t r = <Py_ssize_t>ceil(reach / h) + 1, e, q, steps, ix, iy, jx, jy, c
+    cdef double xa, ya, xb, yb, f
+    cdef int phase
+    cdef int64_t[::1] stamp = np.full(nx * ny, -1, np.int64)
+    start_array = np.zeros(nx * ny + 1, np.int64)
+    items_array = np.empty(0, np.int64)
+    cdef int64_t[::1] count = start_array
+    cdef int64_t[::1] items = items_array
+    cdef int64_t[::1] fill
+    for phase in range(2):
+        if phase == 1:
+            np.cumsum(start_array, out=start_array)
+            items_array = np.empty(start_array[-1], np.int64)
+            items = items_array
+            fill = np.array(start_array[:-1])
+            stamp[:] = -1
+        with nogil:
+            for e in range(ch.shape[0]):
+                xa, ya, xb, yb = ch[e, 0, 0], ch[e, 0, 1], ch[e, 1, 0], ch[e, 1, 1]
+                steps = <Py_ssize_t>ceil(hypot(xb - xa, yb - ya) / (0.5 * h)) + 1
+                for q in range(steps + 1):
+                    f = <double>q / steps
+                    ix = <Py_ssize_t>((xa + f * (xb - xa) - x0) / h)
+                    iy = <Py_ssize_t>((ya + f * (yb - ya) - y0) / h)
+                    for jy in range(max(iy - r, 0), min(iy + r + 1, ny)):
+                        for jx in range(max(ix - r, 0), min(ix + r + 1, nx)):
+                            c = jy * nx + jx
+                            if stamp[c] != e:
+                                stamp[c] = e
+                                if phase == 0:
+                                    count[c + 1] += 1
+                                else:
+                                    items[fill[c]] = e
+                                    fill[c] += 1
+    return start_array, items_array
+
+
+cdef Chords chords_of(tuple vis) except *:
+    """The struct view of a ``vis`` bundle (its arrays must outlive the struct)."""
+    cdef Chords c
+    cdef const double[:, :, ::1] xy = vis[0]
+    cdef const int64_t[::1] prev = vis[1]
+    cdef const int64_t[::1] out = vis[2]
+    cdef const int64_t[::1] start = vis[3]
+    cdef const int64_t[::1] items = vis[4]
+    c.empty = start.shape[0] <= 1
+    c.xy = &xy[0, 0, 0] if xy.shape[0] else NULL
+    c.prev = &prev[0] if prev.shape[0] else NULL
+    c.out = &out[0] if out.shape[0] else NULL
+    c.start = &start[0]
+    c.items = &items[0] if items.shape[0] else NULL
+    c.x0, c.y0, c.h = vis[5], vis[6], vis[7]
+    c.nx, c.ny = vis[8], vis[9]
+    return c
+
+
+cdef inline Py_ssize_t _cell(double x, double y, const Chords *c) noexcept nogil:
+    cdef Py_ssize_t ix = min(max(<Py_ssize_t>((x - c.x0) / c.h), 0), c.nx - 1)
+    cdef Py_ssize_t iy = min(max(<Py_ssize_t>((y - c.y0) / c.h), 0), c.ny - 1)
+    return iy * c.nx + ix
+
+
+cdef bint near_boundary(double x, double y, const Chords *c) noexcept nogil:
+    """True if some chord is within ``reach`` of the cell of (x, y)."""
+    if c.empty:
+        return False
+    cdef Py_ssize_t k = _cell(x, y, c)
+    return c.start[k + 1] > c.start[k]
+
+
+cdef inline double _x(const Chords *c, Py_ssize_t e, int end) noexcept nogil:
+    return c.xy[4 * e + 2 * end]
+
+
+cdef inline double _y(const Chords *c, Py_ssize_t e, int end) noexcept nogil:
+    return c.xy[4 * e + 2 * end + 1]
+
+
+cdef bint _in_cone(const Chords *c, Py_ssize_t out, double bx, double by) noexcept nogil:
+    """Does the direction from chord vertex v (start of chord ``out``) to b point into
+    the closed region at v (left of the incoming and outgoing chords)?"""
+    cdef Py_ssize_t ein = c.prev[out]
+    cdef double ux = _x(c, ein, 0), uy = _y(c, ein, 0)
+    cdef double vx = _x(c, out, 0), vy = _y(c, out, 0)
+    cdef double wx = _x(c, out, 1), wy = _y(c, out, 1)
+    cdef bint left_in = orient_sign(ux, uy, vx, vy, bx, by) >= 0
+    cdef bint left_out = orient_sign(vx, vy, wx, wy, bx, by) >= 0
+    cdef int turn = orient_sign(ux, uy, vx, vy, wx, wy)
+    if turn > 0 or (turn == 0 and (vx - ux) * (wx - vx) + (vy - uy) * (wy - vy) > 0):
+        return left_in and left_out        # convex (or straight): a wedge
+    return left_in or left_out             # reflex: the complement of a wedge
+
+
+cdef inline bint _strictly_between(double px, double py, double ax, double ay, double bx,
+                                   double by) noexcept nogil:
+    """For p collinear with a, b: is p strictly inside the segment ab?"""
+    return ((px - ax) * (bx - ax) + (py - ay) * (by - ay) > 0.0
+            and (px - bx) * (ax - bx) + (py - by) * (ay - by) > 0.0)
+
+
+cdef bint sees(double ax, double ay, Py_ssize_t a_out, double bx, double by, Py_ssize_t b_out,
+               const Chords *c) noexcept nogil:
+    """Is the segment ab inside the closed region bounded by the chords?
+
+    ``a_out``/``b_out``: the outgoing chord of a/b if it is a chord vertex, else -1.
+    b must be within ``reach`` of a. The segment is blocked if it crosses a chord
+    properly, passes through a chord vertex, leaves a chord vertex a or b outside the
+    region's cone there, or an interior point a or b lies on a chord and the other
+    end on its outer side.
+    """
+    if c.empty:
+        return True
+    cdef Py_ssize_t k = _cell(ax, ay, c), t, e
+    cdef double lox = min(ax, bx), hix = max(ax, bx), loy = min(ay, by), hiy = max(ay, by)
+    cdef double px, py, qx, qy
+    cdef int o1, o2, o3, o4
+    for t in range(c.start[k], c.start[k + 1]):
+        e = c.items[t]
+        px, py, qx, qy = _x(c, e, 0), _y(c, e, 0), _x(c, e, 1), _y(c, e, 1)
+        if max(px, qx) < lox or min(px, qx) > hix or max(py, qy) < loy or min(py, qy) > hiy:
+            continue                           # bounding boxes apart
+        if a_out >= 0 and (e == a_out or e == c.prev[a_out]):
+            continue
+        if b_out >= 0 and (e == b_out or e == c.prev[b_out]):
+            continue
+        o1 = orient_sign(ax, ay, bx, by, px, py)
+        o2 = orient_sign(ax, ay, bx, by, qx, qy)
+        if o1 * o2 > 0:
+            continue
+        o3 = orient_sign(px, py, qx, qy, ax, ay)
+        o4 = orient_sign(px, py, qx, qy, bx, by)
+        if o3 * o4 > 0:
+            continue
+        if o1 * o2 < 0 and o3 * o4 < 0:
+            return False                       # proper crossing
+        if o1 == 0 and o2 == 0:
+            continue                           # collinear: ab runs along the boundary
+        if o1 == 0 and _strictly_between(px, py, ax, ay, bx, by):
+            return False                       # through a chord vertex
+        if o2 == 0 and _strictly_between(qx, qy, ax, ay, bx, by):
+            return False
+        if o3 == 0 and o4 < 0:
+            return False                       # a on the chord, b outside
+        if o4 == 0 and o3 < 0:
+            return False
+    if a_out >= 0 and not _in_cone(c, a_out, bx, by):
+        return False
+    if b_out >= 0 and not _in_cone(c, b_out, ax, ay):
+        return False
+    return True
+
+
+cdef int _hull(double px, double py, double bx, double by, double size, double *hx,
+               double *hy) noexcept nogil:
+    """Counter-clockwise convex hull of p and the box [bx, bx+size] x [by, by+size],
+    written to hx, hy (room for 6); returns its vertex count."""
+    cdef double cx[4]
+    cdef double cy[4]
+    cdef bint faces[4]
+    cdef bint before
+    cdef int k, k1, n = 0
+    cx[0], cx[1], cx[2], cx[3] = bx, bx + size, bx + size, bx
+    cy[0], cy[1], cy[2], cy[3] = by, by, by + size, by + size
+    for k in range(4):
+        k1 = (k + 1) % 4
+        faces[k] = (cx[k1] - cx[k]) * (py - cy[k]) - (cy[k1] - cy[k]) * (px - cx[k]) < 0.0
+    for k in range(4):
+        before = faces[(k + 3) % 4]
+        if not (before and faces[k]):
+            hx[n] = cx[k]
+            hy[n] = cy[k]
+            n += 1
+        if faces[k] and not before:
+            hx[n] = px
+            hy[n] = py
+            n += 1
+    return n
+
+
+cdef inline double _side(const double *hx, const double *hy, int k, int n, double x,
+                         double y) noexcept nogil:
+    """Signed area of (hull edge k, point): > 0 on the hull's inner side."""
+    cdef int k1 = (k + 1) % n
+    return (hx[k1] - hx[k]) * (y - hy[k]) - (hy[k1] - hy[k]) * (x - hx[k])
+
+
+cdef bint box_seen(double px, double py, Py_ssize_t p_out, double bx, double by, double size,
+                   double tol, const Chords *c) noexcept nogil:
+    """Does p see every point of the box [bx, bx+size]² that lies in the region?
+
+    Conservative (False when unsure; ``tol`` is a length). Let H be the convex hull of
+    p and the box. Chords ending at p never block. Every other chord meeting H must
+    cross it (both ends outside H) with p on its inner side: then the chords cut H
+    into convex cells, only the one holding p is in the region, and p sees all of it
+    (docs/conforming.md, "Visible coverage").
+    """
+    if c.empty:
+        return True
+    cdef Py_ssize_t k = _cell(px, py, c), t, e
+    if c.start[k + 1] == c.start[k]:
+        return True
+    cdef double lox = min(px, bx) - tol, hix = max(px, bx + size) + tol
+    cdef double loy = min(py, by) - tol, hiy = max(py, by + size) + tol
+    cdef double hx[6]
+    cdef double hy[6]
+    cdef double ex, ey, fx, fy, length, edge, s, x, y
+    cdef int n = -1, i, end
+    cdef bint apart, above, below, inside
+    for t in range(c.start[k], c.start[k + 1]):
+        e = c.items[t]
+        ex, ey, fx, fy = _x(c, e, 0), _y(c, e, 0), _x(c, e, 1), _y(c, e, 1)
+        if max(ex, fx) < lox or min(ex, fx) > hix or max(ey, fy) < loy or min(ey, fy) > hiy:
+            continue                           # apart from H's bounding box
+        if p_out >= 0 and (e == p_out or e == c.prev[p_out]):
+            continue
+        if n < 0:
+            n = _hull(px, py, bx, by, size, hx, hy)
+        length = hypot(fx - ex, fy - ey)
+        # separating axis: a hull edge with the chord beyond it, or the chord's line
+        apart = False
+        for i in range(n):
+            edge = hypot(hx[(i + 1) % n] - hx[i], hy[(i + 1) % n] - hy[i])
+            if (_side(hx, hy, i, n, ex, ey) < -tol * edge
+                    and _side(hx, hy, i, n, fx, fy) < -tol * edge):
+                apart = True
+                break
+        if not apart:
+            above = False
+            below = False
+            for i in range(n):
+                s = (fx - ex) * (hy[i] - ey) - (fy - ey) * (hx[i] - ex)
+                above = above or s > -tol * length
+                below = below or s < tol * length
+            apart = not (above and below)
+        if apart:
+            continue
+        # the chord meets H: it must cut across H, with p on its inner side
+        for end in range(2):
+            x = fx if end else ex
+            y = fy if end else ey
+            inside = True
+            for i in range(n):
+                edge = hypot(hx[(i + 1) % n] - hx[i], hy[(i + 1) % n] - hy[i])
+                if _side(hx, hy, i, n, x, y) < -tol * edge:
+                    inside = False
+                    break
+            if inside:
+                return False
+        if (fx - ex) * (py - ey) - (fy - ey) * (px - ex) < -tol * length:
+            return False
+    return True
+
+
+def no_chords(n_points=0):
+    """The ``vis`` bundle of an unconstrained point set: every point sees every point.
+
+    ``vis`` is (chords (m, 2, 2), chord_prev (m,), out_chord (n,), start, items, x0, y0,
+    h, nx, ny): the chords, each sample's outgoing chord (-1 if none) and the chord grid.
+    """
+    return (np.empty((0, 2, 2)), np.empty(0, np.int64), np.full(n_points, -1, np.int64),
+            np.zeros(1, np.int64), np.empty(0, np.int64), 0.0, 0.0, 1.0, 1, 1)
+
+
+def chord_bundle(points, rings, n_points, reach):
+    """The ``vis`` bundle of the chords along ``rings`` (sequences of indices into
+    ``points``, each ring with the region on its left and at least 3 samples)."""
+    starts, prevs, outs = [], [], np.full(n_points, -1, np.int64)
+    total = 0
+    for ring in rings:
+        ring = np.asarray(ring, np.int64)
+        k = len(ring)
+        starts.append(ring)
+        prevs.append(total + (np.arange(k) - 1) % k)
+        outs[ring] = total + np.arange(k)
+        total += k
+    if not total:
+        return no_chords(n_points)
+    a = np.concatenate(starts)
+    b = np.concatenate([np.roll(np.asarray(r, np.int64), -1) for r in rings])
+    chords = np.ascontiguousarray(np.stack([points[a], points[b]], axis=1), float)
+    lo = chords.reshape(-1, 2).min(axis=0) - reach
+    hi = chords.reshape(-1, 2).max(axis=0) + reach
+    h = reach / 2.0
+    nx, ny = (int(v) + 1 for v in (hi - lo) / h)
+    start, items = bin_chords(chords, lo[0], lo[1], h, nx, ny, reach)
+    return (chords, np.concatenate(prevs), outs, start, items, float(lo[0]), float(lo[1]),
+            float(h), nx, ny)

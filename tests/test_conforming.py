@@ -1,0 +1,307 @@
+"""Conforming, constrained meshes (issue 9): the mesh is the section.
+
+Oracles are independent of the certificate: shapely unions of the triangles, shapely
+visibility (a segment inside the region bounded by the chords), and a brute-force
+constrained complex over every triple of samples.
+"""
+
+import itertools
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings, strategies as st
+from shapely.geometry import Point, Polygon, box
+
+import pds_plugin as pds
+from conftest import chord_region, face_set, visible_pairs_closer_than
+from regions import regions, wedge
+
+MAX_ASPECT = 4 * np.sqrt(3)
+
+
+def notched_plate(angles, alpha, depth=0.6):
+    """A 1 x 3 plate with V-notches of the given angles (degrees) cut from the top; the
+    notch walls and the plate's pieces between them are longer than 2 alpha."""
+    width = 3.0
+    cuts = []
+    for k, angle in enumerate(angles):
+        x = width * (k + 1) / (len(angles) + 1)
+        half = depth * np.tan(np.radians(angle) / 2)
+        cuts.append(Polygon([(x, 1 - depth), (x + half, 1.5), (x - half, 1.5)]))
+    return box(0, 0, width, 1).difference(shapely.union_all(cuts))
+
+
+@st.composite
+def notched_plates(draw):
+    alpha = draw(st.floats(0.04, 0.08))
+    angles = draw(st.lists(st.floats(5, 45), min_size=1, max_size=3))
+    return notched_plate(angles, alpha), alpha
+
+
+@st.composite
+def parts_with_gaps(draw):
+    """Two or three boxes side by side, gaps of 0.1-0.9 alpha between them, and a slot
+    of that width cut into the first."""
+    alpha = draw(st.floats(0.04, 0.08))
+    gaps = draw(st.lists(st.floats(0.1, 0.9), min_size=1, max_size=2))
+    slot = draw(st.floats(0.1, 0.9)) * alpha
+    parts, x = [], 0.0
+    for gap in [0.0, *gaps]:
+        x += gap * alpha
+        parts.append(box(x, 0, x + 0.7, 0.8))
+        x += 0.7
+    parts[0] = parts[0].difference(box(0.2, 0.3, 0.8, 0.3 + slot))
+    return shapely.MultiPolygon(parts), alpha
+
+
+@st.composite
+def plates_with_pin_holes(draw):
+    """A plate with holes smaller than alpha: triangles, squares and round ones."""
+    alpha = draw(st.floats(0.04, 0.08))
+    holes = []
+    for k in range(draw(st.integers(1, 4))):
+        size = draw(st.floats(0.1, 0.9)) * alpha
+        x, y = 0.2 + 0.2 * k, draw(st.floats(0.2, 0.6))
+        shape = draw(st.sampled_from(["triangle", "square", "disc"]))
+        if shape == "triangle":
+            holes.append(Polygon([(x, y), (x + size, y), (x, y + size)]))
+        elif shape == "square":
+            holes.append(box(x, y, x + size, y + size))
+        else:
+            holes.append(Point(x, y).buffer(size / 2, quad_segs=4))
+    return box(0, 0, 1, 0.8).difference(shapely.union_all(holes)), alpha
+
+
+def assert_quality(mesh):
+    """Theorem 1 for every triangle whose edges are all at least alpha (all of them where
+    no visible samples are closer, i.e. away from the exceptions of docs/conforming.md),
+    and everywhere the bound the circumradius gives: the angle opposite an edge of
+    length l is at least arcsin(l / 2 alpha)."""
+    quality = mesh.quality()
+    alpha = mesh.alpha
+    regular = (quality.edge_lengths >= alpha * (1 - 1e-9)).all(axis=1)
+    assert quality.aspect_ratio[regular].max(initial=0) <= MAX_ASPECT * (1 + 1e-9)
+    bound = np.degrees(np.arcsin(np.minimum(quality.edge_lengths / (2 * alpha), 1)))
+    assert (quality.angles >= bound - 1e-9).all()
+    return regular
+
+
+def assert_is_the_region(mesh, geometry):
+    """Nothing outside, nothing missing (to rounding), the region's Betti numbers."""
+    union = outline(mesh)
+    assert union.difference(geometry).area <= 1e-9 * geometry.area
+    assert union.symmetric_difference(geometry).area <= 1e-9 * geometry.area
+    assert mesh_betti(mesh) == mesh.region.betti
+
+
+def outline(mesh):
+    """The union of the triangles, by shapely."""
+    return shapely.union_all(shapely.polygons(mesh.vertices[mesh.faces]))
+
+
+def mesh_betti(mesh):
+    union = outline(mesh)
+    parts = shapely.get_parts(union)
+    return len(parts), sum(len(p.interiors) for p in parts)
+
+
+@settings(max_examples=12, deadline=None)
+@given(case=st.one_of(notched_plates(), parts_with_gaps()), seed=st.integers(0, 2**32 - 1))
+def test_mesh_is_the_region_with_theorem_1(case, seed):
+    """Notches of 5°-45°, gaps and slots of 0.1-0.9 alpha: exact union, the region's
+    Betti numbers, Theorem 1 wherever samples are alpha apart, and samples closer than
+    alpha see each other only across a boundary piece shorter than alpha (a slot's end)."""
+    geometry, alpha = case
+    region = pds.Region.from_shapely(geometry)
+    mesh = pds.mesh_region(region, alpha, seed=seed)
+    assert mesh.conforming
+    assert_is_the_region(mesh, geometry)
+    regular = assert_quality(mesh)
+    rings = pds.poisson_disc(region, alpha, seed=seed, conforming=True).rings
+    short = {tuple(sorted(e)) for ring in rings for e in zip(ring.tolist(), np.roll(ring, -1).tolist())
+             if np.linalg.norm(mesh.vertices[e[0]] - mesh.vertices[e[1]]) < alpha}
+    close = visible_pairs_closer_than(mesh.vertices, chord_region(mesh.vertices, rings, region), alpha)
+    assert {tuple(sorted(e)) for e in close.tolist()} <= short
+    if not short:
+        assert regular.all()
+
+
+@settings(max_examples=6, deadline=None)
+@given(plate=plates_with_pin_holes(), seed=st.integers(0, 2**32 - 1))
+def test_holes_smaller_than_alpha_stay_holes(plate, seed):
+    geometry, alpha = plate
+    region = pds.Region.from_shapely(geometry)
+    mesh = pds.mesh_region(region, alpha, seed=seed)
+    union = outline(mesh)
+    assert mesh_betti(mesh) == region.betti
+    assert_quality(mesh)
+    holes = [Polygon(ring) for ring in geometry.interiors]
+    for hole in holes:
+        if len(hole.exterior.coords) <= 5:      # polygonal holes (all corners sharp) are exact
+            assert union.intersection(hole).area <= 1e-9 * hole.area
+    # round ones are replaced by the polygon of their samples (at least three)
+    assert union.difference(geometry).area <= sum(h.area for h in holes)
+
+
+@settings(max_examples=10, deadline=None)
+@given(region=regions, alpha=st.floats(0.04, 0.2), seed=st.integers(0, 2**32 - 1))
+def test_nothing_outside_on_generated_regions(region, alpha, seed):
+    """Stars (spikes, short edges) and unions of boxes and discs minus holes (curves):
+    no triangle leaves the region bounded by the chords, and the angle bounds hold."""
+    mesh = pds.mesh_region(region, alpha, seed=seed)
+    rings = pds.poisson_disc(region, alpha, seed=seed, conforming=True).rings
+    domain = chord_region(mesh.vertices, rings, region)
+    assert outline(mesh).difference(domain).area <= 1e-9 * region.area
+    assert_quality(mesh)
+
+
+@pytest.mark.parametrize("angle", [10, 29, 31, 59, 61, 90])
+def test_wedges(angle):
+    """Sharp corners (the apex, and the other two when the apex is wider than 60°): the
+    apex is a sample, nothing leaves the wedge, the angle bounds hold."""
+    alpha = 0.04
+    geometry = wedge(angle)
+    for seed in range(3):
+        mesh = pds.mesh_region(pds.Region.from_shapely(geometry), alpha, seed=seed)
+        assert (mesh.vertices == 0).all(axis=1).any()
+        assert outline(mesh).difference(geometry).area <= 1e-9 * geometry.area
+        assert_quality(mesh)
+
+
+def test_short_edges_are_kept():
+    """A step shorter than alpha: both its corners are samples and the mesh is still the
+    region (the short-piece exception of docs/conforming.md, with its angle bound)."""
+    alpha = 0.05
+    step = 0.3 * alpha
+    geometry = Polygon([(0, 0), (1, 0), (1, 0.5), (0.6, 0.5), (0.6, 0.5 + step), (0, 0.5 + step)])
+    mesh = pds.mesh_region(pds.Region.from_shapely(geometry), alpha, seed=4)
+    corners = shapely.points(shapely.get_coordinates(geometry.exterior)[:-1])
+    assert (shapely.distance(corners, shapely.MultiPoint(mesh.vertices)) == 0).all()
+    assert outline(mesh).symmetric_difference(geometry).area <= 1e-9 * geometry.area
+    assert not assert_quality(mesh).all()        # the exception is there, and bounded
+
+
+@pytest.mark.parametrize("angle", [5, 20, 45])
+def test_sharp_spikes_keep_their_tip_and_stay_inside(angle):
+    """A spike sharper than 60°: its tip is a sample, no triangle leaves the region, and
+    the angle bound of the exception holds (the spike's thin end is material thinner
+    than alpha, where the mesh may leave gaps)."""
+    alpha = 0.05
+    half = 0.6 * np.tan(np.radians(angle) / 2)
+    geometry = box(0, 0, 1, 0.5).union(Polygon([(1, 0.25 - half), (1.6, 0.25), (1, 0.25 + half)]))
+    mesh = pds.mesh_region(pds.Region.from_shapely(geometry), alpha, seed=angle)
+    assert (np.abs(mesh.vertices - [1.6, 0.25]) == 0).all(axis=1).any()
+    assert outline(mesh).difference(geometry).area <= 1e-9 * geometry.area
+    assert_quality(mesh)
+
+
+def test_pieces_too_short_to_split_get_a_guard():
+    """A strip 1.9 alpha wide: its ends cannot be split into parts in [alpha, √3 alpha];
+    a guard sample makes the end a mesh edge anyway, with angles in [45°, 90°]."""
+    alpha = 0.05
+    geometry = box(0, 0, 1.9 * alpha, 1)
+    mesh = pds.mesh_region(pds.Region.from_shapely(geometry), alpha, seed=2)
+    assert outline(mesh).symmetric_difference(geometry).area <= 1e-9 * geometry.area
+    assert mesh.quality().aspect_ratio.max() <= MAX_ASPECT
+
+
+@settings(max_examples=5, deadline=None)
+@given(plate=notched_plates(), seed=st.integers(0, 2**32 - 1))
+def test_consecutive_boundary_samples_are_mesh_edges(plate, seed):
+    geometry, alpha = plate
+    region = pds.Region.from_shapely(geometry)
+    samples = pds.poisson_disc(region, alpha, seed=seed, conforming=True)
+    faces = pds.solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
+    edges = {tuple(sorted(e)) for f in faces.tolist() for e in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0]))}
+    for ring in samples.rings:
+        spacing = np.linalg.norm(samples.points[ring] - samples.points[np.roll(ring, -1)], axis=1)
+        assert spacing.max() < 2 * alpha
+        for a, b in zip(ring.tolist(), np.roll(ring, -1).tolist()):
+            assert tuple(sorted((a, b))) in edges
+
+
+def brute_force_constrained_faces(points, rings, region, alpha):
+    """Every triangle of mutually visible samples, inside the chord region, with
+    circumradius <= alpha and no sample inside its circumcircle that sees its inside
+    (probed near each vertex)."""
+    domain = chord_region(points, rings, region).buffer(1e-9 * alpha)
+    shapely.prepare(domain)
+    seen = {}
+
+    def sees(a, b):
+        """Sample a sees sample b (cached) or point b."""
+        if not isinstance(b, int):
+            return domain.covers(shapely.LineString([points[a], b]))
+        key = (min(a, b), max(a, b))
+        if key not in seen:
+            seen[key] = domain.covers(shapely.LineString([points[a], points[b]]))
+        return seen[key]
+
+    faces = []
+    n = len(points)
+    for tri in itertools.combinations(range(n), 3):
+        a, b, c = (points[v] for v in tri)
+        cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        if cross == 0:
+            continue
+        radius = np.linalg.norm(b - a) * np.linalg.norm(c - a) * np.linalg.norm(c - b) / (2 * abs(cross))
+        if radius > alpha:
+            continue
+        if not (sees(tri[0], tri[1]) and sees(tri[1], tri[2]) and sees(tri[0], tri[2])):
+            continue
+        if not domain.covers(Polygon([a, b, c])):
+            continue
+        d = 2 * cross
+        bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
+        centre = a + np.array([cy * (bx * bx + by * by) - by * (cx * cx + cy * cy),
+                               bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)]) / d
+        inside = np.flatnonzero(np.linalg.norm(points - centre, axis=1) < radius * (1 - 1e-9))
+        centroid = (a + b + c) / 3
+        probes = [v + 0.02 * (centroid - v) for v in (a, b, c)] + [centroid]
+        if any(q not in tri and any(sees(int(q), p) for p in probes) for q in inside):
+            continue
+        faces.append(tri)
+    return faces
+
+
+@settings(max_examples=5, deadline=None)
+@given(angle=st.floats(5, 45), seed=st.integers(0, 2**32 - 1))
+def test_equals_a_brute_force_constrained_oracle(angle, seed):
+    alpha = 0.12
+    geometry = box(0, 0, 0.9, 0.6).difference(
+        Polygon([(0.45, 0.2), (0.45 + 0.45 * np.tan(np.radians(angle) / 2), 0.7),
+                 (0.45 - 0.45 * np.tan(np.radians(angle) / 2), 0.7)]))
+    region = pds.Region.from_shapely(geometry)
+    samples = pds.poisson_disc(region, alpha, seed=seed, conforming=True)
+    assert len(samples) < 80
+    faces = pds.solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
+    oracle = brute_force_constrained_faces(samples.points, samples.rings, region, alpha)
+    assert face_set(faces) == face_set(oracle)
+
+
+def test_same_seed_same_bits():
+    region = pds.Region.from_shapely(notched_plate([10, 30], 0.05))
+    a, b = (pds.mesh_region(region, 0.05, seed=11) for _ in range(2))
+    assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+
+
+def test_non_conforming_is_the_pure_solid_alpha_complex():
+    region = pds.Region.from_shapely(notched_plate([10], 0.05))
+    mesh = pds.mesh_region(region, 0.05, seed=1, conforming=False)
+    samples = pds.poisson_disc(region, 0.05, seed=1)
+    assert not mesh.conforming and samples.rings == ()
+    assert np.array_equal(mesh.vertices, samples.points)
+    assert np.array_equal(mesh.faces, pds.solid_alpha_complex(samples.points, 0.05))
+    assert outline(mesh).difference(region.geometry).area > 0      # the notch is bridged
+
+
+@pytest.mark.parametrize("boundary, message", [
+    ([[0, 1]], "at least 3"),
+    ([[0, 1, 7]], "distinct and in"),
+    ([[0, 1, 1]], "distinct and in"),
+])
+def test_bad_boundary_rings_are_refused(boundary, message):
+    points = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    with pytest.raises(ValueError, match=message):
+        pds.solid_alpha_complex(points, 1.0, boundary=boundary)
