@@ -183,7 +183,7 @@ def test_export_to_a_folder_or_under_a_file_says_so(square, tmp_path):
 
 def test_a_mesh_without_triangles_says_how_big_the_region_is():
     region = pds.Region.from_shapely(box(0, 0, 20, 10))
-    mesh = pds.mesh_region(region, 500.0)
+    mesh = pds.mesh_region(region, 500.0, conforming=False)    # a conforming mesh keeps the corners
     # was "PlanarMesh(vertices=1, faces=0, alpha=500) has no triangles to export (...)"
     with pytest.raises(pds.EmptyMeshError, match=r"the mesh has 1 sample and no triangles to "
                                                  r"export: alpha=500 is probably too large "
@@ -257,3 +257,29 @@ def test_the_cli_says_an_output_that_is_a_folder_is_one(tmp_path):
     # was "cannot write meshes: the output suffix must be one of .3mf, ..."
     assert process.returncode == 1
     assert "cannot write meshes: it is a directory; give a file name" in process.stderr
+
+
+@pytest.mark.parametrize("alpha", [0.1, "auto"])
+def test_a_misspelt_sampling_option_is_named_with_the_nearest(square, alpha):
+    # was: "poisson_disc() got an unexpected keyword argument 'maxsamples'"
+    with pytest.raises(pds.ArgumentTypeError, match="no option 'maxsamples'; did you mean "
+                                                    "'max_samples'"):
+        pds.mesh_region(square, alpha, maxsamples=3)
+
+
+def test_an_alpha_string_other_than_auto_names_auto(square):
+    # was: "alpha must be a positive number", silent about 'auto'
+    with pytest.raises(pds.ArgumentError, match="positive number or 'auto', got 'AUTO'"):
+        pds.mesh_region(square, "AUTO")
+
+
+def test_section_report_checks_its_seed(square):
+    # was: accepted, and written into the report
+    with pytest.raises(pds.ArgumentError, match="seed must be an integer"):
+        pds.section_report(pds.mesh_region(square, 0.2), seed="x")
+
+
+def test_pds_mesh_version(capsys):
+    from pds_plugin.cli import main
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"pds-mesh {pds.__version__}"

@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import difflib
+import inspect
 import warnings
 from typing import NamedTuple
 
@@ -27,6 +29,10 @@ from .sampling import DEFAULT_MAX_SAMPLES, estimate_samples, largest_alpha, pois
 
 __all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multiresolution",
            "section_report"]
+
+SAMPLING_OPTIONS = tuple(name for name, parameter in inspect.signature(poisson_disc).parameters.items()
+                         if parameter.kind is parameter.KEYWORD_ONLY and name != "conforming")
+"""The keywords of :func:`poisson_disc` that ``mesh_region(**sampling_options)`` passes on."""
 
 
 def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True,
@@ -83,13 +89,26 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     >>> mesh.conforming, mesh.outline.equals(box(0, 0, 1, 1))
     (True, True)
     """
-    if isinstance(alpha, str) and alpha == "auto":
+    if isinstance(alpha, str):
+        if alpha != "auto":
+            raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
         return auto_mesh(region, seed=seed, conforming=conforming, **sampling_options)
     _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
     check_seed(seed)
+    _check_sampling_options(sampling_options)
     samples = poisson_disc(region, alpha, seed=seed, conforming=conforming, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha, conforming)
+
+
+def _check_sampling_options(options: dict):
+    """Refuse a keyword that :func:`poisson_disc` does not take, naming the nearest one."""
+    for name in options:
+        if name not in SAMPLING_OPTIONS:
+            near = difflib.get_close_matches(name, SAMPLING_OPTIONS, n=1)
+            raise ArgumentTypeError(f"mesh_region has no option {name!r}"
+                                    + (f"; did you mean {near[0]!r}?" if near else "")
+                                    + f" (its sampling options: {', '.join(SAMPLING_OPTIONS)})")
 
 
 def suggest_alpha(region: Region, max_samples: int | None = None,
@@ -382,6 +401,7 @@ def section_report(mesh: PlanarMesh, *, seed: int, alpha_mode: str = "given",
     """
     if alpha_mode not in ("given", "auto"):
         raise ArgumentError(f"alpha_mode must be 'given' or 'auto', got {alpha_mode!r}")
+    check_seed(seed)
     region, frame = mesh.region, mesh.region.frame
     feature = feature_size(region)
     return {
