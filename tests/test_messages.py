@@ -181,14 +181,15 @@ def test_export_to_a_folder_or_under_a_file_says_so(square, tmp_path):
         mesh.export(afile / "out.ply")
 
 
-def test_a_mesh_without_triangles_says_how_big_the_region_is():
+def test_a_mesh_without_triangles_says_how_big_the_region_is(tmp_path):
     region = pds.Region.from_shapely(box(0, 0, 20, 10))
     mesh = pds.mesh_region(region, 500.0, conforming=False)    # a conforming mesh keeps the corners
     # was "PlanarMesh(vertices=1, faces=0, alpha=500) has no triangles to export (...)"
     with pytest.raises(pds.EmptyMeshError, match=r"the mesh has 1 sample and no triangles to "
                                                  r"export: alpha=500 is probably too large "
                                                  r"for the region \(it spans 20 x 10\)"):
-        mesh.export("never.ply")
+        mesh.export(tmp_path / "never.ply")
+    assert not (tmp_path / "never.ply").exists()
 
 
 @pytest.mark.parametrize("body, attribute", [
