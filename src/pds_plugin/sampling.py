@@ -359,7 +359,9 @@ class _Sampler:
         ends = np.cumsum(sizes)
         self.rings = tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
         self._reserve(len(boundary))
-        self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), 2 * alpha)
+        # the sampler asks only about points within alpha of a sample (conflicts, and
+        # boxes inside a disc): chords within alpha of a cell are all it needs
+        self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), alpha)
         kern.place_all(boundary, self.grid, self.nxt, self.covered, self.points, 0, alpha,
                        self.x0, self.y0, self.s, self.vis)
         self.count = len(boundary)
