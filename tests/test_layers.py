@@ -4,7 +4,7 @@ Every import in src/pds_plugin is read with ast, function-level ones included (o
 ``if TYPE_CHECKING:`` blocks, which never run, are left out), and checked against the
 layers of the README's Layout section:
 
-    kernels, errors, checks -> region -> sampling, complex -> mesh -> analysis
+    kernels, errors, checks -> region -> sampling, complex, sizing -> mesh -> analysis
     -> pipeline -> sources, sinks -> workflows, batch -> cli -> the package's lazy names
 """
 
@@ -20,12 +20,13 @@ LAYERS = [
     (-1, "pds_plugin._visibility_kernels"),     # shared by the sampling and complex kernels
     (0, "pds_plugin._sampling_kernels"), (0, "pds_plugin._complex_kernels"),
     (0, "pds_plugin._geometry_kernels"), (0, "pds_plugin._mesh_kernels"),
-    (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._parallel"),
+    (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._sizing_kernels"),
+    (0, "pds_plugin._parallel"),
     (0, "pds_plugin._version"),
     (1, "pds_plugin.errors"), (1, "pds_plugin.silence"), (1, "pds_plugin._atomic"),
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"),
-    (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"),
+    (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"), (4, "pds_plugin.sizing"),
     (5, "pds_plugin.mesh"),
     (6, "pds_plugin.analysis"),
     (7, "pds_plugin.pipeline"),
