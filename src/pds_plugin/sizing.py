@@ -29,10 +29,12 @@ DEFAULT_GRADING = 0.2
 _WALL = 0.9          # r <= 0.9 x wall thickness (margin for the densification error)
 _CORNER = 0.4        # corner disc: 0.4 x distance to the nearest non-incident boundary
 _RING = 1 / 6        # r <= perimeter / 6 of the ring
-_PIECE = 1.0         # r <= the length of the piece between sharp corners
+_PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length is >= 2.5,
+                     # so it splits into two or more chords (graded_sampling._positions)
 _CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
-_K = 24              # nearest neighbours looked at for walls and dominated cones
+_K = 24              # nearest neighbours looked at for dominated cones and corners
+_WALL_NEIGHBOURS = (16, 96)  # nearest neighbours looked at for a point's wall, in two steps
 _ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
 _MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
 
@@ -160,10 +162,10 @@ def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | 
     >>> plate = Region.from_shapely(box(0, 0, 100, 100).difference(box(10, 10, 90, 11)))
     >>> field = radius_field(plate, grading=0.2)
     >>> [round(float(r), 1) for r in field([[50, 9.5], [50, 50]])]
-    [9.0, 12.2]
+    [8.4, 11.6]
 
-    Below the slot: 0.9 x the 10-unit wall; far from it: the slot's corners (size 1,
-    the slot's width) plus L = 0.2 per unit of distance.
+    Both come from the slot's corners: size 0.4 (0.4 x its 1-unit ends) plus L = 0.2
+    per unit of distance; the 10-unit wall below the slot alone would give 9.
     """
     grading = check_grading(grading)
     if sizing is not None and not callable(sizing):
@@ -270,25 +272,42 @@ def _densify(rings, edge_size, ring_size, piece):
 
 def _wall_sizes(region, dense, cap):
     """Each point's size: its ring size, lowered to _WALL x the distance to the nearest
-    point facing it through material (normals opposed, midpoint in the region)."""
+    point facing it through material (normals opposed, midpoint in the region).
+
+    Neighbours are looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for
+    the points that found none facing them but have more neighbours within reach; of
+    those facing a point, only the ones up to the first whose midpoint is in the region
+    are tested (one shapely call per step)."""
     xy, normal = dense["xy"], dense["normal"]
-    size = dense["base"].copy()
     n = len(xy)
-    k = min(4 * _K, n)
-    d, idx = cKDTree(xy).query(xy, k=k, distance_upper_bound=cap / _WALL)
-    d, idx = d.reshape(n, k), idx.reshape(n, k)
-    valid = np.isfinite(d) & (d > 0)
-    j = np.where(valid, idx, 0)
-    step = xy[j] - xy[:, None, :]
-    facing = (valid & (np.einsum("nkc,nc->nk", step, normal) > 1e-9 * d)
-              & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
-              & (np.einsum("nc,nkc->nk", normal, normal[j]) < _OPPOSED))
-    p, q = np.nonzero(facing)
-    mid = 0.5 * (xy[p] + xy[j[p, q]])
-    inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
+    tree = cKDTree(xy)
     wall = np.full(n, np.inf)
-    np.minimum.at(wall, p[inside], d[p[inside], q[inside]])
-    return np.minimum(size, _WALL * wall)
+    rows = np.arange(n)
+    for k in _WALL_NEIGHBOURS:
+        k = min(k, n)
+        d, idx = tree.query(xy[rows], k=k, distance_upper_bound=cap / _WALL)
+        d, idx = d.reshape(len(rows), k), idx.reshape(len(rows), k)
+        valid = np.isfinite(d) & (d > 0)
+        j = np.where(valid, idx, 0)
+        step = xy[j] - xy[rows, None, :]
+        facing = (valid & (np.einsum("nkc,nc->nk", step, normal[rows]) > 1e-9 * d)
+                  & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
+                  & (np.einsum("nc,nkc->nk", normal[rows], normal[j]) < _OPPOSED))
+        found = facing.any(axis=1)
+        at = np.flatnonzero(found)
+        column = np.argmax(facing[at], axis=1)            # the nearest facing neighbour
+        while len(at):
+            mid = 0.5 * (xy[rows[at]] + xy[j[at, column]])
+            inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
+            wall[rows[at[inside]]] = d[at[inside], column[inside]]
+            at, column = at[~inside], column[~inside]
+            later = facing[at] & (np.arange(k) > column[:, None])
+            more = later.any(axis=1)
+            at, column = at[more], np.argmax(later[more], axis=1)
+        rows = rows[~found & np.isfinite(d[:, -1])]       # none facing, more within reach
+        if not len(rows) or k == n:
+            break
+    return np.minimum(dense["base"], _WALL * wall)
 
 
 def _corner_discs(region, rings, corners, piece, dense):
