@@ -72,6 +72,9 @@ class Samples:
     rings : tuple of (k,) int ndarray
         Conforming samplings: the boundary rings as sample indices, each with the region
         on its left (consecutive samples are joined by the mesh's boundary); else empty.
+    radius : (N,) float ndarray or None
+        Graded samplings (:func:`pds_plugin.graded_sampling.graded_poisson_disc`): the
+        radius r of the field at each sample; None for uniform ones.
 
     Examples
     --------
@@ -85,6 +88,7 @@ class Samples:
     on_boundary: np.ndarray
     alpha: float
     rings: tuple = ()
+    radius: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.points)
@@ -425,12 +429,15 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
     """A guard sample inside each chord longer than √3 alpha (a piece that cannot be
     split into parts in [alpha, √3 alpha]): on the chord's bisector at distance alpha,
     so that the triangle of the chord and the guard has circumradius
-    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md)."""
+    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md).
+    ``alpha`` may be a radius field (a callable on points), taken at the chord's middle
+    (graded samplings)."""
     a = np.concatenate([ring for ring in rings])
     b = np.concatenate([np.roll(ring, -1) for ring in rings])
     p, q = boundary[a], boundary[b]
     chord = q - p
     g = np.hypot(chord[:, 0], chord[:, 1])
+    alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
     long = g > math.sqrt(3) * alpha
     inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[long, None]
-    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha * inward)
+    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha[long, None] * inward)
