@@ -175,6 +175,29 @@ def test_auto_alpha_keeps_every_hole(part_stl, tmp_path, capsys):
     assert "(auto)" in capsys.readouterr().out
 
 
+def test_graded_featuretype_section_keeps_its_topology_with_fewer_vertices(tmp_path, capsys):
+    stl = shared_file("featuretype.STL")
+    reports = tmp_path / "uniform.json", tmp_path / "graded.json"
+    assert main([stl, "-o", tmp_path / "u.ply", "--axis", "z", "--alpha", "auto",
+                 "--report", reports[0]]) == 0
+    assert main([stl, "-o", tmp_path / "g.ply", "--axis", "z", "--alpha", "auto",
+                 "--grading", "0.25", "--report", reports[1]]) == 0     # implies --graded
+    [uniform], [graded] = (load_report(r) for r in reports)
+    certificate = graded["certificate"]
+    assert certificate["ok"] and certificate["grading"] == 0.25
+    assert certificate["betti_mesh"] == graded["region"]["betti"] == [2, 8]
+    assert certificate["min_angle"] >= certificate["proven_angle"] > 22
+    assert graded["samples"] < uniform["samples"] / 2
+    assert "graded L=0.25" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("grading", ["0", "1", "abc"])
+def test_bad_grading_is_a_usage_error(part_stl, tmp_path, capsys, grading):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "auto",
+                 "--graded", f"--grading={grading}"]) == 2
+    assert "grading must be a number in (0, 1)" in one_error_line(capsys.readouterr().err)
+
+
 def test_too_large_alpha_warns_which_hole_is_lost_and_the_alpha_to_keep_it(part_stl,
                                                                            tmp_path, capsys):
     assert main([part_stl, "-o", tmp_path / "m.ply", "--axis", "z", "--alpha", "0.4",
