@@ -105,10 +105,18 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
     _check_distinct(binned, order, start)
     vis = vis_kern.chord_bundle(points, rings, len(points), 2 * alpha)
     vis = vis[:2] + (np.ascontiguousarray(vis[2][order]),) + vis[3:]   # indexed like binned
+    return order[_local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha)]
+
+
+def _local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None):
+    """The triangles of the local complex of the binned points (``kern.local_complex``,
+    with room for more neighbours until it completes), cocircular ties settled exactly;
+    positions in ``binned``. With ``bound`` (graded complexes) a triangle is kept when its
+    circumradius is at most the smallest bound of its vertices."""
     max_neighbours = 64
     while True:
         faces, flags, complete = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
-                                                    max_neighbours, vis)
+                                                    max_neighbours, vis, bound)
         if complete:
             break
         max_neighbours *= 4
@@ -120,10 +128,11 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
                           f"slightly or use a smaller alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis)
+        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis,
+                                       None if bound is None else float(bound[f].max()))
                         for f in faces[unsure]]
         faces = faces[keep]
-    return order[faces]
+    return faces
 
 
 def _check_work(points, alpha) -> None:

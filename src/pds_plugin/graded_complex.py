@@ -20,9 +20,8 @@ from . import _complex_kernels as ckern
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_grading
-from .complex import (_MAX_UNSURE, _check_distinct, _checked_points, _checked_rings,
-                      _exactly_empty)
-from .errors import ArgumentError, BudgetError
+from .complex import _check_distinct, _checked_points, _checked_rings, _local_faces
+from .errors import ArgumentError
 
 __all__ = ["graded_alpha_complex"]
 
@@ -88,26 +87,8 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np
     vis = _chord_vis(points, rings, radius, grading)
     vis = vis[:2] + (np.ascontiguousarray(vis[2][order]),) + vis[3:]
     bound = np.ascontiguousarray(bound[order])
-    max_neighbours = 64
-    while True:
-        faces, flags, complete = ckern.local_complex(binned, float(bound.max()), start, lo[0],
-                                                     lo[1], h, nx, ny, max_neighbours, vis,
-                                                     bound)
-        if complete:
-            break
-        max_neighbours *= 4
-    unsure = np.flatnonzero(flags == ckern.UNSURE)
-    if len(unsure) > _MAX_UNSURE:
-        raise BudgetError(f"{len(unsure)} candidate triangles have four or more cocircular "
-                          f"points, more than the {_MAX_UNSURE} the exact tie-break settles in "
-                          "reasonable time; perturb the points slightly")
-    if len(unsure):
-        keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, lo[0], lo[1], h, nx, ny, vis,
-                                       radius=float(bound[f].max()))
-                        for f in faces[unsure]]
-        faces = faces[keep]
-    return order[faces]
+    return order[_local_faces(binned, order, start, lo[0], lo[1], h, nx, ny, vis,
+                              float(bound.max()), bound)]
 
 
 def _chord_vis(points, rings, radius, grading):

@@ -33,7 +33,8 @@ from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
-from .sampling import _RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _chord_polygons, _guards
+from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _chord_polygons,
+                       _guards, _joined)
 from .sizing import RadiusField
 
 __all__ = ["graded_poisson_disc"]
@@ -221,13 +222,8 @@ class _GradedSampler:
             sharp = np.zeros(len(dense), bool)
             sharp[first] = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
             at = _positions(tau, tau[:-1][sharp], unit, rng)
-            closed = np.vstack([dense, dense[:1]])
-            ring_xy.append(np.column_stack([np.interp(at, tau, closed[:, 0]),
-                                            np.interp(at, tau, closed[:, 1])]))
-        sizes = [len(xy) for xy in ring_xy]
-        boundary = np.concatenate(ring_xy)
-        ends = np.cumsum(sizes)
-        self.rings = tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+            ring_xy.append(_along(at, tau, np.vstack([dense, dense[:1]])))
+        boundary, self.rings = _joined(ring_xy)
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())
         self._reserve(len(boundary))

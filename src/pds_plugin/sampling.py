@@ -234,8 +234,7 @@ def _ring_positions(ring, sharp, alpha, rng):
         if not len(inner):
             break
         ends = np.append(at, at[0] + length)
-        xy = np.column_stack([np.interp(ends % length, cum, closed[:, 0]),
-                              np.interp(ends % length, cum, closed[:, 1])])
+        xy = _along(ends % length, cum, closed)
         chord = np.hypot(*np.diff(xy, axis=0).T)
         arc = np.diff(ends)
         split = arc >= spacing * (1 - 1e-12)            # not a piece shorter than alpha
@@ -329,13 +328,8 @@ class _Sampler:
         ring_xy = []
         for ring in self.region.rings:
             sharp = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
-            at, cum, closed = _ring_positions(ring, sharp, alpha, rng)
-            ring_xy.append(np.column_stack([np.interp(at, cum, closed[:, 0]),
-                                            np.interp(at, cum, closed[:, 1])]))
-        sizes = [len(xy) for xy in ring_xy]
-        boundary = np.concatenate(ring_xy)
-        ends = np.cumsum(sizes)
-        self.rings = tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+            ring_xy.append(_along(*_ring_positions(ring, sharp, alpha, rng)))
+        boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
         self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), 2 * alpha)
         kern.place_all(boundary, self.grid, self.nxt, self.covered, self.points, 0, alpha,
@@ -411,6 +405,19 @@ class _Sampler:
                                       self._in_region(cells, darts), self.grid, self.nxt,
                                       self.covered, self.head, self.points, self.count, self.alpha,
                                       self.x0, self.y0, self.s, self.vis)
+
+
+def _along(at, cum, closed) -> np.ndarray:
+    """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
+    are at positions ``cum`` (arc length, or any increasing measure along it)."""
+    return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
+
+
+def _joined(ring_xy):
+    """The boundary samples of every ring in one array, and each ring's indices in it."""
+    sizes = [len(xy) for xy in ring_xy]
+    ends = np.cumsum(sizes)
+    return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
 
 
 def _chord_polygons(region: Region, ring_xy) -> shapely.Geometry:
