@@ -76,9 +76,12 @@ def test_demo_writes_a_certified_mesh_report_and_picture(tmp_path):
     assert result.returncode == 0, result.stderr
     assert result.stderr == ""
     assert "certificate  ok" in result.stdout and "4√3" in result.stdout
-    [entry] = load_report(out / "report.json")
+    [entry, graded] = load_report(out / "report.json")
     certificate = entry["certificate"]
     assert certificate["ok"] and certificate["topology_ok"]
+    assert graded["certificate"]["ok"] and graded["certificate"]["grading"] == 0.2
+    assert "graded " in result.stdout
+    assert (out / "section_graded.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert certificate["max_aspect_ratio"] <= ASPECT_BOUND
     assert entry["region"]["area"] == pytest.approx(demo_section_area(), rel=1e-9)
     mesh, quality = read_ply_quality(out / "section.ply")
