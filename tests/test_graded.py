@@ -159,3 +159,9 @@ def test_grading_without_graded_is_refused():
     region = pds.Region.from_shapely(box(0, 0, 4, 1))
     with pytest.raises(ArgumentError, match="pass graded=True"):
         pds.mesh_region(region, 0.5, grading=0.2)
+
+
+def test_a_budget_too_small_is_refused_with_what_to_do():
+    region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
+    with pytest.raises(BudgetError, match="max_samples=50.*smallest radius here is"):
+        graded_mesh(region, max_samples=50)

@@ -205,10 +205,8 @@ class _GradedSampler:
 
     def _check_count(self):
         if self.count > self.max_samples:
-            raise BudgetError(
-                f"the graded sampling made more than max_samples={self.max_samples} samples; "
-                "raise max_samples or the grading, or pass a larger alpha or sizing (the "
-                f"field's smallest radius here is {self.field.sizes.min(initial=self.field.cap):.3g})")
+            raise BudgetError(f"the graded sampling made more than max_samples="
+                              f"{self.max_samples} samples; {self._what_to_do()}")
 
     def add_boundary(self, feature_angle: float, rng) -> int:
         """Sample every ring (sharp corners, then the pieces between them in normalized
@@ -317,11 +315,13 @@ class _GradedSampler:
         """Refuse a refinement that would hold more than _MAX_BOXES_PER_SAMPLE boxes per
         allowed sample (each box gets a dart: the work would outgrow the budget)."""
         if count > _MAX_BOXES_PER_SAMPLE * self.max_samples:
-            raise BudgetError(
-                f"the graded sampling would refine {count} boxes at once, more than "
-                f"{_MAX_BOXES_PER_SAMPLE} per sample of max_samples={self.max_samples}; raise "
-                "max_samples or the grading, or pass a larger alpha or sizing (the field's "
-                f"smallest radius here is {self.field.sizes.min(initial=self.field.cap):.3g})")
+            raise BudgetError(f"the graded sampling would refine {count} boxes at once, more "
+                              f"than {_MAX_BOXES_PER_SAMPLE} per sample of max_samples="
+                              f"{self.max_samples}; {self._what_to_do()}")
+
+    def _what_to_do(self) -> str:
+        return ("raise max_samples or the grading, or pass a larger alpha or sizing (the "
+                f"field's smallest radius here is {self.field.sizes.min(initial=self.field.cap):.3g})")
 
     def _open(self, boxes):
         """The boxes no single visible disc covers."""
