@@ -274,40 +274,53 @@ def _wall_sizes(region, dense, cap):
     """Each point's size: its ring size, lowered to _WALL x the distance to the nearest
     point facing it through material (normals opposed, midpoint in the region).
 
-    Neighbours are looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for
-    the points that found none facing them but have more neighbours within reach; of
-    those facing a point, only the ones up to the first whose midpoint is in the region
-    are tested (one shapely call per step)."""
+    Only walls nearer than ring size / _WALL can lower a size, so the neighbours are
+    searched that far (rounded up to a power of two, one query per power). They are
+    looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for the points that
+    found none facing them but have more neighbours within reach; of those facing a
+    point, only the ones up to the first whose midpoint is in the region are tested."""
     xy, normal = dense["xy"], dense["normal"]
     n = len(xy)
     tree = cKDTree(xy)
     wall = np.full(n, np.inf)
-    rows = np.arange(n)
+    reach = np.exp2(np.ceil(np.log2(np.minimum(dense["base"], cap) / _WALL)))
     for k in _WALL_NEIGHBOURS:
         k = min(k, n)
-        d, idx = tree.query(xy[rows], k=k, distance_upper_bound=cap / _WALL)
-        d, idx = d.reshape(len(rows), k), idx.reshape(len(rows), k)
-        valid = np.isfinite(d) & (d > 0)
-        j = np.where(valid, idx, 0)
-        step = xy[j] - xy[rows, None, :]
-        facing = (valid & (np.einsum("nkc,nc->nk", step, normal[rows]) > 1e-9 * d)
-                  & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
-                  & (np.einsum("nc,nkc->nk", normal[rows], normal[j]) < _OPPOSED))
-        found = facing.any(axis=1)
-        at = np.flatnonzero(found)
-        column = np.argmax(facing[at], axis=1)            # the nearest facing neighbour
-        while len(at):
-            mid = 0.5 * (xy[rows[at]] + xy[j[at, column]])
-            inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
-            wall[rows[at[inside]]] = d[at[inside], column[inside]]
-            at, column = at[~inside], column[~inside]
-            later = facing[at] & (np.arange(k) > column[:, None])
-            more = later.any(axis=1)
-            at, column = at[more], np.argmax(later[more], axis=1)
-        rows = rows[~found & np.isfinite(d[:, -1])]       # none facing, more within reach
-        if not len(rows) or k == n:
+        todo = []
+        for bound in np.unique(reach[reach > 0]):
+            rows = np.flatnonzero(reach == bound)
+            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound)
+            todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
+                                            idx.reshape(len(rows), k), wall)])
+        reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
+        if not (reach > 0).any() or k == n:
             break
     return np.minimum(dense["base"], _WALL * wall)
+
+
+def _nearest_walls(region, xy, normal, rows, d, idx, wall):
+    """Set ``wall`` of the points ``rows`` from their neighbours (d, idx, nearest first):
+    the distance to the nearest one facing them whose midpoint is in the region. Returns
+    the positions in ``rows`` of the points that found none facing them and may have
+    more neighbours within reach."""
+    valid = np.isfinite(d) & (d > 0)
+    j = np.where(valid, idx, 0)
+    step = xy[j] - xy[rows, None, :]
+    facing = (valid & (np.einsum("nkc,nc->nk", step, normal[rows]) > 1e-9 * d)
+              & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
+              & (np.einsum("nc,nkc->nk", normal[rows], normal[j]) < _OPPOSED))
+    found = facing.any(axis=1)
+    at = np.flatnonzero(found)
+    column = np.argmax(facing[at], axis=1)            # the nearest facing neighbour
+    while len(at):
+        mid = 0.5 * (xy[rows[at]] + xy[j[at, column]])
+        inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
+        wall[rows[at[inside]]] = d[at[inside], column[inside]]
+        at, column = at[~inside], column[~inside]
+        later = facing[at] & (np.arange(d.shape[1]) > column[:, None])
+        more = later.any(axis=1)
+        at, column = at[more], np.argmax(later[more], axis=1)
+    return np.flatnonzero(~found & np.isfinite(d[:, -1]))
 
 
 def _corner_discs(region, rings, corners, piece, dense):
