@@ -234,7 +234,8 @@ def _ring_positions(ring, sharp, alpha, rng):
         if not len(inner):
             break
         ends = np.append(at, at[0] + length)
-        xy = _along(ends % length, cum, closed)
+        xy = np.column_stack([np.interp(ends % length, cum, closed[:, 0]),
+                              np.interp(ends % length, cum, closed[:, 1])])
         chord = np.hypot(*np.diff(xy, axis=0).T)
         arc = np.diff(ends)
         split = arc >= spacing * (1 - 1e-12)            # not a piece shorter than alpha
