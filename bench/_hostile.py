@@ -272,36 +272,42 @@ def coordinate_cases():
     return cases
 
 
-def point_set_cases():
-    """solid_alpha_complex on hostile point sets; accepted ones against Qhull."""
-    import pds_plugin as pds
-    import shapely
+def delaunay_area(points, alpha) -> float:
+    """The oracle of the solid alpha-complex: the area of Qhull's Delaunay triangles whose
+    circumradius is at most alpha."""
     from scipy.spatial import Delaunay
 
-    def oracle(points, alpha):
-        if len(points) < 3 or np.linalg.matrix_rank(points - points[0]) < 2:
-            return 0.0
-        points = points - points.min(axis=0)         # exact (Sterbenz); Qhull is safe here
-        tri = Delaunay(points).simplices
-        a, b, c = (points[tri[:, k]] for k in range(3))
-        cross = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
-        radius = (np.linalg.norm(b - a, axis=1) * np.linalg.norm(c - a, axis=1)
-                  * np.linalg.norm(c - b, axis=1) / (2 * cross))
-        return mesh_union(points, tri[radius <= alpha]).area if (radius <= alpha).any() else 0.0
+    if len(points) < 3 or np.linalg.matrix_rank(points - points[0]) < 2:
+        return 0.0
+    points = points - points.min(axis=0)         # exact (Sterbenz); Qhull is safe here
+    tri = Delaunay(points).simplices
+    a, b, c = (points[tri[:, k]] for k in range(3))
+    cross = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    radius = (np.linalg.norm(b - a, axis=1) * np.linalg.norm(c - a, axis=1)
+              * np.linalg.norm(c - b, axis=1) / (2 * cross))
+    return mesh_union(points, tri[radius <= alpha]).area if (radius <= alpha).any() else 0.0
 
+
+def complex_trial(points, alpha) -> Trial:
+    """solid_alpha_complex(points, alpha), its triangles' area checked against Qhull's."""
+    import pds_plugin as pds
+    import shapely
+
+    def check(faces):
+        faces = np.asarray(faces)
+        pts = np.asarray(points, float)
+        area = 0.0 if not len(faces) else shapely.area(shapely.polygons(pts[faces])).sum()
+        expected = delaunay_area(pts, alpha)
+        if not math.isclose(area, expected, rel_tol=1e-6, abs_tol=1e-12):
+            return "wrong", f"triangle area {area:.9g}, Delaunay's {expected:.9g}"
+        return None
+    return Trial(lambda: pds.solid_alpha_complex(points, alpha), [points], check)
+
+
+def point_set_cases():
+    """solid_alpha_complex on hostile point sets; accepted ones against Qhull."""
     def case(name, points, alpha):
-        def make(folder):
-            def check(faces):
-                faces = np.asarray(faces)
-                pts = np.asarray(points, float)
-                area = 0.0 if not len(faces) else shapely.area(
-                    shapely.polygons(pts[faces])).sum()
-                expected = oracle(pts, alpha)
-                if not math.isclose(area, expected, rel_tol=1e-6, abs_tol=1e-12):
-                    return "wrong", f"triangle area {area:.9g}, Delaunay's {expected:.9g}"
-                return None
-            return Trial(lambda: pds.solid_alpha_complex(points, alpha), [points], check)
-        return Case(name, make)
+        return Case(name, lambda folder: complex_trial(points, alpha))
 
     rng = np.random.default_rng(7)
     angles = np.arange(100) * 2 * np.pi / 100
@@ -738,24 +744,3 @@ def failed_run_cases():
         case("--plot in a missing folder", [(0, 0, 0, 2, 2, 1)], "-o", "part.ply", "--axis",
              "z", "--alpha", "0.1", "--plot", "none/p.png"),
     ]
-
-
-TIME_LIMITS = {"command line": 120.0, "interrupted writes": 120.0, "signals": 180.0,
-               "failed runs": 120.0}
-"""Seconds per input for the classes that run pds-mesh itself (a fresh Python, workers),
-when more than the harness's limit."""
-
-CLASSES = {
-    "alpha values": alpha_cases,
-    "sample budgets": budget_cases,
-    "region geometries": geometry_cases,
-    "far and tiny coordinates": coordinate_cases,
-    "point sets": point_set_cases,
-    "SVG files": svg_cases,
-    "mesh files and solids": mesh_file_cases,
-    "automatic alpha": auto_alpha_cases,
-    "command line": cli_cases,
-    "interrupted writes": interrupted_write_cases,
-    "signals": signal_cases,
-    "failed runs": failed_run_cases,
-}

@@ -1,9 +1,9 @@
 """Try every class of bad and hostile input and write docs/reliability.md.
 
-    python bench/reliability.py                      # every class (about 10 minutes)
+    python bench/reliability.py                      # every class (about 5 minutes)
     python bench/reliability.py --classes "SVG files,point sets" --time-limit 10
 
-Each class's inputs (bench/_hostile.py) run one after the other in a worker process,
+Each class's inputs (bench/_corpus.py lists the classes) run one after the other in a worker process,
 under a time limit and a memory limit per input (the resident memory of the worker and
 all its children, polled): an input over either limit is a *hang*, its worker is killed
 with its whole process group, and a fresh worker goes on with the next input. A worker
@@ -44,7 +44,7 @@ COLUMNS = ("tried", "clean", "other", "hang", "wrong", "mutated", "right")
 
 
 def parse(argv=None):
-    from _hostile import CLASSES
+    from _corpus import CLASSES
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -78,7 +78,8 @@ def _clean_errors():
 def worker(name: str, first: int) -> None:
     import warnings
 
-    from _hostile import CLASSES, digest
+    from _corpus import CLASSES
+    from _hostile import digest
 
     warnings.simplefilter("ignore")
     clean = _clean_errors()
@@ -120,8 +121,9 @@ def _try(case, folder, clean, digest) -> dict:
             judged = ("other", f"the result could not be checked: {error!r}")
         verdict, message = judged if judged is not None else ("right", "")
     mutated = digest(*trial.inputs) != before
-    return {"verdict": verdict, "message": " ".join(str(message).split())[:300],
-            "mutated": mutated}
+    message = " ".join(str(message).split())[:300]     # undecodable bytes of a file, escaped:
+    message = message.encode("utf-8", "backslashreplace").decode("utf-8")
+    return {"verdict": verdict, "message": message, "mutated": mutated}
 
 
 # --- the parent: limits, restarts, the table -----------------------------------------
@@ -214,7 +216,7 @@ def summarize(outcomes) -> dict:
 
 def report(results: dict, args, seconds: float) -> str:
     import pds_plugin
-    from _hostile import TIME_LIMITS
+    from _corpus import TIME_LIMITS
 
     header = ("| class | inputs tried | clean errors | other exceptions | hangs | silent wrong "
               "| mutated | right results |")
@@ -226,7 +228,9 @@ def report(results: dict, args, seconds: float) -> str:
              f"{args.time_limit:g} s (more for the classes that run pds-mesh: "
              f"{', '.join(f'{k} {v:g} s' for k, v in TIME_LIMITS.items())}) and "
              f"{args.memory_limit:g} MiB of resident memory (children included). The "
-             "inputs and their oracles are in `bench/_hostile.py`; what each column means is in the docstring of `bench/reliability.py`. Every "
+             "inputs and their oracles are in `bench/_hostile.py`, `bench/_hostile_files.py` and "
+             "`bench/_hostile_generated.py` (classes listed in `bench/_corpus.py`); what each "
+             "column means is in the docstring of `bench/reliability.py`. Every "
              "column but *inputs tried*, *clean errors* and *right results* should be 0.", "",
              header, "|---|--:|--:|--:|--:|--:|--:|--:|"]
     total = dict.fromkeys(COLUMNS, 0)
@@ -255,7 +259,7 @@ def main(argv=None) -> Path:
     if args.worker:
         worker(args.worker[0], int(args.worker[1]))
         return None
-    from _hostile import CLASSES, TIME_LIMITS
+    from _corpus import CLASSES, TIME_LIMITS
 
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))    # kill the workers on the way out
     began, results = time.monotonic(), {}

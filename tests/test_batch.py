@@ -184,7 +184,7 @@ def test_batch_meshes_every_job_and_reports_failures_without_stopping(parts, tmp
     assert "broken.stl' has no triangles" in errors[1]
     assert "misses the solid" in errors[2]
     assert "more than max_samples=10" in errors[3]
-    assert "no triangles" in errors[4] and "alpha is probably too large" in errors[4]
+    assert "no triangles" in errors[4] and "too large for the region" in errors[4]
     assert "also written by job 0" in errors[5]
     assert "unknown option 'colour'" in errors[6]
     records = records_and_outputs(tmp_path / "out")

@@ -395,6 +395,56 @@ def test_mutated_svgs_give_regions_or_clean_errors(tmp_path_factory, text):
         assert "root:" not in str(shapely.to_wkt(region.geometry))
 
 
+# --- DXF drawings and their mutations -------------------------------------------------
+
+@st.composite
+def dxf_mutations(draw):
+    """A plate drawing (a polyline outline with a bulge and a circle hole, in a block
+    inserted twice) as ASCII DXF, with one number of its ENTITIES or BLOCKS sections
+    replaced by a hostile value, or one line deleted, or the text cut short."""
+    import io
+
+    import ezdxf
+
+    doc = ezdxf.new("R2010")
+    block = doc.blocks.new("PLATE")
+    block.add_lwpolyline([(0, 0, 0, 0, 0.3), (20, 0), (20, 10), (0, 10)], format="xyseb",
+                         close=True)
+    block.add_circle((5, 5), 2)
+    doc.modelspace().add_blockref("PLATE", (0, 0))
+    doc.modelspace().add_blockref("PLATE", (30, 0), dxfattribs={"rotation": 30})
+    stream = io.StringIO()
+    doc.write(stream)
+    lines = stream.getvalue().split("\n")
+    first = lines.index("BLOCKS")
+    numbers = [i for i in range(first, len(lines)) if i and lines[i - 1].strip() in
+               ("10", "20", "40", "41", "42", "50", "70", "90")]
+    kind = draw(st.sampled_from(["number", "number", "delete", "cut"]))
+    where = draw(st.sampled_from(numbers))
+    if kind == "number":
+        lines[where] = draw(st.sampled_from(["nan", "inf", "-1e308", "1e308", "1e400", "0",
+                                             "-1", "1e-320", "x", "", "4294967297"]))
+    elif kind == "delete":
+        del lines[where]
+    else:
+        lines = lines[:where]
+    return "\n".join(lines)
+
+
+@fuzz
+@given(text=dxf_mutations())
+def test_mutated_dxfs_give_regions_or_clean_errors(tmp_path_factory, text):
+    path = _write(tmp_path_factory.mktemp("dxf"), "mutated.dxf", text)
+    before = digest(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        region = refused_cleanly(pds.load_dxf, path)
+    assert digest(path) == before
+    if region is not None:
+        assert region.area > 0 and region.geometry.is_valid
+        assert np.isfinite(shapely.get_coordinates(region.geometry)).all()
+
+
 # --- solids, STL files and their mutations -------------------------------------------
 
 @st.composite

@@ -147,7 +147,7 @@ def test_a_user_sizing_is_combined_by_min():
     ({"sizing": 3.0}, ArgumentTypeError, "sizing must be a callable"),
     ({"sizing": lambda x, y: -1 + 0 * x}, ArgumentError, "positive finite radii"),
     ({"conforming": False}, ArgumentError, "always conforming"),
-    ({"refine": 0.5}, ArgumentError, "not refine"),
+    ({"refine": 0.5}, ArgumentError, "no option 'refine'"),
 ])
 def test_bad_graded_options_are_named(options, error, message):
     region = pds.Region.from_shapely(box(0, 0, 4, 1))

@@ -93,11 +93,23 @@ def test_turning_angles_of_a_ring_sum_to_one_turn_with_the_region_on_the_left():
     assert turning_angles(hole).sum() == pytest.approx(-2 * np.pi, rel=1e-12)
 
 
-@pytest.mark.parametrize("size", [1e-150, 1e101])
-def test_regions_beyond_float64_squares_are_refused(size):
-    """At 1e-150 the certificate found -17 holes (squares of coordinates underflow)."""
+@pytest.mark.parametrize("size", [1e-150, 1e101, 1e-54, 1e54, 1e-90, 1e90])
+def test_regions_beyond_float64_powers_are_refused(size):
+    """At 1e-150 the certificate found -17 holes (squares of coordinates underflow); at
+    1e±54 the meshes had triangles of aspect ratio 9, at 1e±90 of 312 (powers of the
+    coordinates in the predicates over- or underflow)."""
     with pytest.raises(RegionError, match="scale the geometry"):
         Region.from_shapely(box(0, 0, size, size))
+
+
+@pytest.mark.parametrize("size", [1e-48, 1e48])
+def test_regions_just_inside_the_scale_limits_mesh_within_the_aspect_bound(size):
+    mesh = pds.mesh_region(Region.from_shapely(box(0, 0, size, size)), size / 10)
+    a, b, c = (mesh.vertices[mesh.faces[:, k]] / size for k in range(3))   # exact scaling
+    area = ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]) / 2
+    longest = np.max([np.hypot(*(b - a).T), np.hypot(*(c - b).T), np.hypot(*(a - c).T)], axis=0)
+    assert len(mesh.faces) and (area > 0).all()
+    assert (longest**2 / area).max() <= 4 * np.sqrt(3) * (1 + 1e-9)
 
 
 def test_a_singular_frame_is_refused():

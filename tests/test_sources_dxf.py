@@ -393,6 +393,81 @@ def test_a_block_inserting_itself_is_refused(tmp_path):
         load_dxf(save(doc, tmp_path))
 
 
+def nested_bomb(doc, levels, copies=10):
+    """Blocks B1..B{levels}, each inserting the one below ``copies`` times in a row, along
+    x and y in turn; B0 is a unit square: B{levels} expands to copies**levels disjoint
+    squares."""
+    square(doc.blocks.new("B0"), 0, 0, 1)
+    for level in range(1, levels + 1):
+        block = doc.blocks.new(f"B{level}")
+        step = 2 * copies ** ((level - 1) // 2)
+        for copy in range(copies):
+            block.add_blockref(f"B{level - 1}", (step * copy, 0) if level % 2 else
+                               (0, step * copy))
+    return f"B{levels}"
+
+
+def test_nested_insert_bomb_is_refused_before_it_is_expanded(tmp_path):
+    import time
+
+    doc, msp = new()
+    msp.add_blockref(nested_bomb(doc, 8), (0, 0))                  # 10^8 squares, 26 kB
+    path = save(doc, tmp_path)
+    assert path.stat().st_size < 100_000
+    began = time.monotonic()
+    with pytest.raises(SourceError, match=r"expands to more than 100,000 entities \(every "
+                                          r"block INSERT counted.*pass a larger max_entities"):
+        load_dxf(path)
+    # the limit is counted, not hit while expanding: 10^8 entities would take hours
+    assert time.monotonic() - began < 20
+    with pytest.raises(SourceError, match="max_entities"):
+        load_dxf(path, max_entities=10**7)
+
+
+def test_minsert_array_and_long_polylines_count_their_copies(tmp_path):
+    doc, msp = new()
+    square(doc.blocks.new("CELL"), 0, 0, 0.5)
+    msp.add_blockref("CELL", (0, 0)).grid(size=(10_000, 10_000), spacing=(1, 1))
+    with pytest.raises(SourceError, match="more than 100,000 entities"):
+        load_dxf(save(doc, tmp_path, "minsert.dxf"))
+    doc, msp = new()
+    ring = doc.blocks.new("RING")                                 # a 10,000-gon, 200 copies
+    angles = np.linspace(0, 2 * np.pi, 10_000, endpoint=False)
+    ring.add_lwpolyline(np.column_stack([np.cos(angles), np.sin(angles)]), close=True)
+    for copy in range(200):
+        msp.add_blockref("RING", (3 * copy, 0))
+    path = save(doc, tmp_path, "rings.dxf")
+    with pytest.raises(SourceError, match=r"more than 1,000,000 polyline vertices.*pass a "
+                                          r"larger max_segments"):
+        load_dxf(path)
+    with pytest.raises(SourceError, match="max_segments"):
+        load_dxf(path, max_segments=1_999_999)
+
+
+def test_limits_below_the_drawing_refuse_it_and_above_read_it(tmp_path):
+    doc, msp = new()
+    msp.add_blockref(nested_bomb(doc, 2), (0, 0))     # 100 squares: 211 entities with the INSERTs
+    path = save(doc, tmp_path)
+    assert load_dxf(path, max_entities=211, max_segments=400).area == pytest.approx(100.0)
+    for options, keyword in [({"max_entities": 210}, "max_entities"),
+                             ({"max_segments": 399}, "max_segments"),
+                             ({"max_bytes": 1000}, "max_bytes")]:
+        with pytest.raises(SourceError, match=f"pass a larger {keyword} to read it"):
+            load_dxf(path, **options)
+    for keyword in ("max_bytes", "max_entities", "max_segments"):
+        with pytest.raises(ArgumentError, match=f"{keyword} must be a positive integer"):
+            load_dxf(path, **{keyword: 0})
+
+
+def test_an_insert_of_an_undefined_block_is_a_damaged_file(tmp_path):
+    doc, msp = new()
+    square(msp, 0, 0, 10)
+    msp.add_blockref("NOWHERE", (0, 0), dxfattribs={"layer": "PARTS"})
+    with pytest.raises(SourceError, match=r"INSERT on layer 'PARTS' places block 'NOWHERE', "
+                                          r"which the drawing does not define"):
+        load_dxf(save(doc, tmp_path))
+
+
 @pytest.mark.parametrize("bad", ["nan", "inf"])
 def test_non_finite_coordinates_are_named(tmp_path, bad):
     doc, msp = new()
@@ -438,3 +513,41 @@ def test_example_meshes_its_bracket_with_an_ok_certificate(tmp_path, capsys):
     corners, slot, holes = (4 - math.pi) / 16, 0.2 + math.pi / 100, 2 * math.pi * 0.04
     assert region.betti == (1, 3)
     assert_area(region, (8 - corners - slot - holes) * 25.4**2, region.perimeter, 1e-3)
+
+
+def test_an_arc_with_equal_start_and_end_angles_draws_nothing(tmp_path):
+    """ezdxf reads such an ARC as empty (span 0); it used to become a full circle, a
+    phantom hole of radius 2 in this square (area 87.4 instead of 100)."""
+    doc, msp = new()
+    square(msp, 0, 0, 10)
+    arc = msp.add_arc((5, 5), 2, 30, 30)
+    assert arc.construction_tool().angle_span == 0
+    assert load_dxf(save(doc, tmp_path)).area == pytest.approx(100.0, rel=1e-12)
+    full, full_msp = new()
+    square(full_msp, 0, 0, 10)
+    full_msp.add_arc((5, 5), 2, 30, 390)                      # a whole turn
+    assert load_dxf(save(full, tmp_path, "full.dxf"), tolerance=1e-6).area == \
+        pytest.approx(100 - 4 * math.pi, rel=1e-5)
+
+
+@pytest.mark.parametrize("far", [1e308, -1e308, 1e60])
+def test_an_outline_vertex_beyond_the_scale_limit_is_a_region_error(tmp_path, far):
+    """A polyline vertex at 1e308 used to overflow scipy's KD-tree (a ValueError about
+    Minkowski p) while joining the curve ends."""
+    doc, msp = new()
+    msp.add_lwpolyline([(0, 0), (far, 0), (10, 10), (0, 10)], close=True)
+    with pytest.raises(RegionError, match="coordinates up to .*below 1e\\+50"):
+        load_dxf(save(doc, tmp_path))
+
+
+def test_a_drawing_far_from_the_origin_says_to_translate_it(tmp_path):
+    """A unit square at 1e15 used to be 'no closed loop ... nothing to mesh': its sides
+    were dropped as rounding steps before the curves were joined."""
+    doc, msp = new()
+    square(msp, 1e15, 1e15, 1)
+    with pytest.raises(RegionError, match="rounding .* exceeds the tolerance .* translate "
+                                          "the drawing towards the origin"):
+        load_dxf(save(doc, tmp_path))
+    near, near_msp = new()
+    square(near_msp, 1e6, 1e6, 1)
+    assert load_dxf(save(near, tmp_path, "near.dxf")).area == pytest.approx(1.0, rel=1e-9)

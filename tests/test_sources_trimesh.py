@@ -377,3 +377,48 @@ def test_a_truncated_binary_stl_and_a_folder_are_named(tmp_path):
     (tmp_path / "folder.stl").mkdir()
     with pytest.raises(IsADirectoryError, match="is a folder"):
         section(tmp_path / "folder.stl", (0, 0, 0), (0, 0, 1))
+
+
+@pytest.mark.parametrize("flipped", range(12))
+def test_one_triangle_the_wrong_way_round_is_reoriented_with_a_warning(flipped):
+    """An STL with one reversed triangle used to lose the section ("cuts no material ...
+    a gap between parts") when that triangle crossed the plane."""
+    box = trimesh.creation.box(extents=(2, 2, 2))
+    faces = box.faces.copy()
+    faces[flipped] = faces[flipped][::-1]
+    mesh = trimesh.Trimesh(box.vertices, faces, process=False)
+    given = mesh.faces.copy()
+    for origin, normal in [((0, 0, 0.3), (0, 0, 1)), ((0.3, 0, 0), (1, 0, 0)),
+                           ((0, 0.3, 0), (0, 1, 0))]:
+        with pytest.warns(UserWarning, match="not consistently oriented"):
+            region = section(mesh, origin, normal)
+        assert region.area == pytest.approx(4.0, rel=1e-12) and region.betti == (1, 0)
+    assert np.array_equal(mesh.faces, given)                 # the caller's mesh is untouched
+
+
+@pytest.mark.parametrize("slot, value, words", [
+    (5, 3.4e38, "most of its vertices lie within"),       # along the normal: was "lies on
+    (8, -1e30, "most of its vertices lie within"),        # 11 face(s) of the solid"
+    (3, -1e30, "a vertex far from the rest"),             # across: was "cuts no material
+    (3, 1e12, "a vertex far from the rest"),              # (a gap between parts)"
+])
+def test_a_stray_vertex_of_a_damaged_stl_is_named(tmp_path, slot, value, words):
+    import struct
+
+    data = bytearray(trimesh.creation.box(extents=(2, 2, 2)).export(file_type="stl"))
+    where = 84 + 50 * 4 + 4 * slot                           # facet 4, one float
+    data[where:where + 4] = struct.pack("<f", value)
+    path = tmp_path / "damaged.stl"
+    path.write_bytes(bytes(data))
+    with pytest.raises(ValueError) as caught:
+        section(path, (0, 0, 0.3), (0, 0, 1))
+    message = str(caught.value)
+    assert words in message and "stray vertices" in message
+    assert "gap between parts" not in message and "lies on" not in message
+
+
+def test_a_far_separate_part_is_not_a_stray_vertex():
+    plate = trimesh.creation.box(extents=(10, 10, 1))
+    far = trimesh.creation.box(extents=(1, 1, 1)).apply_translation((1e6, 1e6, 0))
+    region = section(trimesh.util.concatenate([plate, far]), (0, 0, 0), (0, 0, 1))
+    assert region.area == pytest.approx(101.0, rel=1e-9) and region.betti == (2, 0)

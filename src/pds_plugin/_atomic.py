@@ -27,7 +27,9 @@ def atomic_path(path):
     Write the file to the yielded path (a fresh random name, so concurrent writers of
     the same file, e.g. a task run twice, never share one). When the block ends
     normally the file replaces ``path`` in one step; when it raises (including
-    ``KeyboardInterrupt``) the temporary file is removed and ``path`` is left as it was. The temporary name is hidden and keeps the suffix,
+    ``KeyboardInterrupt``) the temporary file is removed and ``path`` is left as it was;
+    an ``OSError`` about the temporary file is raised about ``path`` (the name the user
+    chose). The temporary name is hidden and keeps the suffix,
     ``.STEM.RANDOM.tmp.SUFFIX`` (writers choose the format by the suffix), so it never
     looks like a finished output; :func:`leftovers` finds those of killed processes.
 
@@ -64,6 +66,12 @@ def atomic_path(path):
     try:
         yield partial
         os.replace(partial, path)
+    except OSError as error:
+        partial.unlink(missing_ok=True)
+        if error.filename is not None and os.fspath(error.filename) == os.fspath(partial):
+            # name the file the user asked for, not the temporary one they never chose
+            raise type(error)(error.errno, f"cannot write {path}: {error.strerror}") from error
+        raise
     except BaseException:
         partial.unlink(missing_ok=True)
         raise

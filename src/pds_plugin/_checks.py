@@ -8,6 +8,7 @@ array, a Path) or raises a :class:`~pds_plugin.errors.PdsError` (an
 from __future__ import annotations
 
 import math
+import os
 from importlib import import_module
 from pathlib import Path
 
@@ -15,8 +16,9 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
-__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_grading", "check_vector",
-           "check_output_directory", "check_has_triangles", "import_optional"]
+__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_grading",
+           "check_vector", "check_instance", "check_planar_mesh", "check_flag", "check_path",
+           "check_faces", "check_output_directory", "check_has_triangles", "import_optional"]
 
 
 def check_positive(value, name: str) -> float:
@@ -195,6 +197,176 @@ def check_vector(value, name: str, size: int = 3) -> np.ndarray:
     return vector
 
 
+def check_instance(value, kind: type, who: str, make: str):
+    """``value`` itself if it is a ``kind`` (a pds_plugin class), else a clear error.
+
+    Parameters
+    ----------
+    value : object
+    kind : type
+    who : str
+        The function that needs it, for the message.
+    make : str
+        How to make one, for the message.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a ``kind``.
+
+    Examples
+    --------
+    >>> check_instance("a square", dict, "poisson_disc", "dict()")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: poisson_disc needs a pds_plugin.dict, got str; make one with dict()
+    """
+    if not isinstance(value, kind):
+        raise ArgumentTypeError(f"{who} needs a pds_plugin.{kind.__name__}, got "
+                                f"{type(value).__name__}; make one with {make}")
+    return value
+
+
+def check_planar_mesh(value, who: str):
+    """``value`` itself if it has a PlanarMesh's attributes, else a clear error (by its
+    attributes: the analysis and sink layers cannot import the mesh layer's class back).
+
+    Parameters
+    ----------
+    value : object
+    who : str
+        The function that needs the mesh, for the message.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a mesh.
+
+    Examples
+    --------
+    >>> check_planar_mesh(None, "topology_report")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: topology_report needs a pds_plugin.PlanarMesh, got NoneType; make one with pds_plugin.mesh_region(region, alpha)
+    """
+    if not all(hasattr(value, name) for name in ("vertices", "faces", "on_boundary", "region",
+                                                  "alpha")):
+        raise ArgumentTypeError(f"{who} needs a pds_plugin.PlanarMesh, got "
+                                f"{type(value).__name__}; make one with "
+                                f"pds_plugin.mesh_region(region, alpha)")
+    return value
+
+
+def check_flag(value, name: str) -> bool:
+    """``value`` if it is a bool (``True``/``False``, also numpy's), else a clear error.
+
+    A string such as ``"no"`` is truthy, so it is refused rather than read as True.
+
+    Parameters
+    ----------
+    value : bool
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a bool.
+
+    Examples
+    --------
+    >>> check_flag("no", "repair")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: repair must be True or False, got 'no'
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise ArgumentTypeError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def check_path(value, name: str = "path") -> str:
+    """``value`` as a file system path (str), else a clear error.
+
+    Parameters
+    ----------
+    value : str or os.PathLike
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is not a str or an os.PathLike (bytes are refused too).
+
+    Examples
+    --------
+    >>> check_path(None)
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentTypeError: path must be a file name (str or pathlib.Path), got None
+    """
+    try:
+        path = os.fspath(value)
+    except TypeError:
+        path = None
+    if not isinstance(path, str):
+        raise ArgumentTypeError(f"{name} must be a file name (str or pathlib.Path), "
+                                f"got {value!r}")
+    return path
+
+
+def check_faces(faces, vertex_count: int) -> np.ndarray:
+    """``faces`` as a new (m, 3) int64 array of indices into ``vertex_count`` vertices.
+
+    Parameters
+    ----------
+    faces : (m, 3) array_like of int
+    vertex_count : int
+
+    Returns
+    -------
+    (m, 3) int64 ndarray
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``faces`` are not integers.
+    ArgumentError
+        If they are not triples, or an index is negative or past the last vertex (the
+        kernels would read memory that is not a vertex).
+
+    Examples
+    --------
+    >>> check_faces([[0, 1, 3]], 3)
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentError: face 0 refers to vertex 3, but there are 3 vertices (indices 0 to 2)
+    """
+    array = np.asarray(faces)
+    if array.size and not np.issubdtype(array.dtype, np.integer):
+        raise ArgumentTypeError(f"faces must be integer vertex indices, got {array.dtype}")
+    array = np.array(array, dtype=np.int64)
+    if array.size % 3 or (array.ndim != 2 and array.size):
+        raise ArgumentError(f"faces must be an (m, 3) array of vertex indices, got shape "
+                            f"{array.shape}")
+    array = array.reshape(-1, 3)
+    bad = np.flatnonzero(((array < 0) | (array >= vertex_count)).any(axis=1))
+    if len(bad):
+        index = array[bad[0]][(array[bad[0]] < 0) | (array[bad[0]] >= vertex_count)][0]
+        raise ArgumentError(f"face {bad[0]} refers to vertex {index}, but there are "
+                            f"{vertex_count} vertices (indices 0 to {vertex_count - 1})")
+    return array
+
+
 def check_output_directory(path) -> Path:
     """``path`` as a Path, after checking that its directory exists.
 
@@ -211,6 +383,8 @@ def check_output_directory(path) -> Path:
     ------
     FileNotFoundError
         If the parent directory of ``path`` does not exist.
+    NotADirectoryError
+        If the parent of ``path`` is a file.
     IsADirectoryError
         If ``path`` is a directory.
 
@@ -222,6 +396,9 @@ def check_output_directory(path) -> Path:
     FileNotFoundError: cannot write no/such/dir/out.ply: directory no/such/dir does not exist; create it first
     """
     path = Path(path)
+    if path.parent.exists() and not path.parent.is_dir():
+        raise NotADirectoryError(f"cannot write {path}: {path.parent} is a file, not a "
+                                 "directory")
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write {path}: directory {path.parent} does not exist; "
                                 "create it first")
@@ -248,14 +425,20 @@ def check_has_triangles(mesh, purpose: str) -> None:
     --------
     >>> import numpy as np
     >>> from types import SimpleNamespace
-    >>> check_has_triangles(SimpleNamespace(faces=np.empty((0, 3))), "to plot")
+    >>> square = SimpleNamespace(bounds=(0, 0, 2, 1))
+    >>> check_has_triangles(SimpleNamespace(faces=np.empty((0, 3)), vertices=np.zeros((1, 2)),
+    ...                                     alpha=5.0, region=square), "to plot")
     Traceback (most recent call last):
     ...
-    pds_plugin.errors.EmptyMeshError: namespace(faces=array([], shape=(0, 3), dtype=float64)) has no triangles to plot (alpha is probably too large for the region)
+    pds_plugin.errors.EmptyMeshError: the mesh has 1 sample and no triangles to plot: alpha=5 is probably too large for the region (it spans 2 x 1); use a smaller alpha
     """
     if len(mesh.faces) == 0:
-        raise EmptyMeshError(f"{mesh!r} has no triangles {purpose} "
-                             "(alpha is probably too large for the region)")
+        xmin, ymin, xmax, ymax = mesh.region.bounds
+        count = len(mesh.vertices)
+        raise EmptyMeshError(f"the mesh has {count} sample{'s' if count != 1 else ''} and no "
+                             f"triangles {purpose}: alpha={mesh.alpha:.6g} is probably too "
+                             f"large for the region (it spans {xmax - xmin:.6g} x "
+                             f"{ymax - ymin:.6g}); use a smaller alpha")
 
 
 def import_optional(module: str, extra: str, needed_for: str):

@@ -19,7 +19,9 @@ from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Polygon
 
 from ._mesh_kernels import edges_of
-from .region import Region, lift
+from ._checks import check_alpha, check_faces
+from .errors import ArgumentError
+from .region import Region, lift, require_region
 
 if TYPE_CHECKING:
     import pymeshlab
@@ -46,6 +48,14 @@ class PlanarMesh:
     conforming : bool, optional
     field : RadiusField, optional
         Graded meshes: the radius field r the mesh was made with (docs/graded.md).
+
+    Raises
+    ------
+    ArgumentError
+        If a face refers to a vertex that does not exist, ``on_boundary`` has not one
+        flag per vertex, or ``alpha`` is not a positive finite number.
+    ArgumentTypeError
+        If ``region`` is not a :class:`Region`.
 
     Attributes
     ----------
@@ -84,10 +94,13 @@ class PlanarMesh:
     def __init__(self, vertices, faces, on_boundary, region: Region, alpha: float,
                  conforming: bool = False, *, field=None):
         self.vertices = np.array(vertices, dtype=float).reshape(-1, 2)
-        self.faces = np.array(faces, dtype=np.int64).reshape(-1, 3)
+        self.faces = check_faces(faces, len(self.vertices))
         self.on_boundary = np.array(on_boundary, dtype=bool).reshape(-1)
-        self.region = region
-        self.alpha = float(alpha)
+        if len(self.on_boundary) != len(self.vertices):
+            raise ArgumentError(f"on_boundary has {len(self.on_boundary)} flags for "
+                                f"{len(self.vertices)} vertices; give one per vertex")
+        self.region = require_region(region, "PlanarMesh")
+        self.alpha = check_alpha(alpha)
         self.conforming = bool(conforming)
         self.field = field
         for array in (self.vertices, self.faces, self.on_boundary):
@@ -363,3 +376,4 @@ def mesh_union(vertices, boundary):
     _, same = np.unique(edges, axis=0, return_inverse=True)
     covered = np.isin(same[len(boundary):], same[:len(boundary)])
     return shapely.union_all(pieces[covered])
+

@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import difflib
+import inspect
 import warnings
 from typing import NamedTuple
 
@@ -30,6 +32,10 @@ from .sizing import DEFAULT_GRADING, radius_field
 
 __all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multiresolution",
            "section_report"]
+
+SAMPLING_OPTIONS = tuple(name for name, parameter in inspect.signature(poisson_disc).parameters.items()
+                         if parameter.kind is parameter.KEYWORD_ONLY and name != "conforming")
+"""The keywords of :func:`poisson_disc` that ``mesh_region(**sampling_options)`` passes on."""
 
 
 def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True,
@@ -106,14 +112,17 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     >>> graded.certificate().ok, graded.certificate().betti_mesh
     (True, (1, 1))
     """
+    if isinstance(alpha, str) and alpha != "auto":
+        raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
     if graded:
         return _graded_mesh(region, alpha, seed, conforming, grading, sizing, sampling_options)
     if grading is not None or sizing is not None:
         raise ArgumentError("grading and sizing apply to graded meshes; pass graded=True")
-    if isinstance(alpha, str) and alpha == "auto":
+    if isinstance(alpha, str):
         return auto_mesh(region, seed=seed, conforming=conforming, **sampling_options)
     _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
     check_seed(seed)
+    _check_sampling_options(sampling_options)
     samples = poisson_disc(region, alpha, seed=seed, conforming=conforming, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha, conforming)
@@ -125,11 +134,8 @@ def _graded_mesh(region, alpha, seed, conforming, grading, sizing, options) -> P
     check_seed(seed)
     if not conforming:
         raise ArgumentError("graded meshes are always conforming; leave conforming=True")
-    cap = None if isinstance(alpha, str) and alpha == "auto" else check_alpha(alpha)
-    unknown = set(options) - {"max_samples", "feature_angle"}
-    if unknown:
-        raise ArgumentError(f"graded meshes take max_samples and feature_angle, not "
-                            f"{', '.join(sorted(unknown))}")
+    cap = None if alpha == "auto" else check_alpha(alpha)
+    _check_sampling_options(options)
     field = radius_field(region, DEFAULT_GRADING if grading is None else grading, cap, sizing,
                          options.get("feature_angle", 30.0))
     samples = graded_poisson_disc(region, field, seed, **options)
@@ -137,6 +143,16 @@ def _graded_mesh(region, alpha, seed, conforming, grading, sizing, options) -> P
                                  boundary=samples.rings)
     return PlanarMesh(samples.points, faces, samples.on_boundary, region, field.cap, True,
                       field=field)
+
+
+def _check_sampling_options(options: dict):
+    """Refuse a keyword that :func:`poisson_disc` does not take, naming the nearest one."""
+    for name in options:
+        if name not in SAMPLING_OPTIONS:
+            near = difflib.get_close_matches(name, SAMPLING_OPTIONS, n=1)
+            raise ArgumentTypeError(f"mesh_region has no option {name!r}"
+                                    + (f"; did you mean {near[0]!r}?" if near else "")
+                                    + f" (its sampling options: {', '.join(SAMPLING_OPTIONS)})")
 
 
 def suggest_alpha(region: Region, max_samples: int | None = None,
@@ -429,6 +445,7 @@ def section_report(mesh: PlanarMesh, *, seed: int, alpha_mode: str = "given",
     """
     if alpha_mode not in ("given", "auto"):
         raise ArgumentError(f"alpha_mode must be 'given' or 'auto', got {alpha_mode!r}")
+    check_seed(seed)
     region, frame = mesh.region, mesh.region.frame
     feature = feature_size(region)
     return {

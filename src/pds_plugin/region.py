@@ -10,6 +10,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
+from ._checks import check_flag, check_instance
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 
 __all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region"]
@@ -67,7 +68,9 @@ class Region:
             If it is empty, has non-finite coordinates, is invalid (the message gives
             shapely's reason and location) or has zero-area parts, and ``repair`` is off.
         ArgumentError
-            If ``frame`` is not a finite 4x4 matrix.
+            If ``frame`` is not a finite 4x4 matrix of rank 2 in its first two columns.
+        ArgumentTypeError
+            If ``frame`` is not numbers, or ``repair`` not a bool.
 
         Examples
         --------
@@ -80,6 +83,7 @@ class Region:
         >>> Region.from_shapely(bowtie, repair=True).betti
         (2, 0)
         """
+        repair = check_flag(repair, "repair")
         polygons = _polygons_of(geometry)
         coords = shapely.get_coordinates(geometry)
         if not np.isfinite(coords).all():
@@ -240,9 +244,11 @@ def _invalidity(polygons) -> str:
             "fix the outline or pass repair=True (shapely.make_valid)")
 
 
-SCALE_LIMITS = (1e-100, 1e100)
-"""Smallest extent and largest coordinate of a region: areas and distances square the
-coordinates, which float64 holds only within about 1e±150."""
+SCALE_LIMITS = (1e-50, 1e50)
+"""Smallest extent and largest coordinate of a region. The sampler's and the complex's
+predicates raise coordinates to powers of up to about six, which float64 holds only
+within about 1e±51: a square of side 1e54 (or 1e-54) got triangles of aspect ratio 9 and
+more, a square of side 1e90 of 312."""
 
 
 def _check_scale(geometry) -> None:
@@ -258,9 +264,14 @@ def _check_scale(geometry) -> None:
 def _checked_frame(frame) -> np.ndarray:
     if frame is None:
         return np.eye(4)
-    frame = np.array(frame, dtype=float)
-    if frame.shape != (4, 4) or not np.isfinite(frame).all():
-        raise ArgumentError(f"frame must be a finite 4x4 matrix, got shape {frame.shape}")
+    try:
+        frame = np.array(frame, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"frame must be a 4x4 matrix of numbers, got {frame!r}") from None
+    if frame.shape != (4, 4):
+        raise ArgumentError(f"frame must be a 4x4 matrix, got shape {frame.shape}")
+    if not np.isfinite(frame).all():
+        raise ArgumentError("frame has NaN or infinite entries; give a finite 4x4 matrix")
     if not np.linalg.norm(np.cross(frame[:3, 0], frame[:3, 1])) > 0:
         raise ArgumentError("frame maps the plane onto a line or a point (its first two "
                             "columns are parallel or zero); give a 2D -> 3D map of rank 2, "
@@ -379,7 +390,4 @@ def require_region(value, who: str) -> Region:
     ...
     pds_plugin.errors.ArgumentTypeError: poisson_disc needs a pds_plugin.Region, got str; make one with Region.from_shapely(polygon)
     """
-    if not isinstance(value, Region):
-        raise ArgumentTypeError(f"{who} needs a pds_plugin.Region, got {type(value).__name__}; "
-                                "make one with Region.from_shapely(polygon)")
-    return value
+    return check_instance(value, Region, who, "Region.from_shapely(polygon)")

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import ArgumentError, SourceError
+from .errors import ArgumentError, ArgumentTypeError, SourceError
 from .mesh import PlanarMesh
 from .pipeline import mesh_region
 from .region import plane_label
@@ -120,6 +120,9 @@ def add_section_meshes(meshset: pymeshlab.MeshSet, alpha: float, *, plane_normal
 
 
 def _solid_id(meshset, mesh_id) -> int:
+    if not hasattr(meshset, "mesh_number"):
+        raise ArgumentTypeError(f"add_section_meshes needs a pymeshlab.MeshSet, got "
+                                f"{type(meshset).__name__}")
     if meshset.mesh_number() == 0:
         raise ArgumentError("the MeshSet is empty: load a solid first (ms.load_new_mesh(path))")
     if mesh_id is None:

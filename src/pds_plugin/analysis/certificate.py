@@ -19,17 +19,26 @@ circumcentre, or on its longest edge when the triangle is obtuse; the slivers of
 between a chord and a convex arc add the farthest point from the chord's ends.
 
 Other meshes (the paper's construction) are measured with the Euclidean distance. The
-closest pair is a Delaunay edge, so the separation is the shortest edge of the Delaunay
-triangulation DT(P). On a polygonal region the coverage gap peaks at a Voronoi vertex
-inside the region (the circumcentre of a Delaunay triangle), where a Voronoi edge crosses
-the boundary, or at a boundary vertex; the last two are found exactly along every boundary
-piece (see ``_certificate_kernels``).
+separation is the closest pair of samples, found on a grid of cells of side at least
+2 alpha (two samples closer than a cell's side lie in the same or adjacent cells; a pair
+found farther apart than that is confirmed on a grid of cells as large as its distance),
+so it needs no triangulation: flat or nearly flat sets of samples, whose triangles
+Qhull drops, are measured like any other. On a polygonal region the coverage gap peaks
+at a Voronoi vertex inside the region (the circumcentre of a Delaunay triangle), where a
+Voronoi edge crosses the boundary, or at a boundary vertex; the last two are found
+exactly along every boundary piece (see ``_certificate_kernels``).
 
-DT(P) is never built whole. The solid alpha-complex T holds its triangles of
-circumradius <= alpha; every other Delaunay triangle has all three vertices on the
-boundary of T (a vertex inside T has its whole Delaunay star in T) or in no triangle of
-T. Those vertices B are few, so DT(B) is cheap, and its triangles whose circumcircle
-holds no sample are exactly the Delaunay triangles missing from T.
+The Delaunay triangulation DT(P) is never built whole. The solid alpha-complex T holds
+its triangles of circumradius <= alpha; every other Delaunay triangle has all three
+vertices on the boundary of T (a vertex inside T has its whole Delaunay star in T) or in
+no triangle of T. Those vertices B are few, so DT(B) (Qhull) costs far less than DT(P),
+and its triangles whose circumcircle holds no sample are exactly the Delaunay triangles
+missing from T. Only those with their circumcentre in the region count for the coverage
+gap.
+
+Every distance query (closest pair, pairs closer than the shortest edge, empty
+circumcircles, the samples near each boundary piece) runs on one grid of the samples,
+built once per certificate.
 """
 
 from __future__ import annotations
@@ -41,7 +50,9 @@ import numpy as np
 import shapely
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
-from .._certificate_kernels import boundary_gaps
+from .. import _certificate_kernels as kern
+from .._checks import check_planar_mesh
+from .._complex_kernels import bin_points
 from .._geometry_kernels import circumcircles
 from .conformity import AREA_TOL, SampledBoundary, boundary_report
 from .quality import ASPECT_BOUND
@@ -283,17 +294,18 @@ def certify(mesh: PlanarMesh) -> Certificate:
     >>> cert.min_separation >= 1, cert.coverage_gap <= 1, cert.max_aspect_ratio <= cert.aspect_bound
     (True, True, True)
     """
+    check_planar_mesh(mesh, "certify")
     points, alpha = mesh.vertices, mesh.alpha
     faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     quality = mesh.quality()
-    tree = cKDTree(points, balanced_tree=False, compact_nodes=False)
+    grid = _SampleGrid(points, 2 * alpha)     # the closest pair, about alpha, lies in adjacent cells
     rim_edges = mesh.boundary_edges
     sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, alpha)
     boundary = boundary_report(mesh, sampled)
     problems = list(boundary.problems)
     visibility = False
     if mesh.conforming:
-        separation = _visible_separation(mesh, quality, tree, sampled)
+        separation = _visible_separation(mesh, quality, grid, sampled)
         why_not = _visibility_route_fails(mesh, boundary, sampled)
         if why_not:
             problems.append(f"coverage not measured with the visibility rule: {why_not}")
@@ -301,10 +313,9 @@ def certify(mesh: PlanarMesh) -> Certificate:
             visibility = True
             gap, gap_at = _visible_coverage(points, faces, quality, sampled)
     if not visibility:
-        extra = _delaunay_triangles_outside(points, faces, rim_edges, tree)
-        gap, gap_at = _coverage_gap(mesh, faces, extra, tree)
-        if not mesh.conforming:
-            separation = _shortest_edge(points, quality, extra, tree)
+        gap, gap_at = _coverage_gap(mesh, faces, rim_edges, grid)
+    if not mesh.conforming:
+        separation = grid.closest_distance()
     used = np.zeros(len(points), bool)
     used[faces.ravel()] = True
     return Certificate(
@@ -352,13 +363,13 @@ def _visibility_route_fails(mesh, boundary, sampled) -> str:
     return ""
 
 
-def _visible_separation(mesh, quality, tree, sampled) -> float:
+def _visible_separation(mesh, quality, grid, sampled) -> float:
     """The smallest distance between samples that share an edge or see each other: the
-    shortest edge, or a closer pair (KD-tree) whose segment stays in the region (up to
-    the chords' sagitta)."""
+    shortest edge, or a closer pair (on the grid) whose segment stays in the region (up
+    to the chords' sagitta)."""
     shortest = float(quality.edge_lengths.min(initial=np.inf))
     reach = shortest if np.isfinite(shortest) else 2.0 * mesh.alpha
-    pairs = tree.query_pairs(reach, output_type="ndarray")
+    pairs = grid.pairs_within(reach)
     points = mesh.vertices
     segments = points[pairs]
     length = np.hypot(*(segments[:, 1] - segments[:, 0]).T)
@@ -428,46 +439,109 @@ def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:
     return int(np.count_nonzero(np.bincount(boundary_edges.ravel(), minlength=n_vertices) > 2))
 
 
-def _delaunay_triangles_outside(points, faces, rim_edges, tree) -> np.ndarray:
-    """The Delaunay triangles of ``points`` that are not in ``faces`` (see module doc)."""
+class _SampleGrid:
+    """The samples sorted into square cells (``bin_points``: CSR, cell by cell), for every
+    distance query of the certificate. The side is ``cell`` (2 alpha), or larger when the
+    samples are sparse in their bounding box: at most about three cells per sample.
+
+    Examples
+    --------
+    >>> grid = _SampleGrid(np.array([[0, 0], [3, 0], [3, 0.5], [0, 2]], float), 1.0)
+    >>> float(grid.closest_distance()), grid.pairs_within(2.0).tolist()
+    (0.5, [[0, 3], [1, 2]])
+    """
+
+    _CROWDED = 64        # samples in one cell above which the KD-tree finds the closest pair
+
+    def __init__(self, points, cell):
+        self.points = np.ascontiguousarray(points, dtype=float).reshape(-1, 2)
+        n = len(self.points)
+        low = self.points.min(axis=0) if n else np.zeros(2)
+        span = self.points.max(axis=0) - low if n else np.zeros(2)
+        self.h = float(max(cell, np.sqrt(span[0] * span[1] / max(n, 1)), span.max() / max(n, 1)))
+        self.x0, self.y0 = (float(v) for v in low)
+        self.nx, self.ny = (int(v / self.h) + 1 for v in span)
+        self.order, self.start = bin_points(self.points, self.x0, self.y0, self.h,
+                                            self.nx, self.ny)
+        self.binned = np.ascontiguousarray(self.points[self.order])
+        self.crowd = int(np.diff(self.start).max(initial=0))
+
+    def _cells(self):
+        return self.binned, self.start, self.x0, self.y0, self.h, self.nx, self.ny
+
+    def closest_distance(self) -> float:
+        """The smallest distance between two samples, exact (inf for fewer than two)."""
+        if len(self.points) < 2:
+            return np.inf
+        if self.crowd > self._CROWDED:
+            i, j = _closest_by_tree(self.points)
+        else:
+            p, q, squared = kern.closest_pair(self.binned, self.start, self.nx, self.ny)
+            if not np.sqrt(squared) <= self.h * (1 - 1e-6):     # (no underflow of h²)
+                # the pair found may not be the closest: cells as large as its distance
+                # (or four times larger when no two samples were neighbours) settle it
+                side = np.sqrt(squared) * 1.001 if np.isfinite(squared) else 4 * self.h
+                return _SampleGrid(self.points, side).closest_distance()
+            i, j = self.order[p], self.order[q]
+        dx, dy = self.points[j] - self.points[i]
+        return float(np.sqrt(dx * dx + dy * dy))
+
+    def pairs_within(self, limit) -> np.ndarray:
+        """(P, 2) sample indices of the pairs at most ``limit`` apart, each pair once."""
+        pairs = kern.pairs_within(self.binned, self.start, self.nx, self.ny, self.h, limit)
+        return self.order[pairs]
+
+    def sample_within(self, centre, radius) -> np.ndarray:
+        """For each circle, whether a sample lies closer than ``radius`` to its centre."""
+        return kern.sample_within(centre, radius, *self._cells())
+
+    def boundary_gaps(self, start, direction, length, reach):
+        """:func:`_certificate_kernels.boundary_gaps` with the samples within
+        ``0.5 * length + reach`` of each piece's middle."""
+        span = int(2 * (0.5 * length.max(initial=0) + reach) / self.h) + 3
+        most = min(self.crowd * span * span, len(self.points))
+        return kern.boundary_gaps(start, direction, length, reach, self.points, self.order,
+                                  *self._cells(), most)
+
+
+def _closest_by_tree(points):
+    """The closest pair of samples (i, j) by KD-tree: for crowded grids."""
+    distance, neighbour = cKDTree(points).query(points, k=2)
+    i = int(np.argmin(distance[:, 1]))
+    return i, int(neighbour[i, 1])
+
+
+def _missing_delaunay_circles(points, faces, rim_edges, grid, geometry):
+    """Circumcentres and radii of the Delaunay triangles of ``points`` that are not in
+    ``faces`` (see the module documentation) and whose centre lies in ``geometry``."""
     rim = np.ones(len(points), bool)
     rim[faces.ravel()] = False           # vertices in no triangle...
     rim[rim_edges.ravel()] = True        # ...and those on the complex's boundary
     rim = np.flatnonzero(rim)
     if len(rim) < 3:
-        return np.empty((0, 3), np.int64)
+        return np.empty((0, 2)), np.empty(0)
     try:
         local = Delaunay(points[rim]).simplices
     except QhullError:            # all collinear: no triangle at all
-        return np.empty((0, 3), np.int64)
-    candidates = rim[local]
-    centre, radius = circumcircles(points, candidates)
-    flat = ~np.isfinite(radius)              # Qhull's slivers on collinear points
-    candidates, centre, radius = candidates[~flat], centre[~flat], radius[~flat]
-    nearest, _ = tree.query(centre)
-    return candidates[nearest >= radius * (1 - 1e-9)]
+        return np.empty((0, 2)), np.empty(0)
+    centre, radius = circumcircles(points, rim[local])
+    keep = np.isfinite(radius)                  # Qhull's slivers on collinear points
+    keep[keep] = shapely.intersects_xy(geometry, centre[keep, 0], centre[keep, 1])
+    centre, radius = centre[keep], radius[keep]
+    empty = ~grid.sample_within(centre, radius * (1 - 1e-9))
+    return centre[empty], radius[empty]
 
 
-def _shortest_edge(points, quality, extra, tree) -> float:
-    """The closest pair of samples is a Delaunay edge: of the complex or of ``extra``."""
-    if len(quality.edge_lengths) + len(extra) == 0:
-        return float(tree.query(points, k=2)[0][:, 1].min()) if len(points) > 1 else np.inf
-    extra_edges = points[extra] - points[np.roll(extra, 1, axis=1)]
-    return float(min(quality.edge_lengths.min(initial=np.inf),
-                     np.linalg.norm(extra_edges, axis=2).min(initial=np.inf)))
-
-
-def _coverage_gap(mesh, faces, extra, tree):
+def _coverage_gap(mesh, faces, rim_edges, grid):
     """The largest distance from the region to the samples, and where it is."""
     region, points = mesh.region, mesh.vertices
     geometry = region.geometry
     shapely.prepare(geometry)
-    best, best_at = _boundary_gap(region, points, mesh.alpha, tree)
+    best, best_at = _boundary_gap(region, grid, mesh.alpha)
     # Voronoi vertices of the missing Delaunay triangles that lie in the region
-    centre, radius = circumcircles(points, extra)
-    inside = shapely.intersects_xy(geometry, centre[:, 0], centre[:, 1])
-    if inside.any():
-        k = np.flatnonzero(inside)[np.argmax(radius[inside])]
+    centre, radius = _missing_delaunay_circles(points, faces, rim_edges, grid, geometry)
+    if len(radius):
+        k = np.argmax(radius)
         if radius[k] > best:
             best, best_at = radius[k], centre[k]
     # those of the complex: the largest circumradius above `best` whose centre is in the region
@@ -483,27 +557,25 @@ def _coverage_gap(mesh, faces, extra, tree):
     return float(best), np.asarray(best_at, float)
 
 
-def _boundary_gap(region, points, alpha, tree):
+def _boundary_gap(region, grid, alpha):
     """Largest distance to the samples along the boundary, exact: candidates within
     ``reach`` of a piece settle every point whose nearest sample is nearer than ``reach``;
-    pieces whose gap exceeds it are redone with a larger reach."""
+    pieces whose gap exceeds it are redone with a larger reach, until every sample is a
+    candidate."""
     start, direction, length = region.boundary_pieces(alpha)
     middle = start + 0.5 * length[:, None] * direction
     gap = np.full(len(start), np.inf)
     where = np.zeros(len(start))
     todo = np.arange(len(start))
+    corners = np.array([[grid.x0, grid.y0], [grid.x0 + grid.nx * grid.h, grid.y0 + grid.ny * grid.h]])
     reach = 2.0 * alpha
     while len(todo):
-        near = tree.query_ball_point(middle[todo], 0.5 * length[todo] + reach)
-        sizes = np.fromiter(map(len, near), np.int64, len(near))
-        cand_start = np.concatenate([[0], np.cumsum(sizes)])
-        cand = np.fromiter((i for group in near for i in group), np.int64, cand_start[-1])
-        gap[todo], where[todo] = boundary_gaps(start[todo], direction[todo], length[todo],
-                                               cand_start, cand, points)
-        settled = gap[todo] <= reach
-        if sizes.max(initial=0) == len(points):
-            break
-        todo = todo[~settled]
+        gap[todo], where[todo] = grid.boundary_gaps(start[todo], direction[todo], length[todo],
+                                                    reach)
+        farthest = np.abs(middle[todo, None, :] - corners[None]).max(axis=1)
+        if (0.5 * length[todo] + reach >= np.hypot(*farthest.T)).all():
+            break                               # every sample was a candidate
+        todo = todo[gap[todo] > reach]
         reach *= 4.0
     p = int(np.argmax(gap))
     return gap[p], start[p] + where[p] * direction[p]

@@ -25,6 +25,8 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
+from .._certificate_kernels import segment_distances
+
 __all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
 
 PROBES_PER_ALPHA = 50
@@ -458,10 +460,17 @@ def _farthest(curves, targets, step) -> float:
     """
     if not len(curves):
         return 0.0
-    tree = shapely.STRtree(shapely.linestrings(targets))
 
     def distance(xy):
-        return tree.query_nearest(shapely.points(xy), all_matches=False, return_distance=True)[1]
+        """GEOS's point-to-segment distance on a grid of cells of side alpha; the few
+        points not settled within 8 rings of cells by shapely's STRtree."""
+        found = segment_distances(xy, targets, step * PROBES_PER_ALPHA, 8)
+        far = np.isnan(found)
+        if far.any():
+            tree = shapely.STRtree(shapely.linestrings(targets))
+            found[far] = tree.query_nearest(shapely.points(xy[far]), all_matches=False,
+                                            return_distance=True)[1]
+        return found
 
     ends = distance(curves.reshape(-1, 2)).reshape(-1, 2)
     length = np.hypot(*(curves[:, 1] - curves[:, 0]).T)

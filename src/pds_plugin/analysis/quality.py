@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._checks import check_faces
+
 __all__ = ["Quality", "triangle_quality", "ASPECT_BOUND", "ASPECT_EQUILATERAL"]
 
 ASPECT_EQUILATERAL = float(4 / np.sqrt(3))
@@ -124,6 +126,11 @@ def triangle_quality(vertices: np.ndarray, faces: np.ndarray) -> Quality:
     -------
     Quality
 
+    Raises
+    ------
+    ArgumentError
+        If a face refers to a vertex that does not exist.
+
     Examples
     --------
     >>> import numpy as np
@@ -133,7 +140,7 @@ def triangle_quality(vertices: np.ndarray, faces: np.ndarray) -> Quality:
     """
     from .._geometry_kernels import triangle_measures
     vertices = np.ascontiguousarray(vertices, dtype=float)
-    faces = np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3)
+    faces = check_faces(faces, len(vertices))
     lengths, area, angles = triangle_measures(vertices, faces)
     with np.errstate(divide="ignore"):
         aspect = np.where(area > 0, lengths.max(axis=1, initial=0) ** 2 / area, np.inf)

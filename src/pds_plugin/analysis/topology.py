@@ -20,6 +20,8 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
+from .._checks import check_planar_mesh
+
 if TYPE_CHECKING:
     from ..mesh import PlanarMesh
 
@@ -124,7 +126,7 @@ def topology_report(mesh: PlanarMesh) -> TopologyReport:
     >>> print(report.problems[0])         # doctest: +ELLIPSIS
     hole 0 of component 0 at (0, 0), about 0.599... wide, is filled by the mesh; keep it with alpha <= 0.149...
     """
-    return _Comparison(mesh).report()
+    return _Comparison(check_planar_mesh(mesh, "topology_report")).report()
 
 
 class _Comparison:

@@ -56,7 +56,7 @@ def main(argv=None) -> int:
     2
     """
     argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
-    if not argv or argv[0] not in (*COMMANDS, "-h", "--help"):
+    if not argv or argv[0] not in (*COMMANDS, "-h", "--help", "--version"):
         argv = ["mesh", *argv]
     main_thread = threading.current_thread() is threading.main_thread()
     if main_thread:                       # SIGTERM ends a run as Ctrl-C does

@@ -8,15 +8,15 @@ import re
 from pathlib import Path
 
 from .._checks import check_alpha, check_grading, check_positive_int, check_seed
+from .._version import __version__
 from ..batch.jobs import AXES
+from ..sources.solids import MAX_SECTIONS
 
 __all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "glue_negative_values"]
 
 PROG = "pds-mesh"
 COMMANDS = ("mesh", "demo", "batch")
 _NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
-MAX_SECTIONS = 10_000
-"""Most sections one run cuts (--slices, --at): each is a mesh file; split bigger jobs."""
 
 _DESCRIPTION = """\
 Certified triangle meshes of planar sections: cut a mesh file with planes
@@ -113,6 +113,7 @@ def parser() -> argparse.ArgumentParser:
     """
     top = _Parser(prog=PROG, formatter_class=argparse.RawDescriptionHelpFormatter,
                   description=_DESCRIPTION, epilog=_EPILOG)
+    top.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = top.add_subparsers(dest="command", metavar="COMMAND", required=True,
                                   parser_class=_Parser)
     _mesh_arguments(commands.add_parser(

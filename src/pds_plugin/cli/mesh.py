@@ -149,8 +149,10 @@ def run(args) -> int:
     0
     """
     if args.output.suffix.lower() not in writers():
-        raise ArgumentError(f"cannot write {args.output}: the output suffix must be one of "
-                            f"{', '.join(writers())}")
+        raise ArgumentError(f"cannot write {args.output}: " + (
+            f"it is a directory; give a file name, e.g. {args.output / 'section.ply'}"
+            if args.output.is_dir() else
+            f"the output suffix must be one of {', '.join(writers())}"))
     _check_outputs([args.output, args.report, args.plot], args.input)
     if args.plot is not None:
         _check_picture(args.plot)
@@ -298,7 +300,8 @@ def _read_regions(args) -> list[Region]:
             say("warning", warning.message)
         return [region]
     if normal is None:
-        raise ArgumentError(f"{path} is a solid: say where to cut it with --axis or "
+        raise ArgumentError(f"{path} is not a drawing ({', '.join(READERS)}), so it is cut "
+                            f"as a solid (a mesh file): say where with --axis or "
                             f"--plane-normal (and --at, --plane-origin or --slices)")
     if args.slices is not None and args.plane_origin is not None:
         raise ArgumentError("--slices spreads the planes across the whole solid: drop "

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .._atomic import atomic_path
-from .._checks import check_has_triangles, check_output_directory
+from .._checks import check_has_triangles, check_output_directory, check_path
 from ..errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -137,8 +137,10 @@ def export(mesh: PlanarMesh, path) -> None:
         For an unsupported suffix.
     EmptyMeshError
         For a mesh without triangles.
-    FileNotFoundError
-        If the parent directory of ``path`` does not exist.
+    ArgumentTypeError
+        If ``path`` is not a file name.
+    FileNotFoundError, IsADirectoryError
+        If the parent directory of ``path`` does not exist, or ``path`` is a folder.
 
     Examples
     --------
@@ -150,8 +152,10 @@ def export(mesh: PlanarMesh, path) -> None:
     >>> out.read_bytes()[:3]
     b'ply'
     """
-    path = Path(path)
+    path = Path(check_path(path))
     writer = _WRITERS.get(path.suffix.lower())
+    if path.is_dir():
+        check_output_directory(path)          # "it is a directory", whatever its name
     if writer is None:
         what = f"suffix {path.suffix!r}" if path.suffix else "a path without a suffix"
         raise ArgumentError(f"cannot export to {what} ({path.name}): supported suffixes are "

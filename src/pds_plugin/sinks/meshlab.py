@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._checks import check_has_triangles, import_optional
+from .._checks import check_has_triangles, check_planar_mesh, import_optional
 from ..errors import ArgumentError, EmptyMeshError
 from ..silence import silenced
 
@@ -230,7 +230,8 @@ def meshlab_quality(mesh_or_meshset, bins: int = 20, range=(0.0, 1.0)) -> MeshLa
                              "there is no triangle quality to measure")
         work.add_mesh(current, current.label())
     else:
-        work.add_mesh(meshlab_mesh(mesh_or_meshset), "pds_plugin mesh")
+        work.add_mesh(meshlab_mesh(check_planar_mesh(mesh_or_meshset, "meshlab_quality")),
+                      "pds_plugin mesh")
     with silenced():
         work.compute_scalar_by_aspect_ratio_per_face(metric="inradius/circumradius")
         statistics = work.get_scalar_statistics_per_face()

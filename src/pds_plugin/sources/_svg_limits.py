@@ -9,12 +9,14 @@ as the element it copies), refusing before any of it is built.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
 
+from .._checks import check_positive_int
 from ..errors import SourceError
 
 __all__ = ["MAX_BYTES", "MAX_ELEMENTS", "MAX_SEGMENTS", "check_svg_limits"]
@@ -29,23 +31,28 @@ holds each in several kilobytes."""
 
 _NUMBER = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _LINK = ("href", "{http://www.w3.org/1999/xlink}href")
+_GEOMETRY = frozenset({"d", "points", "transform", "x", "y", "width", "height", "r", "rx", "ry",
+                       "cx", "cy", "x1", "y1", "x2", "y2", "viewBox"})
 
 
-def check_svg_limits(path, max_bytes=MAX_BYTES, max_elements=MAX_ELEMENTS,
-                     max_segments=MAX_SEGMENTS) -> None:
-    """Refuse an SVG file that is too large, or expands to too many elements or segments.
+def check_svg_limits(path, max_elements=MAX_ELEMENTS, max_segments=MAX_SEGMENTS) -> None:
+    """Refuse an SVG file that expands to too many elements or segments (its size is
+    checked by :func:`.curves.checked_file`, with ``MAX_BYTES``).
 
     Parameters
     ----------
     path : str or os.PathLike
-    max_bytes, max_elements, max_segments : int
+    max_elements, max_segments : int
         The limits; each error names the keyword of :func:`pds_plugin.load_svg` that
         raises it.
 
     Raises
     ------
     SourceError
-        If a limit is exceeded, or a shape has a negative size (an error in SVG).
+        If a limit is exceeded, a shape has a negative size (an error in SVG), or a
+        geometric attribute holds NaN, infinity or a number beyond float64.
+    ArgumentError
+        If a limit is not a positive integer.
 
     Examples
     --------
@@ -62,10 +69,8 @@ def check_svg_limits(path, max_bytes=MAX_BYTES, max_elements=MAX_ELEMENTS,
     pds_plugin.errors.SourceError: ... expands to more than 100,000 elements (its <use> copies counted); pass a larger max_elements to read it
     """
     name = os.fspath(path)
-    size = os.path.getsize(name)
-    if size > max_bytes:
-        raise SourceError(f"{name!r} is {size:,} bytes, more than {max_bytes:,}; pass a larger "
-                          f"max_bytes to read it")
+    max_elements = check_positive_int(max_elements, "max_elements")
+    max_segments = check_positive_int(max_segments, "max_segments")
     with open(name, "rb") as file:
         data = file.read()
     try:
@@ -82,6 +87,13 @@ def check_svg_limits(path, max_bytes=MAX_BYTES, max_elements=MAX_ELEMENTS,
                           f"pass a larger max_segments to read it")
     for element in root.iter():
         tag = element.tag.rsplit("}", 1)[-1]
+        for attribute in _GEOMETRY.intersection(element.keys()):
+            value = element.get(attribute)
+            if _non_finite(value):
+                shown = value if len(value) <= 40 else value[:37] + "..."
+                raise SourceError(f"{name!r} has a <{tag}> with {attribute}=\"{shown}\": NaN, "
+                                  f"infinite and out-of-range numbers (beyond ±1.8e308) cannot "
+                                  f"be drawn; fix the drawing")
         for size_name in {"circle": ("r",), "ellipse": ("rx", "ry"),
                           "rect": ("width", "height")}.get(tag, ()):
             value = element.get(size_name, "").strip()
@@ -114,6 +126,17 @@ def _expanded(root, by_id, max_elements, max_segments, name) -> tuple[int, int]:
         cost[element] = (min(1 + sum(c[0] for c in counted), max_elements + 1),
                          min(own + sum(c[1] for c in counted), max_segments + 1))
     return cost[root]
+
+
+def _non_finite(text: str) -> bool:
+    """Whether ``text`` holds NaN, infinity or a number float64 cannot hold (svgelements
+    would drop the attribute, or the shape, without a word). No SVG keyword of a
+    geometric attribute contains "nan" or "inf"."""
+    lowered = text.lower()
+    if "nan" in lowered or "inf" in lowered:
+        return True
+    return any(not math.isfinite(float(number)) for number in _NUMBER.findall(text.encode())
+               if len(number) > 300 or b"e" in number.lower())
 
 
 def _count_numbers(text: str) -> int:

@@ -10,8 +10,10 @@ import warnings
 
 import numpy as np
 
+from .._checks import check_path, check_positive_int
 from ..errors import RegionError, SourceError
-from .polygons import outline_geometry
+from ..region import SCALE_LIMITS
+from .polygons import ROUNDING, outline_geometry
 
 __all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
            "elliptic_points", "outline"]
@@ -22,14 +24,16 @@ MAX_CHORDS = 1_000_000
 """Chords of one curve beyond which it is refused: the curve is broken or the tolerance tiny."""
 
 
-def checked_file(path, kind: str) -> str:
-    """The path of an existing, non-empty drawing file.
+def checked_file(path, kind: str, max_bytes: int | None = None) -> str:
+    """The path of an existing, non-empty drawing file of at most ``max_bytes``.
 
     Parameters
     ----------
     path : str or os.PathLike
     kind : str
         The format, for messages ("SVG", "DXF").
+    max_bytes : int, optional
+        The largest file accepted; the error names the reader's keyword ``max_bytes``.
 
     Returns
     -------
@@ -37,10 +41,14 @@ def checked_file(path, kind: str) -> str:
 
     Raises
     ------
-    FileNotFoundError
-        If there is no such file.
+    FileNotFoundError, IsADirectoryError
+        If there is no such file, or it is a folder.
+    ArgumentTypeError
+        If ``path`` is not a file name.
     SourceError
-        If the file is empty.
+        If the file is empty or larger than ``max_bytes``.
+    ArgumentError
+        If ``max_bytes`` is not a positive integer.
 
     Examples
     --------
@@ -49,11 +57,17 @@ def checked_file(path, kind: str) -> str:
     ...
     FileNotFoundError: no such DXF file: 'absent.dxf'
     """
-    name = os.fspath(path)
+    name = check_path(path)
+    if os.path.isdir(name):
+        raise IsADirectoryError(f"{name!r} is a folder, not a {kind} file")
     if not os.path.isfile(name):
         raise FileNotFoundError(f"no such {kind} file: {name!r}")
-    if os.path.getsize(name) == 0:
+    size = os.path.getsize(name)
+    if size == 0:
         raise SourceError(f"the {kind} file {name!r} is empty")
+    if max_bytes is not None and size > check_positive_int(max_bytes, "max_bytes"):
+        raise SourceError(f"{name!r} is {size:,} bytes, more than {max_bytes:,}; pass a larger "
+                          f"max_bytes to read it")
     return name
 
 
@@ -72,7 +86,7 @@ def default_tolerance(points) -> float:
     Raises
     ------
     RegionError
-        If the box has zero size (no points, or all the same).
+        If the box has zero size (no points, or all the same), or a point is not finite.
 
     Examples
     --------
@@ -80,6 +94,9 @@ def default_tolerance(points) -> float:
     0.005
     """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
+    if not np.isfinite(points).all():
+        raise RegionError("the drawing's coordinates overflow float64 (a transform or a size "
+                          "beyond ±1.8e308 makes them infinite): fix the drawing or its units")
     diagonal = np.linalg.norm(np.ptp(points, axis=0)) if len(points) else 0.0
     if not diagonal > 0:
         raise RegionError("the drawing has zero size: nothing to mesh")
@@ -178,7 +195,8 @@ def outline(chains, tolerance, name, kind="curve"):
     Raises
     ------
     RegionError
-        If no loop closes (the message gives the open ends).
+        If no loop closes (the message gives the open ends), or a coordinate is beyond
+        the region's limit (:data:`pds_plugin.region.SCALE_LIMITS`).
 
     Warns
     -----
@@ -191,6 +209,16 @@ def outline(chains, tolerance, name, kind="curve"):
     >>> outline(square, 1e-9, "'square.svg'", kind="stroke").area
     16.0
     """
+    largest = max((float(np.abs(chain).max()) for chain in chains if len(chain)), default=0.0)
+    if not largest < SCALE_LIMITS[1]:          # before the KD-tree of the ends overflows
+        raise RegionError(f"the outline drawing {name} has coordinates up to {largest:.3g}: "
+                          f"a region needs coordinates below {SCALE_LIMITS[1]:g}; fix the "
+                          f"drawing or scale it (e.g. change its units)")
+    if ROUNDING * largest >= tolerance:        # every step would be taken for rounding
+        raise RegionError(f"the outline drawing {name} lies at coordinates up to "
+                          f"{largest:.3g}, where rounding ({ROUNDING:g} of them) exceeds the "
+                          f"tolerance {tolerance:.3g}: its curves cannot be joined; translate "
+                          f"the drawing towards the origin, or pass a larger tolerance")
     geometry, open_ends = outline_geometry(chains, tolerance)
     where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in open_ends[:5])
     where += ", ..." if len(open_ends) > 5 else ""

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 
+from .._checks import check_path
 from ..errors import SourceError
 from .dxf import load_dxf
 from .svg import load_svg
@@ -45,8 +46,9 @@ def load_drawing(path, **options):
     >>> pds.load_drawing(svg).area
     16.0
     """
-    suffix = os.path.splitext(os.fspath(path))[1].lower()
+    name = check_path(path)
+    suffix = os.path.splitext(name)[1].lower()
     if suffix not in READERS:
-        raise SourceError(f"cannot read {os.fspath(path)!r} as a drawing: the suffix must be "
+        raise SourceError(f"cannot read {name!r} as a drawing: the suffix must be "
                           f"one of {', '.join(READERS)}")
     return READERS[suffix](path, **options)

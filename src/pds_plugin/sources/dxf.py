@@ -29,6 +29,8 @@ import shapely
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from ._sniff import misnamed
+from ._dxf_limits import MAX_BYTES, MAX_ENTITIES, MAX_SEGMENTS, check_dxf_limits
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
 
@@ -46,7 +48,9 @@ _UNITS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, "ft": 304.8}
 _MAX_NESTING = 64
 
 
-def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto") -> Region:
+def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto",
+             max_bytes: int = MAX_BYTES, max_entities: int = MAX_ENTITIES,
+             max_segments: int = MAX_SEGMENTS) -> Region:
     """Read a DXF drawing's model space as a :class:`Region` in the plane z = 0.
 
     Two kinds of content are understood, as in :func:`load_svg`:
@@ -84,6 +88,11 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
     mode : {"auto", "fill", "outline"}
         ``auto`` reads the hatched areas if the hatches enclose any area, and the outline
         of the curves otherwise.
+    max_bytes, max_entities, max_segments : int
+        Limits checked before the drawing is expanded (see :mod:`._dxf_limits`): the
+        file's size (50 MB), the entities its model space expands to with every INSERT
+        copy (100,000), and its polyline vertices, spline control points and hatch edges
+        (1,000,000). Raise them for bigger drawings.
 
     Returns
     -------
@@ -95,8 +104,8 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
     FileNotFoundError
         If the file does not exist.
     SourceError
-        If the file is empty, not DXF, truncated or damaged, a block inserts itself, or
-        an entity has NaN or infinite coordinates.
+        If the file is empty, not DXF, truncated or damaged, exceeds a limit, a block
+        inserts itself or is missing, or an entity has NaN or infinite coordinates.
     RegionError
         If nothing is left to mesh: no curve on the layers, or no loop that closes (the
         message gives the open ends).
@@ -122,7 +131,8 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
         raise ArgumentError(f"units must be None (the drawing's own) or one of "
                             f"{tuple(_UNITS)}, got {units!r}")
     tolerance = None if tolerance is None else check_positive(tolerance, "tolerance")
-    document, name = _read(path)
+    document, name = _read(path, max_bytes)
+    check_dxf_limits(document, name, max_entities, max_segments)
     scale = _scale(document, units, name)
     entities = _selected(_placed(document.modelspace()), _layer_names(layers), document, name)
     hatches = [entity for entity in entities if entity.dxftype() == "HATCH"]
@@ -157,13 +167,16 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
 
 # --- the file -----------------------------------------------------------------------
 
-def _read(path):
+def _read(path, max_bytes):
     import ezdxf
 
-    name = checked_file(path, "DXF")
+    name = checked_file(path, "DXF", max_bytes)
     try:
         document = ezdxf.readfile(name)
     except Exception as error:  # ezdxf raises several kinds for damaged or foreign files
+        other = misnamed(name, "a DXF drawing", {"dxf"})
+        if other:
+            raise SourceError(f"cannot read {name!r} as DXF: {other}") from error
         detail = str(error) or type(error).__name__
         raise SourceError(f"cannot read {name!r} as DXF ({detail}): the file is not DXF, or "
                           f"it is truncated or damaged; export it again from the CAD program "
@@ -201,6 +214,10 @@ def _placed(space, layer=None, blocks=()):
             chain = " -> ".join([*blocks, block])
             raise SourceError(f"block {block!r} inserts itself ({chain}): the drawing is "
                               f"malformed; remove the INSERT of {block!r} from its own block")
+        if entity.block() is None:
+            raise SourceError(f"an INSERT on layer {own!r} places block {block!r}, which the "
+                              f"drawing does not define: the file is damaged; export it again "
+                              f"from the CAD program")
         if len(blocks) >= _MAX_NESTING:
             raise SourceError(f"blocks are nested more than {_MAX_NESTING} deep (at "
                               f"{block!r}): the drawing is malformed")
@@ -365,7 +382,14 @@ def _line(start, end):
 
 
 def _arc(center, radius, start_degrees, end_degrees):
-    """A circular arc of the entity's coordinate system, counter-clockwise."""
+    """A circular arc of the entity's coordinate system, counter-clockwise; equal start
+    and end angles draw nothing (a point), as ezdxf reads them, while 0 to 360 is a
+    full turn."""
+    if start_degrees == end_degrees:
+        theta = math.radians(start_degrees)
+        point = (center[0] + radius * math.cos(theta), center[1] + radius * math.sin(theta),
+                 center[2] if len(center) > 2 else 0.0)
+        return _line(point, point)
     sweep = (end_degrees - start_degrees) % 360.0
     return _conic(center, (radius, 0, 0), (0, radius, 0), math.radians(start_degrees),
                   math.radians(sweep) if sweep else 2 * math.pi)

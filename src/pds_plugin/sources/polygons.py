@@ -16,7 +16,11 @@ import shapely
 
 from ..errors import ArgumentError
 
-__all__ = ["winding_numbers", "fill_geometry", "outline_geometry", "snap"]
+__all__ = ["winding_numbers", "fill_geometry", "outline_geometry", "snap", "ROUNDING"]
+
+ROUNDING = 1e-12
+"""Steps of a loose curve shorter than this fraction of the largest coordinate are rounding
+error, dropped before noding (see :func:`outline_geometry`)."""
 
 
 def winding_numbers(points, segments) -> np.ndarray:
@@ -94,6 +98,10 @@ def fill_geometry(rings, rule: str = "nonzero"):
     closed = [np.vstack([ring, ring[:1]]) for ring in map(np.asarray, rings) if len(ring) >= 3]
     if not closed:
         return shapely.Polygon()
+    if len(closed) == 1:                  # a simple ring fills its inside under either rule
+        single = shapely.Polygon(closed[0])
+        if single.is_valid:
+            return single
     _, faces = _arrangement(shapely.linestrings(np.concatenate(closed), indices=_chain_ids(closed)))
     segments = np.concatenate([np.stack([c[:-1], c[1:]], axis=1) for c in closed])
     winding = winding_numbers(shapely.get_coordinates(shapely.point_on_surface(faces)), segments)
@@ -197,7 +205,7 @@ def _without_rounding_steps(points, chain_ids):
     of the point before them, or of a chain's last point: GEOS's noding may drop such a
     step and cut the chain there. Each chain keeps its two ends."""
     step = np.linalg.norm(np.diff(points, axis=0), axis=1)
-    tiny = (step <= 1e-12 * np.abs(points).max()) & (chain_ids[1:] == chain_ids[:-1])
+    tiny = (step <= ROUNDING * np.abs(points).max()) & (chain_ids[1:] == chain_ids[:-1])
     first = np.r_[True, chain_ids[1:] != chain_ids[:-1]]
     last = np.r_[chain_ids[1:] != chain_ids[:-1], True]
     drop = np.r_[False, tiny] | np.r_[tiny, False] & np.r_[last[1:], False]

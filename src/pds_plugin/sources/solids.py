@@ -20,13 +20,16 @@ import shapely
 import shapely.affinity
 
 from .._checks import check_positive_int, check_vector
-from ..errors import ArgumentError, ArgumentTypeError, SectionError, SourceError
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
 from ..region import Region, lift
 from . import manifold as manifold_backend
 from . import trimesh as trimesh_backend
 from .polygons import outline_geometry, snap
 
-__all__ = ["section", "sections"]
+__all__ = ["section", "sections", "MAX_SECTIONS"]
+
+MAX_SECTIONS = 10_000
+"""Most planes one call of :func:`sections` cuts (each section is a Region in memory)."""
 
 # Backends by the library their solids come from: (library, class name, backend module).
 _SOLIDS = (("trimesh", "Trimesh", trimesh_backend), ("manifold3d", "Manifold", manifold_backend))
@@ -124,7 +127,8 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     PdsError
         As :func:`section` for any plane, and an :class:`~pds_plugin.errors.ArgumentError`
         if neither or both of ``offsets`` and ``count`` are given, or they are not finite /
-        not a positive integer.
+        not a positive integer; a :class:`~pds_plugin.errors.BudgetError` for more than
+        ``MAX_SECTIONS`` (10,000) planes.
 
     Examples
     --------
@@ -147,7 +151,7 @@ class _Solid:
     """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
 
     def __init__(self, solid):
-        self.mesh = _source_of(solid).load(solid)
+        self.mesh = _consistently_oriented(_source_of(solid).load(solid))
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
         if not np.isfinite(self.vertices).all():
@@ -171,6 +175,7 @@ class _Solid:
         local = self.vertices @ to_2d[:3, :3].T + to_2d[:3, 3]   # z: height above the plane
         offset = float(origin @ normal)
         self._check_plane(local[:, 2], offset)
+        self._check_compact(local)
         geometry, open_ends = self._section_geometry(local)
         if len(open_ends):
             where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
@@ -213,6 +218,27 @@ class _Solid:
             geometry, [unit, 0.0, 0.0, unit, centre[0], centre[1]])
         return geometry, open_ends * unit + centre[:2]
 
+    def _check_compact(self, local) -> None:
+        """Refuse a shell with stray vertices: the cut points of a shell are joined within
+        1e-9 of its size, so a vertex 1e9 times farther out than the rest of its shell
+        spans (a damaged file) would merge the whole part."""
+        vertex_shell = np.full(len(local), -1)
+        vertex_shell[self.faces.ravel()] = np.repeat(self.shell, 3)
+        used = np.flatnonzero(vertex_shell >= 0)
+        order = used[np.argsort(vertex_shell[used], kind="stable")]
+        for members in np.split(order, np.flatnonzero(np.diff(vertex_shell[order])) + 1):
+            corners = local[members]
+            size = float(np.linalg.norm(np.ptp(corners, axis=0)))
+            spread = float(np.median(np.abs(corners - np.median(corners, axis=0)), axis=0).max())
+            if spread > 0 and 1e-9 * size > 1e-3 * spread:
+                far = members[np.argmax(np.abs(corners - np.median(corners, axis=0)).max(axis=1))]
+                raise SectionError(
+                    f"a part of the mesh spans {size:.3g} but most of its vertices lie within "
+                    f"{spread:.3g} of each other: a vertex far from the rest (one at "
+                    f"({', '.join(f'{v:.6g}' for v in self.vertices[far])})) would merge the "
+                    f"whole part when the cut is joined; remove the stray vertices (a "
+                    f"damaged file?)")
+
     def _faces_on(self, heights) -> int:
         """How many faces lie on the plane, given the vertices' heights above it."""
         from trimesh.constants import tol
@@ -242,9 +268,20 @@ class _Solid:
         return origin
 
     def _check_plane(self, heights, offset) -> None:
-        """Refuse a plane that lies on a face or misses the solid (heights: of the vertices)."""
+        """Refuse a plane that lies on a face or misses the solid, or a mesh whose stray
+        vertices make the on-plane tolerance as coarse as the part (heights: of the
+        vertices)."""
         from trimesh.constants import tol
 
+        middle = np.median(heights)
+        spread = float(np.median(np.abs(heights - middle)))
+        if spread > 0 and tol.merge * _unit(heights) > 1e-2 * spread:
+            raise SectionError(
+                f"the mesh spans normal·x in [{offset + heights.min():.6g}, "
+                f"{offset + heights.max():.6g}], but most of its vertices lie within "
+                f"{spread:.3g} of normal·x = {offset + middle:.6g}: vertices far from the part "
+                f"make the cut's tolerance ({tol.merge * _unit(heights):.3g}) as coarse as the "
+                f"part itself; remove the stray vertices, or split the mesh into its parts")
         flat = self._faces_on(heights)
         if flat:
             raise SectionError(
@@ -254,10 +291,32 @@ class _Solid:
         margin = tol.merge * _unit(heights)
         if not (heights.min() < -margin and heights.max() > margin):
             low, high = offset + heights.min(), offset + heights.max()
+            if heights.min() > margin or heights.max() < -margin:
+                raise SectionError(
+                    f"the plane misses the solid: it is at normal·x = {offset:.9g} but the "
+                    f"solid spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin "
+                    f"inside that range")
             raise SectionError(
-                f"the plane misses the solid: it is at normal·x = {offset:.9g} but the solid "
-                f"spans normal·x in [{low:.9g}, {high:.9g}]; put the plane origin inside "
-                f"that range")
+                f"the plane at normal·x = {offset:.9g} only touches the solid (at an edge or "
+                f"a corner where the solid spans normal·x in [{low:.9g}, {high:.9g}]), so the "
+                f"section has no area; put the plane strictly inside that range")
+
+
+def _consistently_oriented(mesh):
+    """``mesh``, or a copy whose faces agree in orientation with their neighbours and face
+    out of each body, with a warning. One triangle written the wrong way round (common in
+    STL exports) would otherwise turn its part of the section inside out."""
+    if mesh.is_winding_consistent:
+        return mesh
+    import trimesh
+
+    fixed = mesh.copy()                        # the caller's mesh is never modified
+    trimesh.repair.fix_normals(fixed, multibody=True)
+    warnings.warn("the mesh's faces are not consistently oriented (some triangles are "
+                  "written the wrong way round); each body was re-oriented outwards before "
+                  "cutting (trimesh.repair.fix_normals): a cavity drawn as an inward shell "
+                  "is then read as solid", UserWarning, stacklevel=4)
+    return fixed
 
 
 def _unit(heights) -> float:
@@ -335,7 +394,9 @@ def _offsets(offsets, count, heights) -> np.ndarray:
         raise ArgumentError("give either offsets (distances along the normal) or count "
                          "(number of evenly spaced planes), not both and not neither")
     if count is not None:
-        check_positive_int(count, "count")
+        if check_positive_int(count, "count") > MAX_SECTIONS:
+            raise BudgetError(f"count={count:,} sections is more than {MAX_SECTIONS:,}; cut "
+                              f"the solid in several calls")
         low, high = heights.min(), heights.max()
         return low + (np.arange(count) + 0.5) * (high - low) / count
     try:
@@ -344,4 +405,7 @@ def _offsets(offsets, count, heights) -> np.ndarray:
         offsets = None
     if offsets is None or offsets.ndim != 1 or not len(offsets) or not np.isfinite(offsets).all():
         raise ArgumentError(f"offsets must be a non-empty list of finite numbers, got {offsets!r}")
+    if len(offsets) > MAX_SECTIONS:
+        raise BudgetError(f"{len(offsets):,} offsets is more than {MAX_SECTIONS:,} sections; "
+                          f"cut the solid in several calls")
     return offsets

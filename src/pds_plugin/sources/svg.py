@@ -16,6 +16,7 @@ import shapely
 from .._checks import check_positive
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
+from ._sniff import misnamed
 from ._svg_limits import MAX_BYTES, MAX_ELEMENTS, MAX_SEGMENTS, check_svg_limits
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
@@ -66,8 +67,8 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
         ``fill="none"``, as CAD exports write them; or pass ``mode="outline"``).
     max_bytes, max_elements, max_segments : int
         Limits checked before the drawing is built (see :mod:`._svg_limits`): the file's
-        size (20 MB), the elements it expands to with every ``<use>`` copy (200,000), and
-        its path and polygon segments (2,000,000). Raise them for bigger drawings.
+        size (20 MB), the elements it expands to with every ``<use>`` copy (100,000), and
+        its path and polygon segments (100,000). Raise them for bigger drawings.
 
     Returns
     -------
@@ -124,15 +125,40 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
 def _parse(path, max_bytes, max_elements, max_segments):
     import svgelements
 
-    name = checked_file(path, "SVG")
-    check_svg_limits(name, max_bytes, max_elements, max_segments)
+    name = checked_file(path, "SVG", max_bytes)
+    check_svg_limits(name, max_elements, max_segments)
     try:
         document = svgelements.SVG.parse(name, reify=True, ppi=96.0)
+    except RecursionError as error:
+        raise SourceError(f"cannot read {name!r} as SVG: its elements are nested too deep "
+                          f"(thousands of groups inside groups); flatten the groups") from error
     except Exception as error:  # the XML parser raises several kinds
-        raise SourceError(f"cannot read {name!r} as SVG ({error})") from error
+        raise SourceError(f"cannot read {name!r} as SVG: "
+                          f"{misnamed(name, 'an SVG drawing', {'svg'}) or error}") from error
     if not isinstance(document, svgelements.SVG):
-        raise SourceError(f"{name!r} has no <svg> element: it is not an SVG drawing")
+        raise SourceError(f"cannot read {name!r} as SVG: "
+                          f"{misnamed(name, 'an SVG drawing', {'svg'}) or _not_svg(name)}")
     return document, repr(name)
+
+
+def _not_svg(name) -> str:
+    """Why the root element of an XML file is not an SVG drawing's."""
+    import xml.etree.ElementTree as ElementTree
+
+    try:
+        tag = next(ElementTree.iterparse(name, events=("start",)))[1].tag
+    except (ElementTree.ParseError, StopIteration, OSError):
+        return "it has no <svg> element: it is not an SVG drawing"
+    space, _, local = tag[1:].rpartition("}") if tag.startswith("{") else ("", "", tag)
+    if local.lower() == "svg" and local != "svg":
+        return f"its root element is <{local}>, but SVG element names are lower case (<svg>)"
+    if local == "svg":
+        return (f"its root <svg> element is in the namespace {space!r}, not SVG's "
+                f"('{_SVG_NAMESPACE}'); set xmlns=\"{_SVG_NAMESPACE}\"")
+    return f"its root element is <{local}>, not <svg>: it is not an SVG drawing"
+
+
+_SVG_NAMESPACE = "http://www.w3.org/2000/svg"
 
 
 def _output_matrix(document, units) -> np.ndarray:

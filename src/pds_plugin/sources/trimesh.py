@@ -12,6 +12,7 @@ import os
 import numpy as np
 
 from ..errors import SectionError, SourceError
+from ._sniff import MESH_KINDS, misnamed
 
 
 def load(solid):
@@ -58,18 +59,28 @@ def load(solid):
         _check_binary_stl(path)
         try:
             mesh = trimesh.load_mesh(path)
-        except ImportError as error:  # trimesh guesses a text encoding with an optional module
-            raise SourceError(f"cannot read {path!r} as a mesh: it is neither a valid binary "
-                              f"file nor plain text (trimesh: {error}); give a file trimesh "
-                              f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
         except Exception as error:  # trimesh raises many kinds for unreadable files
-            raise SourceError(f"cannot read {path!r} as a mesh ({error}); give a file trimesh "
-                             f"reads: STL, OBJ, PLY, OFF, 3MF or GLB") from error
+            raise SourceError(f"cannot read {path!r} as a mesh: {_unreadable(path, error)}") \
+                from error
         name = f"the file {path!r}"
     if len(mesh.faces) == 0:
         raise SourceError(f"{name} has no triangles (it is empty, a point cloud, or not a mesh "
                          f"format trimesh reads); give a closed triangle mesh")
     return mesh
+
+
+def _unreadable(path, error) -> str:
+    """Why trimesh could not read ``path``, in the user's terms."""
+    other = misnamed(path, "a mesh file", MESH_KINDS)
+    if other:
+        return other
+    if isinstance(error, ImportError):   # trimesh guesses a text encoding with an optional module
+        detail = "it is neither a valid binary mesh nor plain text"
+    elif isinstance(error, IndexError):
+        detail = f"a face refers to a vertex the file does not have ({error})"
+    else:
+        detail = str(error) or type(error).__name__
+    return f"{detail}; give a file trimesh reads: STL, OBJ, PLY, OFF, 3MF or GLB"
 
 
 def _check_binary_stl(path) -> None:
@@ -83,9 +94,12 @@ def _check_binary_stl(path) -> None:
     count = int.from_bytes(head[80:84], "little")
     size, expected = os.path.getsize(path), 84 + 50 * count
     if size < expected:
-        raise SourceError(f"{path!r} is a binary STL cut short: its header announces {count} "
-                          f"triangles ({expected:,} bytes) but the file has {size:,} bytes; "
-                          f"copy or export it again")
+        other = misnamed(path, "a mesh file", MESH_KINDS)
+        if other:
+            raise SourceError(f"cannot read {path!r} as a mesh: {other}")
+        raise SourceError(f"{path!r} is a binary STL cut short, or not an STL at all: its "
+                          f"header announces {count} triangles ({expected:,} bytes) but the "
+                          f"file has {size:,} bytes; copy or export it again")
 
 
 def cut(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
