@@ -231,7 +231,13 @@ def test_mil_svg_needs_no_plane_and_reports_lost_holes(tmp_path, capsys):
     assert entry["plane"] == {"origin": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0]}
     certificate = entry["certificate"]
     assert certificate["sampling_ok"] and certificate["quality_ok"]
-    assert not certificate["topology_ok"]                # 40 is too coarse for small holes
+    assert certificate["topology_ok"]                    # a conforming mesh keeps the holes
+    # the paper's complex: 40 is too coarse for the small holes
+    assert main([svg, "-o", tmp_path / "mil.ply", "--alpha", "40", "--report", report,
+                 "--no-conforming"]) == 0
+    [entry] = load_report(report)
+    assert entry["certificate"]["sampling_ok"] and entry["certificate"]["quality_ok"]
+    assert not entry["certificate"]["topology_ok"]
     assert "keep it with alpha <=" in capsys.readouterr().err
 
 

@@ -83,7 +83,8 @@ def assert_quality(mesh):
     regular = (quality.edge_lengths >= alpha * (1 - 1e-9)).all(axis=1)
     assert quality.aspect_ratio[regular].max(initial=0) <= MAX_ASPECT * (1 + 1e-9)
     bound = np.degrees(np.arcsin(np.minimum(quality.edge_lengths / (2 * alpha), 1)))
-    assert (quality.angles >= bound - 1e-9).all()
+    bad = ~(quality.angles >= bound - 1e-9).all(axis=1)
+    assert not bad.any(), (mesh.vertices[mesh.faces[bad]].tolist(), quality.angles[bad])
     return regular
 
 
@@ -148,7 +149,8 @@ def test_holes_smaller_than_alpha_stay_holes(plate, seed):
 @given(region=regions, alpha=st.floats(0.04, 0.2), seed=st.integers(0, 2**32 - 1))
 def test_nothing_outside_on_generated_regions(region, alpha, seed):
     """Stars (spikes, short edges) and unions of boxes and discs minus holes (curves):
-    no triangle leaves the region bounded by the chords, and the angle bounds hold."""
+    no triangle leaves the region bounded by the chords, and the angle bounds hold. A
+    spike of width 0 (its two sides a rounding apart) is kept too."""
     mesh = pds.mesh_region(region, alpha, seed=seed)
     rings = pds.poisson_disc(region, alpha, seed=seed, conforming=True).rings
     domain = chord_region(mesh.vertices, rings, region)

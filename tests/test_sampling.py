@@ -128,3 +128,22 @@ def test_conforming_boundary_spacing_and_visible_separation(seed):
     assert len(pairs) > len(seen)                 # close pairs across the slot exist...
     assert {tuple(sorted(e)) for e in seen.tolist()} <= consecutive   # ...only the slot's end sees
     assert shapely.distance(geometry, shapely.points(points)).max() <= 1e-9 * alpha
+
+
+def test_a_runaway_refinement_stops(monkeypatch):
+    """If the coverage test never certified a box (as where a conservative visibility
+    test fails over a whole area), the boxes would multiply by four per level: the
+    conforming sampler stops at twice the grid's cells instead."""
+    from pds_plugin import sampling
+
+    counts = []
+
+    def never_covered(parent, *args):
+        counts.append(len(parent))
+        return np.ones(len(parent), bool)
+
+    monkeypatch.setattr(sampling.kern, "uncovered_boxes", never_covered)
+    region = pds.Region.from_shapely(box(0, 0, 1, 1))
+    samples = pds.poisson_disc(region, 0.05, conforming=True)
+    cells = (1 / (0.05 / np.sqrt(2)) + 3) ** 2
+    assert len(samples) > 0 and max(counts) <= 4 * 2 * cells

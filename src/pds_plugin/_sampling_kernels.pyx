@@ -17,8 +17,7 @@ typed code as ``uint8`` views).
 import numpy as np
 
 from cython.parallel cimport prange
-from libc.math cimport ceil, floor, hypot, sqrt
-from libc.stdlib cimport free, malloc
+from libc.math cimport INFINITY, ceil, floor, hypot, sqrt
 from libc.stdlib cimport qsort
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
@@ -32,6 +31,7 @@ cdef enum:
     CSUB = 4        # sub-cells per cell side
     CONFLICT_SLOTS = 8   # conflicts listed per dart in the first scan
     CHUNK = 256     # iterations a thread takes at a time
+    MAX_RUNS = 32   # intervals of gap lengths listed by _lengths
 
 OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
 SUB = CSUB
@@ -570,73 +570,111 @@ def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha
     return keep_array
 
 
-def split_gaps(lo, hi, u, double alpha):
-    """Random points splitting each gap (lo[g], hi[g]) of a line into parts of length
-    in [alpha, √3 alpha], where the gap allows it.
+cdef int _lengths(double first, double last, double m, double big, double *lo,
+                  double *hi) noexcept nogil:
+    """The lengths a gap may have to be cut into parts of length in [m, big], the first
+    at least ``first`` and the last at least ``last`` (both in [m, big]): a union of
+    intervals, written sorted and merged to lo/hi (room for MAX_RUNS); returns their
+    count. k parts give [first + last + (k - 2) m, k big] for k >= 2, and once two of
+    these meet every later one does: the last interval is then unbounded."""
+    cdef int n = 0, k
+    cdef double a = max(first, last), b
+    if a <= big:
+        lo[0], hi[0] = a, big
+        n = 1
+    for k in range(2, MAX_RUNS + 1):
+        a = first + last + (k - 2) * m
+        b = k * big
+        if k * big >= first + last + (k - 1) * m or k == MAX_RUNS:
+            b = INFINITY                    # the next interval meets this one, and so on
+        if n and a <= hi[n - 1]:
+            hi[n - 1] = max(hi[n - 1], b)
+        else:
+            lo[n], hi[n] = a, b
+            n += 1
+        if b == INFINITY:
+            break
+    return n
 
-    A gap of length G >= 2 alpha gets a point x uniform among the positions leaving
-    both parts in S = [alpha, √3 alpha] ∪ [2 alpha, ∞) (never empty for G >= 2 alpha),
-    and the parts are split again; gaps shorter than 2 alpha are left whole. Random
-    numbers ``u`` are used in order (at most sum(G / alpha) of them). Returns
-    (positions, gap index of each).
+
+def split_gaps(lo, hi, first, last, part_min, double part_max, u):
+    """Random points splitting each gap (lo[g], hi[g]) of a line into parts of length in
+    [part_min[g], part_max], the first part at least first[g] long and the last at least
+    last[g] (e.g. beside a sharp corner), where the gap allows it.
+
+    A gap that is not already one valid part gets a point x uniform among the positions
+    that leave both sides cut-able that way (:func:`_lengths`), and the two sides are
+    split again; a gap with no such position is left whole (a piece too short, or one
+    of length in (part_max, first + last): see the guards of sampling.py). Random
+    numbers ``u`` are used in order, one per split point (at most
+    sum(G / part_min) of them). Returns (positions, gap index of each).
     """
     cdef const double[:] lo_ = np.ascontiguousarray(lo, np.float64)
     cdef const double[:] hi_ = np.ascontiguousarray(hi, np.float64)
+    cdef const double[:] fm = np.ascontiguousarray(first, np.float64)
+    cdef const double[:] lm = np.ascontiguousarray(last, np.float64)
+    cdef const double[:] pm = np.ascontiguousarray(part_min, np.float64)
     cdef const double[:] uu = np.ascontiguousarray(u, np.float64)
-    cdef double r = sqrt(3.0) * alpha, a, b, G, t, total, target, width, s_lo, s_hi
-    cdef double ends[8]
-    cdef double i_lo[2]
-    cdef double i_hi[2]
-    cdef double j_lo[2]
-    cdef double j_hi[2]
-    cdef Py_ssize_t cap = 0, n = 0, used = 0, top, g, m, k, ii, jj
+    cdef double big = part_max, a, b, G, m, t, total, target, width, s_lo, s_hi
+    cdef double left_lo[MAX_RUNS]
+    cdef double left_hi[MAX_RUNS]
+    cdef double right_lo[MAX_RUNS]
+    cdef double right_hi[MAX_RUNS]
+    cdef double ends[4 * MAX_RUNS]
+    cdef Py_ssize_t cap = 0, n = 0, used = 0, top, g, k
+    cdef int n_left, n_right, i, j, count
     for g in range(lo_.shape[0]):
-        cap += <Py_ssize_t>((hi_[g] - lo_[g]) / alpha) + 1
+        cap += <Py_ssize_t>((hi_[g] - lo_[g]) / pm[g]) + 1
     pos_array = np.empty(cap)
     owner_array = np.empty(cap, np.int64)
     cdef double[::1] pos = pos_array
     cdef int64_t[::1] owner = owner_array
     cdef double[::1] stack_lo = np.empty(cap + 1)
     cdef double[::1] stack_hi = np.empty(cap + 1)
+    cdef double[::1] stack_first = np.empty(cap + 1)
+    cdef double[::1] stack_last = np.empty(cap + 1)
     with nogil:
         for g in range(lo_.shape[0]):
-            stack_lo[0], stack_hi[0] = lo_[g], hi_[g]
+            m = pm[g]
+            stack_lo[0], stack_hi[0], stack_first[0], stack_last[0] = lo_[g], hi_[g], fm[g], lm[g]
             top = 1
             while top:
                 top -= 1
                 a, b = stack_lo[top], stack_hi[top]
                 G = b - a
-                if G < 2.0 * alpha:
-                    continue
-                # allowed t = x - a:
-                # ([alpha, r] ∪ [2 alpha, G - alpha]) ∩ ([alpha, G - 2 alpha] ∪ [G - r, G - alpha])
-                i_lo[0], i_hi[0], i_lo[1], i_hi[1] = alpha, r, 2.0 * alpha, G - alpha
-                j_lo[0], j_hi[0], j_lo[1], j_hi[1] = alpha, G - 2.0 * alpha, G - r, G - alpha
-                m = 0
+                if max(stack_first[top], stack_last[top]) <= G <= big:
+                    continue                                  # one part already
+                # t = x - a: the left side cut-able with its first part >= first, the
+                # right side with its last >= last
+                n_left = _lengths(stack_first[top], m, m, big, left_lo, left_hi)
+                n_right = _lengths(m, stack_last[top], m, big, right_lo, right_hi)
+                count = 0
                 total = 0.0
-                for ii in range(2):
-                    for jj in range(2):
-                        s_lo, s_hi = max(i_lo[ii], j_lo[jj]), min(i_hi[ii], j_hi[jj])
+                for i in range(n_left):
+                    for j in range(n_right - 1, -1, -1):      # G - right, increasing
+                        s_lo = max(left_lo[i], G - right_hi[j])
+                        s_hi = min(left_hi[i], G - right_lo[j])
                         if s_hi > s_lo:
-                            ends[2 * m], ends[2 * m + 1] = s_lo, s_hi
+                            ends[2 * count], ends[2 * count + 1] = s_lo, s_hi
                             total += s_hi - s_lo
-                            m += 1
-                if m == 0:
-                    t = 0.5 * G
-                else:
-                    target = uu[used] * total
-                    t = ends[2 * m - 1]
-                    for k in range(m):
-                        width = ends[2 * k + 1] - ends[2 * k]
-                        if target < width:
-                            t = ends[2 * k] + target
-                            break
-                        target -= width
+                            count += 1
+                if count == 0:
+                    continue                                  # left whole
+                target = uu[used] * total
                 used += 1
+                t = ends[2 * count - 1]
+                for k in range(count):
+                    width = ends[2 * k + 1] - ends[2 * k]
+                    if target < width:
+                        t = ends[2 * k] + target
+                        break
+                    target -= width
                 pos[n] = a + t
                 owner[n] = g
                 n += 1
-                stack_lo[top], stack_hi[top] = a, a + t
                 stack_lo[top + 1], stack_hi[top + 1] = a + t, b
+                stack_first[top + 1], stack_last[top + 1] = m, stack_last[top]
+                stack_lo[top], stack_hi[top] = a, a + t
+                stack_last[top] = m
                 top += 2
     return pos_array[:n], owner_array[:n]

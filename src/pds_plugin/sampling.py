@@ -54,7 +54,9 @@ with /usr/bin/time -v with the numba kernels, before the compiled engine)."""
 _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
 _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
-_CURVE_PASSES = 4     # boundary splits redone with longer arcs where a chord is below alpha
+_CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is below alpha
+_REFINEMENT_BOXES = 2   # conforming refinement stops above this many boxes per grid cell
+_MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
 
 
 @dataclass(frozen=True)
@@ -214,35 +216,59 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     return Samples(points, on_boundary, alpha, sampler.rings)
 
 
-def _ring_positions(ring, sharp, alpha, rng):
+def _ring_positions(ring, turns, feature_angle, alpha, rng):
     """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
     (or one random point if it has none), the pieces between them split by
-    ``split_gaps``, and at least three in all."""
+    ``split_gaps`` into parts of arc length in [alpha, √3 alpha], and at least three in
+    all.
+
+    Beside a convex corner sharper than 60° the first part is at least
+    alpha / (2 sin(θ/2)) long (θ the corner's angle, at most √3 alpha), so the samples on
+    its two sides are alpha apart. On a curve a chord is shorter than its arc: where a
+    chord of a piece falls below alpha, that piece is split again with its lower bounds
+    scaled by alpha / that chord (its parts stay at most √3 alpha, so their chords do)."""
     closed = np.vstack([ring, ring[:1]])
     cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
     length = cum[-1]
-    corners = cum[:-1][sharp] if sharp.any() else np.array([rng.random() * length])
+    sharp = np.abs(turns) >= np.radians(feature_angle)
+    longest = math.sqrt(3) * alpha
+    if sharp.any():
+        corners = cum[:-1][sharp]
+        angle = np.pi - turns[sharp]                  # the region's angle at each corner
+        guard = np.where(angle < np.pi / 3, alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2)),
+                         alpha)
+    else:
+        corners, guard = np.array([rng.random() * length]), np.array([alpha])
     lo = corners
     hi = np.append(corners[1:], corners[0] + length)
-    spacing = alpha
+    scale = np.ones(len(lo))
     for _ in range(_CURVE_PASSES):
-        # on a curve a chord is shorter than its arc: where a chord of a split piece
-        # falls below alpha, split again with the arc lengths scaled up to match
-        u = rng.random(int(np.sum((hi - lo) // spacing)) + len(lo))
-        inner, _ = kern.split_gaps(lo, hi, u, spacing)
-        at = np.unique(np.concatenate([corners, inner]) % length)   # corners a rounding apart: one
-        if not len(inner):
-            break
+        shortest = scale * alpha
+        first = np.minimum(np.maximum(guard * scale, shortest), longest)
+        last = np.minimum(np.maximum(np.roll(guard, -1) * scale, shortest), longest)
+        u = rng.random(int(np.sum((hi - lo) // shortest)) + len(lo))
+        inner, owner = kern.split_gaps(lo, hi, first, last, shortest, longest, u)
+        # corners closer than the sampler's resolution (a zero-length edge, or one a
+        # rounding long) give one sample: two would block each other's view
+        at, keep = np.unique(np.concatenate([corners, inner]) % length, return_index=True)
+        apart = np.diff(at, prepend=at[-1] - length) > _RESOLUTION * min(alpha, length)
+        apart[0] |= not apart.any()
+        at, keep = at[apart], keep[apart]
+        piece = np.concatenate([np.arange(len(corners)), owner])[keep]
         ends = np.append(at, at[0] + length)
         xy = np.column_stack([np.interp(ends % length, cum, closed[:, 0]),
                               np.interp(ends % length, cum, closed[:, 1])])
         chord = np.hypot(*np.diff(xy, axis=0).T)
         arc = np.diff(ends)
-        split = arc >= spacing * (1 - 1e-12)            # not a piece shorter than alpha
-        shortest = chord[split].min(initial=np.inf)
-        if shortest >= alpha * (1 - 1e-12):
+        regular = arc >= shortest[piece] * (1 - 1e-12)      # not a piece too short to split
+        ratio = np.ones(len(lo))
+        np.minimum.at(ratio, piece[regular], chord[regular] / (alpha * (1 - 1e-12)))
+        if ratio.min() >= 1 or not len(inner):
             break
-        spacing *= alpha / shortest * (1 + 1e-9)
+        # the next split is random too, and may put a part where the curve bends more:
+        # scale by the square of what this one needed (at most 1.5, so that parts in
+        # [1.5, √3] alpha still leave room to split)
+        scale = np.minimum(scale / np.minimum(ratio, 1) ** 2 * (1 + 1e-9), _MAX_CURVE_SCALE)
     if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
         at = np.sort((at[0] + length * np.arange(3) / 3) % length)
     while len(at) < 3:
@@ -328,8 +354,8 @@ class _Sampler:
         alpha = self.alpha
         ring_xy = []
         for ring in self.region.rings:
-            sharp = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
-            ring_xy.append(_along(*_ring_positions(ring, sharp, alpha, rng)))
+            ring_xy.append(_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
+                                                   alpha, rng)))
         boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
         self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), 2 * alpha)
@@ -369,9 +395,12 @@ class _Sampler:
             parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
             self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
             keep = self._uncovered(parent, bx, by, size)
-            if not self.one_per_cell and keep.sum() > self.nx * self.ny:
-                # the visible-coverage test is conservative; where it fails over a whole
-                # area the boxes would multiply by four per level: stop (the certificate
+            if not self.one_per_cell and keep.sum() > _REFINEMENT_BOXES * self.nx * self.ny:
+                # the boxes left uncovered are at most about a fifth of the cells at the
+                # first level, then the few around each boundary vertex, or along a slot
+                # narrower than alpha until they are narrower than it; where the
+                # (conservative) visible-coverage test fails over a whole area they
+                # would multiply by four per level, to gigabytes: stop (the certificate
                 # measures the coverage that is left)
                 break
             if size / 2 < _RESOLUTION * self.alpha:
