@@ -52,3 +52,16 @@ def test_same_mesh_bit_for_bit_with_one_thread_or_many(threads, n, conforming):
         meshes.append((mesh.vertices.tobytes(), mesh.faces.tobytes(),
                        mesh.quality().angles.tobytes()))
     assert meshes[0] == meshes[1] == meshes[2]
+
+
+def test_same_graded_mesh_bit_for_bit_with_one_thread_or_many(threads):
+    # about 8,000 samples: the field's and the refinement boxes' parallel loops run on
+    # several threads (they start at 4,096 iterations)
+    region = pds.Region.from_shapely(box(0, 0, 4, 2).difference(Point(1, 1).buffer(0.3)))
+    meshes = []
+    for count in (1, 2, 4):
+        threads.set_threads(count)
+        mesh = pds.mesh_region(region, 0.03, seed=5, graded=True)
+        meshes.append((mesh.vertices.tobytes(), mesh.faces.tobytes()))
+    assert len(mesh.vertices) > 4096
+    assert meshes[0] == meshes[1] == meshes[2]

@@ -74,6 +74,9 @@ class Samples:
     rings : tuple of (k,) int ndarray
         Conforming samplings: the boundary rings as sample indices, each with the region
         on its left (consecutive samples are joined by the mesh's boundary); else empty.
+    radius : (N,) float ndarray or None
+        Graded samplings (:func:`pds_plugin.graded_sampling.graded_poisson_disc`): the
+        radius r of the field at each sample; None for uniform ones.
 
     Examples
     --------
@@ -87,6 +90,7 @@ class Samples:
     on_boundary: np.ndarray
     alpha: float
     rings: tuple = ()
+    radius: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.points)
@@ -350,14 +354,9 @@ class _Sampler:
         alpha = self.alpha
         ring_xy = []
         for ring in self.region.rings:
-            at, cum, closed = _ring_positions(ring, turning_angles(ring), feature_angle, alpha,
-                                              rng)
-            ring_xy.append(np.column_stack([np.interp(at, cum, closed[:, 0]),
-                                            np.interp(at, cum, closed[:, 1])]))
-        sizes = [len(xy) for xy in ring_xy]
-        boundary = np.concatenate(ring_xy)
-        ends = np.cumsum(sizes)
-        self.rings = tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+            ring_xy.append(_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
+                                                   alpha, rng)))
+        boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
         # boxes inside a disc): chords within alpha of a cell are all it needs
@@ -440,6 +439,19 @@ class _Sampler:
                                       self.x0, self.y0, self.s, self.vis)
 
 
+def _along(at, cum, closed) -> np.ndarray:
+    """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
+    are at positions ``cum`` (arc length, or any increasing measure along it)."""
+    return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
+
+
+def _joined(ring_xy):
+    """The boundary samples of every ring in one array, and each ring's indices in it."""
+    sizes = [len(xy) for xy in ring_xy]
+    ends = np.cumsum(sizes)
+    return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+
+
 def _chord_polygons(region: Region, ring_xy) -> shapely.Geometry:
     """The region bounded by the chords: each polygon's rings replaced by the polygons
     through their boundary samples (``ring_xy`` in ``region.rings`` order)."""
@@ -456,12 +468,15 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
     """A guard sample inside each chord longer than √3 alpha (a piece that cannot be
     split into parts in [alpha, √3 alpha]): on the chord's bisector at distance alpha,
     so that the triangle of the chord and the guard has circumradius
-    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md)."""
+    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md).
+    ``alpha`` may be a radius field (a callable on points), taken at the chord's middle
+    (graded samplings)."""
     a = np.concatenate([ring for ring in rings])
     b = np.concatenate([np.roll(ring, -1) for ring in rings])
     p, q = boundary[a], boundary[b]
     chord = q - p
     g = np.hypot(chord[:, 0], chord[:, 1])
+    alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
     long = g > math.sqrt(3) * alpha
     inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[long, None]
-    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha * inward)
+    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha[long, None] * inward)
