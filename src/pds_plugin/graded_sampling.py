@@ -34,7 +34,7 @@ from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
 from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _chord_polygons,
-                       _guards, _joined)
+                       _guards, _joined, check_rings_apart)
 from .sizing import RadiusField
 
 __all__ = ["graded_poisson_disc"]
@@ -86,6 +86,7 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     (True, 1)
     """
     max_samples = check_positive_int(max_samples, "max_samples")
+    check_rings_apart(region)
     rng = np.random.default_rng(seed)
     sampler = _GradedSampler(region, field, max_samples)
     n_boundary = sampler.add_boundary(feature_angle, rng)

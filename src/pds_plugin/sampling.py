@@ -41,10 +41,11 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .errors import BudgetError
+from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
-__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "DEFAULT_MAX_SAMPLES"]
+__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_rings_apart",
+           "DEFAULT_MAX_SAMPLES"]
 
 DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples. At the cap, mesh_region of a unit
@@ -201,6 +202,8 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
             f"alpha={alpha:.6g} would make about {expected:.3g} samples, more than "
             f"max_samples={max_samples}; use alpha >= {largest_alpha(region, max_samples):.6g} "
             "or raise max_samples")
+    if conforming:
+        check_rings_apart(region)
     rng = np.random.default_rng(seed)
     sampler = _Sampler(region, alpha, conforming)
     if conforming:
@@ -214,6 +217,38 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
     return Samples(points, on_boundary, alpha, sampler.rings)
+
+
+def check_rings_apart(region: Region):
+    """Refuse, for conforming samplings, a region whose boundary rings touch.
+
+    A valid polygon may have a hole touching its outline at a point, and a valid
+    multipolygon parts touching at points. A conforming sampling joins each ring's
+    samples by chords, so such a point would be a sample of two rings at once: a
+    :class:`~pds_plugin.errors.RegionError` names the point instead.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Polygon
+    >>> touching = Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(0, 2), (2, 1), (2, 3)]])
+    >>> check_rings_apart(Region.from_shapely(touching))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.RegionError: the region's boundary touches itself at (0, 2) ...
+    """
+    if len(region.rings) < 2:
+        return
+    rings = np.array([shapely.linearrings(ring) for ring in region.rings])
+    first, second = shapely.STRtree(rings).query(rings, predicate="intersects")
+    pairs = first < second
+    if pairs.any():
+        i, j = first[pairs][0], second[pairs][0]
+        x, y = shapely.get_coordinates(shapely.intersection(rings[i], rings[j]))[0]
+        raise RegionError(
+            f"the region's boundary touches itself at ({x:.6g}, {y:.6g}) (a hole touching "
+            "the outline, or two parts touching at a point); a conforming mesh needs rings "
+            "that do not touch: mesh it with conforming=False (pds-mesh --no-conforming), or "
+            "open the point, e.g. region.geometry.buffer(-tiny)")
 
 
 def _ring_positions(ring, turns, feature_angle, alpha, rng):
