@@ -95,25 +95,71 @@ def betti(geometry) -> tuple[int, int]:
     return len(parts), sum(len(p.interiors) for p in parts)
 
 
+def mesh_betti(vertices, faces) -> tuple[int, int]:
+    """(components, holes) of the union of the closed triangles, from the simplicial
+    complex itself: components joined through shared vertices (two triangles touching
+    at a corner make one connected set, where shapely counts two parts), and
+    holes = components - Euler characteristic (V - E + F). Valid for triangles that do
+    not overlap (checked before)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    faces = np.asarray(faces)
+    used = np.unique(faces)
+    links = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]]])
+    graph = coo_matrix((np.ones(len(links)), (links[:, 0], links[:, 1])),
+                       shape=(len(vertices), len(vertices)))
+    labels = connected_components(graph, directed=False)[1]
+    components = len(np.unique(labels[used]))
+    edges = np.unique(np.sort(np.concatenate([links, faces[:, [2, 0]]]), axis=1), axis=0)
+    return components, components - (len(used) - len(edges) + len(faces))
+
+
 def mesh_union(vertices, faces):
     import shapely
 
     return shapely.union_all(shapely.polygons(np.asarray(vertices)[np.asarray(faces)]))
 
 
-def mesh_problem(mesh, geometry, alpha, topology=True) -> str | None:
-    """What is wrong with a mesh of ``geometry`` at ``alpha`` (None if nothing): samples
-    closer than alpha, a region point farther than alpha from them, a triangle above
-    4√3, overlapping triangles, or (with ``topology``) other Betti numbers."""
-    import shapely
-    from scipy.spatial import cKDTree
-
+def mesh_problem(mesh, geometry, alpha, topology=True, theorem=True) -> str | None:
+    """What is wrong with a mesh of ``geometry`` at ``alpha`` (None if nothing): with
+    ``theorem``, samples closer than alpha, a region point farther than alpha from them, a
+    triangle above 4√3; always a flat or clockwise triangle, overlapping triangles; with
+    ``topology``, other Betti numbers."""
     points, faces = np.asarray(mesh.vertices, float), np.asarray(mesh.faces)
     if len(faces) == 0:
         return "a mesh without triangles"
     slack = 1e-9 + 16 * np.spacing(np.abs(points).max()) / alpha
-    separation = cKDTree(points).query(points, k=2)[0][:, 1].min()
-    if separation < alpha * (1 - slack):
+    a, b, c = (points[faces[:, k]] for k in range(3))
+    area = 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    if (area <= 0).any():
+        return "a flat or clockwise triangle"
+    if theorem:
+        problem = _theorem_problem(points, faces, area, geometry, alpha, slack,
+                                   getattr(mesh, "conforming", False))
+        if problem is not None:
+            return problem
+    union = mesh_union(points, faces)
+    if not math.isclose(union.area, area.sum(), rel_tol=1e-6 + slack):
+        return f"overlapping triangles (area {area.sum():.9g}, union {union.area:.9g})"
+    if topology and mesh_betti(points, faces) != betti(geometry):
+        return f"Betti numbers {mesh_betti(points, faces)} for a region with {betti(geometry)}"
+    return None
+
+
+def _theorem_problem(points, faces, area, geometry, alpha, slack, conforming) -> str | None:
+    """Samples closer than alpha (for a conforming mesh: that see each other through the
+    region), a region point farther than alpha from every sample, or a triangle above the
+    aspect bound 4√3 (Theorem 1 and the sampling conditions)."""
+    import shapely
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(points).query_pairs(alpha * (1 - slack), output_type="ndarray")
+    if conforming and len(pairs):     # samples conflict only if they see each other
+        segments = shapely.linestrings(points[pairs])
+        pairs = pairs[shapely.covers(shapely.buffer(geometry, alpha * slack), segments)]
+    if len(pairs):
+        separation = np.hypot(*(points[pairs[:, 0]] - points[pairs[:, 1]]).T).min()
         return f"samples {separation / alpha:.6g} alpha apart"
     probes = shapely.get_coordinates(shapely.segmentize(geometry.boundary, alpha / 10))
     interior = shapely.get_coordinates(shapely.points(np.random.default_rng(0).uniform(
@@ -123,15 +169,9 @@ def mesh_problem(mesh, geometry, alpha, topology=True) -> str | None:
     if gap > alpha * (1 + slack):
         return f"a point of the region {gap / alpha:.6g} alpha from every sample"
     a, b, c = (points[faces[:, k]] for k in range(3))
-    area = 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
     longest = np.max([np.hypot(*(b - a).T), np.hypot(*(c - b).T), np.hypot(*(a - c).T)], axis=0)
-    if (area <= 0).any() or (longest ** 2 / area).max() > 4 * math.sqrt(3) * (1 + slack):
-        return "a triangle that is flat, clockwise or above the aspect bound 4√3"
-    union = mesh_union(points, faces)
-    if not math.isclose(union.area, area.sum(), rel_tol=1e-6 + slack):
-        return f"overlapping triangles (area {area.sum():.9g}, union {union.area:.9g})"
-    if topology and betti(union) != betti(geometry):
-        return f"Betti numbers {betti(union)} for a region with {betti(geometry)}"
+    if (longest ** 2 / area).max() > 4 * math.sqrt(3) * (1 + slack):
+        return "a triangle above the aspect bound 4√3"
     return None
 
 
@@ -182,7 +222,11 @@ def _mesh_check(geometry, alpha, topology=True):
     def check(mesh):
         if len(mesh.faces) == 0 and not mesh.certificate().ok:
             return None        # alpha too large for any triangle: the certificate tells
-        problem = mesh_problem(mesh, geometry, float(alpha), topology)
+        # a conforming mesh keeps sharp corners, short pieces and walls thinner than alpha,
+        # exceptions to Theorem 1 that its certificate reports: then only the mesh itself
+        # (orientation, overlaps, and the topology if claimed) must be right
+        theorem = not mesh.conforming or mesh.certificate().ok
+        problem = mesh_problem(mesh, geometry, float(alpha), topology, theorem)
         return None if problem is None else ("wrong", problem)
     return check
 

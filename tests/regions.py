@@ -49,3 +49,27 @@ def slotted_plate(slot_width):
 
 
 regions = st.one_of(star_polygons(), box_unions()).map(pds.Region.from_shapely)
+
+
+@st.composite
+def multiscale_plates(draw):
+    """A plate 8-30 units wide with holes from 0.1 to 3 units (boxes, or discs), a slot
+    0.05-0.5 wide and a small separate part: features of very different sizes, for
+    graded meshes. Holes never touch each other or the outline, so every convex corner
+    is a right angle."""
+    width = draw(st.floats(8, 30))
+    plate = box(0, 0, width, 6)
+    holes = []
+    for size, x, y, disc in draw(st.lists(st.tuples(
+            st.floats(0.1, 3.0), st.floats(0.1, 0.9), st.floats(0.1, 0.9), st.booleans()),
+            min_size=1, max_size=6)):
+        cx, cy = x * width, 1 + y * 4
+        hole = Point(cx, cy).buffer(size / 2, quad_segs=6) if disc else box(
+            cx - size / 2, cy - size / 2, cx + size / 2, cy + size / 2)
+        if hole.buffer(0.3).within(plate) and not any(hole.buffer(0.3).intersects(h) for h in holes):
+            holes.append(hole)
+    slot = box(0.2 * width, 5 - draw(st.floats(0.05, 0.5)), 0.8 * width, 5)
+    if not any(slot.buffer(0.3).intersects(h) for h in holes):
+        holes.append(slot)
+    part = box(width + draw(st.floats(0.05, 1.0)), 0, width + 2.5, draw(st.floats(0.3, 2)))
+    return shapely.union_all([plate.difference(shapely.union_all(holes)), part])

@@ -114,7 +114,8 @@ def mesh_here(job):
     ({"input": "p.stl", "axis": "z", "slices": 0, "alpha": 0.1}, "positive integer"),
     ({"input": "p.stl", "axis": "z", "slices": 2, "at": 1, "alpha": 0.1}, "not both"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "maybe"}, "true or false"),
-    ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "yes"}, "graded meshes are not"),
+    ({"input": "p.stl", "axis": "z", "alpha": 0.1, "graded": "yes", "conforming": False},
+     "graded meshes are always conforming"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "output": "p.xyz"}, "suffix must be"),
     ({"input": "p.stl", "axis": "z", "alpha": 0.1, "sead": 1}, "unknown option 'sead'"),
 ])
@@ -199,6 +200,16 @@ def test_batch_meshes_every_job_and_reports_failures_without_stopping(parts, tmp
     box_record = json.loads(box.record.read_text())
     for output, x in zip(rows[2]["output"], (-0.5, 0.5)):              # slabs' middles
         assert np.allclose(check_output(output, box_record).vertices[:, 0], x)
+
+
+def test_a_graded_job_writes_a_graded_certified_mesh(parts, tmp_path):
+    job = {"input": "ring.stl", "axis": "z", "alpha": "auto", "graded": "yes"}
+    with ThreadPoolExecutor(1) as pool:
+        [row] = mesh_batch([job], tmp_path, executor=pool, progress=False, base_dir=parts)
+    assert row["status"] == "ok" and row["certificate_ok"] is True
+    record = json.loads(parse_job(job, 0, tmp_path, parts).record.read_text())
+    certificate = record["sections"][0]["certificate"]
+    assert certificate["grading"] == 0.2 and certificate["betti_mesh"] == [1, 1]
 
 
 def test_rerun_skips_done_jobs_untouched_and_redoes_what_changed(parts, tmp_path):

@@ -76,9 +76,12 @@ def test_demo_writes_a_certified_mesh_report_and_picture(tmp_path):
     assert result.returncode == 0, result.stderr
     assert result.stderr == ""
     assert "certificate  ok" in result.stdout and "4√3" in result.stdout
-    [entry] = load_report(out / "report.json")
+    [entry, graded] = load_report(out / "report.json")
     certificate = entry["certificate"]
     assert certificate["ok"] and certificate["topology_ok"]
+    assert graded["certificate"]["ok"] and graded["certificate"]["grading"] == 0.2
+    assert "graded " in result.stdout
+    assert (out / "section_graded.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert certificate["max_aspect_ratio"] <= ASPECT_BOUND
     assert entry["region"]["area"] == pytest.approx(demo_section_area(), rel=1e-9)
     mesh, quality = read_ply_quality(out / "section.ply")
@@ -173,6 +176,29 @@ def test_auto_alpha_keeps_every_hole(part_stl, tmp_path, capsys):
     assert entry["certificate"]["betti_mesh"] == entry["region"]["betti"] == [1, 3]
     assert entry["alpha"] <= entry["feature_size"]["value"] / 4
     assert "(auto)" in capsys.readouterr().out
+
+
+def test_graded_featuretype_section_keeps_its_topology_with_fewer_vertices(tmp_path, capsys):
+    stl = shared_file("featuretype.STL")
+    reports = tmp_path / "uniform.json", tmp_path / "graded.json"
+    assert main([stl, "-o", tmp_path / "u.ply", "--axis", "z", "--alpha", "auto",
+                 "--report", reports[0]]) == 0
+    assert main([stl, "-o", tmp_path / "g.ply", "--axis", "z", "--alpha", "auto",
+                 "--grading", "0.25", "--report", reports[1]]) == 0     # implies --graded
+    [uniform], [graded] = (load_report(r) for r in reports)
+    certificate = graded["certificate"]
+    assert certificate["ok"] and certificate["grading"] == 0.25
+    assert certificate["betti_mesh"] == graded["region"]["betti"] == [2, 8]
+    assert certificate["min_angle"] >= certificate["proven_angle"] > 22
+    assert graded["samples"] < uniform["samples"] / 2
+    assert "graded L=0.25" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("grading", ["0", "1", "abc"])
+def test_bad_grading_is_a_usage_error(part_stl, tmp_path, capsys, grading):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "auto",
+                 "--graded", f"--grading={grading}"]) == 2
+    assert "grading must be a number in (0, 1)" in one_error_line(capsys.readouterr().err)
 
 
 def test_too_large_alpha_warns_which_hole_is_lost_and_the_alpha_to_keep_it(part_stl,

@@ -307,3 +307,19 @@ def test_bad_boundary_rings_are_refused(boundary, message):
     points = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     with pytest.raises(ValueError, match=message):
         pds.solid_alpha_complex(points, 1.0, boundary=boundary)
+
+
+@pytest.mark.parametrize("options", [{}, {"graded": True}])
+def test_rings_touching_at_a_point_are_named(options):
+    # a hole touching the outline at (0.00025, 0.00025), found by the fuzz suite: the
+    # conforming sampler put a sample on both rings, and the complex blamed the caller for
+    # duplicate points
+    shell = [(0, 0.001), (0.001, 0.001), (0.001, 0), (0.00025, 0), (0.00025, 0.00025),
+             (0, 0.00025)]
+    hole = [(0.0005, 0.00025), (0.0005, 0.0005), (0.00025, 0.0005), (0.00025, 0.00025)]
+    region = pds.Region.from_shapely(Polygon(shell, [hole]))
+    with pytest.raises(pds.RegionError, match=r"touches itself at \(0.00025, 0.00025\).*"
+                                              r"conforming=False"):
+        pds.mesh_region(region, 2.5e-4, **options)
+    paper = pds.mesh_region(region, 2.5e-4, conforming=False)
+    assert len(paper.faces) > 0

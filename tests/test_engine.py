@@ -40,14 +40,28 @@ def test_environment_variable_sets_the_threads():
     assert int(threads) == (3 if openmp == "True" else 1)
 
 
+@pytest.mark.parametrize("conforming", [True, False])
 @pytest.mark.parametrize("n", [2_000, 60_000])
-def test_same_mesh_bit_for_bit_with_one_thread_or_many(threads, n):
+def test_same_mesh_bit_for_bit_with_one_thread_or_many(threads, n, conforming):
     region = pds.Region.from_shapely(box(0, 0, 2, 1).difference(Point(1, 0.5).buffer(0.3)))
     alpha = float(np.sqrt(0.7 * region.area / n))
     meshes = []
     for count in (1, 2, 4):
         threads.set_threads(count)
-        mesh = pds.mesh_region(region, alpha, seed=5)
+        mesh = pds.mesh_region(region, alpha, seed=5, conforming=conforming)
         meshes.append((mesh.vertices.tobytes(), mesh.faces.tobytes(),
                        mesh.quality().angles.tobytes()))
+    assert meshes[0] == meshes[1] == meshes[2]
+
+
+def test_same_graded_mesh_bit_for_bit_with_one_thread_or_many(threads):
+    # about 8,000 samples: the field's and the refinement boxes' parallel loops run on
+    # several threads (they start at 4,096 iterations)
+    region = pds.Region.from_shapely(box(0, 0, 4, 2).difference(Point(1, 1).buffer(0.3)))
+    meshes = []
+    for count in (1, 2, 4):
+        threads.set_threads(count)
+        mesh = pds.mesh_region(region, 0.03, seed=5, graded=True)
+        meshes.append((mesh.vertices.tobytes(), mesh.faces.tobytes()))
+    assert len(mesh.vertices) > 4096
     assert meshes[0] == meshes[1] == meshes[2]

@@ -4,7 +4,8 @@ Every import in src/pds_plugin is read with ast, function-level ones included (o
 ``if TYPE_CHECKING:`` blocks, which never run, are left out), and checked against the
 layers of the README's Layout section:
 
-    kernels, errors, checks -> region -> sampling, complex -> mesh -> analysis
+    kernels, errors, checks -> region -> sampling, complex, sizing
+    -> graded sampling and complex -> mesh -> analysis
     -> pipeline -> sources, sinks -> workflows, batch -> cli -> the package's lazy names
 """
 
@@ -20,19 +21,21 @@ LAYERS = [
     (-1, "pds_plugin._visibility_kernels"),     # shared by the sampling and complex kernels
     (0, "pds_plugin._sampling_kernels"), (0, "pds_plugin._complex_kernels"),
     (0, "pds_plugin._geometry_kernels"), (0, "pds_plugin._mesh_kernels"),
-    (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._parallel"),
+    (0, "pds_plugin._certificate_kernels"), (0, "pds_plugin._sizing_kernels"),
+    (0, "pds_plugin._graded_kernels"), (0, "pds_plugin._parallel"),
     (0, "pds_plugin._version"),
     (1, "pds_plugin.errors"), (1, "pds_plugin.silence"), (1, "pds_plugin._atomic"),
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"),
-    (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"),
-    (5, "pds_plugin.mesh"),
-    (6, "pds_plugin.analysis"),
-    (7, "pds_plugin.pipeline"),
-    (8, "pds_plugin.sources"), (8, "pds_plugin.sinks"),
-    (9, "pds_plugin.workflows"), (9, "pds_plugin.batch"),
-    (10, "pds_plugin.cli"),
-    (11, "pds_plugin"),
+    (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"), (4, "pds_plugin.sizing"),
+    (5, "pds_plugin.graded_sampling"), (5, "pds_plugin.graded_complex"),
+    (6, "pds_plugin.mesh"),
+    (7, "pds_plugin.analysis"),
+    (8, "pds_plugin.pipeline"),
+    (9, "pds_plugin.sources"), (9, "pds_plugin.sinks"),
+    (10, "pds_plugin.workflows"), (10, "pds_plugin.batch"),
+    (11, "pds_plugin.cli"),
+    (12, "pds_plugin"),
 ]
 # Packages whose modules may import each other (without cycles); sources and sinks,
 # on the same layer, may not import each other.
@@ -44,6 +47,7 @@ SIBLINGS = ("pds_plugin.analysis", "pds_plugin.sources", "pds_plugin.sinks", "pd
 SHORTCUTS = {
     ("pds_plugin.mesh", "pds_plugin.analysis.quality"),
     ("pds_plugin.mesh", "pds_plugin.analysis.certificate"),
+    ("pds_plugin.mesh", "pds_plugin.analysis.graded_certificate"),
     ("pds_plugin.mesh", "pds_plugin.sinks.files"),
     ("pds_plugin.mesh", "pds_plugin.sinks.meshlab"),
 }

@@ -16,9 +16,9 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, EmptyMeshError, MissingDependencyError
 
-__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_vector",
-           "check_instance", "check_planar_mesh", "check_flag", "check_path", "check_faces", "check_output_directory",
-           "check_has_triangles", "import_optional"]
+__all__ = ["check_positive", "check_alpha", "check_positive_int", "check_seed", "check_grading",
+           "check_vector", "check_instance", "check_planar_mesh", "check_flag", "check_path",
+           "check_faces", "check_output_directory", "check_has_triangles", "import_optional"]
 
 
 def check_positive(value, name: str) -> float:
@@ -131,6 +131,31 @@ def check_seed(seed) -> int:
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ArgumentError(f"seed must be an integer >= 0, got {seed!r}")
     return int(seed)
+
+
+def check_grading(grading) -> float:
+    """``grading``, the Lipschitz constant L of a graded mesh's radius field, as a float
+    in (0, 1) (docs/graded.md).
+
+    Examples
+    --------
+    >>> check_grading("0.2")
+    0.2
+    >>> check_grading(1.0)
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentError: grading must lie in (0, 1) (the Lipschitz constant of the radius field; 0.1-0.3 is usual), got 1.0
+    """
+    try:
+        number = float(grading)
+    except (TypeError, ValueError):
+        number = None
+    if number is None or isinstance(grading, (bool, np.bool_)):
+        raise ArgumentTypeError(f"grading must be a number in (0, 1), got {grading!r}")
+    if not 0 < number < 1:
+        raise ArgumentError("grading must lie in (0, 1) (the Lipschitz constant of the radius "
+                            f"field; 0.1-0.3 is usual), got {number}")
+    return number
 
 
 def check_vector(value, name: str, size: int = 3) -> np.ndarray:

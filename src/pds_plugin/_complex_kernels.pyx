@@ -7,7 +7,7 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 import numpy as np
 
 from cython.parallel cimport parallel, prange
-from libc.math cimport INFINITY, hypot
+from libc.math cimport INFINITY, ceil, hypot
 from libc.stdlib cimport free, malloc
 from libc.stdint cimport int8_t, int32_t, int64_t
 
@@ -174,7 +174,7 @@ def seen_by_triangle(points, Py_ssize_t i, Py_ssize_t a, Py_ssize_t b, Py_ssize_
 
 
 cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double alpha2,
-                            const int64_t[::1] start, double x0, double y0, double h,
+                            const double *bound, const int64_t[::1] start, double x0, double y0, double h,
                             Py_ssize_t nx, Py_ssize_t ny, int64_t *nbr, Py_ssize_t max_nbr,
                             int32_t *found_j, int32_t *found_k, int8_t *found_flag,
                             Py_ssize_t room, const Chords *vis) noexcept nogil:
@@ -184,17 +184,25 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
 
     Every point inside the circumcircle (radius <= alpha) of a triangle at i is within
     2 alpha of i, so i's neighbours are the only points the empty-circle test needs.
+
+    With a ``bound`` per point (graded complexes, not NULL) a triangle is kept when its
+    circumradius is at most the smallest bound of its vertices, and i's neighbours are
+    the points within 2 bound[i], in as many cells as that takes.
     """
     cdef double xi = points[i, 0], yi = points[i, 1]
     cdef Py_ssize_t ix = min(<Py_ssize_t>((xi - x0) / h), nx - 1)
     cdef Py_ssize_t iy = min(<Py_ssize_t>((yi - y0) / h), ny - 1)
-    cdef double reach2 = 4.0 * alpha2
+    cdef double reach2 = 4.0 * alpha2, least2 = alpha2
+    cdef Py_ssize_t window = 2
     cdef Py_ssize_t m = 0, found = 0, jx, jy, c, j, k, p, r, q, other, a, b
     cdef double dx, dy, bx, by, b2, cx, cy, cross, c2, d2, ux, uy, far2, ox, oy
     cdef int status, sign
     cdef bint constrained = near_boundary(xi, yi, vis)
-    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
-        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
+    if bound != NULL:
+        reach2 = 4.0 * bound[i] * bound[i]
+        window = <Py_ssize_t>ceil(2.0 * bound[i] / h)
+    for jy in range(max(iy - window, 0), min(iy + window + 1, ny)):
+        for jx in range(max(ix - window, 0), min(ix + window + 1, nx)):
             c = jy * nx + jx
             for j in range(start[c], start[c + 1]):
                 dx = points[j, 0] - xi
@@ -218,8 +226,11 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
             cross = bx * cy - by * cx
             c2 = cx * cx + cy * cy
             d2 = (cx - bx) * (cx - bx) + (cy - by) * (cy - by)
-            # circumradius R = |ij| |ik| |jk| / (2 |cross|) <= alpha
-            if cross == 0.0 or b2 * c2 * d2 > 4.0 * alpha2 * cross * cross:
+            # circumradius R = |ij| |ik| |jk| / (2 |cross|) <= alpha (or the bounds)
+            if bound != NULL:
+                least2 = min(bound[i], bound[j], bound[k])
+                least2 = least2 * least2
+            if cross == 0.0 or b2 * c2 * d2 > 4.0 * least2 * cross * cross:
                 continue
             if cross > 0:
                 a, b = j, k
@@ -262,11 +273,14 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
 
 
 def local_complex(points, double alpha, start, double x0, double y0, double h,
-                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, tuple vis):
+                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, tuple vis,
+                  bound=None):
     """Every triangle of ``points`` (binned: cell c holds points start[c]:start[c+1])
     with circumradius <= alpha and an empty circumcircle, found from its smallest
     vertex; with chords in ``vis`` (indexed like ``points``), constrained: edges seen
     through the region and only points that see the triangle in the empty-circle test.
+    With ``bound`` (one value per point, graded complexes) a triangle is kept when its
+    circumradius is at most the smallest bound of its vertices instead.
     Returns (faces, flags, complete): flags ACCEPT or UNSURE; complete is False,
     with nothing found, if a point has more than ``max_neighbours`` neighbours within
     2 alpha."""
@@ -283,10 +297,15 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
     cdef int32_t *more_k
     cdef int8_t *more_flag
     cdef Chords ch = chords_of(vis)
+    cdef const double[::1] bound_view
+    cdef const double *bd = NULL
+    if bound is not None:
+        bound_view = bound
+        bd = &bound_view[0]
     with nogil, parallel(num_threads=threads_for(n)):
         nbr = <int64_t *>malloc(max_neighbours * sizeof(int64_t))
         for i in prange(n, schedule="dynamic", chunksize=CHUNK):
-            counts[i] = _scan_point(p, i, alpha2, st, x0, y0, h, nx, ny, nbr, max_neighbours,
+            counts[i] = _scan_point(p, i, alpha2, bd, st, x0, y0, h, nx, ny, nbr, max_neighbours,
                                     &slot_j[i, 0], &slot_k[i, 0], &slot_flag[i, 0], SLOTS, &ch)
         free(nbr)
     for i in range(n):
@@ -309,7 +328,7 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
                 more_j = <int32_t *>malloc(counts[i] * sizeof(int32_t))
                 more_k = <int32_t *>malloc(counts[i] * sizeof(int32_t))
                 more_flag = <int8_t *>malloc(counts[i] * sizeof(int8_t))
-                _scan_point(p, i, alpha2, st, x0, y0, h, nx, ny, nbr, max_neighbours,
+                _scan_point(p, i, alpha2, bd, st, x0, y0, h, nx, ny, nbr, max_neighbours,
                             more_j, more_k, more_flag, counts[i], &ch)
                 for f in range(counts[i]):
                     faces[offsets[i] + f, 0] = i

@@ -15,8 +15,51 @@ cdef struct Chords:
 cdef Chords chords_of(tuple vis) except *
 cdef int orient_sign(double ax, double ay, double bx, double by, double cx,
                      double cy) noexcept nogil
-cdef bint near_boundary(double x, double y, const Chords *c) noexcept nogil
-cdef bint sees(double ax, double ay, Py_ssize_t a_out, double bx, double by, Py_ssize_t b_out,
-               const Chords *c) noexcept nogil
-cdef bint box_seen(double px, double py, Py_ssize_t p_out, double bx, double by, double size,
-                   double tol, const Chords *c) noexcept nogil
+cdef bint sees_near_chords(double ax, double ay, Py_ssize_t a_out, double bx, double by,
+                           Py_ssize_t b_out, const Chords *c, Py_ssize_t k) noexcept nogil
+cdef bint box_seen_near_chords(double px, double py, Py_ssize_t p_out, double bx, double by,
+                               double size, double tol, const Chords *c,
+                               Py_ssize_t k) noexcept nogil
+
+
+# The tests below are inline (compiled into each kernel module that cimports them): far
+# from the boundary, which is almost everywhere, they are one lookup and no call.
+
+cdef inline Py_ssize_t chord_cell(double x, double y, const Chords *c) noexcept nogil:
+    """The chord grid's cell of (x, y), clamped to the grid."""
+    cdef Py_ssize_t ix = min(max(<Py_ssize_t>((x - c.x0) / c.h), 0), c.nx - 1)
+    cdef Py_ssize_t iy = min(max(<Py_ssize_t>((y - c.y0) / c.h), 0), c.ny - 1)
+    return iy * c.nx + ix
+
+
+cdef inline bint near_boundary(double x, double y, const Chords *c) noexcept nogil:
+    """True if some chord is within ``reach`` of the cell of (x, y)."""
+    if c.empty:
+        return False
+    cdef Py_ssize_t k = chord_cell(x, y, c)
+    return c.start[k + 1] > c.start[k]
+
+
+cdef inline bint sees(double ax, double ay, Py_ssize_t a_out, double bx, double by,
+                      Py_ssize_t b_out, const Chords *c) noexcept nogil:
+    """Is the segment ab inside the closed region bounded by the chords? (b within
+    ``reach`` of a; see ``sees_near_chords``.) With no chord near a none can block, and
+    neither a nor b is a chord vertex."""
+    if c.empty:
+        return True
+    cdef Py_ssize_t k = chord_cell(ax, ay, c)
+    if c.start[k + 1] == c.start[k]:
+        return True
+    return sees_near_chords(ax, ay, a_out, bx, by, b_out, c, k)
+
+
+cdef inline bint box_seen(double px, double py, Py_ssize_t p_out, double bx, double by,
+                          double size, double tol, const Chords *c) noexcept nogil:
+    """Does p see every point of the box [bx, bx+size]² that lies in the region? (see
+    ``box_seen_near_chords``; yes when no chord is near p)."""
+    if c.empty:
+        return True
+    cdef Py_ssize_t k = chord_cell(px, py, c)
+    if c.start[k + 1] == c.start[k]:
+        return True
+    return box_seen_near_chords(px, py, p_out, bx, by, size, tol, c, k)

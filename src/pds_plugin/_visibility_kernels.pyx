@@ -167,20 +167,6 @@ cdef Chords chords_of(tuple vis) except *:
     return c
 
 
-cdef inline Py_ssize_t _cell(double x, double y, const Chords *c) noexcept nogil:
-    cdef Py_ssize_t ix = min(max(<Py_ssize_t>((x - c.x0) / c.h), 0), c.nx - 1)
-    cdef Py_ssize_t iy = min(max(<Py_ssize_t>((y - c.y0) / c.h), 0), c.ny - 1)
-    return iy * c.nx + ix
-
-
-cdef bint near_boundary(double x, double y, const Chords *c) noexcept nogil:
-    """True if some chord is within ``reach`` of the cell of (x, y)."""
-    if c.empty:
-        return False
-    cdef Py_ssize_t k = _cell(x, y, c)
-    return c.start[k + 1] > c.start[k]
-
-
 cdef inline double _x(const Chords *c, Py_ssize_t e, int end) noexcept nogil:
     return c.xy[4 * e + 2 * end]
 
@@ -211,19 +197,17 @@ cdef inline bint _strictly_between(double px, double py, double ax, double ay, d
             and (px - bx) * (ax - bx) + (py - by) * (ay - by) > 0.0)
 
 
-cdef bint sees(double ax, double ay, Py_ssize_t a_out, double bx, double by, Py_ssize_t b_out,
-               const Chords *c) noexcept nogil:
+cdef bint sees_near_chords(double ax, double ay, Py_ssize_t a_out, double bx, double by,
+                           Py_ssize_t b_out, const Chords *c, Py_ssize_t k) noexcept nogil:
     """Is the segment ab inside the closed region bounded by the chords?
 
     ``a_out``/``b_out``: the outgoing chord of a/b if it is a chord vertex, else -1.
-    b must be within ``reach`` of a. The segment is blocked if it crosses a chord
-    properly, passes through a chord vertex, leaves a chord vertex a or b outside the
-    region's cone there, or an interior point a or b lies on a chord and the other
-    end on its outer side.
+    b must be within ``reach`` of a; ``k`` is a's cell of the chord grid. The segment is
+    blocked if it crosses a chord properly, passes through a chord vertex, leaves a
+    chord vertex a or b outside the region's cone there, or an interior point a or b
+    lies on a chord and the other end on its outer side.
     """
-    if c.empty:
-        return True
-    cdef Py_ssize_t k = _cell(ax, ay, c), t, e
+    cdef Py_ssize_t t, e
     cdef double lox = min(ax, bx), hix = max(ax, bx), loy = min(ay, by), hiy = max(ay, by)
     cdef double px, py, qx, qy
     cdef int o1, o2, o3, o4
@@ -297,21 +281,18 @@ cdef inline double _side(const double *hx, const double *hy, int k, int n, doubl
     return (hx[k1] - hx[k]) * (y - hy[k]) - (hy[k1] - hy[k]) * (x - hx[k])
 
 
-cdef bint box_seen(double px, double py, Py_ssize_t p_out, double bx, double by, double size,
-                   double tol, const Chords *c) noexcept nogil:
+cdef bint box_seen_near_chords(double px, double py, Py_ssize_t p_out, double bx, double by,
+                               double size, double tol, const Chords *c,
+                               Py_ssize_t k) noexcept nogil:
     """Does p see every point of the box [bx, bx+size]² that lies in the region?
 
-    Conservative (False when unsure; ``tol`` is a length). Let H be the convex hull of
-    p and the box. Chords ending at p never block. Every other chord meeting H must
-    cross it (both ends outside H) with p on its inner side: then the chords cut H
-    into convex cells, only the one holding p is in the region, and p sees all of it
-    (docs/conforming.md, "Visible coverage").
+    Conservative (False when unsure; ``tol`` is a length; ``k`` is p's cell of the chord
+    grid). Let H be the convex hull of p and the box. Chords ending at p never block.
+    Every other chord meeting H must cross it (both ends outside H) with p on its inner
+    side: then the chords cut H into convex cells, only the one holding p is in the
+    region, and p sees all of it (docs/conforming.md, "Visible coverage").
     """
-    if c.empty:
-        return True
-    cdef Py_ssize_t k = _cell(px, py, c), t, e
-    if c.start[k + 1] == c.start[k]:
-        return True
+    cdef Py_ssize_t t, e
     cdef double lox = min(px, bx) - tol, hix = max(px, bx + size) + tol
     cdef double loy = min(py, by) - tol, hiy = max(py, by + size) + tol
     cdef double hx[6]

@@ -105,10 +105,18 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
     _check_distinct(binned, order, start)
     vis = vis_kern.chord_bundle(points, rings, len(points), 2 * alpha)
     vis = vis[:2] + (np.ascontiguousarray(vis[2][order]),) + vis[3:]   # indexed like binned
+    return order[_local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha)]
+
+
+def _local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None):
+    """The triangles of the local complex of the binned points (``kern.local_complex``,
+    with room for more neighbours until it completes), cocircular ties settled exactly;
+    positions in ``binned``. With ``bound`` (graded complexes) a triangle is kept when its
+    circumradius is at most the smallest bound of its vertices."""
     max_neighbours = 64
     while True:
         faces, flags, complete = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
-                                                    max_neighbours, vis)
+                                                    max_neighbours, vis, bound)
         if complete:
             break
         max_neighbours *= 4
@@ -120,10 +128,11 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
                           f"slightly or use a smaller alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis)
+        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis,
+                                       None if bound is None else float(bound[f].max()))
                         for f in faces[unsure]]
         faces = faces[keep]
-    return order[faces]
+    return faces
 
 
 def _check_work(points, alpha) -> None:
@@ -175,10 +184,12 @@ def _check_distinct(binned, order, start):
                          "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 
 
-def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis) -> bool:
+def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis, radius=None) -> bool:
     """The empty-circle test of one counter-clockwise face (positions in ``binned``), in
     exact arithmetic, ties broken by the points' original indices ``order``; only the
-    points that see the face count (``vis``)."""
+    points that see the face count (``vis``). The circumradius is at most ``h`` (the
+    cells around the circumcentre's hold every point in the circle), or at most
+    ``radius`` when given (graded complexes: as many cells as that takes)."""
     a, b, c = (binned[v] for v in face)
     # circumcentre (floating point is fine here: it only selects the cells to look in)
     bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
@@ -186,9 +197,10 @@ def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis) -> bool:
     ux = a[0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
     uy = a[1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
     ix, iy = int(np.floor((ux - x0) / h)), int(np.floor((uy - y0) / h))
+    cells = 1 if radius is None else int(np.ceil(radius / h)) + 1
     corners = [(binned[v], int(order[v])) for v in face]
-    for jy in range(max(iy - 1, 0), min(iy + 2, ny)):
-        for jx in range(max(ix - 1, 0), min(ix + 2, nx)):
+    for jy in range(max(iy - cells, 0), min(iy + cells + 1, ny)):
+        for jx in range(max(ix - cells, 0), min(ix + cells + 1, nx)):
             for m in range(start[jy * nx + jx], start[jy * nx + jx + 1]):
                 if (m not in face and _inside_perturbed(*corners, (binned[m], int(order[m])))
                         and kern.seen_by_triangle(binned, *face, m, vis)):

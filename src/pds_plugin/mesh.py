@@ -46,6 +46,8 @@ class PlanarMesh:
     region : Region
     alpha : float
     conforming : bool, optional
+    field : RadiusField, optional
+        Graded meshes: the radius field r the mesh was made with (docs/graded.md).
 
     Raises
     ------
@@ -67,6 +69,10 @@ class PlanarMesh:
         The region the mesh was made of.
     alpha : float
         The radius used for both the sampling and the complex.
+    field : RadiusField or None
+        Graded meshes: the radius field r(x) <= alpha the mesh was made with; its
+        certificate then measures against r (:mod:`pds_plugin.analysis.graded_certificate`).
+        None for uniform meshes.
     conforming : bool
         True when the mesh was made to conform to the region's boundary (consecutive
         boundary samples joined by edges, no triangle leaving the region); its certificate
@@ -86,7 +92,7 @@ class PlanarMesh:
     """
 
     def __init__(self, vertices, faces, on_boundary, region: Region, alpha: float,
-                 conforming: bool = False):
+                 conforming: bool = False, *, field=None):
         self.vertices = np.array(vertices, dtype=float).reshape(-1, 2)
         self.faces = check_faces(faces, len(self.vertices))
         self.on_boundary = np.array(on_boundary, dtype=bool).reshape(-1)
@@ -96,6 +102,7 @@ class PlanarMesh:
         self.region = require_region(region, "PlanarMesh")
         self.alpha = check_alpha(alpha)
         self.conforming = bool(conforming)
+        self.field = field
         for array in (self.vertices, self.faces, self.on_boundary):
             array.setflags(write=False)
 
@@ -188,6 +195,9 @@ class PlanarMesh:
 
     @cached_property
     def _certificate(self) -> Certificate:
+        if self.field is not None:
+            from .analysis.graded_certificate import certify_graded
+            return certify_graded(self)
         from .analysis.certificate import certify
         return certify(self)
 

@@ -41,10 +41,11 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .errors import BudgetError
+from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
-__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "DEFAULT_MAX_SAMPLES"]
+__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_rings_apart",
+           "DEFAULT_MAX_SAMPLES"]
 
 DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples. At the cap, mesh_region of a unit
@@ -74,6 +75,9 @@ class Samples:
     rings : tuple of (k,) int ndarray
         Conforming samplings: the boundary rings as sample indices, each with the region
         on its left (consecutive samples are joined by the mesh's boundary); else empty.
+    radius : (N,) float ndarray or None
+        Graded samplings (:func:`pds_plugin.graded_sampling.graded_poisson_disc`): the
+        radius r of the field at each sample; None for uniform ones.
 
     Examples
     --------
@@ -87,6 +91,7 @@ class Samples:
     on_boundary: np.ndarray
     alpha: float
     rings: tuple = ()
+    radius: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.points)
@@ -197,6 +202,8 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
             f"alpha={alpha:.6g} would make about {expected:.3g} samples, more than "
             f"max_samples={max_samples}; use alpha >= {largest_alpha(region, max_samples):.6g} "
             "or raise max_samples")
+    if conforming:
+        check_rings_apart(region)
     rng = np.random.default_rng(seed)
     sampler = _Sampler(region, alpha, conforming)
     if conforming:
@@ -210,6 +217,38 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
     return Samples(points, on_boundary, alpha, sampler.rings)
+
+
+def check_rings_apart(region: Region):
+    """Refuse, for conforming samplings, a region whose boundary rings touch.
+
+    A valid polygon may have a hole touching its outline at a point, and a valid
+    multipolygon parts touching at points. A conforming sampling joins each ring's
+    samples by chords, so such a point would be a sample of two rings at once: a
+    :class:`~pds_plugin.errors.RegionError` names the point instead.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Polygon
+    >>> touching = Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(0, 2), (2, 1), (2, 3)]])
+    >>> check_rings_apart(Region.from_shapely(touching))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.RegionError: the region's boundary touches itself at (0, 2) ...
+    """
+    if len(region.rings) < 2:
+        return
+    rings = np.array([shapely.linearrings(ring) for ring in region.rings])
+    first, second = shapely.STRtree(rings).query(rings, predicate="intersects")
+    pairs = first < second
+    if pairs.any():
+        i, j = first[pairs][0], second[pairs][0]
+        x, y = shapely.get_coordinates(shapely.intersection(rings[i], rings[j]))[0]
+        raise RegionError(
+            f"the region's boundary touches itself at ({x:.6g}, {y:.6g}) (a hole touching "
+            "the outline, or two parts touching at a point); a conforming mesh needs rings "
+            "that do not touch: mesh it with conforming=False (pds-mesh --no-conforming), or "
+            "open the point, e.g. region.geometry.buffer(-tiny)")
 
 
 def _ring_positions(ring, turns, feature_angle, alpha, rng):
@@ -350,16 +389,13 @@ class _Sampler:
         alpha = self.alpha
         ring_xy = []
         for ring in self.region.rings:
-            at, cum, closed = _ring_positions(ring, turning_angles(ring), feature_angle, alpha,
-                                              rng)
-            ring_xy.append(np.column_stack([np.interp(at, cum, closed[:, 0]),
-                                            np.interp(at, cum, closed[:, 1])]))
-        sizes = [len(xy) for xy in ring_xy]
-        boundary = np.concatenate(ring_xy)
-        ends = np.cumsum(sizes)
-        self.rings = tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+            ring_xy.append(_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
+                                                   alpha, rng)))
+        boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
-        self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), 2 * alpha)
+        # the sampler asks only about points within alpha of a sample (conflicts, and
+        # boxes inside a disc): chords within alpha of a cell are all it needs
+        self.vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), alpha)
         kern.place_all(boundary, self.grid, self.nxt, self.covered, self.points, 0, alpha,
                        self.x0, self.y0, self.s, self.vis)
         self.count = len(boundary)
@@ -438,6 +474,19 @@ class _Sampler:
                                       self.x0, self.y0, self.s, self.vis)
 
 
+def _along(at, cum, closed) -> np.ndarray:
+    """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
+    are at positions ``cum`` (arc length, or any increasing measure along it)."""
+    return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
+
+
+def _joined(ring_xy):
+    """The boundary samples of every ring in one array, and each ring's indices in it."""
+    sizes = [len(xy) for xy in ring_xy]
+    ends = np.cumsum(sizes)
+    return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+
+
 def _chord_polygons(region: Region, ring_xy) -> shapely.Geometry:
     """The region bounded by the chords: each polygon's rings replaced by the polygons
     through their boundary samples (``ring_xy`` in ``region.rings`` order)."""
@@ -454,12 +503,15 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
     """A guard sample inside each chord longer than √3 alpha (a piece that cannot be
     split into parts in [alpha, √3 alpha]): on the chord's bisector at distance alpha,
     so that the triangle of the chord and the guard has circumradius
-    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md)."""
+    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md).
+    ``alpha`` may be a radius field (a callable on points), taken at the chord's middle
+    (graded samplings)."""
     a = np.concatenate([ring for ring in rings])
     b = np.concatenate([np.roll(ring, -1) for ring in rings])
     p, q = boundary[a], boundary[b]
     chord = q - p
     g = np.hypot(chord[:, 0], chord[:, 1])
+    alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
     long = g > math.sqrt(3) * alpha
     inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[long, None]
-    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha * inward)
+    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha[long, None] * inward)

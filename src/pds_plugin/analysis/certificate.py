@@ -123,6 +123,12 @@ class Certificate:
         Betti numbers of mesh and region, per component, and what differs where.
     aspect_bound : float
         4√3, Theorem 1's bound (a class constant).
+    angle_range : tuple of float
+        (30, 120), Theorem 1's angles in degrees (a class constant).
+
+    A graded mesh's certificate (:class:`~pds_plugin.analysis.graded_certificate.GradedCertificate`)
+    has the same fields, measured against its radius field r instead of alpha, and its
+    own bounds.
 
     Examples
     --------
@@ -156,6 +162,9 @@ class Certificate:
     topology: TopologyReport
 
     aspect_bound = ASPECT_BOUND
+    angle_range = (30.0, 120.0)
+    unit = "alpha"              # what separation and coverage are ratios to
+    _aspect_name = "4√3 = "
 
     @property
     def betti_mesh(self) -> tuple[int, int]:
@@ -178,9 +187,9 @@ class Certificate:
         """Theorem 1: aspect ratio <= 4√3 and angles in [30°, 120°]."""
         if self.triangles == 0:
             return True
-        return (self.max_aspect_ratio <= ASPECT_BOUND * (1 + QUALITY_TOL)
-                and self.min_angle >= 30 * (1 - QUALITY_TOL)
-                and self.max_angle <= 120 * (1 + QUALITY_TOL))
+        return (self.max_aspect_ratio <= self.aspect_bound * (1 + QUALITY_TOL)
+                and self.min_angle >= self.angle_range[0] * (1 - QUALITY_TOL)
+                and self.max_angle <= self.angle_range[1] * (1 + QUALITY_TOL))
 
     @property
     def topology_ok(self) -> bool:
@@ -223,7 +232,7 @@ class Certificate:
         values["coverage_gap_at"] = list(self.coverage_gap_at)
         values["boundary_problems"] = list(self.boundary_problems)
         values["topology"] = self.topology.as_dict()
-        values.update(aspect_bound=ASPECT_BOUND, betti_mesh=self.betti_mesh,
+        values.update(aspect_bound=self.aspect_bound, betti_mesh=self.betti_mesh,
                       betti_region=self.betti_region, sampling_ok=self.sampling_ok,
                       quality_ok=self.quality_ok, topology_ok=self.topology_ok,
                       boundary_ok=self.boundary_ok, ok=self.ok)
@@ -246,10 +255,11 @@ class Certificate:
             f"certificate: {mark(self.ok)} (alpha={self.alpha:.6g}, {self.samples} samples, "
             f"{self.triangles} triangles)",
             f"  distances    {rule}",
-            f"  separation   min {self.min_separation:.9f} alpha (>= 1)      {mark(self.min_separation >= 1 - SEPARATION_TOL)}",
-            f"  coverage gap max {self.coverage_gap:.9f} alpha (<= 1)      {mark(self.coverage_gap <= 1 + COVERAGE_TOL)}",
-            f"  aspect ratio max {self.max_aspect_ratio:.6f} (<= 4√3 = {ASPECT_BOUND:.6f})  {mark(self.quality_ok)}",
-            f"  angles       [{self.min_angle:.3f}°, {self.max_angle:.3f}°] (within [30°, 120°])",
+            f"  separation   min {self.min_separation:.9f} {self.unit} (>= 1)      {mark(self.min_separation >= 1 - SEPARATION_TOL)}",
+            f"  coverage gap max {self.coverage_gap:.9f} {self.unit} (<= 1)      {mark(self.coverage_gap <= 1 + COVERAGE_TOL)}",
+            f"  aspect ratio max {self.max_aspect_ratio:.6f} (<= {self._aspect_name}{self.aspect_bound:.6f})  {mark(self.quality_ok)}",
+            f"  angles       [{self.min_angle:.3f}°, {self.max_angle:.3f}°] (within "
+            f"[{self.angle_range[0]:g}°, {self.angle_range[1]:g}°])",
             f"  isolated samples {self.isolated_samples}, non-manifold vertices "
             f"{self.nonmanifold_vertices}, area ratio {self.area_ratio:.6f}",
             f"  boundary     {boundary}",

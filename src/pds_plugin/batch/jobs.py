@@ -178,9 +178,9 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     settings = {name: _PARSERS[name](given[name], name) if name in given else None
                 for name in OPTIONS[2:]}
     settings["graded"] = bool(settings["graded"])
-    if settings["graded"]:
-        raise ArgumentError("graded meshes are not available in this version of "
-                            "pds_plugin; drop graded")
+    if settings["graded"] and settings["conforming"] is False:
+        raise ArgumentError("graded meshes are always conforming; drop conforming: false "
+                            "or graded")
     settings["conforming"] = settings["conforming"] is not False     # the default: True
     settings["seed"] = settings["seed"] or 0
     _check_plane(settings, source)

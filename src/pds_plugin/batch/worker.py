@@ -167,7 +167,7 @@ def _mesh_section(job, region, output: str, partial) -> dict:
         warnings.simplefilter("always")
         try:
             mesh = mesh_region(region, o["alpha"], seed=o["seed"], conforming=o["conforming"],
-                               **budget)
+                               graded=o["graded"], **budget)
             mesh.export(partial)
         except PdsError as error:            # say which of several sections failed
             raise type(error)(f"{Path(output).name}: {error}") from error

@@ -7,7 +7,7 @@ import math
 import re
 from pathlib import Path
 
-from .._checks import check_alpha, check_positive_int, check_seed
+from .._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .._version import __version__
 from ..batch.jobs import AXES
 from ..sources.solids import MAX_SECTIONS
@@ -173,6 +173,14 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the paper's pure solid alpha-complex: boundary edges are not "
                              "kept and notches or gaps narrower than alpha may be bridged "
                              "(default: conforming, constrained to the section)")
+    parser.add_argument("--graded", action="store_true",
+                        help="sizes that follow the section: a radius field <= alpha from its "
+                             "walls, holes and corners (with --alpha auto capped only by the "
+                             "section's own size); angles >= arcsin((1 - L)/2), 23.6 degrees "
+                             "at the default L (docs/graded.md)")
+    parser.add_argument("--grading", type=_grading, metavar="L",
+                        help="with --graded, the Lipschitz constant of the radius field, in "
+                             "(0, 1) (default 0.2); implies --graded")
     parser.add_argument("--max-samples", type=_positive_int, metavar="N",
                         help="refuse sections that would need more samples (default "
                              "5,000,000); with --jobs the processes share it")
@@ -268,6 +276,14 @@ def _offsets(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(f"at most {MAX_SECTIONS:,} offsets per run, got "
                                          f"{len(values):,}; split the run")
     return values
+
+
+def _grading(text: str) -> float:
+    try:
+        return check_grading(text)
+    except ValueError:                    # not a number, or not in (0, 1)
+        raise argparse.ArgumentTypeError(f"grading must be a number in (0, 1), got "
+                                         f"{text!r}") from None
 
 
 def _seed(text: str) -> int:

@@ -1,4 +1,5 @@
-"""``pds-mesh demo``: the whole product on the built-in CAD part, every output written."""
+"""``pds-mesh demo``: the whole product on the built-in CAD part, every output written:
+the uniform mesh with the automatic alpha, and the graded mesh beside it."""
 
 from __future__ import annotations
 
@@ -49,9 +50,13 @@ def run(args) -> int:
                 discs=True)
     entry = mesh_section(task)
     warn_about(entry)
+    graded_task = Task(region, "auto", args.seed, None, out / "section_graded.ply",
+                       out / "section_graded.png", discs=False, graded=True)
+    graded = mesh_section(graded_task)
+    warn_about(graded)
     report = out / "report.json"
-    write_report(report, "pds_plugin.demo_part()", [entry])
-    c = entry["certificate"]
+    write_report(report, "pds_plugin.demo_part()", [entry, graded])
+    c, g = entry["certificate"], graded["certificate"]
 
     def verdict(ok):
         return "ok" if ok else "FAILED"
@@ -73,11 +78,16 @@ def run(args) -> int:
         f"{c['min_angle']:.2f}° to {c['max_angle']:.2f}°",
         f"    topology   {verdict(c['topology_ok'])}: mesh (b0, b1) = "
         f"{tuple(c['betti_mesh'])}, section {tuple(c['betti_region'])}",
+        f"  graded       {graded['samples']} samples, {graded['triangles']} triangles: sizes "
+        f"follow the section (grading L = {g['grading']:g}), angles {g['min_angle']:.2f}° to "
+        f"{g['max_angle']:.2f}° (proven >= {g['proven_angle']:.2f}°), certificate "
+        f"{verdict(g['ok'])}",
         "",
         f"  {solid}  the solid (try the command on it)",
         f"  {task.output}  the mesh: binary PLY, face quality = aspect ratio",
         f"  {report}  quality statistics and certificate",
         f"  {task.plot}  samples with discs, mesh by aspect ratio, histogram",
+        f"  {graded_task.output}, {graded_task.plot}  the graded mesh and its picture",
         "",
         "next, a finer mesh, and one too coarse (its certificate says which holes it lost):",
         f"  pds-mesh {solid} -o {out / 'fine.ply'} --axis z --alpha 0.03",

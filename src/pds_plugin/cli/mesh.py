@@ -51,6 +51,10 @@ class Task:
         temporary names a run of several sections renames into place when all succeeded.
     conforming : bool
         Conforming and constrained (the default), or the paper's pure construction.
+    graded : bool
+        A graded mesh (docs/graded.md).
+    grading : float or None
+        Its Lipschitz constant L, None for the default.
     """
 
     region: Region
@@ -63,6 +67,8 @@ class Task:
     write_output: Path | None = None
     write_plot: Path | None = None
     conforming: bool = True
+    graded: bool = False
+    grading: float | None = None
 
 
 def mesh_section(task: Task) -> dict:
@@ -98,7 +104,8 @@ def mesh_section(task: Task) -> dict:
         warnings.simplefilter("always")
         try:
             mesh = mesh_region(task.region, task.alpha, seed=task.seed,
-                               conforming=task.conforming, **budget)
+                               conforming=task.conforming, graded=task.graded,
+                               grading=task.grading, **budget)
             mesh.export(task.write_output or task.output)
             if task.plot is not None:
                 plot_report(mesh, task.write_plot or task.plot, discs=task.discs)
@@ -161,7 +168,8 @@ def run(args) -> int:
         staged = [[files.enter_context(atomic_path(p)) if p else None for p in pair]
                   for pair in zip(outputs, plots)]
         tasks = [Task(region, args.alpha, args.seed, budget, output, plot, args.discs,
-                      write_output, write_plot, args.conforming)
+                      write_output, write_plot, args.conforming,
+                      args.graded or args.grading is not None, args.grading)
                  for region, output, plot, (write_output, write_plot)
                  in zip(regions, outputs, plots, staged)]
         entries = _run(tasks, workers, progress=len(tasks) > 1 and not args.quiet)

@@ -90,9 +90,14 @@ def summary(entry: dict) -> str:
     c = entry["certificate"]
     return (f"{entry['output']}: {plane_label(entry['frame'])}, {entry['samples']} samples, "
             f"{entry['triangles']} triangles, alpha {entry['alpha']:.6g}"
-            f"{' (auto)' if entry['alpha_mode'] == 'auto' else ''}, max aspect ratio "
-            f"{c['max_aspect_ratio']:.4f} (bound 4√3 = {c['aspect_bound']:.4f}), "
+            f"{' (auto)' if entry['alpha_mode'] == 'auto' else ''}{_grading(c)}, max aspect ratio "
+            f"{c['max_aspect_ratio']:.4f} (bound {c['aspect_bound']:.4f}), "
             f"(b0, b1) = {tuple(c['betti_mesh'])}, certificate {'ok' if c['ok'] else 'FAILED'}")
+
+
+def _grading(certificate: dict) -> str:
+    """', graded L=...' for the certificate of a graded mesh, else ''."""
+    return f", graded L={certificate['grading']:g}" if "grading" in certificate else ""
 
 
 def write_report(path: Path, source, entries: list[dict]) -> None:

@@ -1,0 +1,332 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Compiled kernels of graded (variable-radius) sampling and of the radius field
+(docs/graded.md).
+
+Samples sit in a pyramid of uniform grids (``bins`` = (heads, offsets, nxs, nys, hs,
+counts)): level l has square bins of side ``hs[l] = hs[0] 2^l`` and holds the samples
+q with ``hs[l] <= r(q) < 2 hs[l]`` (level 0 also the smaller ones, the top level the
+larger), ``heads[offsets[l] + c]`` the last sample of its bin c, ``nxt[q]`` the one
+before q. A sample q only matters within r(q) <= 2 hs[l], so a query looks at 5 x 5 bins
+per level at most, whatever the radii around it. The radius field is evaluated outside
+(sizing.py, ``_sizing_kernels``); the kernels get its values. Visibility is that of ``_visibility_kernels``
+(a ``vis`` bundle), with chords binned by their own reach (:func:`bin_chords_by_reach`).
+
+Conventions of the kernel modules: see ``_parallel.pyx``.
+"""
+
+import numpy as np
+
+from cython.parallel cimport prange
+from libc.stdint cimport int32_t, int64_t, uint8_t
+
+from ._parallel cimport threads_for
+from ._visibility_kernels cimport Chords, box_seen, chords_of, sees
+
+cdef enum:
+    CHUNK = 256     # iterations a thread takes at a time
+
+
+cdef struct Bins:
+    # the pyramid of sample grids (module docstring), as raw pointers into its arrays
+    int32_t *heads
+    const int64_t *offsets
+    const int64_t *nxs
+    const int64_t *nys
+    const double *hs
+    int64_t *counts
+    Py_ssize_t levels
+
+
+cdef Bins _bins_of(tuple bins) except *:
+    cdef Bins b
+    cdef int32_t[::1] heads = bins[0]
+    cdef const int64_t[::1] offsets = bins[1]
+    cdef const int64_t[::1] nxs = bins[2]
+    cdef const int64_t[::1] nys = bins[3]
+    cdef const double[::1] hs = bins[4]
+    cdef int64_t[::1] counts = bins[5]
+    b.heads, b.offsets, b.nxs, b.nys = &heads[0], &offsets[0], &nxs[0], &nys[0]
+    b.hs, b.counts, b.levels = &hs[0], &counts[0], hs.shape[0]
+    return b
+
+
+cdef inline Py_ssize_t _clamp(double v, Py_ssize_t n) noexcept nogil:
+    """The bin of coordinate ``v`` (already divided by the bin side), in [0, n)."""
+    return min(max(<Py_ssize_t>v, 0), n - 1)
+
+
+def bin_chords_by_reach(chords, reach, double x0, double y0, double h, Py_ssize_t nx,
+                        Py_ssize_t ny):
+    """CSR lists (start, items) of the chords within ``reach[e]`` of each cell."""
+    cdef const double[:, :, ::1] ch = chords
+    cdef const double[::1] rc = reach
+    cdef int64_t[::1] stamp = np.full(nx * ny, -1, np.int64)
+    start_array = np.zeros(nx * ny + 1, np.int64)
+    items_array = np.empty(0, np.int64)
+    cdef int64_t[::1] count = start_array
+    cdef int64_t[::1] items = items_array
+    cdef int64_t[::1] fill
+    cdef Py_ssize_t e, jx, jy, lo_x, lo_y, hi_x, hi_y, c
+    cdef double xa, ya, xb, yb, dx, dy, length2, cx, cy, t, px, py, qx, qy
+    cdef int phase
+    for phase in range(2):
+        if phase == 1:
+            np.cumsum(start_array, out=start_array)
+            items_array = np.empty(start_array[-1], np.int64)
+            items = items_array
+            fill = np.array(start_array[:-1])
+            stamp[:] = -1
+        with nogil:
+            for e in range(ch.shape[0]):
+                xa, ya, xb, yb = ch[e, 0, 0], ch[e, 0, 1], ch[e, 1, 0], ch[e, 1, 1]
+                lo_x = _clamp((min(xa, xb) - rc[e] - x0) / h, nx)
+                lo_y = _clamp((min(ya, yb) - rc[e] - y0) / h, ny)
+                hi_x = _clamp((max(xa, xb) + rc[e] - x0) / h, nx)
+                hi_y = _clamp((max(ya, yb) + rc[e] - y0) / h, ny)
+                dx, dy = xb - xa, yb - ya
+                length2 = dx * dx + dy * dy
+                for jy in range(lo_y, hi_y + 1):
+                    for jx in range(lo_x, hi_x + 1):
+                        # distance from the chord to the cell: clamp and test
+                        cx = min(max(xa, x0 + jx * h), x0 + (jx + 1) * h)
+                        cy = min(max(ya, y0 + jy * h), y0 + (jy + 1) * h)
+                        t = 0.0
+                        if length2 != 0.0:
+                            t = min(max(((cx - xa) * dx + (cy - ya) * dy) / length2, 0.0), 1.0)
+                        px, py = xa + t * dx, ya + t * dy
+                        qx = min(max(px, x0 + jx * h), x0 + (jx + 1) * h)
+                        qy = min(max(py, y0 + jy * h), y0 + (jy + 1) * h)
+                        if (px - qx) * (px - qx) + (py - qy) * (py - qy) > (rc[e] + h) * (rc[e] + h):
+                            continue
+                        c = jy * nx + jx
+                        if stamp[c] != e:
+                            stamp[c] = e
+                            if phase == 0:
+                                count[c + 1] += 1
+                            else:
+                                items[fill[c]] = e
+                                fill[c] += 1
+    return start_array, items_array
+
+
+cdef inline Py_ssize_t _level(double r, const Bins *b) noexcept nogil:
+    """The pyramid level of a sample of radius r."""
+    cdef Py_ssize_t level = 0
+    while level + 1 < b.levels and b.hs[level + 1] <= r:
+        level += 1
+    return level
+
+
+cdef bint _in_lens(double x, double y, double ax, double ay, double bx, double by,
+                   double limit) noexcept nogil:
+    """Is (x, y) on the inner side of chord ab, with an obtuse angle at x and the
+    circumradius of (a, b, x) above ``limit``? That set is the circular segment between
+    the chord and the arc of radius ``limit`` through a and b: convex."""
+    cdef double cross = (bx - ax) * (y - ay) - (by - ay) * (x - ax)
+    if cross <= 0.0 or (ax - x) * (bx - x) + (ay - y) * (by - y) >= 0.0:
+        return False
+    cdef double ab2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    cdef double ax2 = (x - ax) * (x - ax) + (y - ay) * (y - ay)
+    cdef double bx2 = (x - bx) * (x - bx) + (y - by) * (y - by)
+    return ab2 * ax2 * bx2 > 4.0 * limit * limit * cross * cross
+
+
+cdef inline Py_ssize_t _chord_cell(double x, double y, const Chords *c) noexcept nogil:
+    return (_clamp((y - c.y0) / c.h, c.ny) * c.nx + _clamp((x - c.x0) / c.h, c.nx))
+
+
+cdef bint _encroaches(double x, double y, double bound, const double[::1] chord_bound,
+                      const Chords *c) noexcept nogil:
+    """Would (x, y) make a chord's triangle too large to keep? True if x lies in the
+    lens (:func:`_in_lens`) of a chord ab near it with limit min(bound,
+    chord_bound[ab]): the constrained triangle on the chord would be dropped and the
+    mesh dented. No sample goes there."""
+    if c.empty:
+        return False
+    cdef Py_ssize_t cell = _chord_cell(x, y, c), t, e
+    for t in range(c.start[cell], c.start[cell + 1]):
+        e = c.items[t]
+        if _in_lens(x, y, c.xy[4 * e], c.xy[4 * e + 1], c.xy[4 * e + 2], c.xy[4 * e + 3],
+                    min(bound, chord_bound[e])):
+            return True
+    return False
+
+
+cdef bint _box_in_lens(double x_lo, double y_lo, double s, double low, double grading,
+                       const double[::1] chord_bound, const Chords *c) noexcept nogil:
+    """Is no dart in the box ever kept because of the chord lenses? True if its four
+    corners are in one chord's lens for the largest radius r can have on the box (the
+    lens is convex, and a dart's own lens is at least as large), or if the box is
+    smaller than 1e-6 low and touches a lens: refining along a lens's arc would never
+    end, and a point so close to the arc is within 1e-6 r of one that the chord's
+    triangle covers."""
+    if c.empty:
+        return False
+    cdef Py_ssize_t cell = _chord_cell(x_lo + 0.5 * s, y_lo + 0.5 * s, c), t, e
+    cdef double high = (low + 2.0 * grading * s) / (1.0 - grading), limit
+    cdef int inside
+    for t in range(c.start[cell], c.start[cell + 1]):
+        e = c.items[t]
+        limit = min(chord_bound[e], high)
+        inside = (_in_lens(x_lo, y_lo, c.xy[4 * e], c.xy[4 * e + 1], c.xy[4 * e + 2],
+                           c.xy[4 * e + 3], limit)
+                  + _in_lens(x_lo + s, y_lo, c.xy[4 * e], c.xy[4 * e + 1], c.xy[4 * e + 2],
+                             c.xy[4 * e + 3], limit)
+                  + _in_lens(x_lo, y_lo + s, c.xy[4 * e], c.xy[4 * e + 1], c.xy[4 * e + 2],
+                             c.xy[4 * e + 3], limit)
+                  + _in_lens(x_lo + s, y_lo + s, c.xy[4 * e], c.xy[4 * e + 1],
+                             c.xy[4 * e + 2], c.xy[4 * e + 3], limit))
+        if inside == 4 or (inside > 0 and s < 1e-6 * low):
+            return True
+    return False
+
+
+cdef inline Py_ssize_t _out(const Chords *c, Py_ssize_t q) noexcept nogil:
+    return c.out[q] if c.out else -1
+
+
+cdef bint _free(double x, double y, double rx, double grading, const double[::1] chord_bound,
+                const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
+                const double[::1] radius, double x0, double y0, const Chords *c) noexcept nogil:
+    """True if no sample q that (x, y) sees has |x - q| < min(r(x), r(q)), and x does
+    not encroach on a chord (:func:`_encroaches`). A conflicting q has r(q) within
+    r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels."""
+    if _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
+        return False
+    cdef Py_ssize_t first = _level(rx * (1.0 - grading), b), last = _level(rx * (1.0 + grading), b)
+    cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
+    cdef int32_t q
+    cdef double h, reach, dx, dy, bound
+    for level in range(first, last + 1):
+        if b.counts[level] == 0:
+            continue
+        h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
+        reach = min(rx, 2.0 * h)
+        lo_x, lo_y = _clamp((x - reach - x0) / h, nx), _clamp((y - reach - y0) / h, ny)
+        hi_x, hi_y = _clamp((x + reach - x0) / h, nx), _clamp((y + reach - y0) / h, ny)
+        for jy in range(lo_y, hi_y + 1):
+            for jx in range(lo_x, hi_x + 1):
+                q = b.heads[b.offsets[level] + jy * nx + jx]
+                while q >= 0:
+                    dx = points[q, 0] - x
+                    dy = points[q, 1] - y
+                    bound = min(rx, radius[q])
+                    if dx * dx + dy * dy < bound * bound and sees(
+                            x, y, -1, points[q, 0], points[q, 1], _out(c, q), c):
+                        return False
+                    q = nxt[q]
+    return True
+
+
+cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double[:, ::1] points,
+                 double[::1] radius, Py_ssize_t count, double x0, double y0) noexcept nogil:
+    """Make (x, y) with radius r sample number ``count``."""
+    cdef Py_ssize_t level = _level(r, b)
+    cdef Py_ssize_t ix = _clamp((x - x0) / b.hs[level], b.nxs[level])
+    cdef Py_ssize_t iy = _clamp((y - y0) / b.hs[level], b.nys[level])
+    cdef Py_ssize_t cell = b.offsets[level] + iy * b.nxs[level] + ix
+    points[count, 0] = x
+    points[count, 1] = y
+    radius[count] = r
+    nxt[count] = b.heads[cell]
+    b.heads[cell] = <int32_t>count
+    b.counts[level] += 1
+
+
+def place(new, new_radius, tuple bins, nxt, points, radius, Py_ssize_t count, double x0,
+          double y0):
+    """Add the samples ``new`` with their radii as samples count, count + 1, ...;
+    returns the new count."""
+    cdef const double[:, ::1] nw = new
+    cdef const double[::1] nr = new_radius
+    cdef int32_t[::1] nx = nxt
+    cdef double[:, ::1] pt = points
+    cdef double[::1] rd = radius
+    cdef Bins b = _bins_of(bins)
+    cdef Py_ssize_t k
+    with nogil:
+        for k in range(nw.shape[0]):
+            _place(nw[k, 0], nw[k, 1], nr[k], &b, nx, pt, rd, count, x0, y0)
+            count += 1
+    return count
+
+
+def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tuple bins, nxt,
+                      points, radius, Py_ssize_t count, double x0, double y0, tuple vis):
+    """Insert the candidates in ``order`` wherever the variable-radius Poisson condition
+    allows (:func:`_free`). Returns the new sample count."""
+    cdef const double[:, ::1] cd = cand
+    cdef const double[::1] cr = cand_radius
+    cdef const int64_t[::1] od = order
+    cdef const double[::1] cb = chord_bound
+    cdef int32_t[::1] nx = nxt
+    cdef double[:, ::1] pt = points
+    cdef double[::1] rd = radius
+    cdef Bins b = _bins_of(bins)
+    cdef Chords c = chords_of(vis)
+    cdef Py_ssize_t t, k
+    with nogil:
+        for t in range(od.shape[0]):
+            k = od[t]
+            if _free(cd[k, 0], cd[k, 1], cr[k], grading, cb, &b, nx, pt, rd, x0, y0, &c):
+                _place(cd[k, 0], cd[k, 1], cr[k], &b, nx, pt, rd, count, x0, y0)
+                count += 1
+    return count
+
+
+cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double grading,
+                       const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
+                       const double[::1] radius, double x0, double y0,
+                       const Chords *c) noexcept nogil:
+    """Does one sample q cover the box (see :func:`uncovered_boxes`)? Such a q is within
+    low + s√2 of the box's centre, where r is at most low + L s/√2, so r(q) is within
+    L (low + 2 s) of that: that picks the levels."""
+    cdef double x_hi = x_lo + s, y_hi = y_lo + s
+    cdef double centre_r = low + grading * s, spread = grading * (low + 2.0 * s)
+    cdef Py_ssize_t first = _level(centre_r - spread, b), last = _level(centre_r + spread, b)
+    cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
+    cdef int32_t q
+    cdef double h, reach, qx, qy, fx, fy, bound
+    for level in range(first, last + 1):
+        if b.counts[level] == 0:
+            continue
+        h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
+        reach = min(low, 2.0 * h)
+        lo_x, lo_y = _clamp((x_lo - reach - x0) / h, nx), _clamp((y_lo - reach - y0) / h, ny)
+        hi_x, hi_y = _clamp((x_hi + reach - x0) / h, nx), _clamp((y_hi + reach - y0) / h, ny)
+        for jy in range(lo_y, hi_y + 1):
+            for jx in range(lo_x, hi_x + 1):
+                q = b.heads[b.offsets[level] + jy * nx + jx]
+                while q >= 0:
+                    qx, qy = points[q, 0], points[q, 1]
+                    fx = max(abs(qx - x_lo), abs(qx - x_hi))
+                    fy = max(abs(qy - y_lo), abs(qy - y_hi))
+                    bound = min(radius[q], low)
+                    if fx * fx + fy * fy <= bound * bound and box_seen(
+                            qx, qy, _out(c, q), x_lo, y_lo, s, 1e-9 * bound, c):
+                        return True
+                    q = nxt[q]
+    return False
+
+
+def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, nxt, points,
+                    radius, double x0, double y0, tuple vis):
+    """True for boxes [bx, bx+size]² that no single sample q covers and that are not in
+    a chord's lens (:func:`_box_in_lens`): covering needs the box's farthest corner
+    within min(r(q), low) (``low`` a lower bound of r on the box) and q to see all of
+    the box that lies in the region."""
+    cdef const double[::1] x = bx, y = by, s = size, lw = low, cb = chord_bound
+    cdef const int32_t[::1] nx = nxt
+    cdef const double[:, ::1] pt = points
+    cdef const double[::1] rd = radius
+    cdef Bins b = _bins_of(bins)
+    cdef Chords c = chords_of(vis)
+    cdef Py_ssize_t n = x.shape[0], k
+    keep_array = np.empty(n, np.bool_)
+    cdef uint8_t[::1] keep = keep_array.view(np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n)):
+        keep[k] = lw[k] <= 0.0 or not (
+            _box_covered(x[k], y[k], s[k], lw[k], grading, &b, nx, pt, rd, x0, y0, &c)
+            or _box_in_lens(x[k], y[k], s[k], lw[k], grading, cb, &c))
+    return keep_array

@@ -1,0 +1,123 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Compiled kernels of the radius field of graded meshes (sizing.py):
+``min(cap, min_i(s_i + L |x - f_i|))`` over feature points f_i with sizes s_i, exactly,
+by a depth-first search of a k-d tree of the features that prunes the nodes whose lower
+bound ``min s + L · distance to the node's box`` cannot beat the best value so far.
+
+Conventions of the kernel modules: see ``_parallel.pyx``.
+"""
+
+import numpy as np
+
+from cython.parallel cimport parallel, prange
+from libc.math cimport sqrt
+from libc.stdlib cimport free, malloc
+from libc.stdint cimport int64_t
+
+from ._parallel cimport threads_for
+
+cdef enum:
+    CHUNK = 256     # iterations a thread takes at a time
+    STACK = 256     # nodes a search holds at most (twice the tree's depth)
+
+
+def build_cone_tree(xy, s, Py_ssize_t leaf_size):
+    """A k-d tree over the feature points ``xy`` for min_i(s_i + L|x - f_i|): returns
+    (perm, first, stop, left, right, box, smin); node k holds features
+    perm[first[k]:stop[k]] inside ``box[k]`` = (xmin, ymin, xmax, ymax), the smallest
+    s of which is ``smin[k]``; leaves have left[k] = -1. Nodes split at the median of
+    their wider side (a stable sort: the tree depends on the input only)."""
+    xy = np.ascontiguousarray(xy, dtype=np.float64)
+    s = np.ascontiguousarray(s, dtype=np.float64)
+    n = xy.shape[0]
+    perm = np.arange(n, dtype=np.int64)
+    cap = 8 * (n // max(leaf_size, 1) + 1) + 1
+    first = np.empty(cap, np.int64)
+    stop = np.empty(cap, np.int64)
+    left = np.full(cap, -1, np.int64)
+    right = np.full(cap, -1, np.int64)
+    box = np.empty((cap, 4))
+    smin = np.empty(cap)
+    first[0], stop[0] = 0, n
+    count, todo = 1, [0]
+    while todo:
+        k = todo.pop()
+        idx = perm[first[k]:stop[k]]
+        px, py = xy[idx, 0], xy[idx, 1]
+        box[k] = px.min(), py.min(), px.max(), py.max()
+        smin[k] = s[idx].min()
+        m = stop[k] - first[k]
+        if m <= leaf_size:
+            continue
+        axis = 0 if box[k, 2] - box[k, 0] >= box[k, 3] - box[k, 1] else 1
+        perm[first[k]:stop[k]] = idx[np.argsort(xy[idx, axis], kind="stable")]
+        half = first[k] + m // 2
+        first[count], stop[count] = first[k], half
+        first[count + 1], stop[count + 1] = half, stop[k]
+        left[k], right[k] = count, count + 1
+        todo += [count, count + 1]
+        count += 2
+    return (perm, first[:count].copy(), stop[:count].copy(), left[:count].copy(),
+            right[:count].copy(), box[:count].copy(), smin[:count].copy())
+
+
+cdef inline double _box_distance(double x, double y, const double[:, ::1] box,
+                                 Py_ssize_t k) noexcept nogil:
+    cdef double dx = max(box[k, 0] - x, 0.0, x - box[k, 2])
+    cdef double dy = max(box[k, 1] - y, 0.0, y - box[k, 3])
+    return sqrt(dx * dx + dy * dy)
+
+
+cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const double[::1] s,
+                          double L, double cap, const int64_t[::1] perm,
+                          const int64_t[::1] first, const int64_t[::1] stop,
+                          const int64_t[::1] left, const int64_t[::1] right,
+                          const double[:, ::1] box, const double[::1] smin,
+                          int64_t *stack) noexcept nogil:
+    """min(cap, min_i(s_i + L|x - f_i|)) at (x, y): a depth-first search of the tree,
+    the more promising child first, pruning nodes whose bound smin + L·distance is no
+    better than the best so far."""
+    cdef double best = cap, dx, dy, value
+    cdef Py_ssize_t top = 1, k, t, i, a, b
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        if smin[k] + L * _box_distance(x, y, box, k) >= best:
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                i = perm[t]
+                dx, dy = xy[i, 0] - x, xy[i, 1] - y
+                value = s[i] + L * sqrt(dx * dx + dy * dy)
+                if value < best:
+                    best = value
+            continue
+        a, b = left[k], right[k]
+        if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
+            a, b = b, a
+        stack[top] = a          # the less promising child waits
+        stack[top + 1] = b
+        top += 2
+    return best
+
+
+def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, right, box,
+                 smin):
+    """min(cap, min_i(s_i + L|x - f_i|)) at each query point, exactly."""
+    cdef const double[:, ::1] q = queries
+    cdef const double[:, ::1] f = xy
+    cdef const double[::1] sz = s, sm = smin
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef const double[:, ::1] bx = box
+    cdef Py_ssize_t n = q.shape[0], k
+    out_array = np.empty(n)
+    cdef double[::1] out = out_array
+    cdef int64_t *stack
+    with nogil, parallel(num_threads=threads_for(n)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))
+        for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            out[k] = _cone_minimum(q[k, 0], q[k, 1], f, sz, L, cap, pm, fs, st, lf, rt, bx, sm,
+                                   stack)
+        free(stack)
+    return out_array

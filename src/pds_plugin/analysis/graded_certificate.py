@@ -1,0 +1,228 @@
+"""The certificate of a graded mesh (docs/graded.md): the uniform certificate's questions
+(:mod:`.certificate`) asked against the radius field r instead of one alpha.
+
+- **Separation**: the smallest ``|pq| / min(r(p), r(q))`` over the pairs of samples that
+  share an edge or see each other through the region (every pair closer than r of one
+  of them is looked at); at least 1.
+- **Coverage gap**: the largest ``min_v |x - v| / r(x)`` over the points x of each
+  triangle and its corners v, taken where ``min_v |x - v|`` peaks: the circumcentre, or
+  on the longest edge of an obtuse triangle where the bisectors of the two shorter edges
+  cross it (the points the uniform certificate measures, :mod:`.certificate`); with the
+  slivers of region beyond the chords. At most 1. r is taken at those points, so this
+  is exact for the distance and samples r where the distance peaks (docs/graded.md §7).
+- **Quality**: the angles against the proven ``θ_L = arcsin((1 - L)/2)`` and the aspect
+  ratio against ``4 cot θ_L``; the triangles below θ_L are located.
+- **Boundary and topology**: conformity, the outline as the polygon through the
+  boundary samples, deviation and areas (:mod:`.conformity`), Betti numbers
+  (:mod:`.topology`), exactly as for uniform meshes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from ..sizing import angle_bound
+from .certificate import (QUALITY_TOL, Certificate, _nonmanifold_vertices, _sees,
+                          _visibility_route_fails)
+from .conformity import SampledBoundary, boundary_report
+from .topology import topology_report
+
+if TYPE_CHECKING:
+    from ..mesh import PlanarMesh
+
+__all__ = ["GradedCertificate", "certify_graded"]
+
+_MAX_LOCATED = 5        # triangles below the angle bound located in the report
+
+
+@dataclass(frozen=True)
+class GradedCertificate(Certificate):
+    """Measured guarantees of a graded :class:`~pds_plugin.PlanarMesh`: the fields of
+    :class:`~pds_plugin.analysis.certificate.Certificate`, with separation and coverage
+    gap as ratios to the local radius r, and the bounds of the grading L.
+
+    Attributes
+    ----------
+    grading : float
+        The Lipschitz constant L of the radius field.
+    proven_angle : float
+        θ_L = arcsin((1 - L)/2) in degrees: every angle is at least this.
+    below_bound : tuple of (float, float)
+        Centroids of the triangles with an angle below θ_L (at most 5 listed).
+    below_bound_count : int
+        How many there are.
+    smallest_radius, largest_radius : float
+        The extremes of r over the samples.
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> region = pds.Region.from_shapely(box(0, 0, 9, 1))
+    >>> cert = pds.mesh_region(region, "auto", graded=True).certificate()
+    >>> cert.ok, cert.min_angle >= cert.proven_angle, cert.unit
+    (True, True, 'r')
+    """
+
+    grading: float = 0.0
+    proven_angle: float = 30.0
+    below_bound: tuple = ()
+    below_bound_count: int = 0
+    smallest_radius: float = 0.0
+    largest_radius: float = 0.0
+
+    unit = "r"
+    _aspect_name = "4 cot θ_L = "
+
+    @property
+    def aspect_bound(self) -> float:
+        """4 cot θ_L: the aspect ratio L²/A of a triangle whose angles are all >= θ_L."""
+        return 4 / math.tan(math.radians(self.proven_angle))
+
+    @property
+    def angle_range(self) -> tuple[float, float]:
+        """(θ_L, 180° - 2 θ_L): the angles the proof allows."""
+        return self.proven_angle, 180.0 - 2 * self.proven_angle
+
+    @property
+    def quality_ok(self) -> bool:
+        """Every angle at least θ_L (so the aspect ratio at most 4 cot θ_L)."""
+        return self.below_bound_count == 0 and (
+            self.triangles == 0 or self.min_angle >= self.proven_angle * (1 - QUALITY_TOL))
+
+    def as_dict(self) -> dict:
+        """:meth:`Certificate.as_dict` with the graded fields (``below_bound`` as lists)."""
+        values = super().as_dict()
+        values["below_bound"] = [list(c) for c in self.below_bound]
+        return values
+
+    def __str__(self) -> str:
+        lines = super().__str__().split("\n")
+        lines[0] = "graded " + lines[0]
+        lines.insert(1, f"  grading      L={self.grading:g}, r in [{self.smallest_radius:.4g}, "
+                        f"{self.largest_radius:.4g}]; angles proven >= {self.proven_angle:.3f}°, "
+                        f"{self.below_bound_count} triangles below")
+        return "\n".join(lines)
+
+
+def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
+    """Measure the certificate of a graded ``mesh`` (see the module docstring).
+
+    :meth:`PlanarMesh.certificate` calls this once for a mesh with a radius field.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+        A graded mesh (``mesh.field`` is its radius field).
+
+    Returns
+    -------
+    GradedCertificate
+    """
+    points, field = mesh.vertices, mesh.field
+    faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    radius = field(points)
+    quality = mesh.quality()
+    sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, field.cap)
+    boundary = boundary_report(mesh, sampled)
+    problems = list(boundary.problems)
+    why_not = _visibility_route_fails(mesh, boundary, sampled)
+    if why_not:
+        problems.append(f"coverage not measured with the visibility rule: {why_not}")
+    gap, gap_at = _relative_coverage(points, faces, field, sampled)
+    proven = angle_bound(field.grading)
+    angles = quality.angles.reshape(-1, 3)
+    low = np.flatnonzero(angles.min(axis=1, initial=180.0) < proven * (1 - QUALITY_TOL))
+    used = np.zeros(len(points), bool)
+    used[faces.ravel()] = True
+    return GradedCertificate(
+        alpha=field.cap, samples=len(points), triangles=len(faces),
+        min_separation=_relative_separation(mesh, radius, sampled),
+        coverage_gap=gap, coverage_gap_at=tuple(float(v) for v in gap_at),
+        max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
+        min_angle=float(quality.angles.min(initial=180.0)),
+        max_angle=float(quality.angles.max(initial=0.0)),
+        isolated_samples=int(np.count_nonzero(~used)),
+        nonmanifold_vertices=_nonmanifold_vertices(mesh.boundary_edges, len(points)),
+        area_ratio=float(quality.area.sum() / mesh.region.area),
+        outside_area_ratio=boundary.outside_area_ratio,
+        missing_area_ratio=boundary.missing_area_ratio,
+        boundary_deviation=boundary.boundary_deviation,
+        conforming=boundary.conforming, sampled_outline=boundary.sampled_outline,
+        claims_conforming=True, visibility=not why_not,
+        boundary_problems=tuple(problems), topology=topology_report(mesh),
+        grading=field.grading, proven_angle=proven,
+        below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
+                          for k in low[:_MAX_LOCATED]),
+        below_bound_count=len(low),
+        smallest_radius=float(radius.min(initial=np.inf)),
+        largest_radius=float(radius.max(initial=0.0)),
+    )
+
+
+def _relative_separation(mesh, radius, sampled) -> float:
+    """min |pq| / min(r(p), r(q)) over the mesh edges and the pairs that see each other:
+    a pair below the edges' minimum m has |pq| < m r(p), so the samples within m r(p)
+    of each p are the only ones to look at."""
+    points = mesh.vertices
+    edges = mesh.edges
+    ratio = np.hypot(*(points[edges[:, 0]] - points[edges[:, 1]]).T) / np.minimum(
+        radius[edges[:, 0]], radius[edges[:, 1]])
+    best = float(ratio.min(initial=np.inf))
+    if not np.isfinite(best) or len(points) < 2:
+        return best
+    tree = cKDTree(points)
+    near = tree.query_ball_point(points, best * radius, return_sorted=False)
+    count = np.fromiter(map(len, near), np.int64, len(near))
+    p = np.repeat(np.arange(len(points)), count)
+    q = np.fromiter((j for group in near for j in group), np.int64, int(count.sum()))
+    p, q = p[p < q], q[p < q]
+    ratio = np.hypot(*(points[p] - points[q]).T) / np.minimum(radius[p], radius[q])
+    close = ratio < best
+    if not close.any():
+        return best
+    seen = _sees(shapely.union(mesh.region.geometry, sampled.polygon()),
+                 np.stack([points[p[close]], points[q[close]]], axis=1), mesh.alpha)
+    return float(min(best, ratio[close][seen].min(initial=np.inf)))
+
+
+def _relative_coverage(points, faces, field, sampled):
+    """The largest min_v |x - v| / r(x) at the points of each triangle where the distance
+    to its nearest corner peaks, and at the farthest point of the slivers beyond the
+    chords (see the module docstring); and where it is."""
+    worst, at = 0.0, np.zeros(2)
+    if len(faces):
+        tri = points[faces]                                    # (m, 3, 2)
+        length2 = np.sum((np.roll(tri, -1, axis=1) - tri) ** 2, axis=2)   # edge k: k -> k+1
+        longest = np.argmax(length2, axis=1)
+        rows = np.arange(len(faces))
+        a = tri[rows, longest]
+        b = tri[rows, (longest + 1) % 3]
+        c = tri[rows, (longest + 2) % 3]                       # opposite the longest edge
+        ab, ac, bc = b - a, c - a, c - b
+        cross = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
+        ab2, ac2 = np.sum(ab * ab, axis=1), np.sum(ac * ac, axis=1)
+        centre = a + np.column_stack([ac[:, 1] * ab2 - ab[:, 1] * ac2,
+                                      ab[:, 0] * ac2 - ac[:, 0] * ab2]) / (2 * cross[:, None])
+        obtuse = np.sum(ac * bc, axis=1) < 0                   # angle at c > 90°
+        # on the longest edge, where the bisectors of ca and cb cross it
+        t_a = 0.5 * ac2 / np.maximum(np.sum(ac * ab, axis=1), 1e-300)
+        t_b = 1 - 0.5 * np.sum(bc * bc, axis=1) / np.maximum(-np.sum(bc * ab, axis=1), 1e-300)
+        for t in (t_a, t_b):
+            peak = np.where(obtuse[:, None], a + np.clip(t, 0, 1)[:, None] * ab, centre)
+            ratio = np.min(np.linalg.norm(tri - peak[:, None, :], axis=2), axis=1) / field(peak)
+            k = int(np.argmax(ratio))
+            if ratio[k] > worst:
+                worst, at = float(ratio[k]), peak[k]
+    sliver, sliver_at = sampled.sliver_gap()
+    if sliver > 0:
+        ratio = sliver / float(field(np.asarray(sliver_at, float)[None])[0])
+        if ratio > worst:
+            worst, at = ratio, np.asarray(sliver_at, float)
+    return worst, at

@@ -1,0 +1,345 @@
+"""Variable-radius maximal Poisson disc sampling for graded meshes (docs/graded.md, §4).
+
+The radius r(x) comes from a :class:`pds_plugin.sizing.RadiusField`. Two samples that
+see each other are at least ``min(r(p), r(q))`` apart, and every point x of the region
+is within ``r(x)`` of a sample that sees it. The stages follow the uniform conforming
+sampler (sampling.py):
+
+1. **Boundary.** Sharp corners, then each piece between them split at *normalized* arc
+   length ``τ = ∫ dt / r`` into parts with ``τ`` in ``[a, 2 a)``, ``a = 1.02/(1 - L/2)``
+   (so consecutive samples are at least ``min(r)`` apart), joined by chords; a guard
+   sample inside each chord longer than ``√3 r``.
+2. **Interior.** A quadtree whose leaves have side at most ``r_low`` (``r_low`` the
+   Lipschitz lower bound of r on the leaf); a few passes of one dart per open leaf, then
+   the refinement of Ebeida et al.: boxes that no single visible disc covers (farthest
+   corner within ``min(r(q), r_low)``) are split in four and get a dart each, until none
+   is left; a box smaller than ``1e-10 r_low`` is dropped (the coverage gap is then
+   within that of r), so no box is split more than about 35 times. Boxes left open are
+   counted: more than ``_MAX_BOXES_PER_SAMPLE`` per allowed sample is a BudgetError.
+
+Random numbers come from ``numpy.random.default_rng(seed)`` in a fixed order: the same
+region, field and seed give the same samples bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+
+from . import _graded_kernels as kern
+from . import _visibility_kernels as vis_kern
+from ._checks import check_positive_int
+from .errors import BudgetError
+from .region import Region, turning_angles
+from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _chord_polygons,
+                       _guards, _joined, check_rings_apart)
+from .sizing import RadiusField
+
+__all__ = ["graded_poisson_disc"]
+
+_PASSES = 3
+_TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
+_MAX_BINS = 4_000_000
+_MAX_CHORD_ENTRIES = 1_000_000
+_MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per allowed sample
+
+
+def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
+                        max_samples: int = DEFAULT_MAX_SAMPLES,
+                        feature_angle: float = 30.0) -> Samples:
+    """Maximal Poisson disc sampling of ``region`` with the radius field ``field``,
+    conforming and constrained (see the module docstring).
+
+    Parameters
+    ----------
+    region : Region
+    field : RadiusField
+        The radius field r (L-Lipschitz, :func:`pds_plugin.sizing.radius_field`).
+    seed : int
+        The same region, field and seed give the same samples bit for bit.
+    max_samples : int
+        Refuse (with a :class:`~pds_plugin.errors.BudgetError`) a sampling that would make
+        more samples, or need more refinement boxes than a few per sample.
+    feature_angle : float
+        Vertices turning by at least this many degrees are sharp corners (samples).
+
+    Returns
+    -------
+    Samples
+        Its ``radius`` holds r at each sample, its ``alpha`` the field's cap, its
+        ``rings`` the boundary samples in order along each ring.
+
+    Raises
+    ------
+    BudgetError
+        As said under ``max_samples``.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> from pds_plugin.sizing import radius_field
+    >>> region = Region.from_shapely(box(0, 0, 10, 1))
+    >>> samples = graded_poisson_disc(region, radius_field(region, 0.2), seed=1)
+    >>> bool(samples.radius.max() <= 0.5 + 1e-9), len(samples.rings)
+    (True, 1)
+    """
+    max_samples = check_positive_int(max_samples, "max_samples")
+    check_rings_apart(region)
+    rng = np.random.default_rng(seed)
+    sampler = _GradedSampler(region, field, max_samples)
+    n_boundary = sampler.add_boundary(feature_angle, rng)
+    sampler.add_interior(rng)
+    points = sampler.points[:sampler.count].copy()
+    on_boundary = np.zeros(len(points), bool)
+    on_boundary[:n_boundary] = True
+    return Samples(points, on_boundary, field.cap, sampler.rings,
+                   sampler.radius[:sampler.count].copy())
+
+
+def _tau_ring(ring, field, grading):
+    """The ring densified by bisection until every part is at most 0.3 of the lowest r
+    the field can have on it, with the sharp flags' positions (its own vertices), and
+    the normalized arc length τ = ∫ dt / r at its points and closing point (trapezoid
+    rule). The number of points grows with ∫ dt / r, not with length / min r."""
+    points = ring
+    radius = field(points)
+    first = np.ones(len(points), bool)
+    for _ in range(60):
+        following = np.roll(points, -1, axis=0)
+        step = np.hypot(*(following - points).T)
+        low = np.minimum(radius, np.roll(radius, -1)) - 0.5 * grading * step
+        split = step > 0.3 * low
+        if not split.any():
+            break
+        middle = 0.5 * (points[split] + following[split])
+        at = np.flatnonzero(split) + 1
+        points = np.insert(points, at, middle, axis=0)
+        radius = np.insert(radius, at, field(middle))
+        first = np.insert(first, at, False)
+    step = np.hypot(*np.diff(np.vstack([points, points[:1]]), axis=0).T)
+    inv = 1.0 / np.append(radius, radius[0])
+    tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inv[:-1] + inv[1:]))])
+    return points, first, tau
+
+
+def _positions(tau, corners, unit, rng):
+    """Positions (in τ) of a ring's boundary samples, increasing: its sharp corners (or
+    one random point if it has none) and each piece between them split into the most
+    equal parts of τ-length at least ``unit``, so in [unit, 2 unit) when the piece is at
+    least 2 unit long, which the field makes every piece (sizing.py's _PIECE: a single
+    part longer than √3 r needs a guard, which a neighbouring sample can refuse); at
+    least three in all."""
+    length = tau[-1]
+    if not len(corners):
+        corners = np.array([rng.random() * length])
+    lo = corners
+    span = np.append(corners[1:], corners[0] + length) - lo
+    parts = np.maximum(np.floor(span / unit), 1).astype(np.int64)
+    piece = np.repeat(np.arange(len(lo)), parts - 1)
+    k = np.arange(len(piece)) - np.repeat(np.cumsum(parts - 1) - (parts - 1), parts - 1) + 1
+    at = np.sort(np.concatenate([corners, lo[piece] + span[piece] * k / parts[piece]]) % length)
+    while len(at) < 3:                       # a ring smaller than r: keep it a ring
+        gaps = np.diff(np.append(at, at[0] + length))
+        g = int(np.argmax(gaps))
+        at = np.sort(np.append(at, (at[g] + 0.5 * gaps[g]) % length))
+    return at
+
+
+class _GradedSampler:
+    """The state of one graded sampling: sample bins, radii, chords, samples so far."""
+
+    def __init__(self, region: Region, field: RadiusField, max_samples: int):
+        self.region = region
+        self.field = field
+        self.max_samples = max_samples
+        xmin, ymin, xmax, ymax = region.bounds
+        pad = field.cap
+        self.x0, self.y0 = xmin - pad, ymin - pad
+        width, height = xmax - xmin + 2 * pad, ymax - ymin + 2 * pad
+        self.points = np.empty((1024, 2))
+        self.radius = np.empty(1024)
+        self.nxt = np.empty(1024, np.int32)
+        self.count = 0
+        self.rings = ()
+        self.vis = vis_kern.no_chords(1024)
+        self.chord_bound = np.empty(0)
+        self.width, self.height = width, height
+
+    def _bins(self, smallest: float):
+        """The pyramid of sample grids (_graded_kernels): level 0 with bins of about
+        half the smallest radius (fewer than _MAX_BINS in all), up to bins >= cap / 2."""
+        h = max(0.5 * smallest, math.sqrt(self.width * self.height / _MAX_BINS))
+        hs = [h]
+        while hs[-1] < 0.5 * self.field.cap:
+            hs.append(2 * hs[-1])
+        hs = np.array(hs)
+        nxs = (self.width / hs).astype(np.int64) + 1
+        nys = (self.height / hs).astype(np.int64) + 1
+        offsets = np.concatenate([[0], np.cumsum(nxs * nys)])
+        self.h = h
+        self.bins = (np.full(offsets[-1], -1, np.int32), offsets, nxs, nys, hs,
+                     np.zeros(len(hs), np.int64))
+
+    def _reserve(self, extra: int):
+        """Room for ``extra`` more samples in the arrays (candidates: not all are kept)."""
+        need = self.count + extra
+        if need > len(self.points):
+            size = max(need, 2 * len(self.points))
+            grow = size - len(self.points)
+            self.points = np.concatenate([self.points, np.empty((grow, 2))])
+            self.radius = np.concatenate([self.radius, np.empty(grow)])
+            self.nxt = np.concatenate([self.nxt, np.empty(grow, np.int32)])
+            out = np.full(size, -1, np.int64)
+            out[:len(self.vis[2])] = self.vis[2]
+            self.vis = self.vis[:2] + (out,) + self.vis[3:]
+
+    def _insert(self, cand, order):
+        cand = np.ascontiguousarray(cand, float)
+        self._reserve(len(cand))
+        self.count = kern.insert_where_free(cand, self.field(cand), order, self.field.grading,
+                                            self.chord_bound, self.bins, self.nxt,
+                                            self.points, self.radius, self.count, self.x0,
+                                            self.y0, self.vis)
+        self._check_count()
+
+    def _check_count(self):
+        if self.count > self.max_samples:
+            raise BudgetError(f"the graded sampling made more than max_samples="
+                              f"{self.max_samples} samples; {self._what_to_do()}")
+
+    def add_boundary(self, feature_angle: float, rng) -> int:
+        """Sample every ring (sharp corners, then the pieces between them in normalized
+        arc length), join consecutive samples by chords, bin the chords by their reach
+        and add guards. Returns the number of boundary samples."""
+        L = self.field.grading
+        unit = _TAU_MARGIN / (1.0 - 0.5 * L)
+        ring_xy = []
+        for ring in self.region.rings:
+            dense, first, tau = _tau_ring(ring, self.field, L)
+            sharp = np.zeros(len(dense), bool)
+            sharp[first] = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
+            at = _positions(tau, tau[:-1][sharp], unit, rng)
+            ring_xy.append(_along(at, tau, np.vstack([dense, dense[:1]])))
+        boundary, self.rings = _joined(ring_xy)
+        radius = self.field(boundary)
+        self._bins(0.5 * radius.min())
+        self._reserve(len(boundary))
+        self._chords(boundary, radius)
+        self.count = kern.place(boundary, radius, self.bins, self.nxt, self.points, self.radius,
+                                0, self.x0, self.y0)
+        self._check_count()
+        self.geometry = _chord_polygons(self.region, ring_xy)
+        shapely.prepare(self.geometry)
+        guards = _guards(boundary, self.rings, self.field)
+        guards = guards[shapely.contains_xy(self.geometry, guards[:, 0], guards[:, 1])]
+        self._insert(guards, np.arange(len(guards)))
+        return len(boundary)
+
+    def _chords(self, boundary, radius):
+        """The ``vis`` bundle of the chords, each binned within its reach: a segment of
+        a triangle kept at circumcentre z has length <= 2 r(z) / (1 - L) measured from
+        any chord point it meets, with r there at most the chord's end radius plus L
+        times half its length."""
+        L = self.field.grading
+        a = np.concatenate(self.rings)
+        b = np.concatenate([np.roll(ring, -1) for ring in self.rings])
+        length = np.hypot(*(boundary[b] - boundary[a]).T)
+        vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), float(length.max()))
+        reach = 2.0 * (np.maximum(radius[a], radius[b]) + 0.5 * L * length) / (1.0 - L) * (1 + 1e-9)
+        self.chord_bound = np.minimum(radius[a], radius[b]) / (1.0 - L)
+        entries = np.sum((length + 2 * reach) ** 2)
+        h = max(self.h, math.sqrt(entries / _MAX_CHORD_ENTRIES))
+        nx, ny = int(self.width / h) + 1, int(self.height / h) + 1
+        start, items = kern.bin_chords_by_reach(vis[0], reach, self.x0, self.y0, h, nx, ny)
+        self.vis = vis[:3] + (start, items, self.x0, self.y0, h, nx, ny)
+
+    def add_interior(self, rng):
+        """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
+        Boxes are (x, y, size, low, edge): ``low`` the lower bound of r on the box,
+        ``edge`` whether it may reach outside the chord polygons."""
+        boxes = self._leaves()
+        for _ in range(_PASSES):
+            boxes = self._open(boxes)
+            self._throw(boxes, rng)
+        while len(boxes[0]):
+            boxes = self._open(boxes)
+            fine = boxes[2] >= _RESOLUTION * boxes[3]
+            bx, by, size, low, edge = (a[fine] for a in boxes)
+            self._check_boxes(4 * len(bx))
+            half = 0.5 * size
+            bx = np.concatenate([bx, bx + half, bx, bx + half])
+            by = np.concatenate([by, by, by + half, by + half])
+            size, edge = np.tile(half, 4), np.tile(edge, 4)
+            boxes = self._boxes(bx, by, size, edge)
+            self._throw(boxes, rng)
+
+    def _boxes(self, bx, by, size, edge):
+        """Boxes with their radius bound; of those that may reach outside (``edge``),
+        the ones outside the chord polygons dropped and the ones inside marked so."""
+        cells = shapely.box(bx[edge], by[edge], bx[edge] + size[edge], by[edge] + size[edge])
+        keep = np.ones(len(bx), bool)
+        keep[edge] = shapely.intersects(self.geometry, cells)
+        edge = edge.copy()
+        edge[edge] = ~shapely.contains_properly(self.geometry, cells)
+        bx, by, size, edge = bx[keep], by[keep], size[keep], edge[keep]
+        centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
+        low = self.field.bounds(centre, size / math.sqrt(2))
+        return bx, by, size, low, edge
+
+    def _leaves(self):
+        """Quadtree leaves over the region: boxes split while their side exceeds r_low,
+        boxes outside the chord polygons dropped."""
+        s = self.field.cap / math.sqrt(2)
+        xmin, ymin, xmax, ymax = self.region.bounds
+        nx, ny = int(math.ceil((xmax - xmin) / s)) or 1, int(math.ceil((ymax - ymin) / s)) or 1
+        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny))
+        bx, by = xmin + s * ix.ravel(), ymin + s * iy.ravel()
+        size = np.full(len(bx), s)
+        edge = np.ones(len(bx), bool)
+        done, total = [], 0
+        while len(bx):
+            bx, by, size, low, edge = self._boxes(bx, by, size, edge)
+            leaf = size <= low
+            done.append(tuple(a[leaf] for a in (bx, by, size, low, edge)))
+            total += int(leaf.sum())
+            self._check_boxes(total + 4 * int((~leaf).sum()))
+            bx, by, size, edge = bx[~leaf], by[~leaf], size[~leaf], edge[~leaf]
+            half = 0.5 * size
+            bx = np.concatenate([bx, bx + half, bx, bx + half])
+            by = np.concatenate([by, by, by + half, by + half])
+            size, edge = np.tile(half, 4), np.tile(edge, 4)
+        return tuple(np.concatenate(parts) for parts in zip(*done))
+
+    def _check_boxes(self, count: int):
+        """Refuse a refinement that would hold more than _MAX_BOXES_PER_SAMPLE boxes per
+        allowed sample (each box gets a dart: the work would outgrow the budget)."""
+        if count > _MAX_BOXES_PER_SAMPLE * self.max_samples:
+            raise BudgetError(f"the graded sampling would refine {count} boxes at once, more "
+                              f"than {_MAX_BOXES_PER_SAMPLE} per sample of max_samples="
+                              f"{self.max_samples}; {self._what_to_do()}")
+
+    def _what_to_do(self) -> str:
+        return ("raise max_samples or the grading, or pass a larger alpha or sizing (the "
+                f"field's smallest radius here is {self.field.sizes.min(initial=self.field.cap):.3g})")
+
+    def _open(self, boxes):
+        """The boxes no single visible disc covers."""
+        bx, by, size, low, edge = boxes
+        keep = kern.uncovered_boxes(bx, by, size, low, self.field.grading, self.chord_bound,
+                                    self.bins, self.nxt, self.points, self.radius, self.x0,
+                                    self.y0, self.vis)
+        return tuple(a[keep] for a in boxes)
+
+    def _throw(self, boxes, rng):
+        """One dart uniform in each box; darts in the region thrown in random order."""
+        bx, by, size, low, edge = boxes
+        u = rng.random((len(bx), 2))
+        darts = np.column_stack([bx + u[:, 0] * size, by + u[:, 1] * size])
+        order = rng.permutation(len(darts))
+        inside = ~edge[order]
+        inside[~inside] = shapely.contains_xy(self.geometry, darts[order[~inside], 0],
+                                              darts[order[~inside], 1])
+        order = order[inside]
+        self._insert(darts[order], np.arange(len(order)))

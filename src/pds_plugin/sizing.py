@@ -1,0 +1,359 @@
+"""The radius field of graded meshes: r(x) <= alpha, following the local feature size,
+L-Lipschitz (docs/graded.md, section 3).
+
+``r(x) = min(cap, sizing(x), min_i(s_i + L |x - f_i|))`` over feature points ``f_i`` on
+the densified boundary with feature sizes ``s_i``: the wall thickness seen through
+material (gaps, slots and notches do not count), a disc at each sharp corner, the
+length of the boundary piece and of the ring, and the curvature of arcs. A minimum of
+L-Lipschitz functions is L-Lipschitz.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+from . import _sizing_kernels as kern
+from ._checks import check_grading
+from .errors import ArgumentError, ArgumentTypeError
+from .region import Region, turning_angles
+
+__all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "DEFAULT_GRADING"]
+
+DEFAULT_GRADING = 0.2
+"""Default Lipschitz constant L: proven angles >= arcsin(0.4) = 23.6° (docs/graded.md)."""
+
+_WALL = 0.9          # r <= 0.9 x wall thickness (margin for the densification error)
+_CORNER = 0.4        # corner disc: 0.4 x distance to the nearest non-incident boundary
+_RING = 1 / 6        # r <= perimeter / 6 of the ring
+_PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length is >= 2.5,
+                     # so it splits into two or more chords (graded_sampling._positions)
+_CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
+_OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
+_K = 24              # nearest neighbours looked at for dominated cones and corners
+_WALL_NEIGHBOURS = (16, 96)  # nearest neighbours looked at for a point's wall, in two steps
+_ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
+_MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
+
+
+def angle_bound(grading: float) -> float:
+    """The proven smallest angle, in degrees, of a graded mesh whose radius field is
+    ``grading``-Lipschitz: arcsin((1 - L) / 2) (docs/graded.md, section 2).
+
+    Parameters
+    ----------
+    grading : float
+        The Lipschitz constant L, in (0, 1).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(angle_bound(0.2), 2), round(angle_bound(1e-12), 6)
+    (23.58, 30.0)
+    """
+    return math.degrees(math.asin((1.0 - check_grading(grading)) / 2.0))
+
+
+class RadiusField:
+    """An L-Lipschitz radius field ``r(x) = min(cap, sizing(x), min_i(s_i + L|x - f_i|))``.
+
+    Call it on an (n, 2) array of points to get the (n,) radii.
+
+    Parameters
+    ----------
+    features : (m, 2) array_like
+        Feature points f_i.
+    sizes : (m,) array_like
+        Feature sizes s_i > 0.
+    grading : float
+        The Lipschitz constant L, in (0, 1).
+    cap : float
+        The largest radius (alpha).
+    sizing : callable, optional
+        ``sizing(x, y)`` on arrays, combined by min.
+
+    Examples
+    --------
+    >>> field = RadiusField([[0, 0]], [0.1], grading=0.5, cap=1.0)
+    >>> field([[0, 0], [1, 0], [10, 0]]).tolist()
+    [0.1, 0.6, 1.0]
+    """
+
+    def __init__(self, features, sizes, grading: float, cap: float, sizing=None):
+        features = np.asarray(features, float).reshape(-1, 2)
+        sizes = np.asarray(sizes, float).ravel()
+        keep = _undominated(features, sizes, grading)
+        self.features = np.ascontiguousarray(features[keep])
+        self.sizes = np.ascontiguousarray(sizes[keep])
+        self.grading = float(grading)
+        self.cap = float(cap)
+        self.sizing = sizing
+        self._tree = kern.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
+
+    def __call__(self, points) -> np.ndarray:
+        points = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 2))
+        if self._tree is not None and len(points):
+            r = kern.cone_minimum(points, self.features, self.sizes, self.grading, self.cap,
+                                  *self._tree)
+        else:
+            r = np.full(len(points), self.cap)
+        if self.sizing is not None:
+            user = np.asarray(self.sizing(points[:, 0], points[:, 1]), float)
+            user = np.broadcast_to(user, r.shape)
+            bad = ~(np.isfinite(user) & (user > 0))
+            if bad.any():
+                raise ArgumentError("sizing(x, y) must return positive finite radii; got "
+                                    f"{user[bad][:3].tolist()} at {points[bad][:3].tolist()}")
+            r = np.minimum(r, user)
+        return r
+
+    def bounds(self, centres, half_diagonal) -> np.ndarray:
+        """A lower bound of r on each disc (centre, half_diagonal): r(centre) - L h."""
+        return self(centres) - self.grading * np.asarray(half_diagonal)
+
+
+def _undominated(features, sizes, L) -> np.ndarray:
+    """Features whose cone s_i + L|x - f_i| is not everywhere above another's
+    (s_i >= s_j + L|f_i - f_j| means cone i never attains the minimum)."""
+    n = len(sizes)
+    if n < 2:
+        return np.ones(n, bool)
+    k = min(_K, n)
+    d, idx = cKDTree(features).query(features, k=k)
+    above = sizes[:, None] > sizes[idx] + L * d
+    tie = (sizes[:, None] == sizes[idx] + L * d) & (idx < np.arange(n)[:, None])
+    return ~np.any(above | tie, axis=1)
+
+
+def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | None = None,
+                 sizing=None, feature_angle: float = 30.0) -> RadiusField:
+    """The radius field of ``region`` (docs/graded.md, section 3).
+
+    Parameters
+    ----------
+    region : Region
+    grading : float
+        The Lipschitz constant L, in (0, 1); smaller is better shaped, larger coarser.
+    cap : float, optional
+        The largest radius; by default the region's inradius (its own size).
+    sizing : callable, optional
+        A user radius ``sizing(x, y)`` on arrays, combined by min.
+    feature_angle : float
+        Vertices turning by at least this many degrees are sharp corners.
+
+    Returns
+    -------
+    RadiusField
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``grading`` is not in (0, 1) or ``sizing`` is not callable.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> plate = Region.from_shapely(box(0, 0, 100, 100).difference(box(10, 10, 90, 11)))
+    >>> field = radius_field(plate, grading=0.2)
+    >>> [round(float(r), 1) for r in field([[50, 9.5], [50, 50]])]
+    [8.4, 11.6]
+
+    Both come from the slot's corners: size 0.4 (0.4 x its 1-unit ends) plus L = 0.2
+    per unit of distance; the 10-unit wall below the slot alone would give 9.
+    """
+    grading = check_grading(grading)
+    if sizing is not None and not callable(sizing):
+        raise ArgumentTypeError("sizing must be a callable sizing(x, y) -> radii, got "
+                                f"{type(sizing).__name__}")
+    if cap is None:
+        cap = inradius(region)
+    points, sizes = _features(region, cap, feature_angle)
+    return RadiusField(points, sizes, grading, cap, sizing)
+
+
+def inradius(region: Region) -> float:
+    """The radius of the largest disc inside the region (its own size), to 1 %.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> round(inradius(Region.from_shapely(box(0, 0, 40, 10))), 1)
+    5.0
+    """
+    return max(shapely.maximum_inscribed_circle(polygon, 0.01 * math.sqrt(polygon.area)).length
+               for polygon in region.geometry.geoms)
+
+
+def _features(region: Region, cap: float, feature_angle: float):
+    """Feature points and sizes: the boundary densified until every edge is split into
+    parts at most a quarter of the smallest size found on it.
+
+    Inside the disc of a sharp corner the two pieces meeting there are not walls of each
+    other (their distance goes to 0 at the corner): the corner's own size holds there.
+    Otherwise each round would find the two sides closer near the corner, densify them
+    finer and find them closer again (an STL section's 46° corner reached 1e-7)."""
+    rings = region.rings
+    from_ring = [_ring_sizes(ring, cap, math.radians(feature_angle)) for ring in rings]
+    ring_size = [f[0] for f in from_ring]
+    vertex_size = np.concatenate([f[1] for f in from_ring])
+    piece = [f[2] for f in from_ring]
+    corners = [f[3] for f in from_ring]
+    dense = _densify(rings, ring_size, ring_size, piece)
+    corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
+    edge_size = [size.copy() for size in ring_size]
+    for round_ in range(_ROUNDS):
+        if round_:
+            parts = sum(int(np.sum(np.ceil(4 * np.hypot(*(np.roll(r, -1, axis=0) - r).T) / e)))
+                        for r, e in zip(rings, edge_size))
+            if parts > _MAX_DENSE:
+                break                   # keep the last densification: memory stays bounded
+            dense = _densify(rings, edge_size, ring_size, piece)
+        size = _wall_sizes(region, dense, cap)
+        size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
+        changed = False
+        for k in range(len(rings)):
+            on = dense["ring"] == k
+            smallest = np.full(len(rings[k]), np.inf)
+            np.minimum.at(smallest, dense["edge"][on], size[on])
+            new = np.minimum(edge_size[k], smallest)
+            changed |= bool(np.any(new < 0.7 * edge_size[k]))
+            edge_size[k] = new
+        if not changed:
+            break
+    return (np.concatenate([dense["xy"], corner_xy, np.concatenate(rings)]),
+            np.concatenate([size, corner_s, vertex_size]))
+
+
+def _ring_sizes(ring, cap, sharp_turn):
+    """Sizes from the ring alone: per edge (piece length, perimeter) and per vertex
+    (also the curvature), the piece index of each edge, and which vertices are sharp
+    corners."""
+    length = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
+    turn = np.abs(turning_angles(ring))
+    sharp = turn >= sharp_turn
+    piece = np.cumsum(sharp) % max(int(sharp.sum()), 1)     # edge k belongs to piece[k]
+    piece_length = np.bincount(piece, weights=length)
+    size = np.minimum(cap, _RING * length.sum())
+    edge_size = np.minimum(size, _PIECE * piece_length[piece])
+    size = np.minimum(edge_size, np.roll(edge_size, 1))        # per vertex: both edges
+    mean_edge = 0.5 * (length + np.roll(length, 1))
+    curved = ~sharp & (turn > 1e-12)
+    size[curved] = np.minimum(size[curved], _CURVE * mean_edge[curved] / turn[curved])
+    return edge_size, size, piece, sharp
+
+
+def _densify(rings, edge_size, ring_size, piece):
+    """Points along every edge at spacing <= a quarter of its size, with the edge's
+    inward unit normal, ring, edge and piece index, and its size from the ring alone."""
+    xy, normal, ring_id, edge_id, piece_id, base = [], [], [], [], [], []
+    for k, ring in enumerate(rings):
+        d = np.roll(ring, -1, axis=0) - ring
+        length = np.hypot(d[:, 0], d[:, 1])
+        parts = np.maximum(np.ceil(4 * length / edge_size[k]), 1).astype(np.int64)
+        edge = np.repeat(np.arange(len(ring)), parts)
+        start = np.cumsum(parts) - parts
+        t = (np.arange(parts.sum()) - start[edge] + 0.5) / parts[edge]
+        xy.append(ring[edge] + t[:, None] * d[edge])
+        normal.append(np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None])
+        ring_id.append(np.full(len(edge), k))
+        edge_id.append(edge)
+        piece_id.append(piece[k][edge])
+        base.append(ring_size[k][edge])
+    return {"xy": np.concatenate(xy), "normal": np.concatenate(normal),
+            "ring": np.concatenate(ring_id), "edge": np.concatenate(edge_id),
+            "piece": np.concatenate(piece_id), "base": np.concatenate(base)}
+
+
+def _wall_sizes(region, dense, cap):
+    """Each point's size: its ring size, lowered to _WALL x the distance to the nearest
+    point facing it through material (normals opposed, midpoint in the region).
+
+    Only walls nearer than ring size / _WALL can lower a size, so the neighbours are
+    searched that far (rounded up to a power of two, one query per power). They are
+    looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for the points that
+    found none facing them but have more neighbours within reach; of those facing a
+    point, only the ones up to the first whose midpoint is in the region are tested."""
+    xy, normal = dense["xy"], dense["normal"]
+    n = len(xy)
+    tree = cKDTree(xy)
+    wall = np.full(n, np.inf)
+    reach = np.exp2(np.ceil(np.log2(np.minimum(dense["base"], cap) / _WALL)))
+    for k in _WALL_NEIGHBOURS:
+        k = min(k, n)
+        todo = []
+        for bound in np.unique(reach[reach > 0]):
+            rows = np.flatnonzero(reach == bound)
+            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound)
+            todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
+                                            idx.reshape(len(rows), k), wall)])
+        reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
+        if not (reach > 0).any() or k == n:
+            break
+    return np.minimum(dense["base"], _WALL * wall)
+
+
+def _nearest_walls(region, xy, normal, rows, d, idx, wall):
+    """Set ``wall`` of the points ``rows`` from their neighbours (d, idx, nearest first):
+    the distance to the nearest one facing them whose midpoint is in the region. Returns
+    the positions in ``rows`` of the points that found none facing them and may have
+    more neighbours within reach."""
+    valid = np.isfinite(d) & (d > 0)
+    j = np.where(valid, idx, 0)
+    step = xy[j] - xy[rows, None, :]
+    facing = (valid & (np.einsum("nkc,nc->nk", step, normal[rows]) > 1e-9 * d)
+              & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
+              & (np.einsum("nc,nkc->nk", normal[rows], normal[j]) < _OPPOSED))
+    found = facing.any(axis=1)
+    at = np.flatnonzero(found)
+    column = np.argmax(facing[at], axis=1)            # the nearest facing neighbour
+    while len(at):
+        mid = 0.5 * (xy[rows[at]] + xy[j[at, column]])
+        inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
+        wall[rows[at[inside]]] = d[at[inside], column[inside]]
+        at, column = at[~inside], column[~inside]
+        later = facing[at] & (np.arange(d.shape[1]) > column[:, None])
+        more = later.any(axis=1)
+        at, column = at[more], np.argmax(later[more], axis=1)
+    return np.flatnonzero(~found & np.isfinite(d[:, -1]))
+
+
+def _corner_discs(region, rings, corners, piece, dense):
+    """Sharp corners and their disc radius: _CORNER x the distance to the nearest
+    boundary point that is not on the two pieces incident to the corner and is seen
+    through material (the midpoint in the region: a notch or gap does not count), at
+    most the ring sizes of those pieces."""
+    tree = cKDTree(dense["xy"])
+    xy, s = [], []
+    for k, ring in enumerate(rings):
+        own = dense["ring"] == k
+        for v in np.flatnonzero(corners[k]):
+            incident = (piece[k][v], piece[k][v - 1])
+            for count in (4 * _K, len(dense["xy"])):
+                d, idx = tree.query(ring[v], k=min(count, len(dense["xy"])))
+                d, idx = np.atleast_1d(d), np.atleast_1d(idx)
+                mid = 0.5 * (dense["xy"][idx] + ring[v])
+                other = (~(own[idx] & np.isin(dense["piece"][idx], incident))
+                         & shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1]))
+                if other.any() or count >= len(dense["xy"]):
+                    break
+            far = d[other][0] if other.any() else np.inf
+            on_pieces = own & np.isin(dense["piece"], incident)
+            xy.append(ring[v])
+            s.append(min(_CORNER * far, dense["base"][on_pieces].min()))
+    if not xy:
+        return np.empty((0, 2)), np.empty(0)
+    return np.asarray(xy), np.asarray(s)
+
+
+def _in_corner_discs(dense, corner_xy, corner_s):
+    """True for the densified points inside some corner's disc."""
+    if not len(corner_xy):
+        return np.zeros(len(dense["xy"]), bool)
+    d, idx = cKDTree(corner_xy).query(dense["xy"], k=1)
+    return d < corner_s[idx]
