@@ -58,6 +58,7 @@ _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative t
 _CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is below alpha
 _REFINEMENT_BOXES = 2   # conforming refinement stops above this many boxes per grid cell
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
+_FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
 
 
 @dataclass(frozen=True)
@@ -251,6 +252,25 @@ def check_rings_apart(region: Region):
             "open the point, e.g. region.geometry.buffer(-tiny)")
 
 
+def corner_clearance(angle, alpha):
+    """The arc length a conforming sampling keeps free of samples on each side of a
+    corner where the region's angle is ``angle`` (radians): alpha / (2 sin(angle / 2))
+    below 60°, so that on straight sides the first samples on the two sides are alpha
+    apart, and alpha otherwise; capped just below √3 alpha, the longest part (a bound of
+    exactly √3 alpha would leave ``split_gaps`` an interval of width 0 to draw that part
+    from, and the side whole, up to 2√3 alpha long).
+
+    Examples
+    --------
+    >>> [round(float(corner_clearance(np.radians(a), 1.0)), 4) for a in (90, 45, 20)]
+    [1.0, 1.3066, 1.7321]
+    """
+    angle = np.asarray(angle, float)
+    guard = np.where(angle < np.pi / 3, alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2)),
+                     alpha)
+    return np.minimum(guard, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
+
+
 def _ring_positions(ring, turns, feature_angle, alpha, rng):
     """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
     (or one random point if it has none), the pieces between them split by
@@ -267,11 +287,10 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
     length = cum[-1]
     sharp = np.abs(turns) >= np.radians(feature_angle)
     longest = math.sqrt(3) * alpha
+    first_cap = corner_clearance(0.0, alpha)       # the cap (a corner of angle 0)
     if sharp.any():
         corners = cum[:-1][sharp]
-        angle = np.pi - turns[sharp]                  # the region's angle at each corner
-        guard = np.where(angle < np.pi / 3, alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2)),
-                         alpha)
+        guard = corner_clearance(np.pi - turns[sharp], alpha)   # the region's angle there
     else:
         corners, guard = np.array([rng.random() * length]), np.array([alpha])
     lo = corners
@@ -279,8 +298,8 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
     scale = np.ones(len(lo))
     for _ in range(_CURVE_PASSES):
         shortest = scale * alpha
-        first = np.minimum(np.maximum(guard * scale, shortest), longest)
-        last = np.minimum(np.maximum(np.roll(guard, -1) * scale, shortest), longest)
+        first = np.minimum(np.maximum(guard * scale, shortest), first_cap)
+        last = np.minimum(np.maximum(np.roll(guard, -1) * scale, shortest), first_cap)
         u = rng.random(int(np.sum((hi - lo) // shortest)) + len(lo))
         inner, owner = kern.split_gaps(lo, hi, first, last, shortest, longest, u)
         # corners closer than the sampler's resolution (a zero-length edge, or one a
