@@ -263,7 +263,7 @@ def corner_clearance(angle, alpha):
     Examples
     --------
     >>> [round(float(corner_clearance(np.radians(a), 1.0)), 4) for a in (90, 45, 20)]
-    [1.0, 1.3066, 1.7321]
+    [1.0, 1.3066, 1.732]
     """
     angle = np.asarray(angle, float)
     guard = np.where(angle < np.pi / 3, alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2)),

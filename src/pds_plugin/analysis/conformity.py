@@ -122,6 +122,11 @@ class SampledBoundary:
         The ring (index into ``region.rings``) of each chord.
     straight : (C,) bool ndarray
         Chords whose arc holds no ring vertex: the chord is a piece of a boundary segment.
+    arc_length : (C,) float ndarray
+        The length of each chord's arc.
+    segment_of : (N,) int ndarray
+        The boundary segment (index into ``region.segments``) each boundary sample lies
+        on, -1 for the others.
     samples_per_ring : (R,) int ndarray
     offset : float
         The largest distance of a boundary sample from its ring.
@@ -149,6 +154,8 @@ class SampledBoundary:
         off = np.empty(len(index))
         off[which] = distance
         self.offset = float(off.max(initial=0.0))
+        self.segment_of = np.full(len(self.points), -1, np.int64)
+        self.segment_of[index] = segment
         t = np.einsum("ij,ij->i", self.points[index] - segments[segment, 0], vector[segment])
         t = np.clip(t / length[segment] ** 2, 0.0, 1.0) * length[segment]
         position = vertex_at[segment] + t
@@ -163,6 +170,8 @@ class SampledBoundary:
         chord = np.flatnonzero(self.samples_per_ring[sample_ring] >= 2)
         self.a, self.b = self.sample[chord], self.sample[following[chord]]
         self.ring = sample_ring[chord]
+        self.arc_length = position[following[chord]] - position[chord]
+        self.arc_length[self.arc_length <= 0] += self.perimeter[self.ring[self.arc_length <= 0]]
         # ring vertices strictly inside each chord's arc, in order along it
         has_chords = self.samples_per_ring[ring_of] >= 2
         vertex = np.flatnonzero(has_chords)
@@ -387,9 +396,7 @@ class _Conformity:
                 float(shapely.difference(region, outline).area / area))
 
     def _say(self, count, what, where):
-        if count:
-            places = ", ".join(_xy(p) for p in where[:_MAX_NAMED])
-            self.problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
+        say_located(self.problems, count, what, where)
 
     def _conforming(self) -> bool:
         s, mesh = self.sampled, self.mesh
@@ -485,6 +492,22 @@ def _farthest(curves, targets, step) -> float:
         if len(probes):
             farthest = max(farthest, float(distance(probes).max()))
     return farthest
+
+
+def say_located(problems: list, count: int, what: str, where) -> None:
+    """Append "``count`` ``what``, at (x, y), ..." to ``problems`` (the first few places of
+    ``where``), if ``count`` is not 0.
+
+    Examples
+    --------
+    >>> problems = []
+    >>> say_located(problems, 4, "gaps", np.arange(8.0).reshape(4, 2))
+    >>> problems
+    ['4 gaps, at (0, 1), (2, 3), (4, 5) ...']
+    """
+    if count:
+        places = ", ".join(_xy(p) for p in where[:_MAX_NAMED])
+        problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
 
 
 def _keys(u, v, n) -> np.ndarray:

@@ -1,0 +1,290 @@
+"""Exceptions to Theorem 1 at the small features of a conforming mesh, located and bounded.
+
+Every triangle of the constrained solid alpha-complex has circumradius R <= alpha, so by
+the law of sines the angle opposite an edge of length l is at least arcsin(l / 2 alpha):
+Theorem 1's 30° holds wherever the edges are at least alpha long. In a conforming
+sampling every interior and guard sample is at least alpha from every sample it sees, so
+two samples closer than alpha that see each other are two *boundary* samples, at a small
+feature of the region that keeps them apart by a proven distance d (docs/conforming.md,
+"Theorem 1 and its exceptions"):
+
+- **short piece**: consecutive corners of a ring less than alpha apart along it; every
+  corner is a sample and such a piece gets no other, so d is the corners' distance.
+- **small ring**: consecutive samples of a ring less than alpha apart although the arc
+  between them is at least alpha long or they are not both corners: a ring too small for
+  parts of alpha (three samples a third of its perimeter apart) or a curve of radius
+  about alpha. d is their chord; the proof bounds the angles by it, not the chord itself.
+- **sharp corner** of angle θ < 33.56°: samples on the two straight sides at arc length
+  at least f = ``corner_clearance(θ)`` from the corner are at least d = 2 f sin(θ/2)
+  apart (the squared distance d1² + d2² − 2 d1 d2 cos θ is convex and increasing in d1
+  and d2 from (f, f) on when θ < 90°).
+- **thin wall**: samples seeing each other across material narrower than alpha, on two
+  boundary segments d > 0 apart.
+
+A triangle whose edges are explained that way has every angle at least
+arcsin(d_e / 2 alpha) opposite each edge e (d_e = alpha for edges at least alpha long),
+so its smallest angle is at least θ_p = arcsin(min d_e / 2 alpha), its largest at most
+180° − 2 θ_p and its aspect ratio at most 4 cot θ_p. The certificate lists every
+triangle below Theorem 1 with its feature and these proven bounds, checked on the
+triangle; a triangle below Theorem 1 whose short edge no feature explains, or a pair of
+samples closer than alpha that see each other without one, is reported as unexplained.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from ..sampling import corner_clearance
+from .conformity import ON_BOUNDARY_TOL, SampledBoundary, _keys, _xy, say_located
+from .quality import ASPECT_BOUND
+
+__all__ = ["ExceptionalTriangle", "small_feature_exceptions", "CAUSES"]
+
+CAUSES = ("short piece", "small ring", "sharp corner", "thin wall")
+_SHORT_PIECE, _SMALL_RING, _SHARP_CORNER, _THIN_WALL = range(4)
+_TOL = 1e-9             # relative rounding allowed on the measured angles, lengths, radii
+
+
+@dataclass(frozen=True)
+class ExceptionalTriangle:
+    """A triangle below Theorem 1 at a small feature, with the bound proven for it.
+
+    Attributes
+    ----------
+    triangle : int
+        Index into the mesh's faces.
+    vertices : tuple of (float, float)
+        Its three corners, in region coordinates.
+    cause : str
+        One of :data:`CAUSES`: "short piece", "small ring", "sharp corner", "thin wall".
+    feature : float
+        The feature's size: the corner's angle in degrees (sharp corner), the piece's
+        length, the ring's perimeter or the wall's width, / alpha.
+    place : tuple of float
+        Where the feature is: the corner, or the middle of the short edge.
+    separation : float
+        The proven lower bound on the triangle's shortest edge there, / alpha.
+    min_angle, max_angle : float
+        The triangle's extreme angles, in degrees.
+    aspect_ratio : float
+        Its L²/A.
+    circumradius : float
+        Its circumradius / alpha (at most 1: the premise of the bound).
+    proven_angle : float
+        θ_p = arcsin(separation / 2) in degrees: every angle is at least this.
+    meets_bound : bool
+        The triangle meets its proven bounds: circumradius <= alpha, each angle at least
+        arcsin(d_e / 2 alpha) opposite each edge e, the aspect ratio at most 4 cot θ_p.
+
+    Examples
+    --------
+    >>> t = ExceptionalTriangle(7, ((0, 0), (1, 0), (0, 0.3)), "short piece", 0.3, (0, 0.15),
+    ...                         0.3, 16.7, 90.0, 3.33, 0.52, 8.63, True)
+    >>> print(t)
+    triangle 7 at (0, 0.15): short piece 0.3 alpha long; angles [16.7°, 90°] >= 8.63°, aspect ratio 3.33 <= 26.4 ok
+    """
+
+    triangle: int
+    vertices: tuple
+    cause: str
+    feature: float
+    place: tuple
+    separation: float
+    min_angle: float
+    max_angle: float
+    aspect_ratio: float
+    circumradius: float
+    proven_angle: float
+    meets_bound: bool
+
+    @property
+    def proven_aspect_ratio(self) -> float:
+        """4 cot θ_p: the largest L²/A of a triangle whose angles are all at least θ_p."""
+        return 4 / math.tan(math.radians(self.proven_angle)) if self.proven_angle > 0 else math.inf
+
+    def describe_feature(self) -> str:
+        """The feature in words, e.g. 'sharp corner of 20°'."""
+        return {"short piece": f"short piece {self.feature:.3g} alpha long",
+                "small ring": f"small ring or tight curve ({self.feature:.3g} alpha round), "
+                              f"chord {self.separation:.3g} alpha",
+                "sharp corner": f"sharp corner of {self.feature:.3g}°",
+                "thin wall": f"wall {self.feature:.3g} alpha thin"}[self.cause]
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values, ``proven_aspect_ratio`` included."""
+        values = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        values["vertices"] = [list(v) for v in self.vertices]
+        values["place"] = list(self.place)
+        values["proven_aspect_ratio"] = self.proven_aspect_ratio
+        return values
+
+    def __str__(self) -> str:
+        return (f"triangle {self.triangle} at {_xy(self.place)}: {self.describe_feature()}; "
+                f"angles [{self.min_angle:.3g}°, {self.max_angle:.3g}°] >= "
+                f"{self.proven_angle:.3g}°, aspect ratio {self.aspect_ratio:.3g} <= "
+                f"{self.proven_aspect_ratio:.3g} {'ok' if self.meets_bound else 'FAILED'}")
+
+
+def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pairs):
+    """The triangles of a conforming ``mesh`` below Theorem 1, each explained by a small
+    feature with its proven bound (see the module documentation), and what is not.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+        A conforming mesh.
+    quality : Quality
+        ``mesh.quality()``.
+    sampled : SampledBoundary
+        The mesh's chords.
+    close_pairs : (P, 2) int ndarray
+        The pairs of samples closer than alpha that see each other (the mesh's shorter
+        edges among them).
+
+    Returns
+    -------
+    exceptions : tuple of ExceptionalTriangle
+    excused_pairs : int
+        How many of ``close_pairs`` a small feature explains, at least its proven
+        distance apart.
+    unexplained : tuple of str
+        Located breaches of separation or Theorem 1 that no small feature explains.
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import Polygon
+    >>> step = Polygon([(0, 0), (1, 0), (1, 0.5), (0.6, 0.5), (0.6, 0.515), (0, 0.515)])
+    >>> cert = pds.mesh_region(pds.Region.from_shapely(step), 0.05, seed=4).certificate()
+    >>> [(e.cause, round(e.feature, 3)) for e in cert.exceptions], cert.unexplained
+    ([('short piece', 0.3)], ())
+    """
+    points, alpha = mesh.vertices, mesh.alpha
+    n = len(points)
+    faces = np.asarray(mesh.faces, np.int64).reshape(-1, 3)
+    pairs = np.unique(np.sort(np.asarray(close_pairs, np.int64).reshape(-1, 2), axis=1), axis=0)
+    cause, feature, bound, place = _explain(pairs, points, mesh.on_boundary, sampled, alpha)
+    length = np.hypot(*(points[pairs[:, 1]] - points[pairs[:, 0]]).T)
+    excused = (cause >= 0) & (length >= bound * (1 - _TOL))
+    unexplained = []
+    say_located(unexplained, int((~excused).sum()), "pairs of samples closer than alpha see each "
+                "other with no small feature between them that keeps them that far apart",
+                place[~excused])
+
+    angles, edges = quality.angles, quality.edge_lengths          # edge k opposite corner k
+    below = ((angles.min(axis=1, initial=180) < 30 * (1 - _TOL))
+             | (angles.max(axis=1, initial=0) > 120 * (1 + _TOL))
+             | (quality.aspect_ratio > ASPECT_BOUND * (1 + _TOL)))
+    rows = np.flatnonzero(below)
+    opposite = np.stack([faces[rows][:, [1, 2, 0]], faces[rows][:, [2, 0, 1]]], axis=2)  # (k, 3, 2)
+    keys = _keys(opposite[..., 0], opposite[..., 1], n)
+    pair_keys = _keys(pairs[:, 0], pairs[:, 1], n)
+    at = np.minimum(np.searchsorted(pair_keys, keys), max(len(pairs) - 1, 0))
+    found = (pair_keys[at] == keys) & excused[at] if len(pairs) else np.zeros(keys.shape, bool)
+    short = edges[rows] < alpha * (1 - _TOL)
+    # below Theorem 1 with every edge at least alpha: only a circumradius above alpha does it
+    explained = short.any(axis=1) & ~(short & ~found).any(axis=1)
+    say_located(unexplained, int((~explained).sum()), "triangles below Theorem 1 that no small "
+                "feature explains (an edge shorter than alpha between samples no feature keeps "
+                "apart, or a circumradius above alpha)",
+                points[faces[rows[~explained]]].mean(axis=1))
+    edge_bound = np.where(short & found, bound[at] if len(pairs) else 0.0, alpha)
+    proven = np.degrees(np.arcsin(np.minimum(edge_bound / (2 * alpha), 1.0)))    # per corner
+    area = quality.area[rows]
+    radius = np.prod(edges[rows], axis=1) / np.maximum(4 * area, 1e-300)
+    theta = proven.min(axis=1, initial=90)
+    cot = 1 / np.tan(np.radians(np.maximum(theta, 1e-300)))
+    meets = ((radius <= alpha * (1 + _TOL))
+             & (angles[rows] >= proven * (1 - _TOL)).all(axis=1)
+             & (quality.aspect_ratio[rows] <= 4 * cot * (1 + _TOL)))
+    tightest = np.argmin(np.where(short & found, edge_bound, np.inf), axis=1)
+    exceptions = []
+    for i in np.flatnonzero(explained):
+        k = at[i, tightest[i]]
+        exceptions.append(ExceptionalTriangle(
+            triangle=int(rows[i]), vertices=tuple(tuple(map(float, v)) for v in points[faces[rows[i]]]),
+            cause=CAUSES[cause[k]], feature=float(feature[k]),
+            place=tuple(map(float, place[k])), separation=float(bound[k] / alpha),
+            min_angle=float(angles[rows[i]].min()), max_angle=float(angles[rows[i]].max()),
+            aspect_ratio=float(quality.aspect_ratio[rows[i]]),
+            circumradius=float(radius[i] / alpha), proven_angle=float(theta[i]),
+            meets_bound=bool(meets[i])))
+    return tuple(exceptions), int(excused.sum()), tuple(unexplained)
+
+
+def _explain(pairs, points, on_boundary, sampled, alpha):
+    """For each pair of samples: the small feature that keeps them apart (index into
+    :data:`CAUSES`, -1 if none), its size, the proven distance and its place."""
+    region = sampled.region
+    k = len(pairs)
+    cause, feature, bound = np.full(k, -1), np.zeros(k), np.zeros(k)
+    p, q = pairs.T
+    place = (points[p] + points[q]) / 2
+    distance = np.hypot(*(points[q] - points[p]).T)
+    both = on_boundary[p] & on_boundary[q]
+    # chords: consecutive samples of a ring
+    keys = _keys(p, q, len(points))
+    chord_keys = _keys(sampled.a, sampled.b, len(points))
+    order = np.argsort(chord_keys)
+    chord = order[np.minimum(np.searchsorted(chord_keys[order], keys), len(order) - 1)] \
+        if len(order) else np.zeros(k, np.int64)
+    is_chord = both & (chord_keys[chord] == keys) if len(order) else np.zeros(k, bool)
+    segments = region.segments
+    segment_p, segment_q = sampled.segment_of[p], sampled.segment_of[q]
+    tol = ON_BOUNDARY_TOL * alpha
+
+    def at_vertex(sample, segment):
+        ends = segments[np.maximum(segment, 0)]
+        return np.minimum(np.hypot(*(points[sample] - ends[:, 0]).T),
+                          np.hypot(*(points[sample] - ends[:, 1]).T)) <= tol
+
+    corners = at_vertex(p, segment_p) & at_vertex(q, segment_q)
+    short = is_chord & corners & (sampled.arc_length[chord] < alpha)
+    cause[short], feature[short], bound[short] = (_SHORT_PIECE, sampled.arc_length[chord[short]] / alpha,
+                                                  distance[short])
+    ring = is_chord & ~short
+    cause[ring], bound[ring] = _SMALL_RING, distance[ring]
+    feature[ring] = sampled.perimeter[sampled.ring[chord[ring]]] / alpha
+    # sharp corners: the two samples on the two segments that meet at a convex corner
+    other = both & ~is_chord
+    following = _following_segment(region)
+    for first, second in ((segment_p, segment_q), (segment_q, segment_p)):
+        meet = other & (cause < 0) & (following[np.maximum(first, 0)] == second)
+        if not meet.any():
+            continue
+        corner = segments[second[meet], 0]
+        into = segments[first[meet], 1] - segments[first[meet], 0]
+        out = segments[second[meet], 1] - corner
+        turn = np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
+                          np.einsum("ij,ij->i", into, out))
+        angle = np.pi - turn
+        clearance = corner_clearance(angle, alpha)
+        apart = ((np.hypot(*(points[p[meet]] - corner).T) >= clearance * (1 - _TOL))
+                 & (np.hypot(*(points[q[meet]] - corner).T) >= clearance * (1 - _TOL))
+                 & (angle < np.pi / 3))
+        rows = np.flatnonzero(meet)[apart]
+        cause[rows], feature[rows] = _SHARP_CORNER, np.degrees(angle[apart])
+        bound[rows] = 2 * clearance[apart] * np.sin(angle[apart] / 2)
+        place[rows] = corner[apart]
+    # thin walls: samples on two boundary segments apart from each other
+    wall = other & (cause < 0)
+    if wall.any():
+        lines = shapely.linestrings(segments)
+        width = shapely.distance(lines[segment_p[wall]], lines[segment_q[wall]])
+        rows = np.flatnonzero(wall)[width > 0]
+        cause[rows], bound[rows] = _THIN_WALL, width[width > 0]
+        feature[rows] = width[width > 0] / alpha
+    return cause, feature, bound, place
+
+
+def _following_segment(region) -> np.ndarray:
+    """The index of the segment after each one along its ring."""
+    sizes = np.array([len(r) for r in region.rings])
+    first = np.repeat(np.cumsum(sizes) - sizes, sizes)
+    index = np.arange(len(first)) + 1
+    return np.where(index == first + np.repeat(sizes, sizes), first, index)
+
