@@ -59,6 +59,8 @@ _CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is
 _REFINEMENT_BOXES = 2   # conforming refinement stops above this many boxes per grid cell
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
+_STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
+_INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
 
 
 @dataclass(frozen=True)
@@ -271,11 +273,60 @@ def corner_clearance(angle, alpha):
     return np.minimum(guard, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
 
 
+def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
+    """Arc positions where a ring's boundary changes the way it bends between two sharp
+    corners (an S-curve's inflection), to be sampled like corners, so that the arc
+    between consecutive samples bends one way only and lies on one side of its chord
+    (docs/conforming.md, "Inflections").
+
+    The vertices turning by more than ``_STRAIGHT_TURN`` (and less than a sharp corner)
+    define the bends; between two consecutive ones that turn opposite ways, with no sharp
+    corner between them, the inflection is the middle of the arc that joins them. One is
+    kept only at least ``_INFLECTION_APART`` alpha along the ring from every sharp corner
+    and every inflection kept before it: the pieces it bounds then hold a corner's
+    clearance (at most √3 alpha) and parts of up to 1.5 alpha, the longest the curve
+    rescaling asks for (a piece of one part cannot be rescaled, and its chord falls below
+    alpha on a curve).
+
+    Examples
+    --------
+    >>> s_curve = np.array([[0, 0], [1, 0.1], [2, 0], [3, -0.1], [4, 0], [4, -1], [0, -1]], float)
+    >>> from pds_plugin.region import turning_angles
+    >>> turns = turning_angles(s_curve)
+    >>> closed = np.vstack([s_curve, s_curve[:1]])
+    >>> cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    >>> _inflections(cum, turns, np.abs(turns) >= np.radians(30), 0.2).round(4).tolist()  # at (2, 0)
+    [2.01]
+    """
+    length = cum[-1]
+    bending = np.flatnonzero((np.abs(turns) > _STRAIGHT_TURN) & ~sharp)
+    if len(bending) < 2:
+        return np.zeros(0)
+    at = cum[bending]
+    after = np.roll(bending, -1)
+    span = np.roll(at, -1) - at
+    span[span <= 0] += length
+    flips = np.sign(turns[bending]) != np.sign(turns[after])
+    # no sharp corner strictly between the two bending vertices
+    corners = cum[:-1][sharp]
+    if len(corners):
+        ahead = (corners[None, :] - at[:, None]) % length
+        flips &= ~((ahead > 0) & (ahead < span[:, None])).any(axis=1)
+    candidates = np.sort((at[flips] + 0.5 * span[flips]) % length)
+    apart = _INFLECTION_APART * alpha
+    kept = []
+    for x in candidates:
+        gaps = np.abs(np.concatenate([corners, kept]) - x)
+        if not (np.minimum(gaps, length - gaps) < apart).any():
+            kept.append(x)
+    return np.array(kept)
+
+
 def _ring_positions(ring, turns, feature_angle, alpha, rng):
     """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
-    (or one random point if it has none), the pieces between them split by
-    ``split_gaps`` into parts of arc length in [alpha, √3 alpha], and at least three in
-    all.
+    and the inflections of its curves (:func:`_inflections`; or one random point if it
+    has neither), the pieces between them split by ``split_gaps`` into parts of arc
+    length in [alpha, √3 alpha], and at least three in all.
 
     Beside a convex corner sharper than 60° the first part is at least
     alpha / (2 sin(θ/2)) long (θ the corner's angle, at most √3 alpha), so the samples on
@@ -288,20 +339,30 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
     sharp = np.abs(turns) >= np.radians(feature_angle)
     longest = math.sqrt(3) * alpha
     first_cap = corner_clearance(0.0, alpha)       # the cap (a corner of angle 0)
-    if sharp.any():
-        corners = cum[:-1][sharp]
-        guard = corner_clearance(np.pi - turns[sharp], alpha)   # the region's angle there
+    bends = _inflections(cum, turns, sharp, alpha)
+    if sharp.any() or len(bends):
+        corners = np.concatenate([cum[:-1][sharp], bends])
+        guard = np.concatenate([corner_clearance(np.pi - turns[sharp], alpha),  # the region's
+                                np.full(len(bends), alpha)])                   # angle there
+        order = np.argsort(corners, kind="stable")
+        corners, guard = corners[order], guard[order]
     else:
         corners, guard = np.array([rng.random() * length]), np.array([alpha])
     lo = corners
     hi = np.append(corners[1:], corners[0] + length)
     scale = np.ones(len(lo))
+    todo = np.arange(len(lo))                     # the pieces (re)split in this pass
+    inner, owner = np.zeros(0), np.zeros(0, np.int64)
     for _ in range(_CURVE_PASSES):
         shortest = scale * alpha
         first = np.minimum(np.maximum(guard * scale, shortest), first_cap)
         last = np.minimum(np.maximum(np.roll(guard, -1) * scale, shortest), first_cap)
-        u = rng.random(int(np.sum((hi - lo) // shortest)) + len(lo))
-        inner, owner = kern.split_gaps(lo, hi, first, last, shortest, longest, u)
+        u = rng.random(int(np.sum((hi[todo] - lo[todo]) // shortest[todo])) + len(todo))
+        new, new_owner = kern.split_gaps(lo[todo], hi[todo], first[todo], last[todo],
+                                         shortest[todo], longest, u)
+        kept = ~np.isin(owner, todo)              # the pieces whose chords were all fine
+        inner = np.concatenate([inner[kept], new])
+        owner = np.concatenate([owner[kept], todo[new_owner]])
         # corners closer than the sampler's resolution (a zero-length edge, or one a
         # rounding long) give one sample: two would block each other's view
         at, keep = np.unique(np.concatenate([corners, inner]) % length, return_index=True)
@@ -319,10 +380,12 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
         np.minimum.at(ratio, piece[regular], chord[regular] / (alpha * (1 - 1e-12)))
         if ratio.min() >= 1 or not len(inner):
             break
-        # the next split is random too, and may put a part where the curve bends more:
-        # scale by the square of what this one needed (at most 1.5, so that parts in
-        # [1.5, √3] alpha still leave room to split)
-        scale = np.minimum(scale / np.minimum(ratio, 1) ** 2 * (1 + 1e-9), _MAX_CURVE_SCALE)
+        # only the pieces with a chord below alpha are split again. The next split is
+        # random too, and may put a part where the curve bends more: scale by the square
+        # of what this one needed (at most 1.5, so that parts in [1.5, √3] alpha still
+        # leave room to split)
+        todo = np.flatnonzero(ratio < 1)
+        scale[todo] = np.minimum(scale[todo] / ratio[todo] ** 2 * (1 + 1e-9), _MAX_CURVE_SCALE)
     if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
         at = np.sort((at[0] + length * np.arange(3) / 3) % length)
     while len(at) < 3:
