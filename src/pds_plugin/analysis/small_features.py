@@ -47,6 +47,7 @@ __all__ = ["ExceptionalTriangle", "small_feature_exceptions", "CAUSES"]
 CAUSES = ("short piece", "small ring", "sharp corner", "thin wall")
 _SHORT_PIECE, _SMALL_RING, _SHARP_CORNER, _THIN_WALL = range(4)
 _TOL = 1e-9             # relative rounding allowed on the measured angles, lengths, radii
+_ANGLE_ROUNDING = 1e-6  # degrees: an angle near 0 measured by acos is this far off
 
 
 @dataclass(frozen=True)
@@ -199,7 +200,7 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
     theta = proven.min(axis=1, initial=90)
     cot = 1 / np.tan(np.radians(np.maximum(theta, 1e-300)))
     meets = ((radius <= alpha * (1 + _TOL))
-             & (angles[rows] >= proven * (1 - _TOL)).all(axis=1)
+             & (angles[rows] >= proven * (1 - _TOL) - _ANGLE_ROUNDING).all(axis=1)
              & (quality.aspect_ratio[rows] <= 4 * cot * (1 + _TOL)))
     tightest = np.argmin(np.where(short & found, edge_bound, np.inf), axis=1)
     exceptions = []
