@@ -18,7 +18,8 @@ about the threads in use).
 same seed): where a step of the conforming path runs on fewer threads, its CPU / wall
 falls towards 1.
 
-Regions: unit squares (``--square-sizes``) and bench/_regions.py's others at
+Regions (those of bench/certificate_time.py): unit squares (``--square-sizes``), the
+perforated plate (``plate``, not by default) and bench/_regions.py's others at
 ``--region-size`` samples (the shared CAD parts' sections when ../shared/data is present).
 """
 
@@ -29,31 +30,13 @@ import os
 import statistics
 import warnings
 
-from shapely.geometry import box
-
 import pds_plugin as pds
 from pds_plugin import _parallel
 from _environment import machine
-from _regions import FIXED, alpha_for, cases
-from certificate_time import _timed
+from _regions import FIXED
+from certificate_time import _timed, regions
 
 SEED = 0
-
-
-def regions(args):
-    """(name, region, alpha) of every case asked for."""
-    keys = args.regions.split(",")
-    found = []
-    if "square" in keys:
-        square = pds.Region.from_shapely(box(0, 0, 1, 1))
-        found += [(f"unit square {n:.0e}", square, alpha_for(square, n)) for n in args.square_sizes]
-    fixed = [k for k in keys if k in FIXED]
-    if fixed:
-        chosen, missing = cases([], args.region_size, keys=fixed)
-        found += [(case.name, case.region, case.alpha) for case in chosen]
-        for note in missing:
-            print(f"skipped: {note}")
-    return found
 
 
 def interleaved(region, alpha, repeats):
@@ -107,6 +90,8 @@ def main():
     parser.add_argument("--regions", default="square," + ",".join(FIXED))
     parser.add_argument("--square-sizes", type=float, nargs="*", default=[1e6])
     parser.add_argument("--region-size", type=float, default=5e4)
+    parser.add_argument("--plate-size", type=float, default=1e5,
+                        help="samples of the perforated plate (region 'plate')")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--stages", action="store_true")
     args = parser.parse_args()
