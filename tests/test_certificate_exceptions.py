@@ -147,3 +147,19 @@ def test_exceptions_are_in_the_report():
     (exception,) = values["exceptions"]
     assert exception["cause"] == "short piece" and exception["meets_bound"] is True
     assert exception["proven_aspect_ratio"] == pytest.approx(4 / math.tan(math.asin(0.15)))
+
+
+def test_a_paper_mesh_has_no_exceptions_to_excuse_it():
+    """conforming=False: samples closer than alpha fail the separation, whatever the
+    region's features (exceptions are a conforming mesh's)."""
+    region = pds.Region.from_shapely(box(0, 0, 1, 1))
+    samples = pds.poisson_disc(region, ALPHA, seed=0)
+    inner = np.flatnonzero(~samples.on_boundary)[0]
+    points = np.vstack([samples.points, samples.points[inner] + [0.3 * ALPHA, 0]])
+    on_boundary = np.append(samples.on_boundary, False)
+    mesh = pds.PlanarMesh(points, pds.solid_alpha_complex(points, ALPHA), on_boundary, region, ALPHA)
+    cert = mesh.certificate()
+    assert cert.min_separation < 1 and not cert.exceptions and cert.excused_pairs == 0
+    assert not cert.ok and not cert.ok_with_exceptions
+    separation = next(line for line in str(cert).split("\n") if "separation" in line)
+    assert separation.endswith("FAILED")
