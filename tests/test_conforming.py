@@ -89,7 +89,8 @@ def assert_quality(mesh):
     regular = (quality.edge_lengths >= alpha * (1 - 1e-9)).all(axis=1)
     assert quality.aspect_ratio[regular].max(initial=0) <= MAX_ASPECT * (1 + 1e-9)
     bound = np.degrees(np.arcsin(np.minimum(quality.edge_lengths / (2 * alpha), 1)))
-    bad = ~(quality.angles >= bound - 1e-9).all(axis=1)
+    # an angle near 0 (a spike a rounding wide) is measured by acos to about 1e-6°
+    bad = ~(quality.angles >= bound - 1e-6).all(axis=1)
     assert not bad.any(), (mesh.vertices[mesh.faces[bad]].tolist(), quality.angles[bad])
     return regular
 
