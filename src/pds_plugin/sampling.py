@@ -314,10 +314,14 @@ def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
         flips &= ~((ahead > 0) & (ahead < span[:, None])).any(axis=1)
     candidates = np.sort((at[flips] + 0.5 * span[flips]) % length)
     apart = _INFLECTION_APART * alpha
+    if len(corners):                        # clear of the nearest corner, either way round
+        after = np.searchsorted(corners, candidates) % len(corners)
+        clear = np.minimum((corners[after] - candidates) % length,
+                           (candidates - corners[after - 1]) % length) >= apart
+        candidates = candidates[clear]
     kept = []
-    for x in candidates:
-        gaps = np.abs(np.concatenate([corners, kept]) - x)
-        if not (np.minimum(gaps, length - gaps) < apart).any():
+    for x in candidates:                    # in order: the last kept and the first are nearest
+        if not kept or (x - kept[-1] >= apart and length - (x - kept[0]) >= apart):
             kept.append(x)
     return np.array(kept)
 
