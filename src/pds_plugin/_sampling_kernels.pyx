@@ -335,7 +335,7 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, nxt, covere
 
 
 cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
-                               const int8_t[::1] state, const int64_t[::1] head, double alpha2,
+                               const int8_t[::1] state, const int32_t[::1] head, double alpha2,
                                Py_ssize_t nx, Py_ssize_t ny, const Chords *vis, int32_t *out,
                                Py_ssize_t room) noexcept nogil:
     """Count the open darts closer than alpha to open dart d that it sees; list the
@@ -360,10 +360,12 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     return found
 
 
-def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssize_t count,
-                double alpha, double x0, double y0, double s, tuple vis):
+def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, double x0,
+                double y0, double s, tuple vis):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
     each that is in the region (``ok``) and at least alpha from every sample so far.
+    Returns the kept darts' indices, increasing (:func:`place_all` adds them: the
+    caller makes room for exactly as many samples as were kept).
 
     Thrown in random order they would cost a cache miss each, so the same result is
     computed cell by cell instead: it is the lexicographically first maximal
@@ -371,31 +373,31 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
     are given sorted by their level-0 ``cell``. A first sweep lists each dart's
     conflicts; later sweeps accept a dart once every conflicting dart of lower rank is
     rejected, and reject it as soon as a conflicting dart is accepted. ``head`` (one
-    entry per cell, all -1) is scratch space. Returns the new sample count.
+    int32 per cell, all -1) is scratch space.
     """
     cdef int8_t UNDECIDED = 0, ACCEPTED = 1, REJECTED = 2
     cdef const double[:, ::1] dt = darts
     cdef const int64_t[::1] cl = cell
     cdef const int64_t[::1] rk = rank
     cdef const uint8_t[::1] good = ok.view(np.uint8)
-    cdef int32_t[:, ::1] g = grid
-    cdef int32_t[::1] nx_ = nxt
-    cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
-    cdef int64_t[::1] hd = head
+    cdef const int32_t[:, ::1] g = grid
+    cdef const int32_t[::1] nx_ = nxt
+    cdef int32_t[::1] hd = head
     cdef Chords ch = chords_of(vis)
-    cdef double[:, ::1] pts = points
+    cdef const double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha
     cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
     cdef Py_ssize_t n_todo, kept, n_accepted
     cdef bint blocked
     cdef int8_t[::1] state = np.empty(m, np.int8)
     cdef int64_t[::1] degree = np.zeros(m + 1, np.int64)
-    cdef int64_t[::1] todo = np.empty(m, np.int64)
+    todo_array = np.empty(m, np.int32)
+    cdef int32_t[::1] todo = todo_array
     cdef int32_t[::1] conflict
     cdef int64_t[::1] accepted
     with nogil:
         for d in range(m - 1, -1, -1):
-            hd[cl[d]] = d
+            hd[cl[d]] = <int32_t>d
     for d in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
         if good[d] and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch):
             state[d] = UNDECIDED
@@ -405,7 +407,7 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
     with nogil:
         for d in range(m):
             if state[d] == UNDECIDED:
-                todo[n_todo] = d
+                todo[n_todo] = <int32_t>d
                 n_todo += 1
     # the conflict lists of the open darts, in CSR form over all darts: one scan lists
     # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
@@ -445,7 +447,7 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
                         blocked = True
                 if state[d] == UNDECIDED:
                     if blocked:
-                        todo[kept] = d
+                        todo[kept] = <int32_t>d
                         kept += 1
                     else:
                         state[d] = ACCEPTED
@@ -455,16 +457,9 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
         n_accepted = 0
         for d in range(m):
             if state[d] == ACCEPTED:
-                todo[n_accepted] = d
+                todo[n_accepted] = <int32_t>d
                 n_accepted += 1
-    # add the accepted darts as samples count, count + 1, ..., linked into their cells in
-    # that order; then mark what their discs cover
-    with nogil:
-        for t in range(n_accepted):
-            d = todo[t]
-            _link(dt[d, 0], dt[d, 1], g, nx_, pts, count + t, x0, y0, s)
-    _mark_all(count, count + n_accepted, pts, cov, alpha2, x0, y0, s, &ch)
-    return count + n_accepted
+    return todo_array[:n_accepted].copy()
 
 
 def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,

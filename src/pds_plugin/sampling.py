@@ -333,8 +333,9 @@ class _Sampler:
                                           self.nx, self.ny)
         self.grid = np.full((self.ny, self.nx), -1, np.int32)
         self.covered = np.zeros((self.ny * kern.SUB, self.nx * kern.SUB), bool)
-        self.head = np.full(self.ny * self.nx, -1, np.int64)     # scratch of throw_darts
-        capacity = int(np.count_nonzero(self.status))
+        self.head = np.full(self.ny * self.nx, -1, np.int32)     # scratch of throw_darts
+        # room for the samples expected, grown as needed (_reserve)
+        capacity = int(1.1 * estimate_samples(region, alpha)) + 64
         self.points = np.empty((capacity, 2))
         self.nxt = np.empty(capacity, np.int32)
         self.vis = vis_kern.no_chords(capacity)
@@ -350,7 +351,7 @@ class _Sampler:
         one per cell)."""
         need = self.count + extra
         if need > len(self.points):
-            size = max(need, 2 * len(self.points))
+            size = max(need, len(self.points) + len(self.points) // 4)
             self.points = np.concatenate([self.points, np.empty((size - len(self.points), 2))])
             self.nxt = np.concatenate([self.nxt, np.empty(size - len(self.nxt), np.int32)])
             out = np.full(size, -1, np.int64)
@@ -377,6 +378,7 @@ class _Sampler:
         start, direction, length = self.region.boundary_pieces(self.s)
         order = rng.permutation(len(start))
         u = rng.random(len(start))
+        self._reserve(len(start))                    # at most one sample per piece
         self.count = kern.sample_boundary_pieces(
             start, direction, length, order, u, self.grid, self.nxt, self.covered, self.points,
             self.count, self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s, self.vis)
@@ -414,8 +416,8 @@ class _Sampler:
             darts, is_open = kern.darts_in_open_subcells(cells, rng.random((len(cells), 3)),
                                                          self.grid, self.covered, self.x0, self.y0, s,
                                                          self.one_per_cell)
-            cells = cells[is_open]
-            self._throw(cells, darts[is_open], rng)
+            cells, darts = cells[is_open], darts[is_open]
+            self._throw(cells, darts, rng)
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
         parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered,
@@ -465,12 +467,14 @@ class _Sampler:
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
-        ``cells`` is sorted)."""
-        self._reserve(len(cells))
-        self.count = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
-                                      self._in_region(cells, darts), self.grid, self.nxt,
-                                      self.covered, self.head, self.points, self.count, self.alpha,
-                                      self.x0, self.y0, self.s, self.vis)
+        ``cells`` is sorted) and add the ones kept."""
+        kept = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
+                                self._in_region(cells, darts), self.grid, self.nxt, self.head,
+                                self.points, self.alpha, self.x0, self.y0, self.s, self.vis)
+        self._reserve(len(kept))
+        kern.place_all(darts[kept], self.grid, self.nxt, self.covered, self.points, self.count,
+                       self.alpha, self.x0, self.y0, self.s, self.vis)
+        self.count += len(kept)
 
 
 def domain_of_rings(rings, alpha: float) -> tuple:
