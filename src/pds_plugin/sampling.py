@@ -431,8 +431,10 @@ class _Sampler:
             keep[on_edge] = vis_kern.boxes_state(*self.domain, bx[on_edge], by[on_edge],
                                                  size) != vis_kern.BOX_OUTSIDE
             parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
+            before = self.count
             self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
-            keep = self._uncovered(parent, bx, by, size)
+            # no sample before the throw covers these boxes: only the new ones can
+            keep = self._uncovered(parent, bx, by, size, first=before)
             if not self.one_per_cell and keep.sum() > _REFINEMENT_BOXES * self.nx * self.ny:
                 # the boxes left uncovered are at most about a fifth of the cells at the
                 # first level, then the few around each boundary vertex, or along a slot
@@ -454,9 +456,9 @@ class _Sampler:
         return (self.x0 + (cells % self.nx) * self.s + sub_x * size,
                 self.y0 + (cells // self.nx) * self.s + sub_y * size)
 
-    def _uncovered(self, cells, bx, by, size):
+    def _uncovered(self, cells, bx, by, size, first=0):
         return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.nxt, self.points,
-                                    self.alpha, self.vis)
+                                    self.alpha, self.vis, first)
 
     def _in_region(self, cells, darts):
         """True for darts in the region; only darts in boundary cells need the test."""
