@@ -414,25 +414,23 @@ cdef inline double _cell_y(const Chords *c, Py_ssize_t j) noexcept nogil:
     return c.y0 + j * c.h
 
 
-cdef inline Py_ssize_t _column(const Chords *c, double x) noexcept nogil:
-    """The column i of the chord grid with _cell_x(i) <= x < _cell_x(i + 1), exactly
-    (x in the grid)."""
-    cdef Py_ssize_t i = min(max(<Py_ssize_t>((x - c.x0) / c.h), 0), c.nx - 1)
-    while i > 0 and x < _cell_x(c, i):
+cdef inline Py_ssize_t _span(double origin, double h, Py_ssize_t n, double v) noexcept nogil:
+    """The i of the n spans [origin + i h, origin + (i + 1) h) that holds v, exactly
+    (v in the grid; the ends computed as _cell_x and _cell_y do)."""
+    cdef Py_ssize_t i = min(max(<Py_ssize_t>((v - origin) / h), 0), n - 1)
+    while i > 0 and v < origin + i * h:
         i -= 1
-    while i < c.nx - 1 and x >= _cell_x(c, i + 1):
+    while i < n - 1 and v >= origin + (i + 1) * h:
         i += 1
     return i
 
 
+cdef inline Py_ssize_t _column(const Chords *c, double x) noexcept nogil:
+    return _span(c.x0, c.h, c.nx, x)
+
+
 cdef inline Py_ssize_t _row(const Chords *c, double y) noexcept nogil:
-    """The row j with _cell_y(j) <= y < _cell_y(j + 1), exactly (y in the grid)."""
-    cdef Py_ssize_t j = min(max(<Py_ssize_t>((y - c.y0) / c.h), 0), c.ny - 1)
-    while j > 0 and y < _cell_y(c, j):
-        j -= 1
-    while j < c.ny - 1 and y >= _cell_y(c, j + 1):
-        j += 1
-    return j
+    return _span(c.y0, c.h, c.ny, y)
 
 
 cdef inline bint _crosses_within(double ax, double ay, double bx, double by, double line,
