@@ -7,6 +7,7 @@ ones between runs; needs numba and triangle installed (``pip install numba trian
 
     python bench/engine_vs_numba.py                 # squares 1e4, 1e5, 1e6 and auto
     python bench/engine_vs_numba.py --sizes 1e4 --repeat 9
+    python bench/engine_vs_numba.py --no-numba      # compiled kernels and Triangle only
 
 Prints median wall and CPU times of ``mesh_region`` (and the wall time of
 ``certificate()``) for each engine with one thread and with the default count, and the
@@ -55,19 +56,21 @@ def main():
     parser.add_argument("--sizes", type=float, nargs="*", default=[1e4, 1e5, 1e6])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--numba-commit", default="16c20ab")
+    parser.add_argument("--no-numba", action="store_true",
+                        help="time the compiled kernels and Triangle only (numba not needed)")
     args = parser.parse_args()
-    import numba
     import triangle
 
     pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), "auto", max_alpha=0.2).certificate()
     compiled = {name: importlib.import_module(f"pds_plugin.{name}") for name in KERNELS}
     current = compiled
     with tempfile.TemporaryDirectory(prefix="pds_numba_") as folder:
-        for name in KERNELS:
-            (Path(folder) / f"{name}.py").write_text(subprocess.run(
-                ["git", "show", f"{args.numba_commit}:src/pds_plugin/{name}.py"], cwd=ROOT,
-                check=True, capture_output=True, text=True).stdout)
-        numba_kernels = _load(Path(folder))
+        if not args.no_numba:
+            for name in KERNELS:
+                (Path(folder) / f"{name}.py").write_text(subprocess.run(
+                    ["git", "show", f"{args.numba_commit}:src/pds_plugin/{name}.py"], cwd=ROOT,
+                    check=True, capture_output=True, text=True).stdout)
+            numba_kernels = _load(Path(folder))
         cores = _parallel.get_threads()
 
         def engine(kernels, threads, set_threads):
@@ -83,10 +86,13 @@ def main():
                 return meshed - start, cpu, time.perf_counter() - meshed, len(mesh.vertices)
             return run
 
-        engines = {"numba, 1 thread": engine(numba_kernels, 1, numba.set_num_threads),
-                   f"numba, {cores} threads": engine(numba_kernels, cores, numba.set_num_threads),
-                   "compiled, 1 thread": engine(compiled, 1, _parallel.set_threads),
+        engines = {"compiled, 1 thread": engine(compiled, 1, _parallel.set_threads),
                    f"compiled, {cores} threads": engine(compiled, cores, _parallel.set_threads)}
+        if not args.no_numba:
+            import numba
+            engines = {"numba, 1 thread": engine(numba_kernels, 1, numba.set_num_threads),
+                       f"numba, {cores} threads": engine(numba_kernels, cores,
+                                                         numba.set_num_threads), **engines}
         square = pds.Region.from_shapely(box(0, 0, 1, 1))
         cases = [(f"unit square {n:.0e}", square, float(np.sqrt(0.7 / n))) for n in args.sizes]
         if (DATA / "featuretype.STL").exists():

@@ -22,7 +22,8 @@ from libc.stdlib cimport qsort
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
-from ._visibility_kernels cimport Chords, box_seen, chords_of, near_boundary, sees
+from ._visibility_kernels cimport (Chords, box_seen, chord_cell, chords_of, near_boundary,
+                                  sees, sees_near_chords)
 
 cdef enum:
     C_OUTSIDE = 0
@@ -335,24 +336,28 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, nxt, covere
 
 
 cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
-                               const int8_t[::1] state, const int64_t[::1] head, double alpha2,
-                               Py_ssize_t nx, Py_ssize_t ny, const Chords *vis, int32_t *out,
+                               const int64_t[::1] rank, const int8_t[::1] state,
+                               const int32_t[::1] head, double alpha2, Py_ssize_t nx,
+                               Py_ssize_t ny, const Chords *vis, int32_t *out,
                                Py_ssize_t room) noexcept nogil:
-    """Count the open darts closer than alpha to open dart d that it sees; list the
-    first ``room`` of them in ``out``."""
+    """Count the open darts of lower rank than open dart d, closer than alpha to it, that
+    it sees; list the first ``room`` of them in ``out``."""
     cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
     cdef Py_ssize_t jx, jy, c, e
-    cdef double dx, dy
+    cdef double dx, dy, x = darts[d, 0], y = darts[d, 1]
+    cdef int64_t own = rank[d]
+    cdef bint walls = near_boundary(x, y, vis)      # else dart d sees every dart near it
+    cdef Py_ssize_t k = chord_cell(x, y, vis) if walls else 0
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
         for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
             c = jy * nx + jx
             e = head[c]
             while 0 <= e < m and cell[e] == c:
-                if e != d and state[e] == 0:
-                    dx = darts[e, 0] - darts[d, 0]
-                    dy = darts[e, 1] - darts[d, 1]
-                    if dx * dx + dy * dy < alpha2 and sees(darts[d, 0], darts[d, 1], -1,
-                                                           darts[e, 0], darts[e, 1], -1, vis):
+                if state[e] == 0 and rank[e] < own:
+                    dx = darts[e, 0] - x
+                    dy = darts[e, 1] - y
+                    if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
+                            x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
                         if found < room:
                             out[found] = <int32_t>e
                         found += 1
@@ -360,42 +365,45 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     return found
 
 
-def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssize_t count,
-                double alpha, double x0, double y0, double s, tuple vis):
+def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, double x0,
+                double y0, double s, tuple vis):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
     each that is in the region (``ok``) and at least alpha from every sample so far.
+    Returns the kept darts' indices, increasing (:func:`place_all` adds them: the
+    caller makes room for exactly as many samples as were kept).
 
     Thrown in random order they would cost a cache miss each, so the same result is
     computed cell by cell instead: it is the lexicographically first maximal
     independent set of the conflict graph (darts closer than alpha) by rank. Darts
     are given sorted by their level-0 ``cell``. A first sweep lists each dart's
-    conflicts; later sweeps accept a dart once every conflicting dart of lower rank is
-    rejected, and reject it as soon as a conflicting dart is accepted. ``head`` (one
-    entry per cell, all -1) is scratch space. Returns the new sample count.
+    conflicts of lower rank (a dart of higher rank cannot be accepted before it is
+    decided, so those never matter); later sweeps accept a dart once all of them are
+    rejected, and reject it as soon as one is accepted. ``head`` (one
+    int32 per cell, all -1) is scratch space.
     """
     cdef int8_t UNDECIDED = 0, ACCEPTED = 1, REJECTED = 2
     cdef const double[:, ::1] dt = darts
     cdef const int64_t[::1] cl = cell
     cdef const int64_t[::1] rk = rank
     cdef const uint8_t[::1] good = ok.view(np.uint8)
-    cdef int32_t[:, ::1] g = grid
-    cdef int32_t[::1] nx_ = nxt
-    cdef uint8_t[:, ::1] cov = covered.view(np.uint8)
-    cdef int64_t[::1] hd = head
+    cdef const int32_t[:, ::1] g = grid
+    cdef const int32_t[::1] nx_ = nxt
+    cdef int32_t[::1] hd = head
     cdef Chords ch = chords_of(vis)
-    cdef double[:, ::1] pts = points
+    cdef const double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha
     cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
     cdef Py_ssize_t n_todo, kept, n_accepted
     cdef bint blocked
     cdef int8_t[::1] state = np.empty(m, np.int8)
     cdef int64_t[::1] degree = np.zeros(m + 1, np.int64)
-    cdef int64_t[::1] todo = np.empty(m, np.int64)
+    todo_array = np.empty(m, np.int32)
+    cdef int32_t[::1] todo = todo_array
     cdef int32_t[::1] conflict
     cdef int64_t[::1] accepted
     with nogil:
         for d in range(m - 1, -1, -1):
-            hd[cl[d]] = d
+            hd[cl[d]] = <int32_t>d
     for d in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
         if good[d] and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch):
             state[d] = UNDECIDED
@@ -405,7 +413,7 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
     with nogil:
         for d in range(m):
             if state[d] == UNDECIDED:
-                todo[n_todo] = d
+                todo[n_todo] = <int32_t>d
                 n_todo += 1
     # the conflict lists of the open darts, in CSR form over all darts: one scan lists
     # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
@@ -414,8 +422,8 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
-        degree[d + 1] = _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &ch, &slot[t, 0],
-                                       CONFLICT_SLOTS)
+        degree[d + 1] = _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, &ch,
+                                       &slot[t, 0], CONFLICT_SLOTS)
     with nogil:
         for d in range(m):
             degree[d + 1] += degree[d]
@@ -424,8 +432,8 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
                     num_threads=threads_for(n_todo)):
         d = todo[t]
         if degree[d + 1] - degree[d] > CONFLICT_SLOTS:
-            _each_conflict(d, dt, cl, state, hd, alpha2, nx, ny, &ch, &conflict[degree[d]],
-                           degree[d + 1] - degree[d])
+            _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, &ch,
+                           &conflict[degree[d]], degree[d + 1] - degree[d])
         else:
             for q in range(degree[d + 1] - degree[d]):
                 conflict[degree[d] + q] = slot[t, q]
@@ -441,11 +449,11 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
                     if state[e] == ACCEPTED:
                         state[d] = REJECTED
                         break
-                    if state[e] == UNDECIDED and rk[e] < rk[d]:
+                    if state[e] == UNDECIDED:
                         blocked = True
                 if state[d] == UNDECIDED:
                     if blocked:
-                        todo[kept] = d
+                        todo[kept] = <int32_t>d
                         kept += 1
                     else:
                         state[d] = ACCEPTED
@@ -455,16 +463,9 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, covered, head, points, Py_ssiz
         n_accepted = 0
         for d in range(m):
             if state[d] == ACCEPTED:
-                todo[n_accepted] = d
+                todo[n_accepted] = <int32_t>d
                 n_accepted += 1
-    # add the accepted darts as samples count, count + 1, ..., linked into their cells in
-    # that order; then mark what their discs cover
-    with nogil:
-        for t in range(n_accepted):
-            d = todo[t]
-            _link(dt[d, 0], dt[d, 1], g, nx_, pts, count + t, x0, y0, s)
-    _mark_all(count, count + n_accepted, pts, cov, alpha2, x0, y0, s, &ch)
-    return count + n_accepted
+    return todo_array[:n_accepted].copy()
 
 
 def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,
@@ -528,17 +529,18 @@ def open_subcells(status, grid, covered, bint one_per_cell):
 
 cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, double size,
                        const int32_t[:, ::1] grid, const int32_t[::1] nxt,
-                       const double[:, ::1] points, double alpha2,
+                       const double[:, ::1] points, Py_ssize_t first, double alpha2,
                        const Chords *vis) noexcept nogil:
-    """True if one sample disc contains the box [x_lo, x_lo+size]² of level-0 cell
-    (ix, iy) and the sample sees all of the box that is in the region."""
+    """True if the disc of one sample numbered ``first`` or later contains the box
+    [x_lo, x_lo+size]² of level-0 cell (ix, iy) and the sample sees all of the box that
+    is in the region. (A cell's samples are linked newest first.)"""
     cdef Py_ssize_t ny = grid.shape[0], nx = grid.shape[1], jx, jy
     cdef double x_hi = x_lo + size, y_hi = y_lo + size, qx, qy, fx, fy
     cdef int32_t q
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
         for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
             q = grid[jy, jx]
-            while q >= 0:
+            while q >= first:
                 qx, qy = points[q, 0], points[q, 1]
                 fx = max(abs(qx - x_lo), abs(qx - x_hi))   # farthest corner
                 fy = max(abs(qy - y_lo), abs(qy - y_hi))
@@ -550,9 +552,12 @@ cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, d
     return False
 
 
-def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha, tuple vis):
+def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha, tuple vis,
+                    Py_ssize_t first=0):
     """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
-    where no single sample disc contains the whole box (and sees it)."""
+    where no single disc of a sample numbered ``first`` or later contains the whole box
+    (and its sample sees it). Boxes that the earlier samples are known not to cover
+    need only the later ones tested."""
     cdef const int64_t[:] pr = parent
     cdef const double[:] x = bx
     cdef const double[:] y = by
@@ -566,7 +571,7 @@ def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha
     cdef uint8_t[::1] keep = keep_array.view(np.uint8)
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
         keep[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, nx_, pts,
-                                   alpha2, &ch)
+                                   first, alpha2, &ch)
     return keep_array
 
 

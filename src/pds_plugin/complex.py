@@ -97,10 +97,10 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
         raise BudgetError(f"the points span {cells:.3g} cells of side alpha={alpha:.6g} "
                           f"(the limit is {_MAX_CELLS:.0e}); use a larger alpha or split the "
                           "point set into parts that are far apart")
-    _check_work(points, alpha)
     nx = int((points[:, 0].max() - x0) / h) + 1
     ny = int((points[:, 1].max() - y0) / h) + 1
     order, start = kern.bin_points(points, x0, y0, h, nx, ny)
+    _check_work(points, alpha, np.diff(start).reshape(ny, nx))
     binned = points[order]                       # cell by cell: local memory access
     _check_distinct(binned, order, start)
     vis = vis_kern.chord_bundle(points, rings, len(points), 2 * alpha)
@@ -135,9 +135,27 @@ def _local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None
     return faces
 
 
-def _check_work(points, alpha) -> None:
+def _check_work(points, alpha, counts) -> None:
     """Refuse, before any work, a point set whose neighbourhoods of radius 2 alpha are so
-    crowded that the local complex is far from linear time (alpha huge for the points)."""
+    crowded that the local complex is far from linear time (alpha huge for the points).
+
+    ``counts`` are the points per cell of side alpha: the points within 2 alpha of a
+    point lie in the 5 x 5 cells around its cell, so when no such block holds more than
+    the limit (a Poisson sampling: about 18) nothing is counted point by point.
+
+    Examples
+    --------
+    >>> points = np.random.default_rng(0).random((300, 2))
+    >>> _check_work(points, 0.01, np.full((100, 100), 3))         # at most 75 per block
+    >>> _check_work(points, 1.0, np.array([[300]]))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.BudgetError: 300 points lie within 2 alpha=2 of one point, ...
+    """
+    block = np.pad(counts, 2).cumsum(axis=0).cumsum(axis=1)     # sums over 5 x 5 cells
+    block = np.pad(block, ((1, 0), (1, 0)))
+    if (block[5:, 5:] - block[:-5, 5:] - block[5:, :-5] + block[:-5, :-5]).max() <= _MAX_NEIGHBOURS:
+        return
     from scipy.spatial import cKDTree
 
     crowd = int(cKDTree(points).query_ball_point(points, 2 * alpha, return_length=True).max())

@@ -325,7 +325,9 @@ def mesh_betti(faces, n_vertices: int, edges: np.ndarray | None = None):
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     if edges is None:
         edges = mesh_edges(faces, n_vertices)[0]
-    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
+    index = np.int32 if n_vertices < 2**31 else np.int64      # the graph's, at half the memory
+    graph = coo_matrix((np.ones(len(edges), np.int8),
+                        (edges[:, 0].astype(index), edges[:, 1].astype(index))),
                        shape=(n_vertices, n_vertices))
     component = connected_components(graph, directed=False)[1]
     used = np.zeros(n_vertices, dtype=bool)

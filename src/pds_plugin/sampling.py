@@ -419,23 +419,25 @@ class _Sampler:
                                           self.nx, self.ny)
         self.grid = np.full((self.ny, self.nx), -1, np.int32)
         self.covered = np.zeros((self.ny * kern.SUB, self.nx * kern.SUB), bool)
-        self.head = np.full(self.ny * self.nx, -1, np.int64)     # scratch of throw_darts
-        capacity = int(np.count_nonzero(self.status))
+        self.head = np.full(self.ny * self.nx, -1, np.int32)     # scratch of throw_darts
+        # room for the samples expected, grown as needed (_reserve)
+        capacity = int(1.1 * estimate_samples(region, alpha)) + 64
         self.points = np.empty((capacity, 2))
         self.nxt = np.empty(capacity, np.int32)
         self.vis = vis_kern.no_chords(capacity)
         self.one_per_cell = not conforming
         self.rings = ()
         self.count = 0
-        self.geometry = region.geometry
-        shapely.prepare(self.geometry)
+        # the chords whose region darts and refinement boxes must be in: the region's
+        # own rings, or (conforming) the chords between the boundary samples
+        self.domain = None if conforming else domain_of_rings(region.rings, alpha)
 
     def _reserve(self, extra: int):
         """Room for ``extra`` more samples (a conforming sampling may need more than
         one per cell)."""
         need = self.count + extra
         if need > len(self.points):
-            size = max(need, 2 * len(self.points))
+            size = max(need, len(self.points) + len(self.points) // 4)
             self.points = np.concatenate([self.points, np.empty((size - len(self.points), 2))])
             self.nxt = np.concatenate([self.nxt, np.empty(size - len(self.nxt), np.int32)])
             out = np.full(size, -1, np.int64)
@@ -462,6 +464,7 @@ class _Sampler:
         start, direction, length = self.region.boundary_pieces(self.s)
         order = rng.permutation(len(start))
         u = rng.random(len(start))
+        self._reserve(len(start))                    # at most one sample per piece
         self.count = kern.sample_boundary_pieces(
             start, direction, length, order, u, self.grid, self.nxt, self.covered, self.points,
             self.count, self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s, self.vis)
@@ -485,10 +488,9 @@ class _Sampler:
         kern.place_all(boundary, self.grid, self.nxt, self.covered, self.points, 0, alpha,
                        self.x0, self.y0, self.s, self.vis)
         self.count = len(boundary)
-        self.geometry = _chord_polygons(self.region, ring_xy)
-        shapely.prepare(self.geometry)
+        self.domain = self.vis, vis_kern.cell_sides(self.vis)
         guards = _guards(boundary, self.rings, alpha)
-        self._insert(guards[shapely.contains_xy(self.geometry, guards[:, 0], guards[:, 1])])
+        self._insert(guards[vis_kern.points_inside(*self.domain, guards[:, 0], guards[:, 1])])
         return len(boundary)
 
     def add_interior(self, rng):
@@ -500,8 +502,8 @@ class _Sampler:
             darts, is_open = kern.darts_in_open_subcells(cells, rng.random((len(cells), 3)),
                                                          self.grid, self.covered, self.x0, self.y0, s,
                                                          self.one_per_cell)
-            cells = cells[is_open]
-            self._throw(cells, darts[is_open], rng)
+            cells, darts = cells[is_open], darts[is_open]
+            self._throw(cells, darts, rng)
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
         parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered,
@@ -512,12 +514,13 @@ class _Sampler:
             bx, by = self._box(parent, sub_x, sub_y, level)
             keep = self._uncovered(parent, bx, by, size)
             on_edge = keep & (self.status.ravel()[parent] == kern.BOUNDARY)
-            keep[on_edge] = shapely.intersects(
-                self.geometry, shapely.box(bx[on_edge], by[on_edge],
-                                           bx[on_edge] + size, by[on_edge] + size))
+            keep[on_edge] = vis_kern.boxes_state(*self.domain, bx[on_edge], by[on_edge],
+                                                 size) != vis_kern.BOX_OUTSIDE
             parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
+            before = self.count
             self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
-            keep = self._uncovered(parent, bx, by, size)
+            # no sample before the throw covers these boxes: only the new ones can
+            keep = self._uncovered(parent, bx, by, size, first=before)
             if not self.one_per_cell and keep.sum() > _REFINEMENT_BOXES * self.nx * self.ny:
                 # the boxes left uncovered are at most about a fifth of the cells at the
                 # first level, then the few around each boundary vertex, or along a slot
@@ -539,25 +542,51 @@ class _Sampler:
         return (self.x0 + (cells % self.nx) * self.s + sub_x * size,
                 self.y0 + (cells // self.nx) * self.s + sub_y * size)
 
-    def _uncovered(self, cells, bx, by, size):
+    def _uncovered(self, cells, bx, by, size, first=0):
         return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.nxt, self.points,
-                                    self.alpha, self.vis)
+                                    self.alpha, self.vis, first)
 
     def _in_region(self, cells, darts):
         """True for darts in the region; only darts in boundary cells need the test."""
         inside = np.ones(len(cells), bool)
         on_edge = self.status.ravel()[cells] == kern.BOUNDARY
-        inside[on_edge] = shapely.contains_xy(self.geometry, darts[on_edge, 0], darts[on_edge, 1])
+        inside[on_edge] = vis_kern.points_inside(*self.domain, darts[on_edge, 0], darts[on_edge, 1])
         return inside
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
-        ``cells`` is sorted)."""
-        self._reserve(len(cells))
-        self.count = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
-                                      self._in_region(cells, darts), self.grid, self.nxt,
-                                      self.covered, self.head, self.points, self.count, self.alpha,
-                                      self.x0, self.y0, self.s, self.vis)
+        ``cells`` is sorted) and add the ones kept."""
+        kept = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
+                                self._in_region(cells, darts), self.grid, self.nxt, self.head,
+                                self.points, self.alpha, self.x0, self.y0, self.s, self.vis)
+        self._reserve(len(kept))
+        kern.place_all(darts[kept], self.grid, self.nxt, self.covered, self.points, self.count,
+                       self.alpha, self.x0, self.y0, self.s, self.vis)
+        self.count += len(kept)
+
+
+def domain_of_rings(rings, alpha: float) -> tuple:
+    """The chord bundle of polygon ``rings`` (each a (k, 2) array with the region on its
+    left) and its cell sides: the arguments of the exact in/out tests
+    ``_visibility_kernels.points_inside`` and ``boxes_state``.
+
+    The cells are at least alpha/2 wide, and wider where the rings have few segments
+    for the area (a square gets a handful of cells, not one per alpha).
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> from pds_plugin import _visibility_kernels as vis_kern
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> domain = domain_of_rings(square.rings, 0.01)
+    >>> vis_kern.points_inside(*domain, [0.5, 1.0, 2.0], [0.5, 0.5, 0.5])
+    array([ True, False, False])
+    """
+    points, indices = _joined(rings)
+    (xmin, ymin), (xmax, ymax) = points.min(axis=0), points.max(axis=0)
+    cell = max(alpha / 2, math.sqrt((xmax - xmin) * (ymax - ymin) / (4 * len(points))))
+    vis = vis_kern.chord_bundle(points, indices, len(points), 2 * cell)   # cells of side reach/2
+    return vis, vis_kern.cell_sides(vis)
 
 
 def _along(at, cum, closed) -> np.ndarray:
