@@ -19,27 +19,25 @@ def edges_of(faces, Py_ssize_t n_vertices):
     cdef const int64_t[:, :] fc = np.asarray(faces, dtype=np.int64)
     cdef Py_ssize_t m = fc.shape[0] * 3, f, k, i, e, s, q, n = 0, first
     cdef int64_t u, v, other
-    cdef int64_t[::1] low = np.empty(m, np.int64)
     cdef int64_t[::1] start = np.zeros(n_vertices + 1, np.int64)
     cdef int64_t[::1] fill = np.empty(n_vertices, np.int64)
     cdef int64_t[::1] slot = np.empty(m, np.int64)          # directed edge ids grouped by low vertex
     edges_array = np.empty((m, 2), np.int64)
-    uses_array = np.zeros(m, np.int64)
+    uses_array = np.zeros(m, np.int32)
     cdef int64_t[:, ::1] edges = edges_array
-    cdef int64_t[::1] uses = uses_array
+    cdef int[::1] uses = uses_array
     cdef bint seen
     with nogil:
         for f in range(fc.shape[0]):
             for k in range(3):
-                u, v = fc[f, k], fc[f, (k + 1) % 3]
-                low[3 * f + k] = min(u, v)
-                start[min(u, v) + 1] += 1
+                start[min(fc[f, k], fc[f, (k + 1) % 3]) + 1] += 1
         for i in range(n_vertices):
             start[i + 1] += start[i]
             fill[i] = start[i]
         for e in range(m):
-            slot[fill[low[e]]] = e
-            fill[low[e]] += 1
+            u = min(fc[e // 3, e % 3], fc[e // 3, (e % 3 + 1) % 3])
+            slot[fill[u]] = e
+            fill[u] += 1
         for i in range(n_vertices):
             first = n
             for s in range(start[i], start[i + 1]):
@@ -57,4 +55,5 @@ def edges_of(faces, Py_ssize_t n_vertices):
                     edges[n, 0], edges[n, 1] = u, v
                     uses[n] = 1
                     n += 1
-    return edges_array[:n], uses_array[:n]
+    # copies, so that the (3M, 2) buffer is not kept alive by the mesh's cached edges
+    return edges_array[:n].copy(), uses_array[:n]

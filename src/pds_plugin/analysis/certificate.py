@@ -54,7 +54,7 @@ from .. import _certificate_kernels as kern
 from .._checks import check_planar_mesh
 from .._complex_kernels import bin_points
 from .._geometry_kernels import circumcircles
-from .conformity import AREA_TOL, SampledBoundary, boundary_report
+from .conformity import AREA_TOL, FACE_BLOCK, SampledBoundary, boundary_report
 from .quality import ASPECT_BOUND
 from .small_features import ExceptionalTriangle, small_feature_exceptions
 from .topology import TopologyReport, topology_report
@@ -480,8 +480,23 @@ def _visible_coverage(points, faces, quality, sampled):
     and B; both are below R. The slivers of region outside Q add
     :meth:`SampledBoundary.sliver_gap`.
     """
+    gap, at = -np.inf, None
+    for start in range(0, len(faces), FACE_BLOCK):       # a block at a time: (M, 3) transients
+        part = slice(start, start + FACE_BLOCK)          # would set a 1M mesh's peak memory
+        block_gap, block_at = _triangles_reach(points, faces[part], quality.edge_lengths[part])
+        if block_gap > gap:
+            gap, at = block_gap, block_at
+    sliver, sliver_at = sampled.sliver_gap()
+    if sliver > gap:
+        gap, at = sliver, sliver_at
+    return gap, np.asarray(at, float)
+
+
+def _triangles_reach(points, faces, lengths):
+    """The farthest any point of these triangles is from its nearest corner, and where
+    (see :func:`_visible_coverage`)."""
     centre, radius = circumcircles(points, faces)
-    squared = quality.edge_lengths ** 2                        # edge k opposite corner k
+    squared = lengths ** 2                                     # edge k opposite corner k
     longest = np.argmax(squared, axis=1)
     rows = np.arange(len(faces))
     obtuse = 2 * squared[rows, longest] > squared.sum(axis=1)
@@ -505,10 +520,7 @@ def _visible_coverage(points, faces, quality, sampled):
         if reach[j] > gap:
             gap = float(reach[j])
             at = pa[j] + unit[j] * from_a[j] if from_a[j] >= from_b[j] else pb[j] - unit[j] * from_b[j]
-    sliver, sliver_at = sampled.sliver_gap()
-    if sliver > gap:
-        gap, at = sliver, sliver_at
-    return gap, np.asarray(at, float)
+    return gap, at
 
 
 def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:

@@ -36,6 +36,7 @@ deviation is then measured to alpha / 100 (the distance is 1-Lipschitz)."""
 ON_BOUNDARY_TOL = 1e-9    # relative to alpha: how far a boundary sample may lie off its ring
 AREA_TOL = 1e-9           # relative to the region's area: rounding of area sums
 _MAX_NAMED = 3            # located examples per kind of problem
+FACE_BLOCK = 65536        # triangles per block of per-triangle transients (peak memory)
 
 
 @dataclass(frozen=True)
@@ -509,14 +510,14 @@ def say_located(problems: list, count: int, what: str, where) -> None:
         problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
 
 
-def _signed_areas(points, faces, block: int = 65536) -> np.ndarray:
+def _signed_areas(points, faces) -> np.ndarray:
     """Signed areas of 2D triangles, a block of faces at a time: the (M, 3, 2) array of all
     corners at once would set the certificate's peak memory on a 1M mesh."""
     signed = np.empty(len(faces))
-    for start in range(0, len(faces), block):
-        corner = points[faces[start:start + block]]
+    for start in range(0, len(faces), FACE_BLOCK):
+        corner = points[faces[start:start + FACE_BLOCK]]
         u, v = corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]
-        signed[start:start + block] = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
+        signed[start:start + FACE_BLOCK] = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
     return signed
 
 
