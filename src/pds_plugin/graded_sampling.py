@@ -147,6 +147,51 @@ def _positions(tau, corners, unit, rng):
     return at
 
 
+def _uncrossed(region: Region, boundary, corner, field, rounds: int = 3):
+    """The boundary samples with a chord end moved onto the point where the ring crosses
+    the chord, wherever the ring's piece beyond the chord would otherwise be held by one
+    chord end farther than r from it.
+
+    A ring that crosses its chord leaves a piece of region beyond the chord that only the
+    chord end it touches sees (the segment to the other end leaves the region, if only by
+    rounding: an STL section's straight edges are chains of vertices 1e-8 off a line). The
+    certificate (``SampledBoundary``) measures that piece against that end. When its far
+    point, the crossing, is more than r from that end, the other end (not a sharp corner)
+    moves onto the crossing: a point of the ring, between the two ends along it, so the
+    order of the samples and the chords' ring stay; the piece then lies between the chord
+    and its arc, seen from both ends. The move is made only when the moved sample stays
+    at least ``min(r(p), r(q))`` from both of its neighbours ``q`` along the ring (the
+    separation of consecutive boundary samples, checked exactly rather than by τ).
+    """
+    from .analysis.conformity import SampledBoundary   # analysis reads meshes: import late
+    boundary = boundary.copy()
+    for _ in range(rounds):
+        sampled = SampledBoundary(region, boundary, np.ones(len(boundary), bool), field.cap)
+        mixed = np.flatnonzero(sampled.mixed)
+        gap, where = sampled._pieces[:2]
+        short = gap > field(where) if len(mixed) else np.zeros(0, bool)
+        moved = False
+        for k, at in zip(mixed[short], where[short]):
+            a, b = sampled.a[k], sampled.b[k]
+            end = a if np.hypot(*(boundary[a] - at)) < np.hypot(*(boundary[b] - at)) else b
+            if corner[end]:
+                continue
+            before, after = _neighbours(sampled, end)
+            radius = field(np.vstack([at, boundary[[before, after]]]))
+            apart = np.hypot(*(boundary[[before, after]] - at).T)
+            if np.all(apart >= np.minimum(radius[0], radius[1:])):
+                boundary[end] = at
+                moved = True
+        if not moved:
+            break
+    return boundary
+
+
+def _neighbours(sampled, sample: int):
+    """The boundary samples before and after ``sample`` along its ring (chords a -> b)."""
+    return int(sampled.a[sampled.b == sample][0]), int(sampled.b[sampled.a == sample][0])
+
+
 class _GradedSampler:
     """The state of one graded sampling: sample bins, radii, chords, samples so far."""
 
@@ -215,14 +260,17 @@ class _GradedSampler:
         and add guards. Returns the number of boundary samples."""
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
-        ring_xy = []
+        ring_xy, corners = [], []
         for ring in self.region.rings:
             dense, first, tau = _tau_ring(ring, self.field, L)
             sharp = np.zeros(len(dense), bool)
             sharp[first] = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
             at = _positions(tau, tau[:-1][sharp], unit, rng)
             ring_xy.append(_along(at, tau, np.vstack([dense, dense[:1]])))
+            corners.append(np.isin(at, tau[:-1][sharp]))
         boundary, self.rings = _joined(ring_xy)
+        boundary = _uncrossed(self.region, boundary, np.concatenate(corners), self.field)
+        ring_xy = [boundary[ring] for ring in self.rings]
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())
         self._reserve(len(boundary))
