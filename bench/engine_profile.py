@@ -1,8 +1,7 @@
 """Where the time of ``mesh_region`` + ``certificate()`` goes, kernel by kernel.
 
-Every public function of the kernel modules, and the shapely calls of the sampler, is
-wrapped in a timer; the rest of each stage (numpy glue, Python loops) is what remains of
-the stage's wall time. Run it warm (the script meshes each case once before timing):
+Every public function of the kernel modules is wrapped in a timer; the rest of each
+stage (numpy glue, Python loops) is what remains of the stage's wall time. Run it warm (the script meshes each case once before timing):
 
     python bench/engine_profile.py                 # 10k, 100k, 1M squares and auto
     python bench/engine_profile.py --sizes 1e4     # just one size
@@ -19,7 +18,6 @@ from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
-import shapely
 from shapely.geometry import box
 
 import pds_plugin as pds
@@ -41,19 +39,18 @@ def _timed(name, function):
 
 
 def _instrument():
-    """Wrap every kernel function, the sampler's shapely tests and the two stages in
+    """Wrap every kernel function (the visibility kernels' too) and the two stages in
     timers, wherever pds_plugin calls them."""
     square = pds.Region.from_shapely(box(0, 0, 1, 1))
     pds.mesh_region(square, "auto", max_alpha=0.2).certificate()     # load every module
-    for module in (importlib.import_module(f"pds_plugin.{name}") for name in KERNELS):
+    for module in (importlib.import_module(f"pds_plugin.{name}")
+                   for name in KERNELS + ("_visibility_kernels",)):
         for name in dir(module):
             function = getattr(module, name)
             if name.startswith("_") or not callable(function) or isinstance(function, type):
                 continue
             replace_everywhere(function, _timed(f"{module.__name__.split('.')[-1]}.{name}",
                                                 function))
-    for name in ("intersects", "contains_xy"):
-        setattr(sampling.shapely, name, _timed(f"shapely.{name}", getattr(shapely, name)))
     replace_everywhere(sampling.poisson_disc,
                        _timed("poisson_disc (total)", sampling.poisson_disc))
     replace_everywhere(complex.solid_alpha_complex,

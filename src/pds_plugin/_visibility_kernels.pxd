@@ -98,3 +98,14 @@ cdef inline bint box_seen(double px, double py, Py_ssize_t p_out, double bx, dou
     if c.start[k + 1] == c.start[k]:
         return True
     return box_seen_near_chords(px, py, p_out, bx, by, size, tol, c, k)
+
+
+# Exact tests against the region bounded by the chords (``sides`` from cell_sides(vis)):
+# is a point strictly inside; is a closed box outside (0), crossing a chord (1) or inside (2).
+
+from libc.stdint cimport int8_t
+
+cdef bint point_inside(const Chords *c, const int8_t *sides, double x,
+                       double y) noexcept nogil
+cdef int box_state(const Chords *c, const int8_t *sides, double bx, double by,
+                   double size) noexcept nogil

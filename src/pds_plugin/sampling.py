@@ -341,8 +341,9 @@ class _Sampler:
         self.one_per_cell = not conforming
         self.rings = ()
         self.count = 0
-        self.geometry = region.geometry
-        shapely.prepare(self.geometry)
+        # the chords whose region darts and refinement boxes must be in: the region's
+        # own rings, or (conforming) the chords between the boundary samples
+        self.domain = None if conforming else domain_of_rings(region.rings, alpha)
 
     def _reserve(self, extra: int):
         """Room for ``extra`` more samples (a conforming sampling may need more than
@@ -399,10 +400,9 @@ class _Sampler:
         kern.place_all(boundary, self.grid, self.nxt, self.covered, self.points, 0, alpha,
                        self.x0, self.y0, self.s, self.vis)
         self.count = len(boundary)
-        self.geometry = _chord_polygons(self.region, ring_xy)
-        shapely.prepare(self.geometry)
+        self.domain = self.vis, vis_kern.cell_sides(self.vis)
         guards = _guards(boundary, self.rings, alpha)
-        self._insert(guards[shapely.contains_xy(self.geometry, guards[:, 0], guards[:, 1])])
+        self._insert(guards[vis_kern.points_inside(*self.domain, guards[:, 0], guards[:, 1])])
         return len(boundary)
 
     def add_interior(self, rng):
@@ -426,9 +426,8 @@ class _Sampler:
             bx, by = self._box(parent, sub_x, sub_y, level)
             keep = self._uncovered(parent, bx, by, size)
             on_edge = keep & (self.status.ravel()[parent] == kern.BOUNDARY)
-            keep[on_edge] = shapely.intersects(
-                self.geometry, shapely.box(bx[on_edge], by[on_edge],
-                                           bx[on_edge] + size, by[on_edge] + size))
+            keep[on_edge] = vis_kern.boxes_state(*self.domain, bx[on_edge], by[on_edge],
+                                                 size) != vis_kern.BOX_OUTSIDE
             parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
             self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
             keep = self._uncovered(parent, bx, by, size)
@@ -461,7 +460,7 @@ class _Sampler:
         """True for darts in the region; only darts in boundary cells need the test."""
         inside = np.ones(len(cells), bool)
         on_edge = self.status.ravel()[cells] == kern.BOUNDARY
-        inside[on_edge] = shapely.contains_xy(self.geometry, darts[on_edge, 0], darts[on_edge, 1])
+        inside[on_edge] = vis_kern.points_inside(*self.domain, darts[on_edge, 0], darts[on_edge, 1])
         return inside
 
     def _throw(self, cells, darts, rng):
@@ -472,6 +471,30 @@ class _Sampler:
                                       self._in_region(cells, darts), self.grid, self.nxt,
                                       self.covered, self.head, self.points, self.count, self.alpha,
                                       self.x0, self.y0, self.s, self.vis)
+
+
+def domain_of_rings(rings, alpha: float) -> tuple:
+    """The chord bundle of polygon ``rings`` (each a (k, 2) array with the region on its
+    left) and its cell sides: the arguments of the exact in/out tests
+    ``_visibility_kernels.points_inside`` and ``boxes_state``.
+
+    The cells are at least alpha/2 wide, and wider where the rings have few segments
+    for the area (a square gets a handful of cells, not one per alpha).
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> from pds_plugin import _visibility_kernels as vis_kern
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> domain = domain_of_rings(square.rings, 0.01)
+    >>> vis_kern.points_inside(*domain, [0.5, 1.0, 2.0], [0.5, 0.5, 0.5])
+    array([ True, False, False])
+    """
+    points, indices = _joined(rings)
+    (xmin, ymin), (xmax, ymax) = points.min(axis=0), points.max(axis=0)
+    cell = max(alpha / 2, math.sqrt((xmax - xmin) * (ymax - ymin) / (4 * len(points))))
+    vis = vis_kern.chord_bundle(points, indices, len(points), 2 * cell)   # cells of side reach/2
+    return vis, vis_kern.cell_sides(vis)
 
 
 def _along(at, cum, closed) -> np.ndarray:
