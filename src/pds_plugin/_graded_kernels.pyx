@@ -296,6 +296,31 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     return count
 
 
+def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, double x0,
+            double y0, tuple vis):
+    """True for the candidates x that a sample already refuses whatever r(x) is in
+    [low, high]: a sample q that x sees with |x - q| < min(low, r(q)) <= min(r(x), r(q)).
+    Samples are only ever added, so :func:`insert_where_free` refuses them too; testing
+    them first (in parallel) spares the radius field and the sequential insertion."""
+    cdef const double[:, ::1] cd = cand
+    cdef const double[::1] lw = low, hi = high
+    cdef const int32_t[::1] nx = nxt
+    cdef const double[:, ::1] pt = points
+    cdef const double[::1] rd = radius
+    cdef Bins b = _bins_of(bins)
+    cdef Chords c = chords_of(vis)
+    cdef Py_ssize_t n = cd.shape[0], k
+    cdef Query query
+    out_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = out_array.view(np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n)):
+        query = Query(cd[k, 0], cd[k, 1], 0.0, lw[k], &pt[0, 0], &rd[0], &c)
+        out[k] = _any_sample(&query, _conflicts, _level(lw[k] * (1.0 - grading), &b),
+                             _level(hi[k] * (1.0 + grading), &b), &b, nx, x0, y0)
+    return out_array
+
+
 cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double grading,
                        const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
                        const double[::1] radius, double x0, double y0,

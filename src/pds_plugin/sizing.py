@@ -17,6 +17,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import _sizing_kernels as kern
+from ._parallel import get_threads
 from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, turning_angles
@@ -289,7 +290,8 @@ def _wall_sizes(region, dense, cap):
         todo = []
         for bound in np.unique(reach[reach > 0]):
             rows = np.flatnonzero(reach == bound)
-            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound)
+            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound,
+                                workers=get_threads())
             todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
                                             idx.reshape(len(rows), k), wall)])
         reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
