@@ -21,6 +21,7 @@ from ._parallel import get_threads
 from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, turning_angles
+from .sampling import domain_of_rings
 
 __all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "DEFAULT_GRADING"]
 
@@ -208,6 +209,7 @@ def _features(region: Region, cap: float, feature_angle: float):
     dense = _densify(rings, ring_size, ring_size, piece)
     corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
     edge_size = [size.copy() for size in ring_size]
+    domain = domain_of_rings(rings, 0.0)          # exact in/out tests of the region
     for round_ in range(_ROUNDS):
         if round_:
             parts = sum(int(np.sum(np.ceil(4 * np.hypot(*(np.roll(r, -1, axis=0) - r).T) / e)))
@@ -215,7 +217,7 @@ def _features(region: Region, cap: float, feature_angle: float):
             if parts > _MAX_DENSE:
                 break                   # keep the last densification: memory stays bounded
             dense = _densify(rings, edge_size, ring_size, piece)
-        size = _wall_sizes(region, dense, cap)
+        size = _wall_sizes(domain, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
         changed = False
         for k in range(len(rings)):
@@ -271,15 +273,17 @@ def _densify(rings, edge_size, ring_size, piece):
             "piece": np.concatenate(piece_id), "base": np.concatenate(base)}
 
 
-def _wall_sizes(region, dense, cap):
+def _wall_sizes(domain, dense, cap):
     """Each point's size: its ring size, lowered to _WALL x the distance to the nearest
-    point facing it through material (normals opposed, midpoint in the region).
+    point facing it through material (normals opposed, midpoint in the region, whose
+    rings are ``domain``: see sampling.domain_of_rings).
 
     Only walls nearer than ring size / _WALL can lower a size, so the neighbours are
     searched that far (rounded up to a power of two, one query per power). They are
     looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for the points that
     found none facing them but have more neighbours within reach; of those facing a
-    point, only the ones up to the first whose midpoint is in the region are tested."""
+    point, only the ones up to the first whose midpoint is in the region are tested
+    (``_sizing_kernels.nearest_facing``)."""
     xy, normal = dense["xy"], dense["normal"]
     n = len(xy)
     tree = cKDTree(xy)
@@ -292,37 +296,14 @@ def _wall_sizes(region, dense, cap):
             rows = np.flatnonzero(reach == bound)
             d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound,
                                 workers=get_threads())
-            todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
-                                            idx.reshape(len(rows), k), wall)])
+            d, idx = d.reshape(len(rows), k), idx.reshape(len(rows), k)
+            found = kern.nearest_facing(xy, normal, rows, d, idx.astype(np.int64), _OPPOSED,
+                                        *domain, wall)
+            todo.append(rows[~found & np.isfinite(d[:, -1])])
         reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
         if not (reach > 0).any() or k == n:
             break
     return np.minimum(dense["base"], _WALL * wall)
-
-
-def _nearest_walls(region, xy, normal, rows, d, idx, wall):
-    """Set ``wall`` of the points ``rows`` from their neighbours (d, idx, nearest first):
-    the distance to the nearest one facing them whose midpoint is in the region. Returns
-    the positions in ``rows`` of the points that found none facing them and may have
-    more neighbours within reach."""
-    valid = np.isfinite(d) & (d > 0)
-    j = np.where(valid, idx, 0)
-    step = xy[j] - xy[rows, None, :]
-    facing = (valid & (np.einsum("nkc,nc->nk", step, normal[rows]) > 1e-9 * d)
-              & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
-              & (np.einsum("nc,nkc->nk", normal[rows], normal[j]) < _OPPOSED))
-    found = facing.any(axis=1)
-    at = np.flatnonzero(found)
-    column = np.argmax(facing[at], axis=1)            # the nearest facing neighbour
-    while len(at):
-        mid = 0.5 * (xy[rows[at]] + xy[j[at, column]])
-        inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
-        wall[rows[at[inside]]] = d[at[inside], column[inside]]
-        at, column = at[~inside], column[~inside]
-        later = facing[at] & (np.arange(d.shape[1]) > column[:, None])
-        more = later.any(axis=1)
-        at, column = at[more], np.argmax(later[more], axis=1)
-    return np.flatnonzero(~found & np.isfinite(d[:, -1]))
 
 
 def _corner_discs(region, rings, corners, piece, dense):
