@@ -335,8 +335,8 @@ class _GradedSampler:
             bx = np.concatenate([bx, bx + half, bx, bx + half])
             by = np.concatenate([by, by, by + half, by + half])
             size, edge = np.tile(half, 4), np.tile(edge, 4)
-            boxes = self._boxes(bx, by, size, edge)
-            self._throw(boxes, rng)
+            boxes = self._open(self._boxes(bx, by, size, edge))   # darts only where no
+            self._throw(boxes, rng)                                # disc covers already
 
     def _boxes(self, bx, by, size, edge):
         """Boxes with their radius bound; of those that may reach outside (``edge``),
