@@ -12,10 +12,9 @@ import numpy as np
 from cython.parallel cimport parallel, prange
 from libc.math cimport isfinite, sqrt
 from libc.stdlib cimport free, malloc
-from libc.stdint cimport int8_t, int64_t, uint8_t
+from libc.stdint cimport int64_t
 
 from ._parallel cimport threads_for
-from ._visibility_kernels cimport Chords, chords_of, point_inside
 
 cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
@@ -168,28 +167,22 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
     return out_array
 
 
-def nearest_facing(xy, normal, rows, d, idx, double opposed, tuple vis, sides, wall):
+def first_facing(xy, normal, rows, d, idx, start, double opposed):
     """For each point i = rows[r] with its neighbours idx[r] at distances d[r] (nearest
-    first, scipy's k-d tree; inf past its bound): set ``wall[i]`` to the distance of the
-    nearest neighbour j *facing it through material*, the step i -> j along i's inward
-    normal, against j's, the normals opposed (dot below ``opposed``), and the midpoint
-    strictly inside the region whose rings make the chords of ``vis`` (``sides`` from
-    ``_visibility_kernels.cell_sides``). Returns whether each row had a facing neighbour
-    at all (midpoint inside or not)."""
+    first, scipy's k-d tree; inf past its bound): the first column t >= start[r] whose
+    neighbour j faces i *through material*, the step i -> j along i's inward normal and
+    against j's, the normals opposed (dot below ``opposed``); -1 if none."""
     cdef const double[:, ::1] p = xy, nm = normal, dist = d
-    cdef const int64_t[::1] rw = rows
+    cdef const int64_t[::1] rw = rows, st = start
     cdef const int64_t[:, ::1] nb = idx
-    cdef const int8_t[::1] sd = sides
-    cdef double[::1] wl = wall
-    cdef Chords c = chords_of(vis)
     cdef Py_ssize_t n = rw.shape[0], k = nb.shape[1], r, t, i, j
     cdef double dx, dy, e
-    found_array = np.zeros(n, np.bool_)
-    cdef uint8_t[::1] found = found_array.view(np.uint8)
+    column_array = np.full(n, -1, np.int64)
+    cdef int64_t[::1] column = column_array
     for r in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n)):
         i = rw[r]
-        for t in range(k):
+        for t in range(st[r], k):
             e = dist[r, t]
             if not (isfinite(e) and e > 0.0):
                 continue
@@ -198,9 +191,6 @@ def nearest_facing(xy, normal, rows, d, idx, double opposed, tuple vis, sides, w
             if (dx * nm[i, 0] + dy * nm[i, 1] > 1e-9 * e
                     and dx * nm[j, 0] + dy * nm[j, 1] < -1e-9 * e
                     and nm[i, 0] * nm[j, 0] + nm[i, 1] * nm[j, 1] < opposed):
-                found[r] = 1
-                if point_inside(&c, &sd[0] if sd.shape[0] else NULL,
-                                0.5 * (p[i, 0] + p[j, 0]), 0.5 * (p[i, 1] + p[j, 1])):
-                    wl[i] = e
-                    break
-    return found_array
+                column[r] = t
+                break
+    return column_array

@@ -163,49 +163,66 @@ def _positions(tau, corners, unit, rng):
     return at
 
 
-def _uncrossed(region: Region, boundary, corner, field, rounds: int = 3):
-    """The boundary samples with a chord end moved onto the point where the ring crosses
-    the chord, wherever the ring's piece beyond the chord would otherwise be held by one
-    chord end farther than r from it.
+def _uncrossed(samples, at, corner, vertices, vertex_at, length, field):
+    """A ring's boundary samples (at positions ``at`` along it, ``corner`` the sharp
+    ones; ``vertices`` its own vertices at positions ``vertex_at``, of ``length`` in
+    all) with a chord end moved onto the point where the ring crosses the chord, wherever
+    the ring's piece beyond the chord would otherwise reach farther than r from the only
+    chord end that sees it.
 
     A ring that crosses its chord leaves a piece of region beyond the chord that only the
     chord end it touches sees (the segment to the other end leaves the region, if only by
-    rounding: an STL section's straight edges are chains of vertices 1e-8 off a line). The
-    certificate (``SampledBoundary``) measures that piece against that end. When its far
-    point, the crossing, is more than r from that end, the other end (not a sharp corner)
-    moves onto the crossing: a point of the ring, between the two ends along it, so the
-    order of the samples and the chords' ring stay; the piece then lies between the chord
+    rounding: an STL section's straight edges are chains of vertices 1e-8 off a line).
+    When the crossing c, the piece's far point, is more than r(c) from that end, the
+    other end (not a sharp corner) moves onto c: a point of the ring between the two
+    ends, so the order of the samples stays, and the piece then lies between the chord
     and its arc, seen from both ends. The move is made only when the moved sample stays
-    at least ``min(r(p), r(q))`` from both of its neighbours ``q`` along the ring (the
+    at least ``min(r(p), r(q))`` from both its neighbours q along the ring (the
     separation of consecutive boundary samples, checked exactly rather than by τ).
+    Heights within 1e-9 cap of a chord count as on it, and ring vertices that close to a
+    chord end are not on its arc, as for the certificate (analysis/conformity.py).
     """
-    from .analysis.conformity import SampledBoundary   # analysis reads meshes: import late
-    boundary = boundary.copy()
-    for _ in range(rounds):
-        sampled = SampledBoundary(region, boundary, np.ones(len(boundary), bool), field.cap)
-        mixed = np.flatnonzero(sampled.mixed)
-        gap, where = sampled._pieces[:2]
-        short = gap > field(where) if len(mixed) else np.zeros(0, bool)
-        moved = False
-        for k, at in zip(mixed[short], where[short]):
-            a, b = sampled.a[k], sampled.b[k]
-            end = a if np.hypot(*(boundary[a] - at)) < np.hypot(*(boundary[b] - at)) else b
-            if corner[end]:
+    n, tol = len(samples), 1e-9 * field.cap
+    chord = (np.searchsorted(at, vertex_at, side="right") - 1) % n
+    a, b = samples[chord], samples[(chord + 1) % n]
+    apart = (np.hypot(*(vertices - a).T) > tol) & (np.hypot(*(vertices - b).T) > tol)
+    chord, vertices, vertex_at, a, b = (v[apart] for v in (chord, vertices, vertex_at, a, b))
+    ab = b - a
+    height = (ab[:, 0] * (vertices[:, 1] - a[:, 1]) - ab[:, 1] * (vertices[:, 0] - a[:, 0])) \
+        / np.hypot(ab[:, 0], ab[:, 1])
+    height[np.abs(height) <= tol] = 0.0
+    beyond = np.bincount(chord, height < 0, minlength=n) > 0
+    back = np.bincount(chord, height >= 0, minlength=n) > 0     # the arc crosses back
+    samples = samples.copy()
+    for k in np.flatnonzero(beyond & back):
+        on = chord == k
+        order = np.argsort((vertex_at[on] - at[k]) % length, kind="stable")
+        arc = np.vstack([samples[k], vertices[on][order], samples[(k + 1) % n]])
+        h = np.concatenate([[0.0], height[on][order], [0.0]])
+        for end, step in ((k + 1, 1), (k, -1)):         # the piece at b, then at a
+            j = len(h) - 2 if step == 1 else 1          # the arc vertex next to that end
+            if h[j] >= 0:
                 continue
-            before, after = _neighbours(sampled, end)
-            radius = field(np.vstack([at, boundary[[before, after]]]))
-            apart = np.hypot(*(boundary[[before, after]] - at).T)
-            if np.all(apart >= np.minimum(radius[0], radius[1:])):
-                boundary[end] = at
-                moved = True
-        if not moved:
-            break
-    return boundary
+            while h[j] < 0:                             # back along the piece to where
+                j -= step                               # the arc is on Q's side again
+            t = h[j] / (h[j] - h[j + step])
+            crossing = arc[j] + t * (arc[j + step] - arc[j])
+            mover = (k if step == 1 else k + 1) % n
+            _move_onto(samples, mover, crossing, corner, samples[end % n], field)
+    return samples
 
 
-def _neighbours(sampled, sample: int):
-    """The boundary samples before and after ``sample`` along its ring (chords a -> b)."""
-    return int(sampled.a[sampled.b == sample][0]), int(sampled.b[sampled.a == sample][0])
+def _move_onto(samples, mover, crossing, corner, holder, field):
+    """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
+    farther than r there, ``mover`` is not a sharp corner, and it stays separated from
+    its two neighbours along the ring."""
+    n = len(samples)
+    neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
+    radius = field(np.vstack([crossing, holder, neighbours]))
+    if corner[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
+        return
+    if np.all(np.hypot(*(neighbours - crossing).T) >= np.minimum(radius[0], radius[2:])):
+        samples[mover] = crossing
 
 
 class _GradedSampler:
@@ -276,17 +293,16 @@ class _GradedSampler:
         and add guards. Returns the number of boundary samples."""
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
-        ring_xy, corners = [], []
+        ring_xy = []
         for ring, (dense, first, tau) in zip(self.region.rings,
                                              _tau_rings(self.region.rings, self.field, L)):
             sharp = np.zeros(len(dense), bool)
             sharp[first] = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
             at = _positions(tau, tau[:-1][sharp], unit, rng)
-            ring_xy.append(_along(at, tau, np.vstack([dense, dense[:1]])))
-            corners.append(np.isin(at, tau[:-1][sharp]))
+            samples = _along(at, tau, np.vstack([dense, dense[:1]]))
+            ring_xy.append(_uncrossed(samples, at, np.isin(at, tau[:-1][sharp]), ring,
+                                      tau[:-1][first], tau[-1], self.field))
         boundary, self.rings = _joined(ring_xy)
-        boundary = _uncrossed(self.region, boundary, np.concatenate(corners), self.field)
-        ring_xy = [boundary[ring] for ring in self.rings]
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())
         self._reserve(len(boundary))

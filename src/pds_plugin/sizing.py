@@ -21,7 +21,6 @@ from ._parallel import get_threads
 from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, turning_angles
-from .sampling import domain_of_rings
 
 __all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "DEFAULT_GRADING"]
 
@@ -209,7 +208,6 @@ def _features(region: Region, cap: float, feature_angle: float):
     dense = _densify(rings, ring_size, ring_size, piece)
     corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
     edge_size = [size.copy() for size in ring_size]
-    domain = domain_of_rings(rings, 0.0)          # exact in/out tests of the region
     for round_ in range(_ROUNDS):
         if round_:
             parts = sum(int(np.sum(np.ceil(4 * np.hypot(*(np.roll(r, -1, axis=0) - r).T) / e)))
@@ -217,7 +215,7 @@ def _features(region: Region, cap: float, feature_angle: float):
             if parts > _MAX_DENSE:
                 break                   # keep the last densification: memory stays bounded
             dense = _densify(rings, edge_size, ring_size, piece)
-        size = _wall_sizes(domain, dense, cap)
+        size = _wall_sizes(region, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
         changed = False
         for k in range(len(rings)):
@@ -273,17 +271,15 @@ def _densify(rings, edge_size, ring_size, piece):
             "piece": np.concatenate(piece_id), "base": np.concatenate(base)}
 
 
-def _wall_sizes(domain, dense, cap):
+def _wall_sizes(region, dense, cap):
     """Each point's size: its ring size, lowered to _WALL x the distance to the nearest
-    point facing it through material (normals opposed, midpoint in the region, whose
-    rings are ``domain``: see sampling.domain_of_rings).
+    point facing it through material (normals opposed, midpoint in the region).
 
     Only walls nearer than ring size / _WALL can lower a size, so the neighbours are
     searched that far (rounded up to a power of two, one query per power). They are
     looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for the points that
     found none facing them but have more neighbours within reach; of those facing a
-    point, only the ones up to the first whose midpoint is in the region are tested
-    (``_sizing_kernels.nearest_facing``)."""
+    point, only the ones up to the first whose midpoint is in the region are tested."""
     xy, normal = dense["xy"], dense["normal"]
     n = len(xy)
     tree = cKDTree(xy)
@@ -296,14 +292,32 @@ def _wall_sizes(domain, dense, cap):
             rows = np.flatnonzero(reach == bound)
             d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound,
                                 workers=get_threads())
-            d, idx = d.reshape(len(rows), k), idx.reshape(len(rows), k)
-            found = kern.nearest_facing(xy, normal, rows, d, idx.astype(np.int64), _OPPOSED,
-                                        *domain, wall)
-            todo.append(rows[~found & np.isfinite(d[:, -1])])
+            todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
+                                            idx.reshape(len(rows), k), wall)])
         reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
         if not (reach > 0).any() or k == n:
             break
     return np.minimum(dense["base"], _WALL * wall)
+
+
+def _nearest_walls(region, xy, normal, rows, d, idx, wall):
+    """Set ``wall`` of the points ``rows`` from their neighbours (d, idx, nearest first):
+    the distance to the nearest one facing them (``_sizing_kernels.first_facing``) whose
+    midpoint is in the region. Returns the positions in ``rows`` of the points that found
+    none facing them and may have more neighbours within reach."""
+    idx = np.ascontiguousarray(idx, np.int64)
+    column = kern.first_facing(xy, normal, rows, d, idx, np.zeros(len(rows), np.int64), _OPPOSED)
+    found = column >= 0
+    at = np.flatnonzero(found)
+    column = column[at]
+    while len(at):
+        mid = 0.5 * (xy[rows[at]] + xy[idx[at, column]])
+        inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
+        wall[rows[at[inside]]] = d[at[inside], column[inside]]
+        at, column = at[~inside], column[~inside]
+        column = kern.first_facing(xy, normal, rows[at], d[at], idx[at], column + 1, _OPPOSED)
+        at, column = at[column >= 0], column[column >= 0]
+    return np.flatnonzero(~found & np.isfinite(d[:, -1]))
 
 
 def _corner_discs(region, rings, corners, piece, dense):
