@@ -167,12 +167,27 @@ cdef inline Py_ssize_t _out(const Chords *c, Py_ssize_t q) noexcept nogil:
     return c.out[q] if c.out else -1
 
 
+cdef struct Placed:
+    # the samples placed so far, as raw pointers into the sampler's arrays
+    const int32_t *nxt              # the sample before each in its bin
+    const double *points            # (n, 2) samples
+    const double *radius            # r at each sample
+    double x0, y0                   # the pyramid's origin
+
+
+cdef Placed _placed_of(nxt, points, radius, double x0, double y0) except *:
+    """The struct view of the sampler's arrays (they must outlive it)."""
+    cdef const int32_t[::1] nx = nxt
+    cdef const double[:, ::1] pt = points
+    cdef const double[::1] rd = radius
+    return Placed(&nx[0], &pt[0, 0], &rd[0], x0, y0)
+
+
 cdef struct Query:
     # a question to the samples near a point or box (:func:`_any_sample`)
     double x, y, size               # the box [x, x + size] x [y, y + size] (a point: size 0)
     double r                        # r at the point, or the lower bound of r on the box
-    const double *points            # (n, 2) samples
-    const double *radius            # r at each sample
+    const Placed *placed
     const Chords *chords
 
 # Does sample q answer the query (conflict with the point, cover the box)?
@@ -180,13 +195,12 @@ ctypedef bint (*SampleTest)(const Query *query, Py_ssize_t q) noexcept nogil
 
 
 cdef bint _any_sample(const Query *query, SampleTest test, Py_ssize_t first, Py_ssize_t last,
-                      const Bins *b, const int32_t[::1] nxt, double x0,
-                      double y0) noexcept nogil:
+                      const Bins *b) noexcept nogil:
     """Does ``test`` hold for a sample on the levels first..last within min(r, 2 h) of
     the query's box (a sample of level l matters within r(q) < 2 h of it)?"""
     cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
     cdef int32_t q
-    cdef double h, reach
+    cdef double h, reach, x0 = query.placed.x0, y0 = query.placed.y0
     for level in range(first, last + 1):
         if b.counts[level] == 0:
             continue
@@ -202,15 +216,15 @@ cdef bint _any_sample(const Query *query, SampleTest test, Py_ssize_t first, Py_
                 while q >= 0:
                     if test(query, q):
                         return True
-                    q = nxt[q]
+                    q = query.placed.nxt[q]
     return False
 
 
 cdef bint _conflicts(const Query *query, Py_ssize_t q) noexcept nogil:
     """Is sample q closer to the point than min(r(x), r(q)), and seen from it?"""
-    cdef double qx = query.points[2 * q], qy = query.points[2 * q + 1]
+    cdef double qx = query.placed.points[2 * q], qy = query.placed.points[2 * q + 1]
     cdef double dx = qx - query.x, dy = qy - query.y
-    cdef double bound = min(query.r, query.radius[q])
+    cdef double bound = min(query.r, query.placed.radius[q])
     return dx * dx + dy * dy < bound * bound and sees(
         query.x, query.y, -1, qx, qy, _out(query.chords, q), query.chords)
 
@@ -218,26 +232,25 @@ cdef bint _conflicts(const Query *query, Py_ssize_t q) noexcept nogil:
 cdef bint _covers(const Query *query, Py_ssize_t q) noexcept nogil:
     """Is the box's farthest corner within min(r(q), low) of sample q, and does q see
     all of the box that lies in the region?"""
-    cdef double qx = query.points[2 * q], qy = query.points[2 * q + 1]
+    cdef double qx = query.placed.points[2 * q], qy = query.placed.points[2 * q + 1]
     cdef double fx = max(abs(qx - query.x), abs(qx - (query.x + query.size)))
     cdef double fy = max(abs(qy - query.y), abs(qy - (query.y + query.size)))
-    cdef double bound = min(query.radius[q], query.r)
+    cdef double bound = min(query.placed.radius[q], query.r)
     return fx * fx + fy * fy <= bound * bound and box_seen(
         qx, qy, _out(query.chords, q), query.x, query.y, query.size, 1e-9 * bound,
         query.chords)
 
 
 cdef bint _free(double x, double y, double rx, double grading, const double[::1] chord_bound,
-                const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
-                const double[::1] radius, double x0, double y0, const Chords *c) noexcept nogil:
+                const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
     """True if no sample q that (x, y) sees has |x - q| < min(r(x), r(q)), and x does
     not encroach on a chord (:func:`_encroaches`). A conflicting q has r(q) within
     r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels."""
     if _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
         return False
-    cdef Query query = Query(x, y, 0.0, rx, &points[0, 0], &radius[0], c)
+    cdef Query query = Query(x, y, 0.0, rx, p, c)
     return not _any_sample(&query, _conflicts, _level(rx * (1.0 - grading), b),
-                           _level(rx * (1.0 + grading), b), b, nxt, x0, y0)
+                           _level(rx * (1.0 + grading), b), b)
 
 
 cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double[:, ::1] points,
@@ -285,12 +298,13 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     cdef double[:, ::1] pt = points
     cdef double[::1] rd = radius
     cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef Py_ssize_t t, k
     with nogil:
         for t in range(od.shape[0]):
             k = od[t]
-            if _free(cd[k, 0], cd[k, 1], cr[k], grading, cb, &b, nx, pt, rd, x0, y0, &c):
+            if _free(cd[k, 0], cd[k, 1], cr[k], grading, cb, &b, &p, &c):
                 _place(cd[k, 0], cd[k, 1], cr[k], &b, nx, pt, rd, count, x0, y0)
                 count += 1
     return count
@@ -304,10 +318,8 @@ def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, do
     them first (in parallel) spares the radius field and the sequential insertion."""
     cdef const double[:, ::1] cd = cand
     cdef const double[::1] lw = low, hi = high
-    cdef const int32_t[::1] nx = nxt
-    cdef const double[:, ::1] pt = points
-    cdef const double[::1] rd = radius
     cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef Py_ssize_t n = cd.shape[0], k
     cdef Query query
@@ -315,23 +327,21 @@ def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, do
     cdef uint8_t[::1] out = out_array.view(np.uint8)
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n)):
-        query = Query(cd[k, 0], cd[k, 1], 0.0, lw[k], &pt[0, 0], &rd[0], &c)
+        query = Query(cd[k, 0], cd[k, 1], 0.0, lw[k], &p, &c)
         out[k] = _any_sample(&query, _conflicts, _level(lw[k] * (1.0 - grading), &b),
-                             _level(hi[k] * (1.0 + grading), &b), &b, nx, x0, y0)
+                             _level(hi[k] * (1.0 + grading), &b), &b)
     return out_array
 
 
 cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double grading,
-                       const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
-                       const double[::1] radius, double x0, double y0,
-                       const Chords *c) noexcept nogil:
+                       const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
     """Does one sample q cover the box (see :func:`uncovered_boxes`)? Such a q is within
     low + s√2 of the box's centre, where r is at most low + L s/√2, so r(q) is within
     L (low + 2 s) of that: that picks the levels."""
     cdef double centre_r = low + grading * s, spread = grading * (low + 2.0 * s)
-    cdef Query query = Query(x_lo, y_lo, s, low, &points[0, 0], &radius[0], c)
+    cdef Query query = Query(x_lo, y_lo, s, low, p, c)
     return _any_sample(&query, _covers, _level(centre_r - spread, b),
-                       _level(centre_r + spread, b), b, nxt, x0, y0)
+                       _level(centre_r + spread, b), b)
 
 
 def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, nxt, points,
@@ -341,10 +351,8 @@ def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, 
     within min(r(q), low) (``low`` a lower bound of r on the box) and q to see all of
     the box that lies in the region."""
     cdef const double[::1] x = bx, y = by, s = size, lw = low, cb = chord_bound
-    cdef const int32_t[::1] nx = nxt
-    cdef const double[:, ::1] pt = points
-    cdef const double[::1] rd = radius
     cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef Py_ssize_t n = x.shape[0], k
     keep_array = np.empty(n, np.bool_)
@@ -352,6 +360,6 @@ def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, 
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n)):
         keep[k] = lw[k] <= 0.0 or not (
-            _box_covered(x[k], y[k], s[k], lw[k], grading, &b, nx, pt, rd, x0, y0, &c)
+            _box_covered(x[k], y[k], s[k], lw[k], grading, &b, &p, &c)
             or _box_in_lens(x[k], y[k], s[k], lw[k], grading, cb, &c))
     return keep_array
