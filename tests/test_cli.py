@@ -169,7 +169,7 @@ def test_parallel_jobs_give_identical_files_and_reports(part_stl, tmp_path, caps
 def test_auto_alpha_keeps_every_hole(part_stl, tmp_path, capsys):
     report = tmp_path / "r.json"
     assert main([part_stl, "-o", tmp_path / "m.ply", "--axis", "z", "--alpha", "auto",
-                 "--report", report]) == 0
+                 "--uniform", "--report", report]) == 0
     [entry] = load_report(report)
     assert entry["alpha_mode"] == "auto"
     assert entry["certificate"]["topology_ok"]
@@ -181,7 +181,7 @@ def test_auto_alpha_keeps_every_hole(part_stl, tmp_path, capsys):
 def test_graded_featuretype_section_keeps_its_topology_with_fewer_vertices(tmp_path, capsys):
     stl = shared_file("featuretype.STL")
     reports = tmp_path / "uniform.json", tmp_path / "graded.json"
-    assert main([stl, "-o", tmp_path / "u.ply", "--axis", "z", "--alpha", "auto",
+    assert main([stl, "-o", tmp_path / "u.ply", "--axis", "z", "--alpha", "auto", "--uniform",
                  "--report", reports[0]]) == 0
     assert main([stl, "-o", tmp_path / "g.ply", "--axis", "z", "--alpha", "auto",
                  "--grading", "0.25", "--report", reports[1]]) == 0     # implies --graded
@@ -192,6 +192,28 @@ def test_graded_featuretype_section_keeps_its_topology_with_fewer_vertices(tmp_p
     assert certificate["min_angle"] >= certificate["proven_angle"] > 22
     assert graded["samples"] < uniform["samples"] / 2
     assert "graded L=0.25" in capsys.readouterr().out
+
+
+def test_auto_alpha_is_graded_unless_uniform_is_asked(part_stl, tmp_path, capsys):
+    reports = tmp_path / "auto.json", tmp_path / "uniform.json"
+    assert main([part_stl, "-o", tmp_path / "a.ply", "--axis", "z", "--alpha", "auto",
+                 "--report", reports[0]]) == 0
+    assert main([part_stl, "-o", tmp_path / "u.ply", "--axis", "z", "--alpha", "auto",
+                 "--uniform", "--report", reports[1]]) == 0
+    [auto], [uniform] = (load_report(r) for r in reports)
+    assert auto["certificate"]["ok"] and auto["certificate"]["grading"] == 0.2
+    assert auto["certificate"]["betti_mesh"] == auto["region"]["betti"] == [1, 3]
+    assert "grading" not in uniform["certificate"] and uniform["certificate"]["ok"]
+    out = capsys.readouterr().out.splitlines()
+    assert "graded L=0.2" in out[0] and "graded L=" not in out[2]
+
+
+@pytest.mark.parametrize("options", [["--graded"], ["--grading", "0.3"]])
+def test_uniform_with_graded_is_refused(part_stl, tmp_path, capsys, options):
+    assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "auto",
+                 "--uniform", *options]) == 1
+    assert "--uniform and --graded/--grading" in one_error_line(capsys.readouterr().err)
+    assert not (tmp_path / "o.ply").exists()
 
 
 @pytest.mark.parametrize("grading", ["0", "1", "abc"])

@@ -21,6 +21,7 @@ from pds_plugin.mesh import mesh_betti
 from pds_plugin.sampling import estimate_samples
 from pds_plugin.sizing import angle_bound, inradius
 
+from conftest import shared_file
 from regions import multiscale_plates
 
 
@@ -98,6 +99,25 @@ def test_many_seeds_on_features_three_orders_of_magnitude_apart():
     # graded: a uniform mesh at the smallest radius would need over 100 times more
     smallest = mesh.certificate().smallest_radius
     assert max(sizes) < 0.01 * estimate_samples(region, smallest)
+
+
+def test_an_edge_made_of_vertices_1e8_off_a_line_is_covered_beyond_its_chords():
+    # the top edge's vertices alternate 1e-8 above and below y = 1 (the rounding of an
+    # STL section): the ring crosses a chord near one end, and the piece of region beyond
+    # the chord reached 1.22 r from the only chord end that sees it
+    top = [(x, 1 + s * 1e-8) for x, s in zip(np.linspace(3, 0, 6)[1:-1], (-1, 1, -1, -1))]
+    region = pds.Region.from_shapely(shapely.Polygon([(0, 0), (3, 0), (3, 1), *top, (0, 1)]))
+    _check_mesh(graded_mesh(region), polygonal=True)
+
+
+def test_the_angle_block_section_is_certified():
+    import trimesh
+    stl = shared_file("angle_block.STL")
+    lo, hi = trimesh.load_mesh(stl).bounds
+    region = pds.section(stl, plane_origin=(lo + hi) / 2, plane_normal=(0.0, 0.0, 1.0))
+    cert = graded_mesh(region).certificate()
+    assert cert.coverage_gap <= 1 + 1e-9
+    assert cert.ok, str(cert)
 
 
 def test_the_same_seed_gives_the_same_mesh_bit_for_bit():

@@ -20,7 +20,8 @@ from cython.parallel cimport prange
 from libc.stdint cimport int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
-from ._visibility_kernels cimport Chords, box_seen, chords_of, sees
+from ._visibility_kernels cimport (CellMarks, ChordGrid, Chords, bin_chords_by, box_seen,
+                                   chords_of, mark_cell, sees)
 
 cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
@@ -55,58 +56,39 @@ cdef inline Py_ssize_t _clamp(double v, Py_ssize_t n) noexcept nogil:
     return min(max(<Py_ssize_t>v, 0), n - 1)
 
 
+cdef void _cells_within_reach(double xa, double ya, double xb, double yb, double reach,
+                              const ChordGrid *g, CellMarks *marks) noexcept nogil:
+    """The cell rule of :func:`bin_chords_by_reach`: the cells of the chord's bounding box
+    grown by ``reach`` whose distance to the chord (clamp and test) is within
+    ``reach + h``."""
+    cdef Py_ssize_t lo_x = _clamp((min(xa, xb) - reach - g.x0) / g.h, g.nx)
+    cdef Py_ssize_t lo_y = _clamp((min(ya, yb) - reach - g.y0) / g.h, g.ny)
+    cdef Py_ssize_t hi_x = _clamp((max(xa, xb) + reach - g.x0) / g.h, g.nx)
+    cdef Py_ssize_t hi_y = _clamp((max(ya, yb) + reach - g.y0) / g.h, g.ny)
+    cdef double dx = xb - xa, dy = yb - ya, length2 = dx * dx + dy * dy
+    cdef double cx, cy, t, px, py, qx, qy, x_lo, y_lo, x_hi, y_hi
+    cdef Py_ssize_t jx, jy
+    for jy in range(lo_y, hi_y + 1):
+        for jx in range(lo_x, hi_x + 1):
+            x_lo, x_hi = g.x0 + jx * g.h, g.x0 + (jx + 1) * g.h
+            y_lo, y_hi = g.y0 + jy * g.h, g.y0 + (jy + 1) * g.h
+            cx = min(max(xa, x_lo), x_hi)
+            cy = min(max(ya, y_lo), y_hi)
+            t = 0.0
+            if length2 != 0.0:
+                t = min(max(((cx - xa) * dx + (cy - ya) * dy) / length2, 0.0), 1.0)
+            px, py = xa + t * dx, ya + t * dy
+            qx = min(max(px, x_lo), x_hi)
+            qy = min(max(py, y_lo), y_hi)
+            if (px - qx) * (px - qx) + (py - qy) * (py - qy) <= (reach + g.h) * (reach + g.h):
+                mark_cell(marks, jy * g.nx + jx)
+
+
 def bin_chords_by_reach(chords, reach, double x0, double y0, double h, Py_ssize_t nx,
                         Py_ssize_t ny):
     """CSR lists (start, items) of the chords within ``reach[e]`` of each cell."""
-    cdef const double[:, :, ::1] ch = chords
-    cdef const double[::1] rc = reach
-    cdef int64_t[::1] stamp = np.full(nx * ny, -1, np.int64)
-    start_array = np.zeros(nx * ny + 1, np.int64)
-    items_array = np.empty(0, np.int64)
-    cdef int64_t[::1] count = start_array
-    cdef int64_t[::1] items = items_array
-    cdef int64_t[::1] fill
-    cdef Py_ssize_t e, jx, jy, lo_x, lo_y, hi_x, hi_y, c
-    cdef double xa, ya, xb, yb, dx, dy, length2, cx, cy, t, px, py, qx, qy
-    cdef int phase
-    for phase in range(2):
-        if phase == 1:
-            np.cumsum(start_array, out=start_array)
-            items_array = np.empty(start_array[-1], np.int64)
-            items = items_array
-            fill = np.array(start_array[:-1])
-            stamp[:] = -1
-        with nogil:
-            for e in range(ch.shape[0]):
-                xa, ya, xb, yb = ch[e, 0, 0], ch[e, 0, 1], ch[e, 1, 0], ch[e, 1, 1]
-                lo_x = _clamp((min(xa, xb) - rc[e] - x0) / h, nx)
-                lo_y = _clamp((min(ya, yb) - rc[e] - y0) / h, ny)
-                hi_x = _clamp((max(xa, xb) + rc[e] - x0) / h, nx)
-                hi_y = _clamp((max(ya, yb) + rc[e] - y0) / h, ny)
-                dx, dy = xb - xa, yb - ya
-                length2 = dx * dx + dy * dy
-                for jy in range(lo_y, hi_y + 1):
-                    for jx in range(lo_x, hi_x + 1):
-                        # distance from the chord to the cell: clamp and test
-                        cx = min(max(xa, x0 + jx * h), x0 + (jx + 1) * h)
-                        cy = min(max(ya, y0 + jy * h), y0 + (jy + 1) * h)
-                        t = 0.0
-                        if length2 != 0.0:
-                            t = min(max(((cx - xa) * dx + (cy - ya) * dy) / length2, 0.0), 1.0)
-                        px, py = xa + t * dx, ya + t * dy
-                        qx = min(max(px, x0 + jx * h), x0 + (jx + 1) * h)
-                        qy = min(max(py, y0 + jy * h), y0 + (jy + 1) * h)
-                        if (px - qx) * (px - qx) + (py - qy) * (py - qy) > (rc[e] + h) * (rc[e] + h):
-                            continue
-                        c = jy * nx + jx
-                        if stamp[c] != e:
-                            stamp[c] = e
-                            if phase == 0:
-                                count[c + 1] += 1
-                            else:
-                                items[fill[c]] = e
-                                fill[c] += 1
-    return start_array, items_array
+    cdef ChordGrid grid = ChordGrid(x0, y0, h, nx, ny)
+    return bin_chords_by(chords, np.ascontiguousarray(reach, float), grid, _cells_within_reach)
 
 
 cdef inline Py_ssize_t _level(double r, const Bins *b) noexcept nogil:
@@ -185,37 +167,90 @@ cdef inline Py_ssize_t _out(const Chords *c, Py_ssize_t q) noexcept nogil:
     return c.out[q] if c.out else -1
 
 
+cdef struct Placed:
+    # the samples placed so far, as raw pointers into the sampler's arrays
+    const int32_t *nxt              # the sample before each in its bin
+    const double *points            # (n, 2) samples
+    const double *radius            # r at each sample
+    double x0, y0                   # the pyramid's origin
+
+
+cdef Placed _placed_of(nxt, points, radius, double x0, double y0) except *:
+    """The struct view of the sampler's arrays (they must outlive it)."""
+    cdef const int32_t[::1] nx = nxt
+    cdef const double[:, ::1] pt = points
+    cdef const double[::1] rd = radius
+    return Placed(&nx[0], &pt[0, 0], &rd[0], x0, y0)
+
+
+cdef struct Query:
+    # a question to the samples near a point or box (:func:`_any_sample`)
+    double x, y, size               # the box [x, x + size] x [y, y + size] (a point: size 0)
+    double r                        # r at the point, or the lower bound of r on the box
+    const Placed *placed
+    const Chords *chords
+
+# Does sample q answer the query (conflict with the point, cover the box)?
+ctypedef bint (*SampleTest)(const Query *query, Py_ssize_t q) noexcept nogil
+
+
+cdef bint _any_sample(const Query *query, SampleTest test, Py_ssize_t first, Py_ssize_t last,
+                      const Bins *b) noexcept nogil:
+    """Does ``test`` hold for a sample on the levels first..last within min(r, 2 h) of
+    the query's box (a sample of level l matters within r(q) < 2 h of it)?"""
+    cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
+    cdef int32_t q
+    cdef double h, reach, x0 = query.placed.x0, y0 = query.placed.y0
+    for level in range(first, last + 1):
+        if b.counts[level] == 0:
+            continue
+        h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
+        reach = min(query.r, 2.0 * h)
+        lo_x = _clamp((query.x - reach - x0) / h, nx)
+        lo_y = _clamp((query.y - reach - y0) / h, ny)
+        hi_x = _clamp((query.x + query.size + reach - x0) / h, nx)
+        hi_y = _clamp((query.y + query.size + reach - y0) / h, ny)
+        for jy in range(lo_y, hi_y + 1):
+            for jx in range(lo_x, hi_x + 1):
+                q = b.heads[b.offsets[level] + jy * nx + jx]
+                while q >= 0:
+                    if test(query, q):
+                        return True
+                    q = query.placed.nxt[q]
+    return False
+
+
+cdef bint _conflicts(const Query *query, Py_ssize_t q) noexcept nogil:
+    """Is sample q closer to the point than min(r(x), r(q)), and seen from it?"""
+    cdef double qx = query.placed.points[2 * q], qy = query.placed.points[2 * q + 1]
+    cdef double dx = qx - query.x, dy = qy - query.y
+    cdef double bound = min(query.r, query.placed.radius[q])
+    return dx * dx + dy * dy < bound * bound and sees(
+        query.x, query.y, -1, qx, qy, _out(query.chords, q), query.chords)
+
+
+cdef bint _covers(const Query *query, Py_ssize_t q) noexcept nogil:
+    """Is the box's farthest corner within min(r(q), low) of sample q, and does q see
+    all of the box that lies in the region?"""
+    cdef double qx = query.placed.points[2 * q], qy = query.placed.points[2 * q + 1]
+    cdef double fx = max(abs(qx - query.x), abs(qx - (query.x + query.size)))
+    cdef double fy = max(abs(qy - query.y), abs(qy - (query.y + query.size)))
+    cdef double bound = min(query.placed.radius[q], query.r)
+    return fx * fx + fy * fy <= bound * bound and box_seen(
+        qx, qy, _out(query.chords, q), query.x, query.y, query.size, 1e-9 * bound,
+        query.chords)
+
+
 cdef bint _free(double x, double y, double rx, double grading, const double[::1] chord_bound,
-                const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
-                const double[::1] radius, double x0, double y0, const Chords *c) noexcept nogil:
+                const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
     """True if no sample q that (x, y) sees has |x - q| < min(r(x), r(q)), and x does
     not encroach on a chord (:func:`_encroaches`). A conflicting q has r(q) within
     r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels."""
     if _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
         return False
-    cdef Py_ssize_t first = _level(rx * (1.0 - grading), b), last = _level(rx * (1.0 + grading), b)
-    cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
-    cdef int32_t q
-    cdef double h, reach, dx, dy, bound
-    for level in range(first, last + 1):
-        if b.counts[level] == 0:
-            continue
-        h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
-        reach = min(rx, 2.0 * h)
-        lo_x, lo_y = _clamp((x - reach - x0) / h, nx), _clamp((y - reach - y0) / h, ny)
-        hi_x, hi_y = _clamp((x + reach - x0) / h, nx), _clamp((y + reach - y0) / h, ny)
-        for jy in range(lo_y, hi_y + 1):
-            for jx in range(lo_x, hi_x + 1):
-                q = b.heads[b.offsets[level] + jy * nx + jx]
-                while q >= 0:
-                    dx = points[q, 0] - x
-                    dy = points[q, 1] - y
-                    bound = min(rx, radius[q])
-                    if dx * dx + dy * dy < bound * bound and sees(
-                            x, y, -1, points[q, 0], points[q, 1], _out(c, q), c):
-                        return False
-                    q = nxt[q]
-    return True
+    cdef Query query = Query(x, y, 0.0, rx, p, c)
+    return not _any_sample(&query, _conflicts, _level(rx * (1.0 - grading), b),
+                           _level(rx * (1.0 + grading), b), b)
 
 
 cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double[:, ::1] points,
@@ -263,50 +298,50 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     cdef double[:, ::1] pt = points
     cdef double[::1] rd = radius
     cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef Py_ssize_t t, k
     with nogil:
         for t in range(od.shape[0]):
             k = od[t]
-            if _free(cd[k, 0], cd[k, 1], cr[k], grading, cb, &b, nx, pt, rd, x0, y0, &c):
+            if _free(cd[k, 0], cd[k, 1], cr[k], grading, cb, &b, &p, &c):
                 _place(cd[k, 0], cd[k, 1], cr[k], &b, nx, pt, rd, count, x0, y0)
                 count += 1
     return count
 
 
+def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, double x0,
+            double y0, tuple vis):
+    """True for the candidates x that a sample already refuses whatever r(x) is in
+    [low, high]: a sample q that x sees with |x - q| < min(low, r(q)) <= min(r(x), r(q)).
+    Samples are only ever added, so :func:`insert_where_free` refuses them too; testing
+    them first (in parallel) spares the radius field and the sequential insertion."""
+    cdef const double[:, ::1] cd = cand
+    cdef const double[::1] lw = low, hi = high
+    cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
+    cdef Chords c = chords_of(vis)
+    cdef Py_ssize_t n = cd.shape[0], k
+    cdef Query query
+    out_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = out_array.view(np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n)):
+        query = Query(cd[k, 0], cd[k, 1], 0.0, lw[k], &p, &c)
+        out[k] = _any_sample(&query, _conflicts, _level(lw[k] * (1.0 - grading), &b),
+                             _level(hi[k] * (1.0 + grading), &b), &b)
+    return out_array
+
+
 cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double grading,
-                       const Bins *b, const int32_t[::1] nxt, const double[:, ::1] points,
-                       const double[::1] radius, double x0, double y0,
-                       const Chords *c) noexcept nogil:
+                       const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
     """Does one sample q cover the box (see :func:`uncovered_boxes`)? Such a q is within
     low + s√2 of the box's centre, where r is at most low + L s/√2, so r(q) is within
     L (low + 2 s) of that: that picks the levels."""
-    cdef double x_hi = x_lo + s, y_hi = y_lo + s
     cdef double centre_r = low + grading * s, spread = grading * (low + 2.0 * s)
-    cdef Py_ssize_t first = _level(centre_r - spread, b), last = _level(centre_r + spread, b)
-    cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
-    cdef int32_t q
-    cdef double h, reach, qx, qy, fx, fy, bound
-    for level in range(first, last + 1):
-        if b.counts[level] == 0:
-            continue
-        h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
-        reach = min(low, 2.0 * h)
-        lo_x, lo_y = _clamp((x_lo - reach - x0) / h, nx), _clamp((y_lo - reach - y0) / h, ny)
-        hi_x, hi_y = _clamp((x_hi + reach - x0) / h, nx), _clamp((y_hi + reach - y0) / h, ny)
-        for jy in range(lo_y, hi_y + 1):
-            for jx in range(lo_x, hi_x + 1):
-                q = b.heads[b.offsets[level] + jy * nx + jx]
-                while q >= 0:
-                    qx, qy = points[q, 0], points[q, 1]
-                    fx = max(abs(qx - x_lo), abs(qx - x_hi))
-                    fy = max(abs(qy - y_lo), abs(qy - y_hi))
-                    bound = min(radius[q], low)
-                    if fx * fx + fy * fy <= bound * bound and box_seen(
-                            qx, qy, _out(c, q), x_lo, y_lo, s, 1e-9 * bound, c):
-                        return True
-                    q = nxt[q]
-    return False
+    cdef Query query = Query(x_lo, y_lo, s, low, p, c)
+    return _any_sample(&query, _covers, _level(centre_r - spread, b),
+                       _level(centre_r + spread, b), b)
 
 
 def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, nxt, points,
@@ -316,10 +351,8 @@ def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, 
     within min(r(q), low) (``low`` a lower bound of r on the box) and q to see all of
     the box that lies in the region."""
     cdef const double[::1] x = bx, y = by, s = size, lw = low, cb = chord_bound
-    cdef const int32_t[::1] nx = nxt
-    cdef const double[:, ::1] pt = points
-    cdef const double[::1] rd = radius
     cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef Py_ssize_t n = x.shape[0], k
     keep_array = np.empty(n, np.bool_)
@@ -327,6 +360,6 @@ def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, 
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n)):
         keep[k] = lw[k] <= 0.0 or not (
-            _box_covered(x[k], y[k], s[k], lw[k], grading, &b, nx, pt, rd, x0, y0, &c)
+            _box_covered(x[k], y[k], s[k], lw[k], grading, &b, &p, &c)
             or _box_in_lens(x[k], y[k], s[k], lw[k], grading, cb, &c))
     return keep_array

@@ -10,7 +10,7 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 import numpy as np
 
 from cython.parallel cimport parallel, prange
-from libc.math cimport sqrt
+from libc.math cimport isfinite, sqrt
 from libc.stdlib cimport free, malloc
 from libc.stdint cimport int64_t
 
@@ -26,39 +26,83 @@ def build_cone_tree(xy, s, Py_ssize_t leaf_size):
     (perm, first, stop, left, right, box, smin); node k holds features
     perm[first[k]:stop[k]] inside ``box[k]`` = (xmin, ymin, xmax, ymax), the smallest
     s of which is ``smin[k]``; leaves have left[k] = -1. Nodes split at the median of
-    their wider side (a stable sort: the tree depends on the input only)."""
+    their wider side (a deterministic selection: the tree depends on the input only)."""
     xy = np.ascontiguousarray(xy, dtype=np.float64)
     s = np.ascontiguousarray(s, dtype=np.float64)
-    n = xy.shape[0]
-    perm = np.arange(n, dtype=np.int64)
-    cap = 8 * (n // max(leaf_size, 1) + 1) + 1
-    first = np.empty(cap, np.int64)
-    stop = np.empty(cap, np.int64)
-    left = np.full(cap, -1, np.int64)
-    right = np.full(cap, -1, np.int64)
-    box = np.empty((cap, 4))
-    smin = np.empty(cap)
-    first[0], stop[0] = 0, n
-    count, todo = 1, [0]
-    while todo:
-        k = todo.pop()
-        idx = perm[first[k]:stop[k]]
-        px, py = xy[idx, 0], xy[idx, 1]
-        box[k] = px.min(), py.min(), px.max(), py.max()
-        smin[k] = s[idx].min()
-        m = stop[k] - first[k]
-        if m <= leaf_size:
-            continue
-        axis = 0 if box[k, 2] - box[k, 0] >= box[k, 3] - box[k, 1] else 1
-        perm[first[k]:stop[k]] = idx[np.argsort(xy[idx, axis], kind="stable")]
-        half = first[k] + m // 2
-        first[count], stop[count] = first[k], half
-        first[count + 1], stop[count + 1] = half, stop[k]
-        left[k], right[k] = count, count + 1
-        todo += [count, count + 1]
-        count += 2
-    return (perm, first[:count].copy(), stop[:count].copy(), left[:count].copy(),
-            right[:count].copy(), box[:count].copy(), smin[:count].copy())
+    cdef Py_ssize_t n = xy.shape[0], cap = 8 * (n // max(leaf_size, 1) + 1) + 1
+    perm_array = np.arange(n, dtype=np.int64)
+    first_array, stop_array = np.empty(cap, np.int64), np.empty(cap, np.int64)
+    left_array, right_array = np.full(cap, -1, np.int64), np.full(cap, -1, np.int64)
+    box_array, smin_array = np.empty((cap, 4)), np.empty(cap)
+    todo_array = np.empty(cap, np.int64)
+    cdef const double[:, ::1] p = xy
+    cdef const double[::1] sz = s
+    cdef int64_t[::1] perm = perm_array, first = first_array, stop = stop_array
+    cdef int64_t[::1] left = left_array, right = right_array, todo = todo_array
+    cdef double[:, ::1] box = box_array
+    cdef double[::1] smin = smin_array
+    cdef Py_ssize_t count = 1, top = 1, k, t, i, m, half
+    cdef int axis
+    first[0], stop[0], todo[0] = 0, n, 0
+    with nogil:
+        while top:
+            top -= 1
+            k = todo[top]
+            box[k, 0] = box[k, 1] = 1e308
+            box[k, 2] = box[k, 3] = -1e308
+            smin[k] = 1e308
+            for t in range(first[k], stop[k]):
+                i = perm[t]
+                box[k, 0], box[k, 1] = min(box[k, 0], p[i, 0]), min(box[k, 1], p[i, 1])
+                box[k, 2], box[k, 3] = max(box[k, 2], p[i, 0]), max(box[k, 3], p[i, 1])
+                smin[k] = min(smin[k], sz[i])
+            m = stop[k] - first[k]
+            if m <= leaf_size:
+                continue
+            axis = 0 if box[k, 2] - box[k, 0] >= box[k, 3] - box[k, 1] else 1
+            half = first[k] + m // 2
+            _select(perm, p, axis, first[k], stop[k] - 1, half)
+            first[count], stop[count] = first[k], half
+            first[count + 1], stop[count + 1] = half, stop[k]
+            left[k], right[k] = count, count + 1
+            todo[top], todo[top + 1] = count, count + 1
+            top += 2
+            count += 2
+    return (perm_array, first_array[:count].copy(), stop_array[:count].copy(),
+            left_array[:count].copy(), right_array[:count].copy(), box_array[:count].copy(),
+            smin_array[:count].copy())
+
+
+cdef void _select(int64_t[::1] perm, const double[:, ::1] p, int axis, Py_ssize_t lo,
+                  Py_ssize_t hi, Py_ssize_t nth) noexcept nogil:
+    """Reorder perm[lo..hi] so that perm[nth] holds the point whose ``axis`` coordinate
+    would be there sorted, the ones before it no larger and the ones after no smaller
+    (Hoare's selection, median-of-three pivots: deterministic)."""
+    cdef Py_ssize_t i, j, mid
+    cdef double pivot, a, b, c
+    cdef int64_t swap
+    while hi > lo:
+        mid = lo + (hi - lo) // 2
+        a, b, c = p[perm[lo], axis], p[perm[mid], axis], p[perm[hi], axis]
+        pivot = max(min(a, b), min(max(a, b), c))
+        i, j = lo, hi
+        while i <= j:
+            while p[perm[i], axis] < pivot:
+                i += 1
+            while p[perm[j], axis] > pivot:
+                j -= 1
+            if i <= j:
+                swap = perm[i]
+                perm[i] = perm[j]
+                perm[j] = swap
+                i += 1
+                j -= 1
+        if nth <= j:
+            hi = j
+        elif nth >= i:
+            lo = i
+        else:
+            return
 
 
 cdef inline double _box_distance(double x, double y, const double[:, ::1] box,
@@ -121,3 +165,32 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
                                    stack)
         free(stack)
     return out_array
+
+
+def first_facing(xy, normal, rows, d, idx, start, double opposed):
+    """For each point i = rows[r] with its neighbours idx[r] at distances d[r] (nearest
+    first, scipy's k-d tree; inf past its bound): the first column t >= start[r] whose
+    neighbour j faces i *through material*, the step i -> j along i's inward normal and
+    against j's, the normals opposed (dot below ``opposed``); -1 if none."""
+    cdef const double[:, ::1] p = xy, nm = normal, dist = d
+    cdef const int64_t[::1] rw = rows, st = start
+    cdef const int64_t[:, ::1] nb = idx
+    cdef Py_ssize_t n = rw.shape[0], k = nb.shape[1], r, t, i, j
+    cdef double dx, dy, e
+    column_array = np.full(n, -1, np.int64)
+    cdef int64_t[::1] column = column_array
+    for r in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n)):
+        i = rw[r]
+        for t in range(st[r], k):
+            e = dist[r, t]
+            if not (isfinite(e) and e > 0.0):
+                continue
+            j = nb[r, t]
+            dx, dy = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]
+            if (dx * nm[i, 0] + dy * nm[i, 1] > 1e-9 * e
+                    and dx * nm[j, 0] + dy * nm[j, 1] < -1e-9 * e
+                    and nm[i, 0] * nm[j, 0] + nm[i, 1] * nm[j, 1] < opposed):
+                column[r] = t
+                break
+    return column_array

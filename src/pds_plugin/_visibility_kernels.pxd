@@ -12,6 +12,41 @@ cdef struct Chords:
     Py_ssize_t nx, ny
     bint empty                  # no chords: every point sees every point
 
+cdef struct ChordGrid:
+    # the square cells of side h of a chord grid, from (x0, y0)
+    double x0, y0, h
+    Py_ssize_t nx, ny
+
+cdef struct CellMarks:
+    # the two-phase fill of the CSR lists of :func:`bin_chords_by` (count, then place)
+    int64_t *stamp              # the last chord marked in each cell
+    int64_t *count
+    int64_t *items
+    int64_t *fill
+    Py_ssize_t chord
+    bint counting
+
+# A cell rule calls ``mark_cell`` for every cell of ``grid`` that the chord from
+# (xa, ya) to (xb, yb) must be listed in, given its reach (at least every cell within
+# ``reach`` of it; a cell may be marked more than once).
+ctypedef void (*CellRule)(double xa, double ya, double xb, double yb, double reach,
+                          const ChordGrid *grid, CellMarks *marks) noexcept nogil
+
+cdef tuple bin_chords_by(chords, reach, ChordGrid grid, CellRule rule)
+
+
+cdef inline void mark_cell(CellMarks *m, Py_ssize_t c) noexcept nogil:
+    """List the current chord in cell c (once)."""
+    if m.stamp[c] == m.chord:
+        return
+    m.stamp[c] = m.chord
+    if m.counting:
+        m.count[c + 1] += 1
+    else:
+        m.items[m.fill[c]] = m.chord
+        m.fill[c] += 1
+
+
 cdef Chords chords_of(tuple vis) except *
 cdef int orient_sign(double ax, double ay, double bx, double by, double cx,
                      double cy) noexcept nogil

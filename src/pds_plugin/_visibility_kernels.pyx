@@ -107,45 +107,59 @@ def orient(double ax, double ay, double bx, double by, double cx, double cy) -> 
     return orient_sign(ax, ay, bx, by, cx, cy)
 
 
-def bin_chords(chords, double x0, double y0, double h, Py_ssize_t nx, Py_ssize_t ny,
-               double reach):
-    """CSR lists (start, items) of the chords within ``reach`` of each cell."""
+cdef tuple bin_chords_by(chords, reach, ChordGrid grid, CellRule rule):
+    """CSR lists (start, items) of the chords of each cell of ``grid``: chord e is
+    listed in the cells that ``rule`` marks for it with its ``reach[e]``. Two passes
+    over the chords: count each cell's chords, then place them."""
     cdef const double[:, :, ::1] ch = chords
-    cdef Py_ssize_t r = <Py_ssize_t>ceil(reach / h) + 1, e, q, steps, ix, iy, jx, jy, c
-    cdef double xa, ya, xb, yb, f
-    cdef int phase
-    cdef int64_t[::1] stamp = np.full(nx * ny, -1, np.int64)
-    start_array = np.zeros(nx * ny + 1, np.int64)
+    cdef const double[::1] rc = reach
+    cdef Py_ssize_t cells = grid.nx * grid.ny, e
+    stamp = np.full(cells, -1, np.int64)
+    start_array = np.zeros(cells + 1, np.int64)
     items_array = np.empty(0, np.int64)
-    cdef int64_t[::1] count = start_array
-    cdef int64_t[::1] items = items_array
-    cdef int64_t[::1] fill
+    fill = np.empty(0, np.int64)
+    cdef int64_t[::1] stamp_view = stamp, count = start_array, items, fill_view
+    cdef CellMarks marks
+    marks.stamp, marks.count = &stamp_view[0], &count[0]
+    marks.items = marks.fill = NULL
+    cdef int phase
     for phase in range(2):
         if phase == 1:
             np.cumsum(start_array, out=start_array)
-            items_array = np.empty(start_array[-1], np.int64)
-            items = items_array
+            items_array = np.empty(max(start_array[-1], 1), np.int64)
             fill = np.array(start_array[:-1])
             stamp[:] = -1
+            items, fill_view = items_array, fill
+            marks.items, marks.fill = &items[0], &fill_view[0]
+        marks.counting = phase == 0
         with nogil:
             for e in range(ch.shape[0]):
-                xa, ya, xb, yb = ch[e, 0, 0], ch[e, 0, 1], ch[e, 1, 0], ch[e, 1, 1]
-                steps = <Py_ssize_t>ceil(hypot(xb - xa, yb - ya) / (0.5 * h)) + 1
-                for q in range(steps + 1):
-                    f = <double>q / steps
-                    ix = <Py_ssize_t>((xa + f * (xb - xa) - x0) / h)
-                    iy = <Py_ssize_t>((ya + f * (yb - ya) - y0) / h)
-                    for jy in range(max(iy - r, 0), min(iy + r + 1, ny)):
-                        for jx in range(max(ix - r, 0), min(ix + r + 1, nx)):
-                            c = jy * nx + jx
-                            if stamp[c] != e:
-                                stamp[c] = e
-                                if phase == 0:
-                                    count[c + 1] += 1
-                                else:
-                                    items[fill[c]] = e
-                                    fill[c] += 1
-    return start_array, items_array
+                marks.chord = e
+                rule(ch[e, 0, 0], ch[e, 0, 1], ch[e, 1, 0], ch[e, 1, 1], rc[e], &grid, &marks)
+    return start_array, items_array[:start_array[-1]]
+
+
+cdef void _cells_along(double xa, double ya, double xb, double yb, double reach,
+                       const ChordGrid *g, CellMarks *marks) noexcept nogil:
+    """The cell rule of :func:`bin_chords`: the cells within ceil(reach / h) + 1 cells of
+    points every h/2 along the chord."""
+    cdef Py_ssize_t r = <Py_ssize_t>ceil(reach / g.h) + 1, q, ix, iy, jx, jy
+    cdef Py_ssize_t steps = <Py_ssize_t>ceil(hypot(xb - xa, yb - ya) / (0.5 * g.h)) + 1
+    cdef double f
+    for q in range(steps + 1):
+        f = <double>q / steps
+        ix = <Py_ssize_t>((xa + f * (xb - xa) - g.x0) / g.h)
+        iy = <Py_ssize_t>((ya + f * (yb - ya) - g.y0) / g.h)
+        for jy in range(max(iy - r, 0), min(iy + r + 1, g.ny)):
+            for jx in range(max(ix - r, 0), min(ix + r + 1, g.nx)):
+                mark_cell(marks, jy * g.nx + jx)
+
+
+def bin_chords(chords, double x0, double y0, double h, Py_ssize_t nx, Py_ssize_t ny,
+               double reach):
+    """CSR lists (start, items) of the chords within ``reach`` of each cell."""
+    cdef ChordGrid grid = ChordGrid(x0, y0, h, nx, ny)
+    return bin_chords_by(chords, np.full(len(chords), reach), grid, _cells_along)
 
 
 cdef Chords chords_of(tuple vis) except *:

@@ -26,14 +26,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import shapely
 
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
-from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _chord_polygons,
+from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along,
                        _guards, _joined, check_rings_apart)
 from .sizing import RadiusField
 
@@ -98,18 +97,21 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
                    sampler.radius[:sampler.count].copy())
 
 
-def _tau_ring(ring, field, grading):
-    """The ring densified by bisection until every part is at most 0.3 of the lowest r
-    the field can have on it, with the sharp flags' positions (its own vertices), and
+def _tau_rings(rings, field, grading):
+    """Each ring densified by bisection until every part is at most 0.3 of the lowest r
+    the field can have on it, with the flags of its own vertices among the points, and
     the normalized arc length τ = ∫ dt / r at its points and closing point (trapezoid
-    rule). The number of points grows with ∫ dt / r, not with length / min r."""
-    points = ring
+    rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
+    are densified together (one field evaluation per round for all of them)."""
+    points = np.concatenate(rings)
+    ring = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
     radius = field(points)
     first = np.ones(len(points), bool)
     for _ in range(60):
-        following = np.roll(points, -1, axis=0)
+        after = _next_index(ring)
+        following = points[after]
         step = np.hypot(*(following - points).T)
-        low = np.minimum(radius, np.roll(radius, -1)) - 0.5 * grading * step
+        low = np.minimum(radius, radius[after]) - 0.5 * grading * step
         split = step > 0.3 * low
         if not split.any():
             break
@@ -118,10 +120,24 @@ def _tau_ring(ring, field, grading):
         points = np.insert(points, at, middle, axis=0)
         radius = np.insert(radius, at, field(middle))
         first = np.insert(first, at, False)
-    step = np.hypot(*np.diff(np.vstack([points, points[:1]]), axis=0).T)
-    inv = 1.0 / np.append(radius, radius[0])
-    tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inv[:-1] + inv[1:]))])
-    return points, first, tau
+        ring = np.insert(ring, at, ring[split])
+    ends = np.cumsum(np.bincount(ring, minlength=len(rings)))
+    out = []
+    for lo, hi in zip(np.concatenate([[0], ends[:-1]]), ends):
+        p, r = points[lo:hi], radius[lo:hi]
+        step = np.hypot(*np.diff(np.vstack([p, p[:1]]), axis=0).T)
+        inv = 1.0 / np.append(r, r[0])
+        tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inv[:-1] + inv[1:]))])
+        out.append((p, first[lo:hi], tau))
+    return out
+
+
+def _next_index(ring):
+    """The index of the next point along its ring (points of each ring consecutive)."""
+    change = ring[1:] != ring[:-1]
+    following = np.arange(1, len(ring) + 1)
+    following[np.append(change, True)] = np.flatnonzero(np.insert(change, 0, True))
+    return following
 
 
 def _positions(tau, corners, unit, rng):
@@ -145,6 +161,68 @@ def _positions(tau, corners, unit, rng):
         g = int(np.argmax(gaps))
         at = np.sort(np.append(at, (at[g] + 0.5 * gaps[g]) % length))
     return at
+
+
+def _uncrossed(samples, at, corner, vertices, vertex_at, length, field):
+    """A ring's boundary samples (at positions ``at`` along it, ``corner`` the sharp
+    ones; ``vertices`` its own vertices at positions ``vertex_at``, of ``length`` in
+    all) with a chord end moved onto the point where the ring crosses the chord, wherever
+    the ring's piece beyond the chord would otherwise reach farther than r from the only
+    chord end that sees it.
+
+    A ring that crosses its chord leaves a piece of region beyond the chord that only the
+    chord end it touches sees (the segment to the other end leaves the region, if only by
+    rounding: an STL section's straight edges are chains of vertices 1e-8 off a line).
+    When the crossing c, the piece's far point, is more than r(c) from that end, the
+    other end (not a sharp corner) moves onto c: a point of the ring between the two
+    ends, so the order of the samples stays, and the piece then lies between the chord
+    and its arc, seen from both ends. The move is made only when the moved sample stays
+    at least ``min(r(p), r(q))`` from both its neighbours q along the ring (the
+    separation of consecutive boundary samples, checked exactly rather than by τ).
+    Heights within 1e-9 cap of a chord count as on it, and ring vertices that close to a
+    chord end are not on its arc, as for the certificate (analysis/conformity.py).
+    """
+    n, tol = len(samples), 1e-9 * field.cap
+    chord = (np.searchsorted(at, vertex_at, side="right") - 1) % n
+    a, b = samples[chord], samples[(chord + 1) % n]
+    apart = (np.hypot(*(vertices - a).T) > tol) & (np.hypot(*(vertices - b).T) > tol)
+    chord, vertices, vertex_at, a, b = (v[apart] for v in (chord, vertices, vertex_at, a, b))
+    ab = b - a
+    height = (ab[:, 0] * (vertices[:, 1] - a[:, 1]) - ab[:, 1] * (vertices[:, 0] - a[:, 0])) \
+        / np.hypot(ab[:, 0], ab[:, 1])
+    height[np.abs(height) <= tol] = 0.0
+    beyond = np.bincount(chord, height < 0, minlength=n) > 0
+    back = np.bincount(chord, height >= 0, minlength=n) > 0     # the arc crosses back
+    samples = samples.copy()
+    for k in np.flatnonzero(beyond & back):
+        on = chord == k
+        order = np.argsort((vertex_at[on] - at[k]) % length, kind="stable")
+        arc = np.vstack([samples[k], vertices[on][order], samples[(k + 1) % n]])
+        h = np.concatenate([[0.0], height[on][order], [0.0]])
+        for end, step in ((k + 1, 1), (k, -1)):         # the piece at b, then at a
+            j = len(h) - 2 if step == 1 else 1          # the arc vertex next to that end
+            if h[j] >= 0:
+                continue
+            while h[j] < 0:                             # back along the piece to where
+                j -= step                               # the arc is on Q's side again
+            t = h[j] / (h[j] - h[j + step])
+            crossing = arc[j] + t * (arc[j + step] - arc[j])
+            mover = (k if step == 1 else k + 1) % n
+            _move_onto(samples, mover, crossing, corner, samples[end % n], field)
+    return samples
+
+
+def _move_onto(samples, mover, crossing, corner, holder, field):
+    """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
+    farther than r there, ``mover`` is not a sharp corner, and it stays separated from
+    its two neighbours along the ring."""
+    n = len(samples)
+    neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
+    radius = field(np.vstack([crossing, holder, neighbours]))
+    if corner[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
+        return
+    if np.all(np.hypot(*(neighbours - crossing).T) >= np.minimum(radius[0], radius[2:])):
+        samples[mover] = crossing
 
 
 class _GradedSampler:
@@ -216,12 +294,14 @@ class _GradedSampler:
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
         ring_xy = []
-        for ring in self.region.rings:
-            dense, first, tau = _tau_ring(ring, self.field, L)
+        for ring, (dense, first, tau) in zip(self.region.rings,
+                                             _tau_rings(self.region.rings, self.field, L)):
             sharp = np.zeros(len(dense), bool)
             sharp[first] = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
             at = _positions(tau, tau[:-1][sharp], unit, rng)
-            ring_xy.append(_along(at, tau, np.vstack([dense, dense[:1]])))
+            samples = _along(at, tau, np.vstack([dense, dense[:1]]))
+            ring_xy.append(_uncrossed(samples, at, np.isin(at, tau[:-1][sharp]), ring,
+                                      tau[:-1][first], tau[-1], self.field))
         boundary, self.rings = _joined(ring_xy)
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())
@@ -230,10 +310,9 @@ class _GradedSampler:
         self.count = kern.place(boundary, radius, self.bins, self.nxt, self.points, self.radius,
                                 0, self.x0, self.y0)
         self._check_count()
-        self.geometry = _chord_polygons(self.region, ring_xy)
-        shapely.prepare(self.geometry)
+        self.domain = self.vis, vis_kern.cell_sides(self.vis)   # exact in/out tests
         guards = _guards(boundary, self.rings, self.field)
-        guards = guards[shapely.contains_xy(self.geometry, guards[:, 0], guards[:, 1])]
+        guards = guards[vis_kern.points_inside(*self.domain, guards[:, 0], guards[:, 1])]
         self._insert(guards, np.arange(len(guards)))
         return len(boundary)
 
@@ -272,17 +351,17 @@ class _GradedSampler:
             bx = np.concatenate([bx, bx + half, bx, bx + half])
             by = np.concatenate([by, by, by + half, by + half])
             size, edge = np.tile(half, 4), np.tile(edge, 4)
-            boxes = self._boxes(bx, by, size, edge)
-            self._throw(boxes, rng)
+            boxes = self._open(self._boxes(bx, by, size, edge))   # darts only where no
+            self._throw(boxes, rng)                                # disc covers already
 
     def _boxes(self, bx, by, size, edge):
         """Boxes with their radius bound; of those that may reach outside (``edge``),
         the ones outside the chord polygons dropped and the ones inside marked so."""
-        cells = shapely.box(bx[edge], by[edge], bx[edge] + size[edge], by[edge] + size[edge])
+        state = vis_kern.boxes_state(*self.domain, bx[edge], by[edge], size[edge])
         keep = np.ones(len(bx), bool)
-        keep[edge] = shapely.intersects(self.geometry, cells)
+        keep[edge] = state != vis_kern.BOX_OUTSIDE
         edge = edge.copy()
-        edge[edge] = ~shapely.contains_properly(self.geometry, cells)
+        edge[edge] = state != vis_kern.BOX_INSIDE
         bx, by, size, edge = bx[keep], by[keep], size[keep], edge[keep]
         centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
         low = self.field.bounds(centre, size / math.sqrt(2))
@@ -339,7 +418,13 @@ class _GradedSampler:
         darts = np.column_stack([bx + u[:, 0] * size, by + u[:, 1] * size])
         order = rng.permutation(len(darts))
         inside = ~edge[order]
-        inside[~inside] = shapely.contains_xy(self.geometry, darts[order[~inside], 0],
-                                              darts[order[~inside], 1])
+        inside[~inside] = vis_kern.points_inside(*self.domain, darts[order[~inside], 0],
+                                                 darts[order[~inside], 1])
         order = order[inside]
+        # r(x) <= r(centre) + L h = low + 2 L h on a box of half-diagonal h
+        high = low + 2.0 * self.field.grading * size / math.sqrt(2)
+        refused = kern.refused(darts[order], low[order], high[order], self.field.grading,
+                               self.bins, self.nxt, self.points, self.radius, self.x0,
+                               self.y0, self.vis)
+        order = order[~refused]
         self._insert(darts[order], np.arange(len(order)))

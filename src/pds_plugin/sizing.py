@@ -17,6 +17,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import _sizing_kernels as kern
+from ._parallel import get_threads
 from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, turning_angles
@@ -289,7 +290,8 @@ def _wall_sizes(region, dense, cap):
         todo = []
         for bound in np.unique(reach[reach > 0]):
             rows = np.flatnonzero(reach == bound)
-            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound)
+            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound,
+                                workers=get_threads())
             todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
                                             idx.reshape(len(rows), k), wall)])
         reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
@@ -300,26 +302,21 @@ def _wall_sizes(region, dense, cap):
 
 def _nearest_walls(region, xy, normal, rows, d, idx, wall):
     """Set ``wall`` of the points ``rows`` from their neighbours (d, idx, nearest first):
-    the distance to the nearest one facing them whose midpoint is in the region. Returns
-    the positions in ``rows`` of the points that found none facing them and may have
-    more neighbours within reach."""
-    valid = np.isfinite(d) & (d > 0)
-    j = np.where(valid, idx, 0)
-    step = xy[j] - xy[rows, None, :]
-    facing = (valid & (np.einsum("nkc,nc->nk", step, normal[rows]) > 1e-9 * d)
-              & (np.einsum("nkc,nkc->nk", step, normal[j]) < -1e-9 * d)
-              & (np.einsum("nc,nkc->nk", normal[rows], normal[j]) < _OPPOSED))
-    found = facing.any(axis=1)
+    the distance to the nearest one facing them (``_sizing_kernels.first_facing``) whose
+    midpoint is in the region. Returns the positions in ``rows`` of the points that found
+    none facing them and may have more neighbours within reach."""
+    idx = np.ascontiguousarray(idx, np.int64)
+    column = kern.first_facing(xy, normal, rows, d, idx, np.zeros(len(rows), np.int64), _OPPOSED)
+    found = column >= 0
     at = np.flatnonzero(found)
-    column = np.argmax(facing[at], axis=1)            # the nearest facing neighbour
+    column = column[at]
     while len(at):
-        mid = 0.5 * (xy[rows[at]] + xy[j[at, column]])
+        mid = 0.5 * (xy[rows[at]] + xy[idx[at, column]])
         inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
         wall[rows[at[inside]]] = d[at[inside], column[inside]]
         at, column = at[~inside], column[~inside]
-        later = facing[at] & (np.arange(d.shape[1]) > column[:, None])
-        more = later.any(axis=1)
-        at, column = at[more], np.argmax(later[more], axis=1)
+        column = kern.first_facing(xy, normal, rows[at], d[at], idx[at], column + 1, _OPPOSED)
+        at, column = at[column >= 0], column[column >= 0]
     return np.flatnonzero(~found & np.isfinite(d[:, -1]))
 
 

@@ -10,9 +10,11 @@ from pathlib import Path
 from .._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .._version import __version__
 from ..batch.jobs import AXES
+from ..errors import ArgumentError
 from ..sources.solids import MAX_SECTIONS
 
-__all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "glue_negative_values"]
+__all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "wants_graded",
+           "glue_negative_values"]
 
 PROG = "pds-mesh"
 COMMANDS = ("mesh", "demo", "batch")
@@ -58,8 +60,13 @@ several sections (--slices, or --at with several offsets):
 alpha:
   The disc radius, in the input's units: the samples are >= alpha apart and cover the
   section within alpha, and every triangle has aspect ratio L^2/A <= 4*sqrt(3)
-  (Theorem 1). 'auto' starts from half the local feature size of the section's boundary
-  and refines alpha until the mesh has the section's holes and components (Theorem 2).
+  (Theorem 1). 'auto' makes a graded mesh: a radius that follows the section (small at
+  thin walls, holes and sharp corners, growing by at most L per unit of distance, up to
+  the section's own size), so every feature is kept with the fewest well-shaped
+  triangles (angles >= 23.6 degrees at the default L = 0.2). 'auto --uniform' uses one
+  alpha for the whole section: it starts from half the local feature size of the
+  section's boundary and refines alpha until the mesh has the section's holes and
+  components (Theorem 2).
 
 exit status: 0 success (a failed certificate is a warning), 1 bad input, 2 usage error.
 """
@@ -175,12 +182,16 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default: conforming, constrained to the section)")
     parser.add_argument("--graded", action="store_true",
                         help="sizes that follow the section: a radius field <= alpha from its "
-                             "walls, holes and corners (with --alpha auto capped only by the "
-                             "section's own size); angles >= arcsin((1 - L)/2), 23.6 degrees "
-                             "at the default L (docs/graded.md)")
+                             "walls, holes and corners; angles >= arcsin((1 - L)/2), 23.6 "
+                             "degrees at the default L (docs/graded.md). The default with "
+                             "--alpha auto, where the field is capped only by the section's "
+                             "own size")
     parser.add_argument("--grading", type=_grading, metavar="L",
-                        help="with --graded, the Lipschitz constant of the radius field, in "
-                             "(0, 1) (default 0.2); implies --graded")
+                        help="the Lipschitz constant of the graded radius field, in (0, 1) "
+                             "(default 0.2); implies --graded")
+    parser.add_argument("--uniform", action="store_true",
+                        help="with --alpha auto, one alpha for the whole section (the "
+                             "narrowest feature's), as before graded meshes were the default")
     parser.add_argument("--max-samples", type=_positive_int, metavar="N",
                         help="refuse sections that would need more samples (default "
                              "5,000,000); with --jobs the processes share it")
@@ -221,6 +232,41 @@ def _batch_arguments(parser: argparse.ArgumentParser) -> None:
                        help="local processes (default: one per core)")
     parser.add_argument("-q", "--quiet", action="store_true",
                         help="print nothing but the failed jobs")
+
+
+def wants_graded(args) -> bool:
+    """Whether ``pds-mesh mesh`` makes graded meshes: with ``--graded`` or ``--grading``,
+    and by default with ``--alpha auto`` (``--uniform`` and ``--no-conforming`` turn the
+    default off: graded meshes are always conforming).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        From :func:`parser`.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ArgumentError
+        If ``--uniform`` comes with ``--graded`` or ``--grading``.
+
+    Examples
+    --------
+    >>> def graded(*options):
+    ...     return wants_graded(parser().parse_args(["mesh", "p.stl", "-o", "c.ply", *options]))
+    >>> graded("--alpha", "auto"), graded("--alpha", "auto", "--uniform"), graded("--alpha", "2")
+    (True, False, False)
+    >>> graded("--alpha", "2", "--grading", "0.3"), graded("--alpha", "auto", "--no-conforming")
+    (True, False)
+    """
+    asked = args.graded or args.grading is not None
+    if args.uniform and asked:
+        raise ArgumentError("--uniform and --graded/--grading ask for different meshes; "
+                            "give one of them")
+    return asked or (args.alpha == "auto" and not args.uniform and args.conforming)
 
 
 def glue_negative_values(argv: list[str]) -> list[str]:

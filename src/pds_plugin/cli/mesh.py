@@ -22,10 +22,10 @@ from ..sampling import DEFAULT_MAX_SAMPLES
 from ..sinks.files import writers
 from ..sinks.plot import plot_report
 from ..sources.drawing import READERS, load_drawing
-from .arguments import AXES, PROG
+from .arguments import AXES, PROG, wants_graded
 from .output import say, summary, warn_about, write_report
 
-__all__ = ["Task", "mesh_section", "run"]
+__all__ = ["Task", "mesh_section", "mesh_and_report", "run"]
 
 
 @dataclass(frozen=True)
@@ -99,6 +99,11 @@ def mesh_section(task: Task) -> dict:
     >>> entry["certificate"]["ok"], out.read_bytes()[:3]
     (True, b'ply')
     """
+    return mesh_and_report(task)[1]
+
+
+def mesh_and_report(task: Task):
+    """:func:`mesh_section`, returning the mesh too: (PlanarMesh, report entry)."""
     budget = {} if task.max_samples is None else {"max_samples": task.max_samples}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -112,10 +117,10 @@ def mesh_section(task: Task) -> dict:
         except PdsError as error:         # say which of several sections failed
             raise type(error)(f"{task.output}: {error}") from error
         mesh.certificate()
-    return section_report(mesh, seed=task.seed,
-                          alpha_mode="auto" if task.alpha == "auto" else "given",
-                          output=task.output, plot=task.plot,
-                          warnings=[str(w.message) for w in caught])
+    return mesh, section_report(mesh, seed=task.seed,
+                                alpha_mode="auto" if task.alpha == "auto" else "given",
+                                output=task.output, plot=task.plot,
+                                warnings=[str(w.message) for w in caught])
 
 
 def run(args) -> int:
@@ -154,6 +159,7 @@ def run(args) -> int:
             if args.output.is_dir() else
             f"the output suffix must be one of {', '.join(writers())}"))
     _check_outputs([args.output, args.report, args.plot], args.input)
+    graded = wants_graded(args)
     if args.plot is not None:
         _check_picture(args.plot)
     regions = _regions(args)
@@ -168,8 +174,7 @@ def run(args) -> int:
         staged = [[files.enter_context(atomic_path(p)) if p else None for p in pair]
                   for pair in zip(outputs, plots)]
         tasks = [Task(region, args.alpha, args.seed, budget, output, plot, args.discs,
-                      write_output, write_plot, args.conforming,
-                      args.graded or args.grading is not None, args.grading)
+                      write_output, write_plot, args.conforming, graded, args.grading)
                  for region, output, plot, (write_output, write_plot)
                  in zip(regions, outputs, plots, staged)]
         entries = _run(tasks, workers, progress=len(tasks) > 1 and not args.quiet)
