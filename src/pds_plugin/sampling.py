@@ -602,18 +602,6 @@ def _joined(ring_xy):
     return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
 
 
-def _chord_polygons(region: Region, ring_xy) -> shapely.Geometry:
-    """The region bounded by the chords: each polygon's rings replaced by the polygons
-    through their boundary samples (``ring_xy`` in ``region.rings`` order)."""
-    polygons, k = [], 0
-    for polygon in region.geometry.geoms:
-        n = 1 + len(polygon.interiors)
-        polygons.append(shapely.Polygon(ring_xy[k], ring_xy[k + 1:k + n]))
-        k += n
-    geometry = shapely.MultiPolygon(polygons)
-    return geometry if geometry.is_valid else shapely.make_valid(geometry)
-
-
 def _guards(boundary, rings, alpha) -> np.ndarray:
     """A guard sample inside each chord longer than √3 alpha (a piece that cannot be
     split into parts in [alpha, √3 alpha]): on the chord's bisector at distance alpha,
