@@ -29,7 +29,7 @@ from . import batch, demo, mesh
 from .arguments import COMMANDS, PROG, glue_negative_values, parser
 from .output import say
 
-__all__ = ["main"]
+__all__ = ["main", "console"]
 
 _RUN = {"mesh": mesh.run, "demo": demo.run, "batch": batch.run}
 
@@ -75,6 +75,19 @@ def main(argv=None) -> int:
     finally:
         if main_thread:
             signal.signal(signal.SIGTERM, terminate)
+
+
+def console() -> None:
+    """The ``pds-mesh`` process: exit with :func:`main`'s status.
+
+    After an interrupt the run is over, so a further Ctrl-C (pressed twice quickly)
+    must not cut the exit short: it would end the process by the signal instead of
+    status 130, in the middle of the interpreter's shutdown.
+    """
+    status = main()
+    if status == 130:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    sys.exit(status)
 
 
 def _interrupt(signum, frame):

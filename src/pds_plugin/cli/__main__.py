@@ -1,7 +1,5 @@
 """``python -m pds_plugin.cli``: the ``pds-mesh`` command."""
 
-import sys
+from . import console
 
-from . import main
-
-sys.exit(main())
+console()
