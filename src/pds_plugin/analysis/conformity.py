@@ -293,6 +293,13 @@ class SampledBoundary:
     def arcs(self, chords: np.ndarray):
         """The polylines ``a, arc vertices..., b`` of ``chords`` (bool mask): (K, 2, 2)
         segments and the chord of each."""
+        xy, c = self._arc_points(chords)
+        same = c[1:] == c[:-1]
+        return np.stack([xy[:-1][same], xy[1:][same]], axis=1), c[:-1][same]
+
+    def _arc_points(self, chords: np.ndarray):
+        """The points ``a, arc vertices..., b`` of ``chords`` (bool mask), chord by chord
+        in order along each arc, and the chord of each point."""
         pick = chords[self.arc_chord]
         c = np.concatenate([np.flatnonzero(chords), self.arc_chord[pick], np.flatnonzero(chords)])
         rank = np.concatenate([np.zeros(chords.sum()), 1 + np.arange(pick.sum()),
@@ -300,9 +307,57 @@ class SampledBoundary:
         xy = np.concatenate([self.points[self.a[chords]], self.arc_xy[pick],
                              self.points[self.b[chords]]])
         order = np.lexsort((rank, c))
-        c, xy = c[order], xy[order]
-        same = c[1:] == c[:-1]
-        return np.stack([xy[:-1][same], xy[1:][same]], axis=1), c[:-1][same]
+        return xy[order], c[order]
+
+    def loop_areas(self):
+        """Q's area outside the region and the region's area outside Q, from the loops
+        ``a``, arc, ``b``, back to ``a`` of the chords; None when the loops are not proven
+        apart.
+
+        The indicator of the region is the sum of the winding numbers of its rings (each
+        with the region on its left), so it is the winding number of Q's chords plus the
+        sum of those of the loops (a chord and its arc add up to the loop, the chord's own
+        terms cancelling). An arc (a piece of a simple ring) whose vertices all lie
+        strictly on one side of its chord's line makes a simple loop: beyond the chord,
+        it turns counter-clockwise (winding number 1 inside, 0 outside), on Q's side
+        clockwise (-1 inside); an arc whose vertices all lie on the line is a piece of
+        segment from ``a`` to ``b`` and encloses nothing. When, moreover, no two loops
+        share interior points, region minus Q is, point by point, 1 inside the loops
+        beyond their chords, -1 inside those on Q's side, 0 elsewhere: the areas are the
+        sums of the loops' areas, exactly up to the rounding of the samples onto the rings
+        and of the shoelace. None when an arc has vertices on both sides of its chord's
+        line, or on it and off it, or when two loops overlap (the region's boundary
+        passing within a sagitta of another chord).
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import Point
+        >>> disc = Point(0, 0).buffer(1.0, quad_segs=4)            # 16 vertices
+        >>> region = pds.Region.from_shapely(disc.difference(Point(0, 0).buffer(0.5, quad_segs=4)))
+        >>> at = region.segments[::2, 0]                           # samples on every other vertex
+        >>> s = SampledBoundary(region, at, np.ones(len(at), bool), 0.5)
+        >>> outside, missing = s.loop_areas()
+        >>> Q = s.polygon()
+        >>> overlay = Q.difference(region.geometry).area, region.geometry.difference(Q).area
+        >>> bool(outside > 0 and missing > 0 and np.allclose((outside, missing), overlay))
+        True
+        """
+        offset, n = self.arc_offset, len(self.a)
+        beyond = np.bincount(self.arc_chord, offset < 0, minlength=n) > 0
+        into = np.bincount(self.arc_chord, offset > 0, minlength=n) > 0
+        on_line = np.bincount(self.arc_chord, offset == 0, minlength=n) > 0
+        if (beyond & into).any() or (on_line & (beyond | into)).any():
+            return None
+        xy, chord = self._arc_points(beyond | into)
+        if len(chord):
+            loop = np.concatenate([[0], np.cumsum(chord[1:] != chord[:-1])])
+            loops = shapely.polygons(shapely.linearrings(xy, indices=loop))
+            first, second = shapely.STRtree(loops).query(loops)
+            pair = first < second
+            if shapely.relate_pattern(loops[first[pair]], loops[second[pair]], "T********").any():
+                return None
+        return -self.loop_area(into), self.loop_area(beyond)
 
     def sliver_gap(self):
         """The largest distance from a point of the region beyond the chords to a chord end
@@ -335,13 +390,32 @@ class SampledBoundary:
         return gap, at
 
     def sliver_area(self) -> float:
-        """Total area of the region beyond the chords: the convex slivers (shoelace over
-        their closed polylines) and the pieces of mixed arcs."""
-        segments, _ = self.arcs(self.sliver)
-        closing = np.stack([self.points[self.b[self.sliver]], self.points[self.a[self.sliver]]], axis=1)
-        segments = np.concatenate([segments, closing])
+        """Total area of the region beyond the chords: the convex slivers and the pieces
+        of mixed arcs."""
+        return self.loop_area(self.sliver) + float(self._pieces[2].sum())
+
+    def loop_area(self, chords: np.ndarray) -> float:
+        """Signed area enclosed by the closed polylines ``a``, arc vertices..., ``b``, back
+        to ``a`` of ``chords`` (bool mask): positive for arcs beyond their chord. Each
+        loop's shoelace is taken about its own ``a`` (about the origin, coordinates far
+        from it would cancel a thin sliver to nothing).
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import Point
+        >>> disc = pds.Region.from_shapely(Point(0, 0).buffer(1.0, quad_segs=4))  # 16 vertices
+        >>> at = disc.segments[::2, 0]                     # samples on every other vertex
+        >>> s = SampledBoundary(disc, at, np.ones(len(at), bool), 0.5)
+        >>> bool(np.isclose(s.loop_area(~s.straight), disc.area - s.area()))
+        True
+        """
+        segments, chord = self.arcs(chords)
+        closing = np.stack([self.points[self.b[chords]], self.points[self.a[chords]]], axis=1)
+        start = self.points[self.a[np.concatenate([chord, np.flatnonzero(chords)])]]
+        segments = np.concatenate([segments, closing]) - start[:, None]
         cross = segments[:, 0, 0] * segments[:, 1, 1] - segments[:, 0, 1] * segments[:, 1, 0]
-        return float(abs(cross.sum()) / 2 + self._pieces[2].sum())
+        return float(cross.sum() / 2)
 
     def polygon(self):
         """The sampled boundary polygon Q (rings of fewer than 3 samples left out)."""
@@ -387,12 +461,14 @@ class _Conformity:
 
     def _areas_off(self, sampled_outline):
         """Mesh area outside the region and region area outside the mesh, / region area.
-        A mesh that is Q with every chord straight is the region itself (every ring vertex
-        is a sample): both are 0 without an overlay."""
-        if sampled_outline and self.sampled.straight.all():
-            return 0.0, 0.0
-        outline, region = self.mesh.outline, self.mesh.region.geometry
+        A mesh whose outline is Q (its triangles tile Q) needs no overlay when the loops
+        between chords and arcs are proven apart (:meth:`SampledBoundary.loop_areas`);
+        otherwise shapely's overlay measures both."""
         area = self.mesh.region.area
+        found = self.sampled.loop_areas() if sampled_outline else None
+        if found is not None:
+            return max(0.0, found[0]) / area, max(0.0, found[1]) / area
+        outline, region = self.mesh.outline, self.mesh.region.geometry
         return (float(shapely.difference(outline, region).area / area),
                 float(shapely.difference(region, outline).area / area))
 
