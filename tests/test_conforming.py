@@ -383,3 +383,27 @@ def test_the_mil_drawing_is_covered_at_the_benchmark_alpha(seed):
     cert = mesh.certificate()
     assert cert.ok and cert.visibility and cert.coverage_gap <= 1, str(cert)
 
+
+
+@pytest.mark.parametrize("tip", [1.9, 2.5])
+def test_loop_areas_are_the_overlay_or_refused(tip):
+    """A house (roof peak skipped by the samples: a sliver of area 2 beyond the chord
+    y = 2) with a hole whose tip is skipped too (a bulge into Q, on the chord y = 1.4).
+    With the tip below y = 2 the loops are apart and their areas are Q's area outside the
+    region and the region's outside Q; with the tip above it, the tip is cut out of both
+    (the loops overlap) and no answer is given."""
+    house = Polygon([(0, 0), (4, 0), (4, 2), (2, 3), (0, 2)],
+                    [[(1.5, 1), (1.5, 1.4), (2, tip), (2.5, 1.4), (2.5, 1)]])
+    region = pds.Region.from_shapely(house)
+    skipped = np.isin(region.segments[:, 0, 1], [3.0, tip])
+    samples = region.segments[~skipped, 0]
+    sampled = SampledBoundary(region, samples, np.ones(len(samples), bool), 0.5)
+    Q = sampled.polygon()
+    outside, missing = Q.difference(region.geometry).area, region.geometry.difference(Q).area
+    bulge = (tip - 1.4) / 2
+    if tip < 2:
+        assert np.allclose((outside, missing), (bulge, 2.0), rtol=1e-12, atol=0)
+        assert np.allclose(sampled.loop_areas(), (outside, missing), rtol=1e-12, atol=0)
+    else:
+        assert outside < bulge - 0.1 and missing < 2.0 - 0.1
+        assert sampled.loop_areas() is None

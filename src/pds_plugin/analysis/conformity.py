@@ -312,7 +312,8 @@ class SampledBoundary:
     def loop_areas(self):
         """Q's area outside the region and the region's area outside Q, from the loops
         ``a``, arc, ``b``, back to ``a`` of the chords; None when the loops are not proven
-        apart.
+        apart. Q is taken to be a polygon: its chords wind 0 or 1 times about every point
+        (as they do about the outline of a mesh that tiles Q, see the module documentation).
 
         The indicator of the region is the sum of the winding numbers of its rings (each
         with the region on its left), so it is the winding number of Q's chords plus the
