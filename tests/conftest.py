@@ -112,7 +112,9 @@ def chord_region(points, rings, region):
         n = 1 + len(polygon.interiors)
         polygons.append(shapely.Polygon(rings[k], rings[k + 1:k + n]))
         k += n
-    return shapely.MultiPolygon(polygons)
+    geometry = shapely.MultiPolygon(polygons)
+    # chords of a spike of width 0 touch each other: GEOS overlays refuse that polygon
+    return geometry if geometry.is_valid else shapely.make_valid(geometry)
 
 
 def visible_pairs_closer_than(points, domain, alpha):
