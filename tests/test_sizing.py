@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon, box
 
 import pds_plugin as pds
-from pds_plugin._sizing_kernels import build_cone_tree, nearest_facing
+from pds_plugin._sizing_kernels import build_cone_tree, nearest_facing, normal_bounds
 from pds_plugin.errors import ArgumentError, ArgumentTypeError
 from pds_plugin.sizing import RadiusField, angle_bound, inradius, radius_field
 
@@ -59,6 +59,7 @@ def test_the_wall_search_visits_every_facing_point_nearest_first():
     rows = np.arange(0, 500, 7)
     reach = rng.uniform(0.5, 6, len(rows))
     tree = build_cone_tree(xy, np.zeros(500), 8)[:6]
+    tree += (normal_bounds(normal, tree[1], tree[2], tree[0]),)
     after_d, after_j = np.zeros(len(rows)), np.full(len(rows), np.iinfo(np.int64).max)
     found = [[] for _ in rows]
     while True:

@@ -177,14 +177,37 @@ cdef inline bint _faces(const double[:, ::1] p, const double[:, ::1] nm, Py_ssiz
             and nm[i, 0] * nm[j, 0] + nm[i, 1] * nm[j, 1] < opposed)
 
 
+def normal_bounds(normal, first, stop, perm):
+    """(nx min, ny min, nx max, ny max) of the unit normals of each node's points
+    perm[first[k]:stop[k]] of a ``build_cone_tree`` tree of the points."""
+    cdef const double[:, ::1] nm = normal
+    cdef const int64_t[::1] fs = first, st = stop, pm = perm
+    cdef Py_ssize_t m = fs.shape[0], k, t, i
+    bounds_array = np.empty((m, 4))
+    cdef double[:, ::1] bounds = bounds_array
+    with nogil:
+        for k in range(m):
+            bounds[k, 0] = bounds[k, 1] = 1e308
+            bounds[k, 2] = bounds[k, 3] = -1e308
+            for t in range(fs[k], st[k]):
+                i = pm[t]
+                bounds[k, 0], bounds[k, 1] = min(bounds[k, 0], nm[i, 0]), min(bounds[k, 1], nm[i, 1])
+                bounds[k, 2], bounds[k, 3] = max(bounds[k, 2], nm[i, 0]), max(bounds[k, 3], nm[i, 1])
+    return bounds_array
+
+
 cdef int64_t _nearest_facing(Py_ssize_t i, double limit, double after_d, int64_t after_j,
                              double opposed, const double[:, ::1] p, const double[:, ::1] nm,
                              const int64_t[::1] perm, const int64_t[::1] first,
                              const int64_t[::1] stop, const int64_t[::1] left,
                              const int64_t[::1] right, const double[:, ::1] box,
-                             int64_t *stack, double *distance) noexcept nogil:
+                             const double[:, ::1] nbox, int64_t *stack,
+                             double *distance) noexcept nogil:
     """The nearest point j facing point i at a distance 0 < e < limit after (after_d,
-    after_j) in the order of (distance, index), -1 if none; its distance in *distance."""
+    after_j) in the order of (distance, index), -1 if none; its distance in *distance.
+    Nodes whose normals cannot be opposed to i's (the smallest dot product over their
+    normal box ``nbox`` is at least ``opposed``) are pruned: the points on i's own edge
+    cost nothing however finely it is densified."""
     cdef double x = p[i, 0], y = p[i, 1], best = INFINITY, dx, dy, e
     cdef int64_t best_j = -1
     cdef Py_ssize_t top = 1, k, t, j, a, b
@@ -193,7 +216,9 @@ cdef int64_t _nearest_facing(Py_ssize_t i, double limit, double after_d, int64_t
         top -= 1
         k = stack[top]
         e = _box_distance(x, y, box, k)
-        if e >= limit or e > best:
+        if (e >= limit or e > best
+                or min(nm[i, 0] * nbox[k, 0], nm[i, 0] * nbox[k, 2])
+                + min(nm[i, 1] * nbox[k, 1], nm[i, 1] * nbox[k, 3]) >= opposed):
             continue
         if left[k] < 0:
             for t in range(first[k], stop[k]):
@@ -217,16 +242,16 @@ cdef int64_t _nearest_facing(Py_ssize_t i, double limit, double after_d, int64_t
 
 
 def nearest_facing(xy, normal, rows, reach, after_d, after_j, double opposed, perm, first,
-                   stop, left, right, box):
+                   stop, left, right, box, normal_box):
     """For each point i = rows[r]: the nearest point j facing it through material
     (``_faces``) at a distance e with 0 < e < reach[r] that comes after (after_d[r],
     after_j[r]) in the order of (distance, index); returns the (distances, indices), inf
     and -1 where there is none. The points' k-d tree is ``build_cone_tree``'s (its sizes
     unused): a depth-first search, the nearer child first, pruning the nodes farther than
-    the best so far or than the reach. Calling it again with the answer as ``after``
+    the best so far or than the reach and those with no normal opposed to i's. Calling it again with the answer as ``after``
     gives the next facing point, so every facing point within reach can be visited in
-    order of distance."""
-    cdef const double[:, ::1] p = xy, nm = normal, bx = box
+    order of distance. ``normal_box`` is ``normal_bounds``'s for the tree."""
+    cdef const double[:, ::1] p = xy, nm = normal, bx = box, nb = normal_box
     cdef const double[::1] rc = reach, ad = after_d
     cdef const int64_t[::1] rw = rows, aj = after_j
     cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
@@ -240,6 +265,6 @@ def nearest_facing(xy, normal, rows, reach, after_d, after_j, double opposed, pe
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         for r in prange(n, schedule="dynamic", chunksize=CHUNK):
             index[r] = _nearest_facing(rw[r], rc[r], ad[r], aj[r], opposed, p, nm, pm, fs, st,
-                                       lf, rt, bx, stack, &distance[r])
+                                       lf, rt, bx, nb, stack, &distance[r])
         free(stack)
     return distance_array, index_array

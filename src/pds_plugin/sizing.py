@@ -280,13 +280,14 @@ def _wall_sizes(region, dense, cap):
     points whose midpoint with it is outside the region the next one, and so on."""
     xy, normal = dense["xy"], dense["normal"]
     perm, first, stop, left, right, box, _ = kern.build_cone_tree(xy, np.zeros(len(xy)), 8)
+    normal_box = kern.normal_bounds(normal, first, stop, perm)
     wall = np.full(len(xy), np.inf)
     reach = np.exp2(np.ceil(np.log2(np.minimum(dense["base"], cap) / _WALL)))
     rows = np.flatnonzero(reach > 0)
     after_d, after_j = np.zeros(len(rows)), np.full(len(rows), np.iinfo(np.int64).max)
     while len(rows):
         d, j = kern.nearest_facing(xy, normal, rows, reach[rows], after_d, after_j, _OPPOSED,
-                                   perm, first, stop, left, right, box)
+                                   perm, first, stop, left, right, box, normal_box)
         found = j >= 0
         rows, d, j = rows[found], d[found], j[found]
         mid = 0.5 * (xy[rows] + xy[j])
