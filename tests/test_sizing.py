@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon, box
 
 import pds_plugin as pds
+from pds_plugin._sizing_kernels import build_cone_tree, nearest_facing, normal_bounds
 from pds_plugin.errors import ArgumentError, ArgumentTypeError
 from pds_plugin.sizing import RadiusField, angle_bound, inradius, radius_field
 
@@ -44,6 +45,38 @@ def test_walls_shrink_the_field_gaps_and_notches_do_not():
     notch_wall, gap_side, thin_wall = field([[4.98, 8.0], [9.99, 5.0], [19.5, 5.0]])
     assert notch_wall > 1.0 and gap_side > 1.0
     assert thin_wall < 0.5
+
+
+def test_the_wall_search_visits_every_facing_point_nearest_first():
+    # random points and normals, a fifth on integer coordinates (ties and duplicates):
+    # called again from each answer, the search lists exactly the points facing each one
+    # within its reach, in order of (distance, index), as a scan of all points does
+    rng = np.random.default_rng(3)
+    xy = rng.uniform(0, 10, (500, 2))
+    xy[:100] = np.round(xy[:100])
+    angle = rng.uniform(0, 2 * np.pi, 500)
+    normal = np.column_stack([np.cos(angle), np.sin(angle)])
+    rows = np.arange(0, 500, 7)
+    reach = rng.uniform(0.5, 6, len(rows))
+    tree = build_cone_tree(xy, np.zeros(500), 8)[:6]
+    tree += (normal_bounds(normal, tree[1], tree[2], tree[0]),)
+    after_d, after_j = np.zeros(len(rows)), np.full(len(rows), np.iinfo(np.int64).max)
+    found = [[] for _ in rows]
+    while True:
+        d, j = nearest_facing(xy, normal, rows, reach, after_d, after_j, -0.5, *tree)
+        if not (j >= 0).any():
+            break
+        for r in np.flatnonzero(j >= 0):
+            found[r].append(j[r])
+        after_d, after_j = np.where(j >= 0, d, np.inf), j
+    for r, i in enumerate(rows):
+        step = xy - xy[i]
+        e = np.sqrt(step[:, 0] * step[:, 0] + step[:, 1] * step[:, 1])
+        faces = ((step @ normal[i] > 1e-9 * e) & (np.sum(step * normal, axis=1) < -1e-9 * e)
+                 & (normal @ normal[i] < -0.5) & (e > 0) & (e < reach[r]))
+        expected = np.flatnonzero(faces)
+        assert found[r] == expected[np.lexsort((expected, e[expected]))].tolist()
+    assert sum(map(len, found)) > 200
 
 
 def test_a_sharp_corner_does_not_collapse_the_field():

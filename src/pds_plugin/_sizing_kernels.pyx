@@ -10,7 +10,7 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 import numpy as np
 
 from cython.parallel cimport parallel, prange
-from libc.math cimport isfinite, sqrt
+from libc.math cimport INFINITY, sqrt
 from libc.stdlib cimport free, malloc
 from libc.stdint cimport int64_t
 
@@ -167,30 +167,104 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
     return out_array
 
 
-def first_facing(xy, normal, rows, d, idx, start, double opposed):
-    """For each point i = rows[r] with its neighbours idx[r] at distances d[r] (nearest
-    first, scipy's k-d tree; inf past its bound): the first column t >= start[r] whose
-    neighbour j faces i *through material*, the step i -> j along i's inward normal and
-    against j's, the normals opposed (dot below ``opposed``); -1 if none."""
-    cdef const double[:, ::1] p = xy, nm = normal, dist = d
-    cdef const int64_t[::1] rw = rows, st = start
-    cdef const int64_t[:, ::1] nb = idx
-    cdef Py_ssize_t n = rw.shape[0], k = nb.shape[1], r, t, i, j
-    cdef double dx, dy, e
-    column_array = np.full(n, -1, np.int64)
-    cdef int64_t[::1] column = column_array
-    for r in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(n)):
-        i = rw[r]
-        for t in range(st[r], k):
-            e = dist[r, t]
-            if not (isfinite(e) and e > 0.0):
-                continue
-            j = nb[r, t]
-            dx, dy = p[j, 0] - p[i, 0], p[j, 1] - p[i, 1]
-            if (dx * nm[i, 0] + dy * nm[i, 1] > 1e-9 * e
-                    and dx * nm[j, 0] + dy * nm[j, 1] < -1e-9 * e
-                    and nm[i, 0] * nm[j, 0] + nm[i, 1] * nm[j, 1] < opposed):
-                column[r] = t
-                break
-    return column_array
+cdef inline bint _faces(const double[:, ::1] p, const double[:, ::1] nm, Py_ssize_t i,
+                        Py_ssize_t j, double e, double opposed) noexcept nogil:
+    """True if j faces i through material at distance e > 0: the step i -> j goes along
+    i's inward normal and against j's, the normals opposed (dot below ``opposed``)."""
+    cdef double dx = p[j, 0] - p[i, 0], dy = p[j, 1] - p[i, 1]
+    return (dx * nm[i, 0] + dy * nm[i, 1] > 1e-9 * e
+            and dx * nm[j, 0] + dy * nm[j, 1] < -1e-9 * e
+            and nm[i, 0] * nm[j, 0] + nm[i, 1] * nm[j, 1] < opposed)
+
+
+def normal_bounds(normal, first, stop, perm):
+    """(nx min, ny min, nx max, ny max) of the unit normals of each node's points
+    perm[first[k]:stop[k]] of a ``build_cone_tree`` tree of the points."""
+    cdef const double[:, ::1] nm = normal
+    cdef const int64_t[::1] fs = first, st = stop, pm = perm
+    cdef Py_ssize_t m = fs.shape[0], k, t, i
+    bounds_array = np.empty((m, 4))
+    cdef double[:, ::1] bounds = bounds_array
+    with nogil:
+        for k in range(m):
+            bounds[k, 0] = bounds[k, 1] = 1e308
+            bounds[k, 2] = bounds[k, 3] = -1e308
+            for t in range(fs[k], st[k]):
+                i = pm[t]
+                bounds[k, 0], bounds[k, 1] = min(bounds[k, 0], nm[i, 0]), min(bounds[k, 1], nm[i, 1])
+                bounds[k, 2], bounds[k, 3] = max(bounds[k, 2], nm[i, 0]), max(bounds[k, 3], nm[i, 1])
+    return bounds_array
+
+
+cdef int64_t _nearest_facing(Py_ssize_t i, double limit, double after_d, int64_t after_j,
+                             double opposed, const double[:, ::1] p, const double[:, ::1] nm,
+                             const int64_t[::1] perm, const int64_t[::1] first,
+                             const int64_t[::1] stop, const int64_t[::1] left,
+                             const int64_t[::1] right, const double[:, ::1] box,
+                             const double[:, ::1] nbox, int64_t *stack,
+                             double *distance) noexcept nogil:
+    """The nearest point j facing point i at a distance 0 < e < limit after (after_d,
+    after_j) in the order of (distance, index), -1 if none; its distance in *distance.
+    Nodes whose normals cannot be opposed to i's (the smallest dot product over their
+    normal box ``nbox`` is at least ``opposed``) are pruned: the points on i's own edge
+    cost nothing however finely it is densified."""
+    cdef double x = p[i, 0], y = p[i, 1], best = INFINITY, dx, dy, e
+    cdef int64_t best_j = -1
+    cdef Py_ssize_t top = 1, k, t, j, a, b
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        e = _box_distance(x, y, box, k)
+        if (e >= limit or e > best
+                or min(nm[i, 0] * nbox[k, 0], nm[i, 0] * nbox[k, 2])
+                + min(nm[i, 1] * nbox[k, 1], nm[i, 1] * nbox[k, 3]) >= opposed):
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                j = perm[t]
+                dx, dy = p[j, 0] - x, p[j, 1] - y
+                e = sqrt(dx * dx + dy * dy)
+                if (e > 0.0 and e < limit
+                        and (e < best or (e == best and j < best_j))
+                        and (e > after_d or (e == after_d and j > after_j))
+                        and _faces(p, nm, i, j, e, opposed)):
+                    best, best_j = e, j
+            continue
+        a, b = left[k], right[k]
+        if _box_distance(x, y, box, a) < _box_distance(x, y, box, b):
+            a, b = b, a
+        stack[top] = a          # the farther child waits
+        stack[top + 1] = b
+        top += 2
+    distance[0] = best
+    return best_j
+
+
+def nearest_facing(xy, normal, rows, reach, after_d, after_j, double opposed, perm, first,
+                   stop, left, right, box, normal_box):
+    """For each point i = rows[r]: the nearest point j facing it through material
+    (``_faces``) at a distance e with 0 < e < reach[r] that comes after (after_d[r],
+    after_j[r]) in the order of (distance, index); returns the (distances, indices), inf
+    and -1 where there is none. The points' k-d tree is ``build_cone_tree``'s (its sizes
+    unused): a depth-first search, the nearer child first, pruning the nodes farther than
+    the best so far or than the reach and those with no normal opposed to i's. Calling it again with the answer as ``after``
+    gives the next facing point, so every facing point within reach can be visited in
+    order of distance. ``normal_box`` is ``normal_bounds``'s for the tree."""
+    cdef const double[:, ::1] p = xy, nm = normal, bx = box, nb = normal_box
+    cdef const double[::1] rc = reach, ad = after_d
+    cdef const int64_t[::1] rw = rows, aj = after_j
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef Py_ssize_t n = rw.shape[0], r
+    distance_array = np.full(n, np.inf)
+    index_array = np.full(n, -1, np.int64)
+    cdef double[::1] distance = distance_array
+    cdef int64_t[::1] index = index_array
+    cdef int64_t *stack
+    with nogil, parallel(num_threads=threads_for(n)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))
+        for r in prange(n, schedule="dynamic", chunksize=CHUNK):
+            index[r] = _nearest_facing(rw[r], rc[r], ad[r], aj[r], opposed, p, nm, pm, fs, st,
+                                       lf, rt, bx, nb, stack, &distance[r])
+        free(stack)
+    return distance_array, index_array

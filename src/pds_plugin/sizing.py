@@ -35,7 +35,6 @@ _PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length
 _CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
 _K = 24              # nearest neighbours looked at for dominated cones and corners
-_WALL_NEIGHBOURS = (16, 96)  # nearest neighbours looked at for a point's wall, in two steps
 _ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
 _MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
 
@@ -275,49 +274,27 @@ def _wall_sizes(region, dense, cap):
     """Each point's size: its ring size, lowered to _WALL x the distance to the nearest
     point facing it through material (normals opposed, midpoint in the region).
 
-    Only walls nearer than ring size / _WALL can lower a size, so the neighbours are
-    searched that far (rounded up to a power of two, one query per power). They are
-    looked at nearest first, _WALL_NEIGHBOURS[0] of them, then more for the points that
-    found none facing them but have more neighbours within reach; of those facing a
-    point, only the ones up to the first whose midpoint is in the region are tested."""
+    Only walls nearer than ring size / _WALL can lower a size, so the facing points are
+    searched that far (rounded up to a power of two), nearest first, in a k-d tree of the
+    points (``_sizing_kernels.nearest_facing``): the nearest facing point, then for the
+    points whose midpoint with it is outside the region the next one, and so on."""
     xy, normal = dense["xy"], dense["normal"]
-    n = len(xy)
-    tree = cKDTree(xy)
-    wall = np.full(n, np.inf)
+    perm, first, stop, left, right, box, _ = kern.build_cone_tree(xy, np.zeros(len(xy)), 8)
+    normal_box = kern.normal_bounds(normal, first, stop, perm)
+    wall = np.full(len(xy), np.inf)
     reach = np.exp2(np.ceil(np.log2(np.minimum(dense["base"], cap) / _WALL)))
-    for k in _WALL_NEIGHBOURS:
-        k = min(k, n)
-        todo = []
-        for bound in np.unique(reach[reach > 0]):
-            rows = np.flatnonzero(reach == bound)
-            d, idx = tree.query(xy[rows], k=k, distance_upper_bound=bound,
-                                workers=get_threads())
-            todo.append(rows[_nearest_walls(region, xy, normal, rows, d.reshape(len(rows), k),
-                                            idx.reshape(len(rows), k), wall)])
-        reach[np.setdiff1d(np.arange(n), np.concatenate(todo))] = 0.0
-        if not (reach > 0).any() or k == n:
-            break
-    return np.minimum(dense["base"], _WALL * wall)
-
-
-def _nearest_walls(region, xy, normal, rows, d, idx, wall):
-    """Set ``wall`` of the points ``rows`` from their neighbours (d, idx, nearest first):
-    the distance to the nearest one facing them (``_sizing_kernels.first_facing``) whose
-    midpoint is in the region. Returns the positions in ``rows`` of the points that found
-    none facing them and may have more neighbours within reach."""
-    idx = np.ascontiguousarray(idx, np.int64)
-    column = kern.first_facing(xy, normal, rows, d, idx, np.zeros(len(rows), np.int64), _OPPOSED)
-    found = column >= 0
-    at = np.flatnonzero(found)
-    column = column[at]
-    while len(at):
-        mid = 0.5 * (xy[rows[at]] + xy[idx[at, column]])
+    rows = np.flatnonzero(reach > 0)
+    after_d, after_j = np.zeros(len(rows)), np.full(len(rows), np.iinfo(np.int64).max)
+    while len(rows):
+        d, j = kern.nearest_facing(xy, normal, rows, reach[rows], after_d, after_j, _OPPOSED,
+                                   perm, first, stop, left, right, box, normal_box)
+        found = j >= 0
+        rows, d, j = rows[found], d[found], j[found]
+        mid = 0.5 * (xy[rows] + xy[j])
         inside = shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1])
-        wall[rows[at[inside]]] = d[at[inside], column[inside]]
-        at, column = at[~inside], column[~inside]
-        column = kern.first_facing(xy, normal, rows[at], d[at], idx[at], column + 1, _OPPOSED)
-        at, column = at[column >= 0], column[column >= 0]
-    return np.flatnonzero(~found & np.isfinite(d[:, -1]))
+        wall[rows[inside]] = d[inside]
+        rows, after_d, after_j = rows[~inside], d[~inside], j[~inside]
+    return np.minimum(dense["base"], _WALL * wall)
 
 
 def _corner_discs(region, rings, corners, piece, dense):
