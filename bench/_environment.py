@@ -30,7 +30,11 @@ pds_plugin.mesh_region
 print(json.dumps([imported - start, time.perf_counter() - imported]))
 """
 
-_FIRST_CALL = """
+SQUARE_10K_ALPHA = 0.00856899
+"""The unit square's alpha for about 10,000 samples (``_regions.alpha_for``), the size of
+issue 13's cold-start target."""
+
+_FIRST_CALL = f"""
 import json, time
 from shapely.geometry import box
 import pds_plugin as pds
@@ -38,7 +42,7 @@ region = pds.Region.from_shapely(box(0, 0, 1, 1))
 times = []
 for _ in range(2):
     start = time.perf_counter()
-    pds.mesh_region(region, 0.05, seed=0).certificate()
+    pds.mesh_region(region, {SQUARE_10K_ALPHA}, seed=0).certificate()
     times.append(time.perf_counter() - start)
 print(json.dumps(times))
 """
@@ -74,7 +78,7 @@ def startup(repeats: int = 5) -> dict:
     """``import pds_plugin`` time (median and max of ``repeats`` fresh processes), the
     time to then reach ``mesh_region`` (the lazy import of numpy, scipy, shapely and the
     kernels' modules; median), and the first-call time of the first and of a second
-    fresh process (a unit square, alpha 0.05, mesh and certificate; ``in_process`` is the
+    fresh process (a unit square of about 10k samples, mesh and certificate; ``in_process`` is the
     second call in that second process)."""
     imports = [json.loads(_python(_IMPORT)) for _ in range(repeats)]
     cold = json.loads(_python(_FIRST_CALL))

@@ -1,8 +1,9 @@
-"""The targets of issues 2 and 5, checked against the rows of one run.
+"""The targets of issues 2, 5 and 13, checked against the rows of one run.
 
 Speed targets are ratios on the largest unit-square case of the run (1M samples in the
 full run); a peer that timed out counts as taking at least the time limit, which
-gives a lower bound on the ratio.
+gives a lower bound on the ratio. Issue 13's are checked on every size and region of
+the run, against Triangle pq30 at the same vertex count.
 """
 
 from __future__ import annotations
@@ -23,8 +24,10 @@ class Target:
     holds: bool | None        # None: could not be measured in this run
 
 
-def evaluate(rows: list[Row], startup: dict | None, timeout: float) -> list[Target]:
-    """Every target, in the order of the issues."""
+def evaluate(rows: list[Row], startup: dict | None, timeout: float,
+             auto: dict | None = None) -> list[Target]:
+    """Every target, in the order of the issues; ``auto`` is ``_auto.auto_path()``'s
+    measurement."""
     by = {(row.case.name, row.peer.key): row for row in rows}
     squares = [row.case for row in rows if row.case.key == "square"]
     big = max(squares, key=lambda case: case.expected, default=None)
@@ -56,6 +59,7 @@ def evaluate(rows: list[Row], startup: dict | None, timeout: float) -> list[Targ
                               seconds <= 0.3))
     targets.extend(_quality([row for row in rows if row.peer.key == "pds"]))
     targets.append(_coverage(rows))
+    targets.extend(_engine(rows, startup, auto))
     return targets
 
 
@@ -140,3 +144,106 @@ def _coverage(rows) -> Target:
     others_best = min((row.metric("coverage_gap") for row in others), default=math.nan)
     return Target("coverage", goal, f"pds worst {pds_worst:.4f}; other samplers best "
                   f"{others_best:.3f}", pds_worst <= 1 + 1e-9 and not others_best <= 1)
+
+
+# ----------------------------------------------------------------------------- issue 13
+
+MB = 1e6 / 2**20            # one MB (10^6 bytes) in MiB: the issue counts in MB
+
+
+def _engine(rows, startup, auto) -> list[Target]:
+    """Issue 13: speed against Triangle at every size, throughput, certificate, memory,
+    threads, cold start and the ``auto`` path."""
+    by = {(row.case.name, row.peer.key): row for row in rows}
+    pds_rows = [row for row in rows if row.peer.key == "pds" and row.ok]
+    squares = sorted((row for row in pds_rows if row.case.key == "square"),
+                     key=lambda row: row.case.expected)
+    targets = []
+    for row in squares:
+        factor = 0.5 if row.case.expected >= 5e5 else 1.0
+        targets.append(_against_triangle(f"{row.case.name}: `mesh_region` ≤ {factor:g}× "
+                                         "Triangle pq30", [row], by, factor))
+    regions = [row for row in pds_rows if row.case.key != "square"]
+    if regions:
+        targets.append(_against_triangle("every other region of the run: `mesh_region` "
+                                         "≤ 1.0× Triangle pq30", regions, by, 1.0))
+    targets.append(_throughput_against(pds_rows, by, 1000))
+    targets.append(_certificate_share(pds_rows, 0.5))
+    big = squares[-1] if squares and squares[-1].case.expected >= 5e5 else None
+    if big is not None:
+        peak = big.info.get("peak_mb_with_certificate", math.nan)
+        targets.append(Target("1M memory", "peak memory at 1M samples ≤ 500 MB, with the "
+                              "certificate", f"{peak:.0f} MiB = {peak / MB:.0f} MB (whole "
+                              f"process) on the {big.case.name}", peak <= 500 * MB))
+    targets.append(_threads(pds_rows, by))
+    if startup:
+        seconds = startup["import_median"] + startup["first_use"] + startup["cold_first_call"]
+        targets.append(Target("cold start", "cold start: a fresh process meshes a 10k square "
+                              "(and certifies it) in ≤ 5 s, imports included",
+                              f"{seconds:.2f} s (import {startup['import_median']:.3f} s, "
+                              f"reaching mesh_region {startup['first_use']:.3f} s, first call "
+                              f"{startup['cold_first_call']:.2f} s)", seconds <= 5))
+    targets.append(_auto_target(auto))
+    targets.append(Target("busy machine", "with one other CPU-bound process, no timing "
+                          "> 1.5× worse", "measured by `python bench/engine_threads.py` "
+                          "(docs/engine.md), not by this run", None))
+    return targets
+
+
+def _against_triangle(goal, pds_rows, by, factor) -> Target:
+    ratios = []
+    for row in pds_rows:
+        triangle = by.get((row.case.name, "triangle-pq30"))
+        if triangle is not None and triangle.ok:
+            ratios.append((row.time / triangle.time, row.case.name, row.time, triangle.time))
+    if not ratios:
+        return Target("against Triangle", goal, "not measured in this run", None)
+    worst = max(ratios)
+    listed = ", ".join(f"{ratio:.3g}× ({ours:.3g} s vs {theirs:.3g} s"
+                       + (f", {name})" if len(ratios) > 1 else ")")
+                       for ratio, name, ours, theirs in sorted(ratios, reverse=True))
+    return Target("against Triangle", goal, listed, worst[0] <= factor)
+
+
+def _throughput_against(pds_rows, by, factor) -> Target:
+    goal = f"`poisson_disc` throughput ≥ {factor}× scipy PoissonDisk"
+    pairs = [(row, by.get((row.case.name, "scipy"))) for row in pds_rows]
+    ratios = sorted((sampling_rate(p) / sampling_rate(s), p.case.name) for p, s in pairs
+                    if s is not None and s.ok)
+    if not ratios:
+        return Target("throughput", goal, "not measured in this run", None)
+    return Target("throughput", goal, f"worst {ratios[0][0]:.3g}× ({ratios[0][1]}), best "
+                  f"{ratios[-1][0]:.3g}× ({ratios[-1][1]})", ratios[0][0] >= factor)
+
+
+def _certificate_share(pds_rows, share) -> Target:
+    goal = f"`certificate()` ≤ {share}× the meshing time"
+    ratios = sorted((row.times["certificate"] / row.time, row.case.name) for row in pds_rows)
+    if not ratios:
+        return Target("certificate", goal, "not measured in this run", None)
+    return Target("certificate", goal, f"worst {ratios[-1][0]:.3g} ({ratios[-1][1]}), best "
+                  f"{ratios[0][0]:.3g} ({ratios[0][1]})", ratios[-1][0] <= share)
+
+
+def _threads(pds_rows, by) -> Target:
+    goal = "default threads never slower than one thread"
+    ratios = sorted((row.time / single.time, row.case.name) for row in pds_rows
+                    if (single := by.get((row.case.name, "pds-1thread"))) is not None
+                    and single.ok)
+    if not ratios:
+        return Target("threads", goal, "not measured in this run", None)
+    return Target("threads", goal, f"default / one thread: worst {ratios[-1][0]:.3g} "
+                  f"({ratios[-1][1]}), best {ratios[0][0]:.3g} ({ratios[0][1]})",
+                  ratios[-1][0] <= 1)
+
+
+def _auto_target(auto) -> Target:
+    goal = '`alpha="auto"` on a ~1k-vertex CAD section ≤ 5× Triangle pq30 (warm)'
+    if not auto:
+        return Target("auto", goal, "not measured (needs triangle and the shared "
+                      "featuretype.STL)", None)
+    ratio = auto["pds"] / auto["triangle"]
+    return Target("auto", goal, f"{ratio:.3g}×: {auto['pds']:.3g} s vs {auto['triangle']:.3g} s "
+                  f"on the {auto['region']} ({auto['boundary_vertices']:,} boundary vertices; "
+                  f"{auto['vertices']:,} vertices against Triangle's "
+                  f"{auto['triangle_vertices']:,})", ratio <= 5)

@@ -5,7 +5,7 @@
 
 Runs pds_plugin, scipy's PoissonDisk pipeline, MeshLab (pymeshlab), Shewchuk's Triangle
 and gmsh on the same regions in one run, each peer in a fresh process under a time
-limit, measures every mesh the same way, checks the targets of issues 2 and 5, and writes
+limit, measures every mesh the same way, checks the targets of issues 2, 5 and 13, and writes
 docs/benchmarks.md with docs/bench_time_vs_vertices.png and docs/bench_aspect_ratio.png.
 Peers that are not installed get a row saying so (``pip install -e ".[bench]"``).
 """
@@ -19,6 +19,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from _auto import auto_path
 from _environment import machine, startup, versions
 from _isolate import Outcome, run_isolated
 from _plots import aspect_tails, time_vs_vertices
@@ -55,7 +56,7 @@ def parse(argv=None) -> argparse.Namespace:
                              f"coarser alpha and extrapolated (default {FULL['scipy_points']})")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--no-startup", action="store_true",
-                        help="skip the import and first-call measurements")
+                        help="skip the import, first-call and alpha='auto' measurements")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks.md",
                         help="the report to write; the figures go next to it "
                              "(default docs/benchmarks.md)")
@@ -77,6 +78,7 @@ def main(argv=None) -> Path:
     start = machine()
     print(f"{start['cpu']}, {start['cores']} cores, load {start['load']}", flush=True)
     measured_startup = None if args.no_startup else startup()
+    auto = None if args.no_startup else auto_path()
     options = Options(seed=args.seed, scipy_points=args.scipy_points)
     found, missing = cases(args.sizes, args.region_size, args.regions)
     rows, loads = [], []
@@ -99,7 +101,7 @@ def main(argv=None) -> Path:
     report = write(args.out, command=command, machine=start, load_end=os.getloadavg(),
                    load_peak=max(loads, default=float("nan")),
                    versions=versions(), startup=measured_startup,
-                   targets=evaluate(rows, measured_startup, args.timeout), rows=rows,
+                   targets=evaluate(rows, measured_startup, args.timeout, auto), rows=rows,
                    missing=missing, figures=figures, timeout=args.timeout)
     print(f"wrote {report}", flush=True)
     return report

@@ -158,3 +158,25 @@ def test_tiny_run_writes_the_report_and_figures(tmp_path):
     assert "‡ measured" in text            # scipy above its cap is extrapolated, and says so
     assert (tmp_path / "bench_time_vs_vertices.png").stat().st_size > 0
     assert (tmp_path / "bench_aspect_ratio.png").stat().st_size > 0
+
+
+def test_issue_13_targets_compare_every_size_with_triangle():
+    def rows(name, expected, ours, triangle, one_thread):
+        case = _regions.Case("square", name, SQUARE, 0.01, expected)
+        return [_rows.Row(case, _runners.PEERS["pds"], "ok", time=ours,
+                          times={"certificate": 0.4 * ours}),
+                _rows.Row(case, _runners.PEERS["triangle-pq30"], "ok", time=triangle),
+                _rows.Row(case, _runners.PEERS["pds-1thread"], "ok", time=one_thread)]
+    # 1M at 0.4x Triangle holds its 0.5x goal; 10k at 1.5x misses its 1.0x goal
+    targets = {t.goal: t for t in _targets._engine(
+        rows("big", 1e6, 1.2, 3.0, 1.5) + rows("small", 1e4, 0.03, 0.02, 0.02), None, None)}
+    assert targets["big: `mesh_region` ≤ 0.5× Triangle pq30"].holds
+    small = targets["small: `mesh_region` ≤ 1× Triangle pq30"]
+    assert not small.holds and small.measured.startswith("1.5×")
+    threads = targets["default threads never slower than one thread"]
+    assert not threads.holds and "worst 1.5 (small)" in threads.measured
+    assert targets["`certificate()` ≤ 0.5× the meshing time"].holds
+    auto = _targets._auto_target({"region": "part", "boundary_vertices": 900, "vertices": 9000,
+                                  "pds": 0.06, "triangle_vertices": 9100, "triangle": 0.01})
+    assert not auto.holds and auto.measured.startswith("6×")
+    assert _targets._auto_target(None).holds is None

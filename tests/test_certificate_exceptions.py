@@ -86,6 +86,38 @@ def test_a_sharp_tooth_is_listed_at_its_tip_with_its_bound(seed):
     assert cert.min_separation == pytest.approx(cert.exceptions[0].separation, rel=1e-5)
 
 
+# random star polygons (n vertices at sorted angles, radii in [0.3, 1]) whose sharp
+# corners have a side shorter than the corner's clearance: its far end, a corner and a
+# sample, is closer to the corner than the sampling keeps free samples
+SHORT_SIDED = {
+    "spike on two short sides": [
+        (0.6429, 0.3073), (-0.3904, 0.7109), (-0.6354, -0.2277), (-0.7082, -0.397),
+        (-0.6909, -0.6433), (0.1776, -0.7608), (0.1582, -0.4282), (0.1992, -0.4321),
+        (0.3741, -0.6655), (0.3653, -0.4461), (0.911, -0.1668)],
+    "tooth with one short side": [
+        (0.7776, 0.4909), (0.2032, 0.6458), (0.0733, 0.8404), (-0.2822, 0.4964),
+        (-0.402, -0.0042), (-0.2454, -0.5362), (0.6911, -0.4115), (0.4575, -0.2704),
+        (0.6193, -0.1851), (0.8436, -0.1096)],
+    "blunt corner between two short pieces": [
+        (0.6734, 0.027), (0.677, 0.0287), (0.8925, 0.0448), (0.7765, 0.2126), (0.6588, 0.5096),
+        (0.5346, 0.4144), (0.3206, 0.2795), (0.0518, 0.4486), (0.0515, 0.5424),
+        (-0.5253, 0.5213), (-0.7508, 0.5344), (-0.3486, 0.196), (-0.2752, -0.2402),
+        (-0.3953, -0.4253), (-0.4452, -0.8342), (-0.1712, -0.7118), (-0.1594, -0.6937),
+        (-0.0671, -0.303), (0.1181, -0.452), (0.2178, -0.3887), (0.2168, -0.3371),
+        (0.4547, -0.1623), (0.7145, -0.1051)],
+}
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("name", SHORT_SIDED)
+def test_corners_at_the_ends_of_short_sides_are_explained(name, seed):
+    """Two samples beside a corner, one or both of them the corners ending its sides, are
+    at least the law of cosines' least distance apart (every one was unexplained before)."""
+    mesh = pds.mesh_region(pds.Region.from_shapely(Polygon(SHORT_SIDED[name])), 0.2, seed=seed)
+    cert = assert_itemised(mesh)
+    assert cert.excused_pairs > 0 and cert.boundary_ok
+
+
 def test_a_twenty_degree_v_notch_needs_no_exception():
     """The notch's tip is a reflex corner of the plate: its walls do not see each other, and
     Theorem 1 holds at it (the notch stays open, the mesh is the plate)."""

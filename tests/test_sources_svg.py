@@ -154,6 +154,31 @@ def test_affine_images_of_arcs_stay_exact(tmp_path, transform):
     assert (back[on_disc & ~on_chord, 1] > 12).all()   # the half disc lies below its chord
 
 
+@pytest.mark.parametrize("transform", ["skewX(30)", "matrix(1 0.3 0.5 2 0 0)", "scale(-1 1)",
+                                       "matrix(0.5 -1 -1.5 0.2 0 0)", "rotate(17)"])
+@pytest.mark.parametrize("flags", ["0 0", "0 1", "1 0", "1 1"])
+def test_the_default_tolerance_comes_from_the_arcs_exact_extent(tmp_path, transform, flags):
+    """An open arc's own points bound the drawing: the default tolerance is 1e-4 of the
+    diagonal of their box, under skews and reflections too (svgelements' arc box assumes
+    perpendicular radii)."""
+    import svgelements
+
+    from pds_plugin.sources import svg
+
+    document = svgelements.SVG.parse(write(tmp_path, f'<path transform="{transform}" '
+                                           f'd="M 10 0 A 10 6 30 {flags} -3 8" fill="none"/>'))
+    path = svg._absolute(next(e for e in document.elements() if isinstance(e, svgelements.Path)))
+    arc = next(segment for segment in path if isinstance(segment, svgelements.Arc))
+    center, radii, start, sweep = svg._arc_frame(arc)
+    dense = center + np.column_stack([np.cos(t := start + sweep * np.linspace(0, 1, 200_001)),
+                                      np.sin(t)]) @ radii.T
+    extremes = svg._arc_extremes(arc)
+    assert np.ptp(extremes, axis=0) == pytest.approx(np.ptp(dense, axis=0), rel=1e-9)
+    assert np.allclose(extremes.min(axis=0), dense.min(axis=0), atol=1e-9)
+    assert svg._tolerance(None, [path], np.hstack([np.eye(2), np.zeros((2, 1))])) == \
+        pytest.approx(1e-4 * np.linalg.norm(np.ptp(dense, axis=0)), rel=1e-9)
+
+
 def bezier_area(control):
     """Exact area between a Bézier curve and its chord: Green's theorem on its polynomial."""
     n = len(control) - 1

@@ -14,10 +14,11 @@ feature of the region that keeps them apart by a proven distance d (docs/conform
   between them is at least alpha long or they are not both corners: a ring too small for
   parts of alpha (three samples a third of its perimeter apart) or a curve of radius
   about alpha. d is their chord; the proof bounds the angles by it, not the chord itself.
-- **sharp corner** of angle θ < 33.56°: samples on the two straight sides at arc length
-  at least f = ``corner_clearance(θ)`` from the corner are at least d = 2 f sin(θ/2)
-  apart (the squared distance d1² + d2² − 2 d1 d2 cos θ is convex and increasing in d1
-  and d2 from (f, f) on when θ < 90°).
+- **sharp corner** of angle θ: samples on the two straight sides at arc length at least
+  f = ``corner_clearance(θ)`` from the corner are at least d = 2 f sin(θ/2) apart (the
+  squared distance d1² + d2² − 2 d1 d2 cos θ is convex and increasing in d1 and d2 from
+  (f, f) on when θ < 90°). A side shorter than f holds no sample but the vertex ending
+  it, at its fixed distance: d is then the least distance with that one fixed.
 - **thin wall**: samples seeing each other across material narrower than alpha, on two
   boundary segments d > 0 apart.
 
@@ -250,27 +251,24 @@ def _explain(pairs, points, on_boundary, sampled, alpha):
     ring = is_chord & ~short
     cause[ring], bound[ring] = _SMALL_RING, distance[ring]
     feature[ring] = sampled.perimeter[sampled.ring[chord[ring]]] / alpha
-    # sharp corners: the two samples on the two segments that meet at a convex corner
+    # corners: a sample on each of two segments that meet at a convex corner. A sample
+    # at a vertex lies on the segment before it too
     other = both & ~is_chord
     following = _following_segment(region)
-    for first, second in ((segment_p, segment_q), (segment_q, segment_p)):
-        meet = other & (cause < 0) & (following[np.maximum(first, 0)] == second)
-        if not meet.any():
-            continue
-        corner = segments[second[meet], 0]
-        into = segments[first[meet], 1] - segments[first[meet], 0]
-        out = segments[second[meet], 1] - corner
-        turn = np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
-                          np.einsum("ij,ij->i", into, out))
-        angle = np.pi - turn
-        clearance = corner_clearance(angle, alpha)
-        apart = ((np.hypot(*(points[p[meet]] - corner).T) >= clearance * (1 - _TOL))
-                 & (np.hypot(*(points[q[meet]] - corner).T) >= clearance * (1 - _TOL))
-                 & (angle < np.pi / 3))
-        rows = np.flatnonzero(meet)[apart]
-        cause[rows], feature[rows] = _SHARP_CORNER, np.degrees(angle[apart])
-        bound[rows] = 2 * clearance[apart] * np.sin(angle[apart] / 2)
-        place[rows] = corner[apart]
+    previous = np.argsort(following)
+    sides = []
+    for sample, segment in ((p, segment_p), (q, segment_q)):
+        segment = np.maximum(segment, 0)
+        at_start = np.hypot(*(points[sample] - segments[segment, 0]).T) <= tol
+        sides.append((sample, (segment, np.where(at_start, previous[segment], segment))))
+    for (a, a_segments), (b, b_segments) in (sides, sides[::-1]):
+        for first in a_segments:
+            for second in b_segments:
+                meet = other & (cause < 0) & (following[first] == second)
+                if meet.any():
+                    _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
+                                    segments[second[meet]], alpha, tol, cause, feature, bound,
+                                    place)
     # thin walls: samples on two boundary segments apart from each other
     wall = other & (cause < 0)
     if wall.any():
@@ -280,6 +278,40 @@ def _explain(pairs, points, on_boundary, sampled, alpha):
         cause[rows], bound[rows] = _THIN_WALL, width[width > 0]
         feature[rows] = width[width > 0] / alpha
     return cause, feature, bound, place
+
+
+def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound, place):
+    """Explain the pairs ``meet``: ``a`` on the segments ``first``, ``b`` on ``second``,
+    which follows it at a corner. Each sample is at least the corner's clearance from
+    it (the boundary sampling's first part), or it is the vertex at its segment's far
+    end, a corner of the region, itself a sample (a side shorter than the clearance)."""
+    corner = second[:, 0]
+    into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
+    angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
+                               np.einsum("ij,ij->i", into, out))
+    clearance = corner_clearance(angle, alpha)
+    at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
+    fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
+    fixed_b = np.hypot(*(b - second[:, 1]).T) <= tol
+    # two free samples are alpha apart beside a corner of 60° or more: only sharper
+    # corners keep them closer, and the bound's minimum needs less than 90°
+    apart = ((fixed_a | (at_a >= clearance * (1 - _TOL))) & (fixed_b | (at_b >= clearance * (1 - _TOL)))
+             & ((angle < np.pi / 2) | fixed_a | fixed_b))
+    rows = np.flatnonzero(meet)[apart]
+    cause[rows], feature[rows], place[rows] = _SHARP_CORNER, np.degrees(angle[apart]), corner[apart]
+    bound[rows] = _nearest_on_sides(at_a[apart], fixed_a[apart], at_b[apart], fixed_b[apart],
+                                    clearance[apart], angle[apart])
+
+
+def _nearest_on_sides(a, a_fixed, b, b_fixed, clearance, angle) -> np.ndarray:
+    """The least distance between two points on the two sides of a corner of ``angle``
+    (< 90°), each at distance ``a`` (``b``) from the corner if fixed, else at least
+    ``clearance``: the law of cosines, minimised where a point is free (its squared
+    distance is convex in that point's distance, least at the other's times cos θ)."""
+    cos = np.cos(angle)
+    a = np.where(a_fixed, a, np.maximum(clearance, np.where(b_fixed, b * cos, clearance)))
+    b = np.where(b_fixed, b, np.maximum(clearance, a * cos))
+    return np.sqrt(np.maximum(a * a + b * b - 2 * a * b * cos, 0.0))
 
 
 def _following_segment(region) -> np.ndarray:

@@ -286,8 +286,8 @@ class _Solid:
         if flat:
             raise SectionError(
                 f"the plane lies on {flat} face(s) of the solid (normal·x = {offset:.9g}), "
-                f"so the section is ambiguous; pass on_face='above' or 'below' (CLI: move "
-                f"the plane, e.g. by ±{1e-6 * self.scale:.3g})")
+                f"so the section is ambiguous; pass on_face='above' or 'below' (CLI: "
+                f"--on-face above or below), or move the plane")
         margin = tol.merge * _unit(heights)
         if not (heights.min() < -margin and heights.max() > margin):
             low, high = offset + heights.min(), offset + heights.max()

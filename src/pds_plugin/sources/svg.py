@@ -108,16 +108,18 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
     shapes = _visible_shapes(document)
     if not shapes:
         raise RegionError(f"{name} has no visible shapes: nothing to mesh")
-    tolerance = _tolerance(tolerance, shapes, matrix)
+    paths = [_absolute(shape) for shape in shapes]
+    tolerance = _tolerance(tolerance, paths, matrix)
     step = tolerance / np.linalg.norm(matrix[:, :2], 2)  # the tolerance in svgelements units
     geometry = shapely.Polygon()
     if mode != "outline":
-        geometry = _fill([shape for shape in shapes if _is_filled(shape)], matrix, step)
+        geometry = _fill([(shape, path) for shape, path in zip(shapes, paths)
+                          if _is_filled(shape)], matrix, step)
         if geometry.is_empty and mode == "fill":
             raise RegionError(f"the filled shapes of {name} enclose no area: nothing to mesh "
                              f"(for an outline drawing use mode='outline')")
     if geometry.is_empty:
-        chains = [_apply(matrix, points) for shape in shapes for points in _flatten(shape, step)]
+        chains = [_apply(matrix, points) for path in paths for points in _flatten(path, step)]
         geometry = outline(chains, tolerance, name, kind="stroke")
     return Region.from_shapely(geometry)
 
@@ -199,32 +201,46 @@ def _visible_shapes(document) -> list:
             and element.values.get("visibility") not in ("hidden", "collapse")]
 
 
-def _tolerance(tolerance, shapes, matrix) -> float:
+def _absolute(shape):
+    """The shape as a path whose segments have its transform applied (a copy)."""
+    import svgelements
+
+    return abs(svgelements.Path(shape))
+
+
+def _tolerance(tolerance, paths, matrix) -> float:
     if tolerance is not None:
         return check_positive(tolerance, "tolerance")
-    boxes = np.array([box for box in (shape.bbox() for shape in shapes) if box is not None], float)
-    return default_tolerance(_apply(matrix, boxes.reshape(-1, 2)) if len(boxes) else [])
+    extremes = [_extremes(segment) for path in paths for segment in path]
+    return default_tolerance(_apply(matrix, np.concatenate(extremes)) if extremes else [])
+
+
+def _extremes(segment) -> np.ndarray:
+    """Points of a segment whose bounding box is the segment's (an arc's computed on its
+    conjugate radii: svgelements' own arc box is slow, and wrong under a skew)."""
+    import svgelements
+
+    if isinstance(segment, svgelements.Arc):
+        return _arc_extremes(segment)
+    return np.reshape(np.asarray(segment.bbox(), dtype=float), (2, 2))
 
 
 def _is_filled(shape) -> bool:
     return shape.fill is not None and shape.fill.value is not None
 
 
-def _fill(shapes, matrix, step):
+def _fill(filled, matrix, step):
     return shapely.union_all([
-        fill_geometry([_apply(matrix, points) for points in _flatten(shape, step)],
+        fill_geometry([_apply(matrix, points) for points in _flatten(path, step)],
                       shape.values.get("fill-rule", "nonzero"))
-        for shape in shapes])
+        for shape, path in filled])
 
 
-def _flatten(shape, step):
-    """Yield the points (k, 2) of each subpath of a shape, flattened to ``step``.
+def _flatten(path, step):
+    """Yield the points (k, 2) of each subpath of an absolute path, flattened to ``step``.
 
     A closed subpath ends on its first point; fill rules close the others implicitly.
     """
-    import svgelements
-
-    path = abs(svgelements.Path(shape))  # a copy with its transform applied to the segments
     for subpath in path.as_subpaths():
         segments = list(subpath)
         if not segments:
@@ -259,20 +275,41 @@ def _points(segment, step) -> np.ndarray:
 
 
 def _arc_points(arc, step) -> np.ndarray:
-    """Points of an elliptical arc, evaluated on its conjugate radii.
+    """Points of an elliptical arc after its start, within ``step`` of it."""
+    frame = _arc_frame(arc)
+    if frame is None:                            # degenerate: a straight segment
+        return np.asarray([arc.end], dtype=float)
+    points = elliptic_points(*frame, step)[1:]
+    points[-1] = arc.end
+    return points
+
+
+def _arc_extremes(arc) -> np.ndarray:
+    """The ends of an arc and its points of extreme x and y within its sweep."""
+    ends = np.array([arc.start, arc.end], dtype=float)
+    frame = _arc_frame(arc)
+    if frame is None:
+        return ends
+    center, radii, start, sweep = frame
+    peaks = np.arctan2(radii[:, 1], radii[:, 0])      # x = c + u cos θ + v sin θ peaks there
+    angles = np.concatenate([peaks, peaks + np.pi])
+    swept = angles[np.mod((angles - start) * np.sign(sweep), 2 * np.pi) <= abs(sweep)]
+    return np.vstack([ends, center + np.column_stack([np.cos(swept), np.sin(swept)]) @ radii.T])
+
+
+def _arc_frame(arc):
+    """``(center, radii, start, sweep)`` with the arc = ``c + u cos θ + v sin θ``, θ from
+    ``start`` over ``sweep`` (radii: u, v as columns), or None for a straight arc.
 
     svgelements keeps a transformed arc as its centre and the images ``prx``, ``pry`` of
     two perpendicular radii, which a skew leaves non-perpendicular (its own evaluation
-    assumes them perpendicular). ``c + u cos θ + v sin θ`` is exact for any affine image,
-    and svgelements negates ``sweep`` under reflections, when ``det[u v]`` turns negative.
+    assumes them perpendicular). This form is exact for any affine image, and svgelements
+    negates ``sweep`` under reflections, when ``det[u v]`` turns negative.
     """
     center = np.array(arc.center, dtype=float)
     radii = np.array([arc.prx, arc.pry], dtype=float).T - center[:, None]  # columns u, v
     determinant = np.linalg.det(radii)
-    if arc.sweep == 0 or not abs(determinant) > 0:  # degenerate: a straight segment
-        return np.asarray([arc.end], dtype=float)
+    if arc.sweep == 0 or not abs(determinant) > 0:
+        return None
     cosine, sine = np.linalg.solve(radii, np.array(arc.start, dtype=float) - center)
-    points = elliptic_points(center, radii, np.arctan2(sine, cosine),
-                             arc.sweep * np.sign(determinant), step)[1:]
-    points[-1] = arc.end
-    return points
+    return center, radii, np.arctan2(sine, cosine), arc.sweep * np.sign(determinant)
