@@ -15,7 +15,7 @@ from pds_plugin import _parallel
 from pds_plugin._certificate_kernels import segment_distances
 from pds_plugin._geometry_kernels import circumcircles
 from pds_plugin.analysis.certificate import _SampleGrid
-from pds_plugin.analysis.conformity import SampledBoundary
+from pds_plugin.analysis.conformity import SampledBoundary, _farthest
 
 
 def test_measures_agree_with_independent_oracles():
@@ -225,14 +225,36 @@ def test_segment_distances_are_shapelys_bit_for_bit(seed):
     near = starts[:, None] + rng.random((300, 8, 1)) * (ends - starts)[:, None]
     points = np.concatenate([near.reshape(-1, 2) + rng.normal(0, 0.01, (2400, 2)),
                              rng.random((500, 2)) * 30 - 10])       # and far ones
-    found = segment_distances(points, segments, 0.1, 8)
+    found, nearest = segment_distances(points, segments, 0.1, 8)
     tree = shapely.STRtree(shapely.linestrings(segments))
     expected = tree.query_nearest(shapely.points(points), all_matches=False,
                                   return_distance=True)[1]
     settled = ~np.isnan(found)
     assert settled[:2400].mean() > 0.99 and not settled.all()
     assert np.array_equal(found[settled], expected[settled])
-    assert np.array_equal(segment_distances(points, segments, 0.1, 10**6), expected)
+    assert np.array_equal(shapely.distance(shapely.points(points[settled]),
+                                           shapely.linestrings(segments[nearest[settled]])),
+                          found[settled]) and (nearest[~settled] == -1).all()
+    assert np.array_equal(segment_distances(points, segments, 0.1, 10**6)[0], expected)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_farthest_point_of_curves_from_targets_is_found_to_half_a_step(seed):
+    rng = np.random.default_rng(seed)
+    angle = np.sort(rng.random(40)) * 2 * np.pi       # chords of a wavy closed curve...
+    radius = 1 + 0.1 * np.sin(5 * angle) + 0.02 * rng.random(40)
+    ring = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    curves = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
+    fine = np.linspace(0, 2 * np.pi, 700, endpoint=False)          # ...against the curve
+    smooth = np.column_stack([np.cos(fine), np.sin(fine)]) * (1 + 0.1 * np.sin(5 * fine))[:, None]
+    targets = np.stack([smooth, np.roll(smooth, -1, axis=0)], axis=1)
+    step = 0.02
+    found = _farthest(curves, targets, step)
+    t = np.linspace(0, 1, 2001)[:, None, None]                     # probes 1e-4 apart at most
+    dense = (curves[None, :, 0] + t * (curves[None, :, 1] - curves[None, :, 0])).reshape(-1, 2)
+    brute = shapely.distance(shapely.points(dense)[:, None],
+                             shapely.linestrings(targets)[None, :]).min(axis=1).max()
+    assert brute - step / 2 <= found <= brute + 1e-4
 
 
 # --- conformity, and separation and coverage with the visibility rule ------------------

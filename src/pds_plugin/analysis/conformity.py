@@ -26,6 +26,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from .._certificate_kernels import segment_distances
+from .feature import _point_segment
 
 __all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
 
@@ -538,36 +539,45 @@ def _farthest(curves, targets, step) -> float:
     """The largest distance from a point of the (k, 2, 2) segments ``curves`` to the
     nearest of ``targets``, to ``step / 2`` below.
 
-    The distance is 1-Lipschitz: along a segment of length L it stays under
-    ``(d(start) + d(end) + L) / 2``, so only segments whose bound beats the farthest end
-    are probed every ``step``.
+    Each curve is cut in halves until every piece is settled: its distance cannot exceed
+    the farthest point found by more than ``step / 2``. Two bounds settle a piece from
+    its ends p and q, at distances d(p) and d(q) from their nearest targets s(p) and s(q):
+    the distance is 1-Lipschitz, so it stays under ``(d(p) + d(q) + |pq|) / 2``; and the
+    distance to one segment is convex along a line, so it stays under
+    ``max(d(p), |q s(p)|)`` and ``max(d(q), |p s(q)|)``. A piece no longer than ``step``
+    is always settled.
     """
     if not len(curves):
         return 0.0
 
-    def distance(xy):
-        """GEOS's point-to-segment distance on a grid of cells of side alpha; the few
-        points not settled within 8 rings of cells by shapely's STRtree."""
-        found = segment_distances(xy, targets, step * PROBES_PER_ALPHA, 8)
+    def nearest(xy):
+        """GEOS's point-to-segment distance, and the segment, on a grid of cells of side
+        alpha; the few points not settled within 8 rings of cells by shapely's STRtree."""
+        found, index = segment_distances(xy, targets, step * PROBES_PER_ALPHA, 8)
         far = np.isnan(found)
         if far.any():
             tree = shapely.STRtree(shapely.linestrings(targets))
-            found[far] = tree.query_nearest(shapely.points(xy[far]), all_matches=False,
-                                            return_distance=True)[1]
-        return found
+            (_, index[far]), found[far] = tree.query_nearest(
+                shapely.points(xy[far]), all_matches=False, return_distance=True)
+        return found, index
 
-    ends = distance(curves.reshape(-1, 2)).reshape(-1, 2)
-    length = np.hypot(*(curves[:, 1] - curves[:, 0]).T)
-    farthest = float(ends.max())
-    open_ = (ends.sum(axis=1) + length) / 2 > farthest + step / 2
-    if open_.any():
-        count = np.ceil(length[open_] / step).astype(np.int64)
-        owner = np.repeat(np.flatnonzero(open_), count - 1)
-        t = (np.arange(len(owner)) - np.repeat(np.cumsum(count - 1) - (count - 1), count - 1) + 1) \
-            / np.repeat(count, count - 1)
-        probes = curves[owner, 0] + t[:, None] * (curves[owner, 1] - curves[owner, 0])
-        if len(probes):
-            farthest = max(farthest, float(distance(probes).max()))
+    p, q = curves[:, 0], curves[:, 1]
+    (dp, dq), (sp, sq) = (a.reshape(-1, 2).T for a in nearest(curves.reshape(-1, 2)))
+    farthest = float(max(dp.max(), dq.max()))
+    while len(p):
+        bound = np.minimum((dp + dq + np.hypot(*(q - p).T)) / 2,
+                           np.minimum(np.maximum(dp, _point_segment(q, *targets[sp].transpose(1, 0, 2))[0]),
+                                      np.maximum(dq, _point_segment(p, *targets[sq].transpose(1, 0, 2))[0])))
+        open_ = bound > farthest + step / 2
+        p, q, dp, dq, sp, sq = (a[open_] for a in (p, q, dp, dq, sp, sq))
+        if not len(p):
+            break
+        middle = (p + q) / 2
+        dm, sm = nearest(middle)
+        farthest = max(farthest, float(dm.max()))
+        p, q = np.concatenate([p, middle]), np.concatenate([middle, q])
+        dp, dq = np.concatenate([dp, dm]), np.concatenate([dm, dq])
+        sp, sq = np.concatenate([sp, sm]), np.concatenate([sm, sq])
     return farthest
 
 
