@@ -252,8 +252,8 @@ def test_farthest_point_of_curves_from_targets_is_found_to_half_a_step(seed):
     found = _farthest(curves, targets, step)
     t = np.linspace(0, 1, 2001)[:, None, None]                     # probes 1e-4 apart at most
     dense = (curves[None, :, 0] + t * (curves[None, :, 1] - curves[None, :, 0])).reshape(-1, 2)
-    brute = shapely.distance(shapely.points(dense)[:, None],
-                             shapely.linestrings(targets)[None, :]).min(axis=1).max()
+    brute = shapely.STRtree(shapely.linestrings(targets)).query_nearest(
+        shapely.points(dense), all_matches=False, return_distance=True)[1].max()
     assert brute - step / 2 <= found <= brute + 1e-4
 
 
