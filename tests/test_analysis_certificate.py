@@ -12,7 +12,7 @@ from conftest import min_distance, probe_gap, visible_min_distance, visible_prob
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from pds_plugin import _parallel
-from pds_plugin._certificate_kernels import segment_distances
+from pds_plugin._certificate_kernels import segment_distances, signed_areas
 from pds_plugin._geometry_kernels import circumcircles
 from pds_plugin.analysis.certificate import _SampleGrid
 from pds_plugin.analysis.conformity import SampledBoundary, _farthest
@@ -255,6 +255,19 @@ def test_farthest_point_of_curves_from_targets_is_found_to_half_a_step(seed):
     brute = shapely.STRtree(shapely.linestrings(targets)).query_nearest(
         shapely.points(dense), all_matches=False, return_distance=True)[1].max()
     assert brute - step / 2 <= found <= brute + 1e-4
+
+
+def test_signed_areas_are_the_plain_float_expression_bit_for_bit():
+    rng = np.random.default_rng(0)
+    points = rng.random((500, 2)) * 1e3 - 300
+    faces = rng.integers(0, 500, (20000, 3))
+    faces[:3] = [[0, 1, 1], [2, 2, 2], [3, 4, 5]]                # flat ones, and one turned
+    faces[3] = faces[2][::-1]
+    u, v = points[faces[:, 1]] - points[faces[:, 0]], points[faces[:, 2]] - points[faces[:, 0]]
+    expected = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
+    found = signed_areas(points, faces)
+    assert np.array_equal(found, expected) and found[0] == found[1] == 0
+    assert found[2] * found[3] < 0
 
 
 # --- conformity, and separation and coverage with the visibility rule ------------------

@@ -382,3 +382,22 @@ def segment_distances(points, segments, double h, Py_ssize_t rings):
                 nearest[f] = best_segment
                 break
     return distance_array, nearest_array
+
+
+def signed_areas(points, faces):
+    """Signed area of each triangle of ``faces`` (M, 3) over ``points`` (N, 2): with
+    ``u = b - a`` and ``v = c - a``, ``(u_x * v_y - u_y * v_x) / 2``, positive for a
+    counter-clockwise triangle; the faces' indices must lie in [0, N)."""
+    cdef const double[:, ::1] pt = np.ascontiguousarray(points, dtype=np.float64)
+    cdef const int64_t[:, ::1] fc = np.ascontiguousarray(faces, dtype=np.int64)
+    cdef Py_ssize_t m = fc.shape[0], f
+    area_array = np.empty(m)
+    cdef double[::1] area = area_array
+    cdef double ux, uy, vx, vy
+    for f in prange(m, nogil=True, schedule="static", num_threads=threads_for(m)):
+        ux = pt[fc[f, 1], 0] - pt[fc[f, 0], 0]
+        uy = pt[fc[f, 1], 1] - pt[fc[f, 0], 1]
+        vx = pt[fc[f, 2], 0] - pt[fc[f, 0], 0]
+        vy = pt[fc[f, 2], 1] - pt[fc[f, 0], 1]
+        area[f] = (ux * vy - uy * vx) / 2
+    return area_array

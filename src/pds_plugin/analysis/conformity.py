@@ -25,7 +25,7 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-from .._certificate_kernels import segment_distances
+from .._certificate_kernels import segment_distances, signed_areas
 from .feature import _point_segment
 
 __all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
@@ -507,7 +507,7 @@ class _Conformity:
         self._say(int(extra.sum()), "mesh-boundary edges are not chords between consecutive "
                   "boundary samples", self.points[edges[extra]].mean(axis=1))
         faces = np.asarray(self.mesh.faces, np.int64).reshape(-1, 3)
-        signed = _signed_areas(self.points, faces)
+        signed = signed_areas(self.points, faces)
         clockwise = signed <= 0
         self._say(int(clockwise.sum()), "triangles are clockwise or flat",
                   self.points[faces[clockwise]].mean(axis=1))
@@ -595,17 +595,6 @@ def say_located(problems: list, count: int, what: str, where) -> None:
     if count:
         places = ", ".join(_xy(p) for p in where[:_MAX_NAMED])
         problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
-
-
-def _signed_areas(points, faces) -> np.ndarray:
-    """Signed areas of 2D triangles, a block of faces at a time: the (M, 3, 2) array of all
-    corners at once would set the certificate's peak memory on a 1M mesh."""
-    signed = np.empty(len(faces))
-    for start in range(0, len(faces), FACE_BLOCK):
-        corner = points[faces[start:start + FACE_BLOCK]]
-        u, v = corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]
-        signed[start:start + FACE_BLOCK] = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
-    return signed
 
 
 def _keys(u, v, n) -> np.ndarray:

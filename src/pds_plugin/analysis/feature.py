@@ -49,7 +49,7 @@ ADJACENT_TURNING = 5 * np.pi / 6
 
 _COLLINEAR = 1e-7   # |turning angle| (radians) below which a vertex is a straight-line split
 _CHUNK = 16         # consecutive segments per spatial-index entry
-_BATCH = 1024       # pairs of runs expanded at once when looking for walls
+_BATCH = 16         # pairs of runs first expanded when looking for walls (then 4x more each time)
 
 
 @dataclass(frozen=True)
@@ -308,12 +308,15 @@ class _Boundary:
     def _best_wall(self, chunks, boxes, first, last, a, b):
         """The closest non-adjacent pair through the region among the runs ``a``, ``b``:
         run pairs in order of their distance (a lower bound of their segment pairs'),
-        expanded a batch at a time until the next batch cannot beat the best wall."""
+        expanded in batches growing fourfold until the next batch cannot beat the best
+        wall (the nearest run pairs usually hold it)."""
         lower = shapely.distance(chunks[a], chunks[b])
         order = np.argsort(lower, kind="stable")
         best = None
-        for start in range(0, len(order), _BATCH):
-            batch = order[start:start + _BATCH]
+        start, size = 0, _BATCH
+        while start < len(order):
+            batch = order[start:start + size]
+            start, size = start + size, 4 * size
             if best is not None and lower[batch[0]] >= best[0]:
                 break
             i, j = _expand(first[a[batch]], last[a[batch]], first[b[batch]], last[b[batch]])

@@ -327,8 +327,11 @@ def _owners(region, points) -> np.ndarray:
     if len(components) == 1:
         return np.zeros(len(points), dtype=np.int64)
     owner = np.full(len(points), -1, dtype=np.int64)
+    x, y = points.T
     for c, polygon in enumerate(components):
-        owner[(owner < 0) & shapely.intersects_xy(polygon, *points.T)] = c
+        x0, y0, x1, y1 = polygon.bounds        # only points in its box can lie on it
+        test = np.flatnonzero((owner < 0) & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1))
+        owner[test[shapely.intersects_xy(polygon, x[test], y[test])]] = c
     stray = np.flatnonzero(owner < 0)
     if len(stray):
         segment_owner = np.repeat([c for c, _ in region.ring_owners],
