@@ -228,7 +228,8 @@ class _Boundary:
 
         Runs of segments whose bounding boxes come within ``radius`` of each other are
         paired through an STRtree; ``radius`` grows until a non-adjacent pair is found
-        within it, which makes the minimum exact.
+        within it, which makes the minimum exact. Each growth examines only the run
+        pairs it adds (the best so far is kept on ties).
         """
         best_of = self._best_wall if walls_only else self._best_of_chunk_pairs
         chunks, first, last = self._chunks()
@@ -237,13 +238,19 @@ class _Boundary:
         x0, y0, x1, y1 = boxes.T
         span = max(x1.max() - x0.min(), y1.max() - y0.min())
         radius = 4 * np.median(np.linalg.norm(self.p1 - self.p0, axis=1))
-        best = None
+        best, seen = None, np.empty(0, np.int64)
         while best is None or best[0] > radius:
             if best is not None:
                 radius = best[0]
             a, b = tree.query(shapely.box(x0 - radius, y0 - radius, x1 + radius, y1 + radius))
             keep = a <= b
-            best = best_of(chunks, boxes, first, last, a[keep], b[keep])
+            a, b = a[keep], b[keep]
+            pairs = a * len(chunks) + b
+            new = ~np.isin(pairs, seen)
+            seen = pairs                       # the pairs within a radius hold the smaller's
+            found = best_of(chunks, boxes, first, last, a[new], b[new]) if new.any() else None
+            if found is not None and (best is None or found[0] < best[0]):
+                best = found
             if best is None:
                 if radius > 2 * span:
                     return None
