@@ -565,9 +565,10 @@ def _farthest(curves, targets, step) -> float:
     (dp, dq), (sp, sq) = (a.reshape(-1, 2).T for a in nearest(curves.reshape(-1, 2)))
     farthest = float(max(dp.max(), dq.max()))
     while len(p):
-        bound = np.minimum((dp + dq + np.hypot(*(q - p).T)) / 2,
-                           np.minimum(np.maximum(dp, _point_segment(q, *targets[sp].transpose(1, 0, 2))[0]),
-                                      np.maximum(dq, _point_segment(p, *targets[sq].transpose(1, 0, 2))[0])))
+        lipschitz = (dp + dq + np.hypot(*(q - p).T)) / 2
+        along_sp = np.maximum(dp, _point_segment(q, targets[sp, 0], targets[sp, 1])[0])
+        along_sq = np.maximum(dq, _point_segment(p, targets[sq, 0], targets[sq, 1])[0])
+        bound = np.minimum(lipschitz, np.minimum(along_sp, along_sq))
         open_ = bound > farthest + step / 2
         p, q, dp, dq, sp, sq = (a[open_] for a in (p, q, dp, dq, sp, sq))
         if not len(p):
