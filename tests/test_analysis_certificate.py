@@ -12,10 +12,10 @@ from conftest import min_distance, probe_gap, visible_min_distance, visible_prob
 from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from pds_plugin import _parallel
-from pds_plugin._certificate_kernels import segment_distances
+from pds_plugin._certificate_kernels import segment_distances, signed_areas
 from pds_plugin._geometry_kernels import circumcircles
 from pds_plugin.analysis.certificate import _SampleGrid
-from pds_plugin.analysis.conformity import SampledBoundary
+from pds_plugin.analysis.conformity import SampledBoundary, _farthest
 
 
 def test_measures_agree_with_independent_oracles():
@@ -225,14 +225,49 @@ def test_segment_distances_are_shapelys_bit_for_bit(seed):
     near = starts[:, None] + rng.random((300, 8, 1)) * (ends - starts)[:, None]
     points = np.concatenate([near.reshape(-1, 2) + rng.normal(0, 0.01, (2400, 2)),
                              rng.random((500, 2)) * 30 - 10])       # and far ones
-    found = segment_distances(points, segments, 0.1, 8)
+    found, nearest = segment_distances(points, segments, 0.1, 8)
     tree = shapely.STRtree(shapely.linestrings(segments))
     expected = tree.query_nearest(shapely.points(points), all_matches=False,
                                   return_distance=True)[1]
     settled = ~np.isnan(found)
     assert settled[:2400].mean() > 0.99 and not settled.all()
     assert np.array_equal(found[settled], expected[settled])
-    assert np.array_equal(segment_distances(points, segments, 0.1, 10**6), expected)
+    assert np.array_equal(shapely.distance(shapely.points(points[settled]),
+                                           shapely.linestrings(segments[nearest[settled]])),
+                          found[settled]) and (nearest[~settled] == -1).all()
+    assert np.array_equal(segment_distances(points, segments, 0.1, 10**6)[0], expected)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_farthest_point_of_curves_from_targets_is_found_to_half_a_step(seed):
+    rng = np.random.default_rng(seed)
+    angle = np.sort(rng.random(40)) * 2 * np.pi       # chords of a wavy closed curve...
+    radius = 1 + 0.1 * np.sin(5 * angle) + 0.02 * rng.random(40)
+    ring = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    curves = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
+    fine = np.linspace(0, 2 * np.pi, 700, endpoint=False)          # ...against the curve
+    smooth = np.column_stack([np.cos(fine), np.sin(fine)]) * (1 + 0.1 * np.sin(5 * fine))[:, None]
+    targets = np.stack([smooth, np.roll(smooth, -1, axis=0)], axis=1)
+    step = 0.02
+    found = _farthest(curves, targets, step)
+    t = np.linspace(0, 1, 2001)[:, None, None]                     # probes 1e-4 apart at most
+    dense = (curves[None, :, 0] + t * (curves[None, :, 1] - curves[None, :, 0])).reshape(-1, 2)
+    brute = shapely.STRtree(shapely.linestrings(targets)).query_nearest(
+        shapely.points(dense), all_matches=False, return_distance=True)[1].max()
+    assert brute - step / 2 <= found <= brute + 1e-4
+
+
+def test_signed_areas_are_the_plain_float_expression_bit_for_bit():
+    rng = np.random.default_rng(0)
+    points = rng.random((500, 2)) * 1e3 - 300
+    faces = rng.integers(0, 500, (20000, 3))
+    faces[:3] = [[0, 1, 1], [2, 2, 2], [3, 4, 5]]                # flat ones, and one turned
+    faces[3] = faces[2][::-1]
+    u, v = points[faces[:, 1]] - points[faces[:, 0]], points[faces[:, 2]] - points[faces[:, 0]]
+    expected = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
+    found = signed_areas(points, faces)
+    assert np.array_equal(found, expected) and found[0] == found[1] == 0
+    assert found[2] * found[3] < 0
 
 
 # --- conformity, and separation and coverage with the visibility rule ------------------

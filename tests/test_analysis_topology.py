@@ -100,6 +100,21 @@ def test_theorem_2_betti_numbers_match_per_component(reg, seed):
                    for c, p in zip(report.per_component, reg.geometry.geoms))
 
 
+def test_a_component_inside_another_ones_hole_keeps_both_holes():
+    # a ring inside the hole of a ring (a pipe in a pipe): the outer hole's face of the
+    # mesh's complement is the gap between the rings, not the inner ring's hole too
+    nested = region(shapely.union_all([box(0, 0, 10, 10).difference(box(2, 2, 8, 8)),
+                                       box(3, 3, 7, 7).difference(box(4, 4, 6, 6))]))
+    for seed in (0, 1):
+        report = topology_report(pds.mesh_region(nested, alpha=0.1, seed=seed))
+        assert report.topology_ok, report
+        assert [c.betti_mesh for c in report.per_component] == [(1, 1), (1, 1)]
+    mesh = pds.mesh_region(nested, "auto")
+    assert mesh.certificate().ok and mesh.alpha == pytest.approx(0.25)
+    bridged = topology_report(pds.mesh_region(nested, alpha=0.9, seed=0, conforming=False))
+    assert not bridged.topology_ok and any("joined" in p for p in bridged.problems)
+
+
 # --- defects, located ---------------------------------------------------------------
 # The paper's complex (conforming=False) makes these defects; a conforming mesh keeps
 # gaps, notches and small holes open (tests/test_conforming.py).

@@ -320,8 +320,9 @@ cdef void _bin_segment(const double[:, :, :] sg, Py_ssize_t s, double x0, double
 
 def segment_distances(points, segments, double h, Py_ssize_t rings):
     """Distance from each point to the nearest of the (K, 2, 2) ``segments``, equal bit
-    for bit to shapely's (GEOS) point-to-segment distance; NaN for a point whose nearest
-    segment is not settled within ``rings`` rings of cells around it.
+    for bit to shapely's (GEOS) point-to-segment distance, and the index of that segment
+    (the first found at that distance); NaN and -1 for a point whose nearest segment is
+    not settled within ``rings`` rings of cells around it.
 
     The segments are filed in square cells of side ``h`` (or larger, at most about four
     cells per segment); each point searches ring after ring of cells around its own until
@@ -331,8 +332,9 @@ def segment_distances(points, segments, double h, Py_ssize_t rings):
     cdef const double[:, :, :] sg = np.asarray(segments, dtype=np.float64)
     cdef Py_ssize_t m = pt.shape[0], k = sg.shape[0], s, f, c, ring, gx, gy, e, cx, cy
     distance_array = np.full(m, np.nan)
+    nearest_array = np.full(m, -1, np.int64)
     if k == 0 or m == 0:
-        return distance_array
+        return distance_array, nearest_array
     flat = np.asarray(segments, dtype=np.float64).reshape(-1, 2)
     low, high = flat.min(axis=0), flat.max(axis=0)
     span = high - low
@@ -353,11 +355,14 @@ def segment_distances(points, segments, double h, Py_ssize_t rings):
         for s in range(k):
             _bin_segment(sg, s, x0, y0, h, nx, ny, fill, entry, True)
     cdef double[::1] distance = distance_array
+    cdef int64_t[::1] nearest = nearest_array
     cdef double best, d
+    cdef int64_t best_segment
     for f in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
         cx = min(max(_cell_index(pt[f, 0], x0, h, nx), 0), nx - 1)
         cy = min(max(_cell_index(pt[f, 1], y0, h, ny), 0), ny - 1)
         best = INFINITY
+        best_segment = -1
         for ring in range(rings + 1):
             for gy in range(max(cy - ring, 0), min(cy + ring, ny - 1) + 1):
                 for gx in range(max(cx - ring, 0), min(cx + ring, nx - 1) + 1):
@@ -370,8 +375,29 @@ def segment_distances(points, segments, double h, Py_ssize_t rings):
                                            sg[entry[e], 1, 1])
                         if d < best:
                             best = d
+                            best_segment = entry[e]
             if best <= (ring - 1e-6) * h or (ring >= cx and ring >= cy and ring >= nx - 1 - cx
                                              and ring >= ny - 1 - cy):
                 distance[f] = best                  # no farther cell holds a nearer segment
+                nearest[f] = best_segment
                 break
-    return distance_array
+    return distance_array, nearest_array
+
+
+def signed_areas(points, faces):
+    """Signed area of each triangle of ``faces`` (M, 3) over ``points`` (N, 2): with
+    ``u = b - a`` and ``v = c - a``, ``(u_x * v_y - u_y * v_x) / 2``, positive for a
+    counter-clockwise triangle; the faces' indices must lie in [0, N)."""
+    cdef const double[:, ::1] pt = np.ascontiguousarray(points, dtype=np.float64)
+    cdef const int64_t[:, ::1] fc = np.ascontiguousarray(faces, dtype=np.int64)
+    cdef Py_ssize_t m = fc.shape[0], f
+    area_array = np.empty(m)
+    cdef double[::1] area = area_array
+    cdef double ux, uy, vx, vy
+    for f in prange(m, nogil=True, schedule="static", num_threads=threads_for(m)):
+        ux = pt[fc[f, 1], 0] - pt[fc[f, 0], 0]
+        uy = pt[fc[f, 1], 1] - pt[fc[f, 0], 1]
+        vx = pt[fc[f, 2], 0] - pt[fc[f, 0], 0]
+        vy = pt[fc[f, 2], 1] - pt[fc[f, 0], 1]
+        area[f] = (ux * vy - uy * vx) / 2
+    return area_array

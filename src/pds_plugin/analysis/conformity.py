@@ -25,7 +25,8 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-from .._certificate_kernels import segment_distances
+from .._certificate_kernels import segment_distances, signed_areas
+from .feature import _point_segment
 
 __all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
 
@@ -506,7 +507,7 @@ class _Conformity:
         self._say(int(extra.sum()), "mesh-boundary edges are not chords between consecutive "
                   "boundary samples", self.points[edges[extra]].mean(axis=1))
         faces = np.asarray(self.mesh.faces, np.int64).reshape(-1, 3)
-        signed = _signed_areas(self.points, faces)
+        signed = signed_areas(self.points, faces)
         clockwise = signed <= 0
         self._say(int(clockwise.sum()), "triangles are clockwise or flat",
                   self.points[faces[clockwise]].mean(axis=1))
@@ -538,36 +539,46 @@ def _farthest(curves, targets, step) -> float:
     """The largest distance from a point of the (k, 2, 2) segments ``curves`` to the
     nearest of ``targets``, to ``step / 2`` below.
 
-    The distance is 1-Lipschitz: along a segment of length L it stays under
-    ``(d(start) + d(end) + L) / 2``, so only segments whose bound beats the farthest end
-    are probed every ``step``.
+    Each curve is cut in halves until every piece is settled: its distance cannot exceed
+    the farthest point found by more than ``step / 2``. Two bounds settle a piece from
+    its ends p and q, at distances d(p) and d(q) from their nearest targets s(p) and s(q):
+    the distance is 1-Lipschitz, so it stays under ``(d(p) + d(q) + |pq|) / 2``; and the
+    distance to one segment is convex along a line, so it stays under
+    ``max(d(p), |q s(p)|)`` and ``max(d(q), |p s(q)|)``. A piece no longer than ``step``
+    is always settled.
     """
     if not len(curves):
         return 0.0
 
-    def distance(xy):
-        """GEOS's point-to-segment distance on a grid of cells of side alpha; the few
-        points not settled within 8 rings of cells by shapely's STRtree."""
-        found = segment_distances(xy, targets, step * PROBES_PER_ALPHA, 8)
+    def nearest(xy):
+        """GEOS's point-to-segment distance, and the segment, on a grid of cells of side
+        alpha; the few points not settled within 8 rings of cells by shapely's STRtree."""
+        found, index = segment_distances(xy, targets, step * PROBES_PER_ALPHA, 8)
         far = np.isnan(found)
         if far.any():
             tree = shapely.STRtree(shapely.linestrings(targets))
-            found[far] = tree.query_nearest(shapely.points(xy[far]), all_matches=False,
-                                            return_distance=True)[1]
-        return found
+            (_, index[far]), found[far] = tree.query_nearest(
+                shapely.points(xy[far]), all_matches=False, return_distance=True)
+        return found, index
 
-    ends = distance(curves.reshape(-1, 2)).reshape(-1, 2)
-    length = np.hypot(*(curves[:, 1] - curves[:, 0]).T)
-    farthest = float(ends.max())
-    open_ = (ends.sum(axis=1) + length) / 2 > farthest + step / 2
-    if open_.any():
-        count = np.ceil(length[open_] / step).astype(np.int64)
-        owner = np.repeat(np.flatnonzero(open_), count - 1)
-        t = (np.arange(len(owner)) - np.repeat(np.cumsum(count - 1) - (count - 1), count - 1) + 1) \
-            / np.repeat(count, count - 1)
-        probes = curves[owner, 0] + t[:, None] * (curves[owner, 1] - curves[owner, 0])
-        if len(probes):
-            farthest = max(farthest, float(distance(probes).max()))
+    p, q = curves[:, 0], curves[:, 1]
+    (dp, dq), (sp, sq) = (a.reshape(-1, 2).T for a in nearest(curves.reshape(-1, 2)))
+    farthest = float(max(dp.max(), dq.max()))
+    while len(p):
+        lipschitz = (dp + dq + np.hypot(*(q - p).T)) / 2
+        along_sp = np.maximum(dp, _point_segment(q, targets[sp, 0], targets[sp, 1])[0])
+        along_sq = np.maximum(dq, _point_segment(p, targets[sq, 0], targets[sq, 1])[0])
+        bound = np.minimum(lipschitz, np.minimum(along_sp, along_sq))
+        open_ = bound > farthest + step / 2
+        p, q, dp, dq, sp, sq = (a[open_] for a in (p, q, dp, dq, sp, sq))
+        if not len(p):
+            break
+        middle = (p + q) / 2
+        dm, sm = nearest(middle)
+        farthest = max(farthest, float(dm.max()))
+        p, q = np.concatenate([p, middle]), np.concatenate([middle, q])
+        dp, dq = np.concatenate([dp, dm]), np.concatenate([dm, dq])
+        sp, sq = np.concatenate([sp, sm]), np.concatenate([sm, sq])
     return farthest
 
 
@@ -585,17 +596,6 @@ def say_located(problems: list, count: int, what: str, where) -> None:
     if count:
         places = ", ".join(_xy(p) for p in where[:_MAX_NAMED])
         problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
-
-
-def _signed_areas(points, faces) -> np.ndarray:
-    """Signed areas of 2D triangles, a block of faces at a time: the (M, 3, 2) array of all
-    corners at once would set the certificate's peak memory on a 1M mesh."""
-    signed = np.empty(len(faces))
-    for start in range(0, len(faces), FACE_BLOCK):
-        corner = points[faces[start:start + FACE_BLOCK]]
-        u, v = corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]
-        signed[start:start + FACE_BLOCK] = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
-    return signed
 
 
 def _keys(u, v, n) -> np.ndarray:

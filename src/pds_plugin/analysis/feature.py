@@ -49,7 +49,7 @@ ADJACENT_TURNING = 5 * np.pi / 6
 
 _COLLINEAR = 1e-7   # |turning angle| (radians) below which a vertex is a straight-line split
 _CHUNK = 16         # consecutive segments per spatial-index entry
-_BATCH = 1024       # pairs of runs expanded at once when looking for walls
+_BATCH = 16         # pairs of runs first expanded when looking for walls (then 4x more each time)
 
 
 @dataclass(frozen=True)
@@ -228,7 +228,8 @@ class _Boundary:
 
         Runs of segments whose bounding boxes come within ``radius`` of each other are
         paired through an STRtree; ``radius`` grows until a non-adjacent pair is found
-        within it, which makes the minimum exact.
+        within it, which makes the minimum exact. Each growth examines only the run
+        pairs it adds (the best so far is kept on ties).
         """
         best_of = self._best_wall if walls_only else self._best_of_chunk_pairs
         chunks, first, last = self._chunks()
@@ -237,13 +238,19 @@ class _Boundary:
         x0, y0, x1, y1 = boxes.T
         span = max(x1.max() - x0.min(), y1.max() - y0.min())
         radius = 4 * np.median(np.linalg.norm(self.p1 - self.p0, axis=1))
-        best = None
+        best, seen = None, np.empty(0, np.int64)
         while best is None or best[0] > radius:
             if best is not None:
                 radius = best[0]
             a, b = tree.query(shapely.box(x0 - radius, y0 - radius, x1 + radius, y1 + radius))
             keep = a <= b
-            best = best_of(chunks, boxes, first, last, a[keep], b[keep])
+            a, b = a[keep], b[keep]
+            pairs = a * len(chunks) + b
+            new = ~np.isin(pairs, seen)
+            seen = pairs                       # the pairs within a radius hold the smaller's
+            found = best_of(chunks, boxes, first, last, a[new], b[new]) if new.any() else None
+            if found is not None and (best is None or found[0] < best[0]):
+                best = found
             if best is None:
                 if radius > 2 * span:
                     return None
@@ -308,12 +315,15 @@ class _Boundary:
     def _best_wall(self, chunks, boxes, first, last, a, b):
         """The closest non-adjacent pair through the region among the runs ``a``, ``b``:
         run pairs in order of their distance (a lower bound of their segment pairs'),
-        expanded a batch at a time until the next batch cannot beat the best wall."""
+        expanded in batches growing fourfold until the next batch cannot beat the best
+        wall (the nearest run pairs usually hold it)."""
         lower = shapely.distance(chunks[a], chunks[b])
         order = np.argsort(lower, kind="stable")
         best = None
-        for start in range(0, len(order), _BATCH):
-            batch = order[start:start + _BATCH]
+        start, size = 0, _BATCH
+        while start < len(order):
+            batch = order[start:start + size]
+            start, size = start + size, 4 * size
             if best is not None and lower[batch[0]] >= best[0]:
                 break
             i, j = _expand(first[a[batch]], last[a[batch]], first[b[batch]], last[b[batch]])

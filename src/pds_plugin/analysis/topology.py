@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from shapely.geometry import Polygon
 
 from .._checks import check_planar_mesh
 
@@ -225,26 +224,25 @@ class _Comparison:
         in a mesh hole centred in another region hole (merged) or outside (opened). With
         several, the hole is split by triangles bridging a narrow passage.
         """
-        region_holes = [(c, h, Polygon(ring)) for c, polygon in enumerate(self.components)
-                        for h, ring in enumerate(polygon.interiors)]
+        owner, number, shapes = _holes(self.components)
+        region_holes = list(zip(owner.tolist(), number.tolist(), shapes))
         parts = shapely.get_parts(self.covered)
-        mesh_holes = [Polygon(ring) for part in parts for ring in part.interiors]
+        filled = shapely.polygons(shapely.get_exterior_ring(parts))
+        mesh_holes = list(_holes(parts)[2])
         x0, y0, x1, y1 = self.region.bounds
         frame = shapely.box(x0, y0, x1, y1).buffer(max(x1 - x0, y1 - y0))
         self.mesh_holes = mesh_holes
-        self.mesh_outside = frame.difference(shapely.union_all(shapely.polygons(
-            shapely.get_exterior_ring(parts))))
-        mesh_centres = [_inscribed(shape.difference(self.covered))[0] for shape in mesh_holes]
-        in_region = [self._region_place(centre, [s for _, _, s in region_holes])
-                     for centre in mesh_centres]
+        self.mesh_outside = frame.difference(shapely.union_all(filled))
+        mesh_centres = _inscribed_centres(_complement_faces(mesh_holes, filled))
+        in_region = self._region_places(mesh_centres, [s for _, _, s in region_holes])
+        mine = np.bincount([p for p in in_region if isinstance(p, int)], minlength=len(region_holes))
         for k, (c, h, shape) in enumerate(region_holes):
             if c in lost_components:
                 continue
             name = f"hole {h} of component {c}"
-            mine = in_region.count(k)
-            if mine >= 2:
-                self._bridge(f"{name} is split into {mine}", shape)
-            elif mine == 0:
+            if mine[k] >= 2:
+                self._bridge(f"{name} is split into {mine[k]}", shape)
+            elif mine[k] == 0:
                 centre, radius = _inscribed(shape.difference(self.region.geometry))
                 place = self._mesh_place(centre, mesh_holes)
                 if place == "covered":
@@ -271,10 +269,21 @@ class _Comparison:
             return "covered"
         return _innermost(point, mesh_holes, default="outside")
 
-    def _region_place(self, point, region_holes):
-        if self.region.geometry.covers(shapely.Point(point)):
-            return "material"
-        return _innermost(point, region_holes, default="outside")
+    def _region_places(self, points, region_holes) -> list:
+        """Where each point lies: 'material' (in the region), the index of the smallest
+        region hole holding it, or 'outside'."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        places = np.where(shapely.intersects_xy(self.region.geometry, *points.T), -1, -2)
+        if region_holes and len(points):
+            shapes = np.asarray(region_holes, dtype=object)
+            point, hole = shapely.STRtree(shapes).query(shapely.points(points), predicate="within")
+            free = places[point] == -2
+            point, hole = point[free], hole[free]
+            first = np.lexsort((hole, shapely.area(shapes)[hole], point))   # smallest area first
+            point, hole = point[first], hole[first]
+            lead = np.r_[True, point[1:] != point[:-1]]
+            places[point[lead]] = hole[lead]
+        return ["material" if p == -1 else "outside" if p == -2 else int(p) for p in places]
 
     def _wall(self, c, what, ring_a, ring_b):
         line = shapely.shortest_line(ring_a, ring_b)
@@ -318,8 +327,11 @@ def _owners(region, points) -> np.ndarray:
     if len(components) == 1:
         return np.zeros(len(points), dtype=np.int64)
     owner = np.full(len(points), -1, dtype=np.int64)
+    x, y = points.T
     for c, polygon in enumerate(components):
-        owner[(owner < 0) & shapely.intersects_xy(polygon, *points.T)] = c
+        x0, y0, x1, y1 = polygon.bounds        # only points in its box can lie on it
+        test = np.flatnonzero((owner < 0) & (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1))
+        owner[test[shapely.intersects_xy(polygon, x[test], y[test])]] = c
     stray = np.flatnonzero(owner < 0)
     if len(stray):
         segment_owner = np.repeat([c for c, _ in region.ring_owners],
@@ -328,6 +340,37 @@ def _owners(region, points) -> np.ndarray:
         nearest = tree.query_nearest(shapely.points(points[stray]), all_matches=False)
         owner[stray[nearest[0]]] = segment_owner[nearest[1]]
     return owner
+
+
+def _holes(polygons):
+    """The holes of ``polygons`` as polygons: (owner, hole number, shapes) arrays, in
+    the order of ``polygon.interiors``."""
+    rings, owner = shapely.get_rings(np.asarray(polygons, dtype=object), return_index=True)
+    number = np.arange(len(owner)) - np.searchsorted(owner, owner) - 1   # exterior: -1
+    hole = number >= 0
+    return owner[hole], number[hole], shapely.polygons(rings[hole])
+
+
+def _complement_faces(holes, filled):
+    """Each hole of the mesh minus the mesh parts inside it (islands, with their own
+    holes filled): the face of the mesh's complement that the hole's ring bounds.
+
+    A mesh part meeting the open hole lies inside it (parts do not overlap), so the parts
+    a hole contains are its islands; the hole's own part only touches its ring."""
+    holes = np.asarray(holes, dtype=object)
+    if not len(holes):
+        return holes
+    hole, island = shapely.STRtree(filled).query(holes, predicate="contains")
+    faces = holes.copy()
+    for k in np.unique(hole):
+        faces[k] = faces[k].difference(shapely.union_all(filled[island[hole == k]]))
+    return faces
+
+
+def _inscribed_centres(shapes) -> np.ndarray:
+    """(n, 2) centres of the largest circles inside the polygonal ``shapes``."""
+    lines = shapely.maximum_inscribed_circle(np.asarray(shapes, dtype=object))
+    return shapely.get_coordinates(shapely.get_point(lines, 0)).reshape(-1, 2)
 
 
 def _inscribed(shape):
