@@ -64,11 +64,20 @@ def warn_about(entry: dict) -> None:
                        "small features, each within its proven bound; the first: "
                        f"{_exception(exceptions[0]) if exceptions else 'none'}")
     elif not certificate["ok"]:
+        unconforming = certificate["claims_conforming"] and not certificate["boundary_ok"]
         failed = [name.replace("_ok", "") for name in ("sampling_ok", "quality_ok",
                                                         "topology_ok") if not certificate[name]]
+        failed += ["boundary"] if unconforming else []
         say("warning", f"{entry['output']}: certificate FAILED ({', '.join(failed) or 'mesh'})")
-        for problem in [*certificate["topology"]["problems"], *certificate["unexplained"]]:
+        problems = [*certificate["topology"]["problems"], *certificate["unexplained"],
+                    *(certificate["boundary_problems"] if unconforming else [])]
+        for problem in problems:
             say("warning", f"{entry['output']}: {problem}")
+        if unconforming and "grading" not in certificate:
+            say("warning", f"{entry['output']}: a uniform mesh usually breaks there at parts "
+                           "of the section thinner than alpha (spikes, thin walls), which it "
+                           "leaves out; a graded mesh (--alpha auto) or a smaller alpha keeps "
+                           "them")
 
 
 def _exception(exception: dict) -> str:
