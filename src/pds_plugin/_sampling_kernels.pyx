@@ -23,7 +23,7 @@ from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
 from ._visibility_kernels cimport (Chords, box_seen, chord_cell, chords_of, near_boundary,
-                                  sees, sees_near_chords)
+                                  point_inside, sees, sees_near_chords)
 
 cdef enum:
     C_OUTSIDE = 0
@@ -38,6 +38,42 @@ OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
 SUB = CSUB
 
 ctypedef const uint8_t[:, ::1] const_flags2
+
+
+class Workspace:
+    """Scratch arrays kept across the passes and refinement levels of one sampling.
+
+    The first dart pass needs the largest arrays (one dart per cell of the region), the
+    later passes and levels smaller ones. Arrays that large come from the OS as fresh
+    pages, which the OS clears on first touch, and return to it when freed: allocated anew
+    for every pass and level they cost 1.0-1.5 s of system time at 1M samples
+    (docs/engine.md). ``array`` hands out views of buffers that only grow.
+
+    >>> work = Workspace()
+    >>> a = work.array("darts", 10, np.float64)
+    >>> b = work.array("darts", 4, np.float64)       # the same memory, valid until the next call
+    >>> bool(np.shares_memory(a, b)), b.shape
+    (True, (4,))
+    """
+
+    def __init__(self):
+        self._buffers = {}
+
+    def array(self, name, n, dtype):
+        """A contiguous 1-D array of ``n`` items of ``dtype`` (contents undefined), the same
+        memory as the previous request of ``name``: valid until the next one."""
+        buffer = self._buffers.get(name)
+        if buffer is None or len(buffer) < n:
+            buffer = self._buffers[name] = np.empty(n + n // 8 + 16, dtype)
+        return buffer[:n]
+
+    def arange(self, n):
+        """0, 1, ..., n - 1 (int64), read only: shared by every caller."""
+        values = self._buffers.get("arange")
+        if values is None or len(values) < n:
+            values = self._buffers["arange"] = np.arange(n + n // 8 + 16)
+            values.flags.writeable = False
+        return values[:n]
 
 
 cdef inline Py_ssize_t _clamp(Py_ssize_t i, Py_ssize_t n) noexcept nogil:
@@ -171,22 +207,23 @@ cdef void _mark(Py_ssize_t q, const double[:, ::1] points, uint8_t[:, ::1] cover
                 covered[j, i] = True
 
 
-def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double s,
-                           bint one_per_cell):
+def darts_in_open_subcells(cells, u, darts, grid, covered, double x0, double y0, double s,
+                           bint one_per_cell, work):
     """For each cell without a sample (any cell unless ``one_per_cell``), a dart uniform
     in one of its sub-cells that no disc covers yet, the sub-cell chosen uniformly
-    (``u`` (n, 3) in [0, 1)). Returns (darts, is_open); closed cells get no dart."""
-    cdef const int64_t[::1] c = cells
+    (``u`` (n, 3) in [0, 1)). Closed cells get no dart: ``cells`` and ``darts`` (n, 2)
+    are rewritten in place to list the open cells and their darts first, in order.
+    Returns how many there are."""
+    cdef int64_t[::1] c = cells
     cdef const double[:, ::1] uu = u
     cdef const int32_t[:, ::1] g = grid
     cdef const_flags2 cov = covered.view(np.uint8)
-    cdef Py_ssize_t n = c.shape[0], nx = g.shape[1], k, iy, ix, i, j, free, pick
+    cdef Py_ssize_t n = c.shape[0], nx = g.shape[1], k, iy, ix, i, j, free, pick, n_open = 0
     cdef double h = s / CSUB
-    darts_array = np.empty((n, 2))
-    is_open_array = np.zeros(n, bool)
-    cdef double[:, ::1] darts = darts_array
-    cdef uint8_t[::1] is_open = is_open_array.view(np.uint8)
+    cdef double[:, ::1] dt = darts
+    cdef uint8_t[::1] is_open = work.array("is_open", n, np.uint8)
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        is_open[k] = False
         iy = c[k] // nx
         ix = c[k] % nx
         if one_per_cell and g[iy, ix] >= 0:
@@ -202,11 +239,18 @@ def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double
             for i in range(ix * CSUB, ix * CSUB + CSUB):
                 if not cov[j, i]:
                     if pick == 0:
-                        darts[k, 0] = x0 + (i + uu[k, 1]) * h
-                        darts[k, 1] = y0 + (j + uu[k, 2]) * h
+                        dt[k, 0] = x0 + (i + uu[k, 1]) * h
+                        dt[k, 1] = y0 + (j + uu[k, 2]) * h
                     pick = pick - 1
         is_open[k] = True
-    return darts_array, is_open_array
+    with nogil:
+        for k in range(n):
+            if is_open[k]:
+                c[n_open] = c[k]
+                dt[n_open, 0] = dt[k, 0]
+                dt[n_open, 1] = dt[k, 1]
+                n_open += 1
+    return n_open
 
 
 def insert_where_free(cand, grid, nxt, covered, points, Py_ssize_t count, double alpha,
@@ -365,12 +409,16 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     return found
 
 
-def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, double x0,
-                double y0, double s, tuple vis):
+def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points,
+                double alpha, double x0, double y0, double s, tuple vis, work):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
-    each that is in the region (``ok``) and at least alpha from every sample so far.
-    Returns the kept darts' indices, increasing (:func:`place_all` adds them: the
-    caller makes room for exactly as many samples as were kept).
+    each that is in the region and at least alpha from every sample so far. Returns
+    the kept darts' indices, increasing (:func:`place_all` adds them: the caller makes
+    room for exactly as many samples as were kept); the array is ``work``'s, valid
+    until the next throw.
+
+    Darts in cells whose ``status`` is BOUNDARY are tested against ``domain`` (the
+    chord bundle and cell sides of ``_visibility_kernels.points_inside``).
 
     Thrown in random order they would cost a cache miss each, so the same result is
     computed cell by cell instead: it is the lexicographically first maximal
@@ -385,7 +433,10 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
     cdef const double[:, ::1] dt = darts
     cdef const int64_t[::1] cl = cell
     cdef const int64_t[::1] rk = rank
-    cdef const uint8_t[::1] good = ok.view(np.uint8)
+    cdef const int8_t[::1] st = status.reshape(-1)
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
     cdef const int32_t[:, ::1] g = grid
     cdef const int32_t[::1] nx_ = nxt
     cdef int32_t[::1] hd = head
@@ -395,20 +446,23 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
     cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
     cdef Py_ssize_t n_todo, kept, n_accepted
     cdef bint blocked
-    cdef int8_t[::1] state = np.empty(m, np.int8)
-    cdef int64_t[::1] degree = np.zeros(m + 1, np.int64)
-    todo_array = np.empty(m, np.int32)
+    cdef int8_t[::1] state = work.array("state", m, np.int8)
+    cdef int64_t[::1] degree = work.array("degree", m + 1, np.int64)
+    todo_array = work.array("todo", m, np.int32)
     cdef int32_t[::1] todo = todo_array
+    cdef int32_t[::1] slot
     cdef int32_t[::1] conflict
-    cdef int64_t[::1] accepted
     with nogil:
         for d in range(m - 1, -1, -1):
             hd[cl[d]] = <int32_t>d
+        degree[0] = 0
     for d in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
-        if good[d] and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch):
+        if ((st[cl[d]] != C_BOUNDARY or point_inside(&region, sd, dt[d, 0], dt[d, 1]))
+                and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch)):
             state[d] = UNDECIDED
         else:
             state[d] = REJECTED
+        degree[d + 1] = 0
     n_todo = 0
     with nogil:
         for d in range(m):
@@ -417,17 +471,16 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
                 n_todo += 1
     # the conflict lists of the open darts, in CSR form over all darts: one scan lists
     # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
-    slots = np.empty((n_todo, CONFLICT_SLOTS), np.int32)
-    cdef int32_t[:, ::1] slot = slots
+    slot = work.array("slots", n_todo * CONFLICT_SLOTS, np.int32)
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
         degree[d + 1] = _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, &ch,
-                                       &slot[t, 0], CONFLICT_SLOTS)
+                                       &slot[t * CONFLICT_SLOTS], CONFLICT_SLOTS)
     with nogil:
         for d in range(m):
             degree[d + 1] += degree[d]
-    conflict = np.empty(degree[m], np.int32)
+    conflict = work.array("conflicts", degree[m], np.int32)
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
@@ -436,8 +489,7 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
                            &conflict[degree[d]], degree[d + 1] - degree[d])
         else:
             for q in range(degree[d + 1] - degree[d]):
-                conflict[degree[d] + q] = slot[t, q]
-    del slot, slots
+                conflict[degree[d] + q] = slot[t * CONFLICT_SLOTS + q]
     with nogil:
         while n_todo:
             kept = 0
@@ -465,7 +517,7 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
             if state[d] == ACCEPTED:
                 todo[n_accepted] = <int32_t>d
                 n_accepted += 1
-    return todo_array[:n_accepted].copy()
+    return todo_array[:n_accepted]
 
 
 def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,

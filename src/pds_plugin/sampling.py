@@ -420,6 +420,7 @@ class _Sampler:
         self.grid = np.full((self.ny, self.nx), -1, np.int32)
         self.covered = np.zeros((self.ny * kern.SUB, self.nx * kern.SUB), bool)
         self.head = np.full(self.ny * self.nx, -1, np.int32)     # scratch of throw_darts
+        self.work = kern.Workspace()        # the kernels' scratch, reused pass after pass
         # room for the samples expected, grown as needed (_reserve)
         capacity = int(1.1 * estimate_samples(region, alpha)) + 64
         self.points = np.empty((capacity, 2))
@@ -498,11 +499,12 @@ class _Sampler:
         # stage 1: dart passes over the level-0 cells in random order; each dart goes to
         # a random sub-cell of its cell that no disc covers yet
         cells = np.flatnonzero(self.status.ravel())
+        darts = np.empty((len(cells), 2))
         for _ in range(_PHASE1_PASSES):
-            darts, is_open = kern.darts_in_open_subcells(cells, rng.random((len(cells), 3)),
-                                                         self.grid, self.covered, self.x0, self.y0, s,
-                                                         self.one_per_cell)
-            cells, darts = cells[is_open], darts[is_open]
+            u = rng.random(out=self.work.array("u", 3 * len(cells), float).reshape(-1, 3))
+            n_open = kern.darts_in_open_subcells(cells, u, darts, self.grid, self.covered, self.x0,
+                                                 self.y0, s, self.one_per_cell, self.work)
+            cells, darts = cells[:n_open], darts[:n_open]
             self._throw(cells, darts, rng)
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
@@ -546,19 +548,15 @@ class _Sampler:
         return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.nxt, self.points,
                                     self.alpha, self.vis, first)
 
-    def _in_region(self, cells, darts):
-        """True for darts in the region; only darts in boundary cells need the test."""
-        inside = np.ones(len(cells), bool)
-        on_edge = self.status.ravel()[cells] == kern.BOUNDARY
-        inside[on_edge] = vis_kern.points_inside(*self.domain, darts[on_edge, 0], darts[on_edge, 1])
-        return inside
-
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
         ``cells`` is sorted) and add the ones kept."""
-        kept = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
-                                self._in_region(cells, darts), self.grid, self.nxt, self.head,
-                                self.points, self.alpha, self.x0, self.y0, self.s, self.vis)
+        rank = self.work.array("rank", len(cells), np.int64)
+        rank[:] = self.work.arange(len(cells))
+        rng.shuffle(rank)                   # rng.permutation(len(cells)), in reused memory
+        kept = kern.throw_darts(darts, cells, rank, self.status, self.domain, self.grid,
+                                self.nxt, self.head, self.points, self.alpha, self.x0, self.y0,
+                                self.s, self.vis, self.work)
         self._reserve(len(kept))
         kern.place_all(darts[kept], self.grid, self.nxt, self.covered, self.points, self.count,
                        self.alpha, self.x0, self.y0, self.s, self.vis)
