@@ -22,8 +22,8 @@ from libc.stdlib cimport qsort
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
-from ._visibility_kernels cimport (Chords, box_seen, chord_cell, chords_of, near_boundary,
-                                  point_inside, sees, sees_near_chords)
+from ._visibility_kernels cimport (Chords, box_seen, box_state, chord_cell, chords_of,
+                                  near_boundary, point_inside, sees, sees_near_chords)
 
 cdef enum:
     C_OUTSIDE = 0
@@ -33,6 +33,7 @@ cdef enum:
     CONFLICT_SLOTS = 8   # conflicts listed per dart in the first scan
     CHUNK = 256     # iterations a thread takes at a time
     MAX_RUNS = 32   # intervals of gap lengths listed by _lengths
+    BOX_OUTSIDE = 0  # _visibility_kernels.box_state of a box outside the region
 
 OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
 SUB = CSUB
@@ -604,27 +605,82 @@ cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, d
     return False
 
 
-def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha, tuple vis,
-                    Py_ssize_t first=0):
-    """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
-    where no single disc of a sample numbered ``first`` or later contains the whole box
-    (and its sample sees it). Boxes that the earlier samples are known not to cover
-    need only the later ones tested."""
-    cdef const int64_t[:] pr = parent
-    cdef const double[:] x = bx
-    cdef const double[:] y = by
+def open_boxes(parent, sub_x, sub_y, double size, status, tuple domain, grid, nxt, points,
+               double alpha, tuple vis, double x0, double y0, double s, bx, by, work):
+    """The boxes of a refinement level still to get a dart: box k is the child
+    (sub_x[k], sub_y[k]), of side ``size``, of level-0 cell ``parent[k]``; it stays open
+    if no single disc contains it whole (and its sample sees it) and, in a BOUNDARY
+    cell, it meets the region (``domain``, as in :func:`throw_darts`). ``parent``,
+    ``sub_x`` and ``sub_y`` are rewritten in place to list the open boxes first, in
+    order, and ``bx``, ``by`` get their lower-left corners. Returns how many are open."""
+    cdef int64_t[::1] pr = parent
+    cdef int64_t[::1] sx = sub_x
+    cdef int64_t[::1] sy = sub_y
+    cdef double[::1] x = bx
+    cdef double[::1] y = by
+    cdef const int8_t[::1] st = status.reshape(-1)
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
     cdef const int32_t[:, ::1] g = grid
     cdef const int32_t[::1] nx_ = nxt
     cdef const double[:, ::1] pts = points
-    cdef double alpha2 = alpha * alpha
     cdef Chords ch = chords_of(vis)
-    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k
-    keep_array = np.empty(n, bool)
-    cdef uint8_t[::1] keep = keep_array.view(np.uint8)
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k, ix, iy, n_open = 0
+    cdef uint8_t[::1] is_open = work.array("is_open", n, np.uint8)
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
-        keep[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, nx_, pts,
-                                   first, alpha2, &ch)
-    return keep_array
+        ix = pr[k] % nx
+        iy = pr[k] // nx
+        x[k] = x0 + ix * s + sx[k] * size
+        y[k] = y0 + iy * s + sy[k] * size
+        is_open[k] = (not _box_covered(ix, iy, x[k], y[k], size, g, nx_, pts, 0, alpha2, &ch)
+                      and (st[pr[k]] != C_BOUNDARY
+                           or box_state(&region, sd, x[k], y[k], size) != BOX_OUTSIDE))
+    with nogil:
+        for k in range(n):
+            if is_open[k]:
+                pr[n_open], sx[n_open], sy[n_open] = pr[k], sx[k], sy[k]
+                x[n_open], y[n_open] = x[k], y[k]
+                n_open += 1
+    return n_open
+
+
+def split_uncovered(parent, sub_x, sub_y, bx, by, double size, Py_ssize_t first, grid, nxt,
+                    points, double alpha, tuple vis, child_parent, child_sub_x, child_sub_y,
+                    work):
+    """Split in four the boxes (as in :func:`open_boxes`) that no single disc of a sample
+    numbered ``first`` or later contains (the earlier samples are known not to): the
+    children of the j-th such box are written at 4j..4j+3 of the ``child_`` arrays, in
+    the order (0, 0), (1, 0), (0, 1), (1, 1) of the next level. Returns how many boxes
+    were split."""
+    cdef const int64_t[::1] pr = parent
+    cdef const int64_t[::1] sx = sub_x
+    cdef const int64_t[::1] sy = sub_y
+    cdef const double[::1] x = bx
+    cdef const double[::1] y = by
+    cdef int64_t[::1] cp = child_parent
+    cdef int64_t[::1] cx = child_sub_x
+    cdef int64_t[::1] cy = child_sub_y
+    cdef const int32_t[:, ::1] g = grid
+    cdef const int32_t[::1] nx_ = nxt
+    cdef const double[:, ::1] pts = points
+    cdef Chords ch = chords_of(vis)
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k, c, j = 0
+    cdef uint8_t[::1] uncovered = work.array("uncovered", n, np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        uncovered[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, nx_, pts,
+                                        first, alpha2, &ch)
+    with nogil:
+        for k in range(n):
+            if uncovered[k]:
+                for c in range(4):
+                    cp[4 * j + c] = pr[k]
+                    cx[4 * j + c] = 2 * sx[k] + (c & 1)
+                    cy[4 * j + c] = 2 * sy[k] + (c >> 1)
+                j += 1
+    return j
 
 
 cdef int _lengths(double first, double last, double m, double big, double *lo,

@@ -513,17 +513,24 @@ class _Sampler:
         level = int(np.log2(kern.SUB))
         while len(parent):
             size = s / 2**level
-            bx, by = self._box(parent, sub_x, sub_y, level)
-            keep = self._uncovered(parent, bx, by, size)
-            on_edge = keep & (self.status.ravel()[parent] == kern.BOUNDARY)
-            keep[on_edge] = vis_kern.boxes_state(*self.domain, bx[on_edge], by[on_edge],
-                                                 size) != vis_kern.BOX_OUTSIDE
-            parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
+            bx, by = (self.work.array(name, len(parent), float) for name in ("bx", "by"))
+            n_open = kern.open_boxes(parent, sub_x, sub_y, size, self.status, self.domain,
+                                     self.grid, self.nxt, self.points, self.alpha, self.vis,
+                                     self.x0, self.y0, s, bx, by, self.work)
+            parent, sub_x, sub_y, bx, by = (a[:n_open] for a in (parent, sub_x, sub_y, bx, by))
+            darts = rng.random(out=self.work.array("darts", 2 * n_open, float).reshape(-1, 2))
+            darts *= size                   # a dart uniform in each box
+            darts[:, 0] += bx
+            darts[:, 1] += by
             before = self.count
-            self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
+            self._throw(parent, darts, rng)
             # no sample before the throw covers these boxes: only the new ones can
-            keep = self._uncovered(parent, bx, by, size, first=before)
-            if not self.one_per_cell and keep.sum() > _REFINEMENT_BOXES * self.nx * self.ny:
+            children = [self.work.array(f"{name}{level % 2}", 4 * n_open, np.int64)
+                        for name in ("parent", "sub_x", "sub_y")]
+            n_split = kern.split_uncovered(parent, sub_x, sub_y, bx, by, size, before, self.grid,
+                                           self.nxt, self.points, self.alpha, self.vis, *children,
+                                           self.work)
+            if not self.one_per_cell and n_split > _REFINEMENT_BOXES * self.nx * self.ny:
                 # the boxes left uncovered are at most about a fifth of the cells at the
                 # first level, then the few around each boundary vertex, or along a slot
                 # narrower than alpha until they are narrower than it; where the
@@ -534,19 +541,7 @@ class _Sampler:
             if size / 2 < _RESOLUTION * self.alpha:
                 break
             level += 1
-            parent = np.repeat(parent[keep], 4)
-            sub_x = 2 * np.repeat(sub_x[keep], 4) + np.tile([0, 1, 0, 1], len(parent) // 4)
-            sub_y = 2 * np.repeat(sub_y[keep], 4) + np.tile([0, 0, 1, 1], len(parent) // 4)
-
-    def _box(self, cells, sub_x, sub_y, level):
-        """Lower-left corners of the level-``level`` children (sub_x, sub_y) of cells."""
-        size = self.s / 2**level
-        return (self.x0 + (cells % self.nx) * self.s + sub_x * size,
-                self.y0 + (cells // self.nx) * self.s + sub_y * size)
-
-    def _uncovered(self, cells, bx, by, size, first=0):
-        return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.nxt, self.points,
-                                    self.alpha, self.vis, first)
+            parent, sub_x, sub_y = (a[:4 * n_split] for a in children)
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
