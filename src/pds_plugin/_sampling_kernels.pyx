@@ -55,6 +55,9 @@ class Workspace:
     >>> b = work.array("darts", 4, np.float64)       # the same memory, valid until the next call
     >>> bool(np.shares_memory(a, b)), b.shape
     (True, (4,))
+    >>> ranks = work.permutation("rank", 6, np.random.default_rng(1))
+    >>> bool((ranks == np.random.default_rng(1).permutation(6)).all())
+    True
     """
 
     def __init__(self):
@@ -68,13 +71,16 @@ class Workspace:
             buffer = self._buffers[name] = np.empty(n + n // 8 + 16, dtype)
         return buffer[:n]
 
-    def arange(self, n):
-        """0, 1, ..., n - 1 (int64), read only: shared by every caller."""
-        values = self._buffers.get("arange")
-        if values is None or len(values) < n:
-            values = self._buffers["arange"] = np.arange(n + n // 8 + 16)
-            values.flags.writeable = False
-        return values[:n]
+    def permutation(self, name, Py_ssize_t n, rng):
+        """``rng.permutation(n)`` (the same values, drawn the same way: 0..n-1 shuffled)
+        in the reused array ``name``."""
+        ranks = self.array(name, n, np.int64)
+        cdef int64_t[::1] r = ranks
+        cdef Py_ssize_t k
+        for k in range(n):
+            r[k] = k
+        rng.shuffle(ranks)
+        return ranks
 
 
 cdef inline Py_ssize_t _clamp(Py_ssize_t i, Py_ssize_t n) noexcept nogil:

@@ -546,9 +546,7 @@ class _Sampler:
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
         ``cells`` is sorted) and add the ones kept."""
-        rank = self.work.array("rank", len(cells), np.int64)
-        rank[:] = self.work.arange(len(cells))
-        rng.shuffle(rank)                   # rng.permutation(len(cells)), in reused memory
+        rank = self.work.permutation("rank", len(cells), rng)
         kept = kern.throw_darts(darts, cells, rank, self.status, self.domain, self.grid,
                                 self.nxt, self.head, self.points, self.alpha, self.x0, self.y0,
                                 self.s, self.vis, self.work)
