@@ -34,6 +34,7 @@ cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
     MAX_RUNS = 32   # intervals of gap lengths listed by _lengths
     BOX_OUTSIDE = 0  # _visibility_kernels.box_state of a box outside the region
+    RANDOM_ROWS = 65536  # rows of random numbers drawn at a time by darts_in_open_subcells
 
 OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
 SUB = CSUB
@@ -214,42 +215,49 @@ cdef void _mark(Py_ssize_t q, const double[:, ::1] points, uint8_t[:, ::1] cover
                 covered[j, i] = True
 
 
-def darts_in_open_subcells(cells, u, darts, grid, covered, double x0, double y0, double s,
+def darts_in_open_subcells(cells, rng, darts, grid, covered, double x0, double y0, double s,
                            bint one_per_cell, work):
     """For each cell without a sample (any cell unless ``one_per_cell``), a dart uniform
-    in one of its sub-cells that no disc covers yet, the sub-cell chosen uniformly
-    (``u`` (n, 3) in [0, 1)). Closed cells get no dart: ``cells`` and ``darts`` (n, 2)
-    are rewritten in place to list the open cells and their darts first, in order.
+    in one of its sub-cells that no disc covers yet, the sub-cell chosen uniformly by
+    three numbers of ``rng.random((len(cells), 3))`` (drawn RANDOM_ROWS rows at a time,
+    the same stream). Closed cells get no dart: ``cells`` and ``darts`` (n, 2) are
+    rewritten in place to list the open cells and their darts first, in order.
     Returns how many there are."""
     cdef int64_t[::1] c = cells
-    cdef const double[:, ::1] uu = u
     cdef const int32_t[:, ::1] g = grid
     cdef const_flags2 cov = covered.view(np.uint8)
     cdef Py_ssize_t n = c.shape[0], nx = g.shape[1], k, iy, ix, i, j, free, pick, n_open = 0
+    cdef Py_ssize_t first, stop
     cdef double h = s / CSUB
     cdef double[:, ::1] dt = darts
+    cdef const double[:, ::1] uu
     cdef uint8_t[::1] is_open = work.array("is_open", n, np.uint8)
-    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
-        is_open[k] = False
-        iy = c[k] // nx
-        ix = c[k] % nx
-        if one_per_cell and g[iy, ix] >= 0:
-            continue
-        free = 0
-        for j in range(iy * CSUB, iy * CSUB + CSUB):
-            for i in range(ix * CSUB, ix * CSUB + CSUB):
-                free = free + (not cov[j, i])
-        if free == 0:
-            continue
-        pick = <Py_ssize_t>(uu[k, 0] * free)
-        for j in range(iy * CSUB, iy * CSUB + CSUB):
-            for i in range(ix * CSUB, ix * CSUB + CSUB):
-                if not cov[j, i]:
-                    if pick == 0:
-                        dt[k, 0] = x0 + (i + uu[k, 1]) * h
-                        dt[k, 1] = y0 + (j + uu[k, 2]) * h
-                    pick = pick - 1
-        is_open[k] = True
+    random_rows = work.array("u", 3 * min(n, RANDOM_ROWS), np.float64).reshape(-1, 3)
+    for first in range(0, n, RANDOM_ROWS):
+        stop = min(first + RANDOM_ROWS, n)
+        uu = rng.random(out=random_rows[:stop - first])
+        for k in prange(first, stop, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                        num_threads=threads_for(stop - first)):
+            is_open[k] = False
+            iy = c[k] // nx
+            ix = c[k] % nx
+            if one_per_cell and g[iy, ix] >= 0:
+                continue
+            free = 0
+            for j in range(iy * CSUB, iy * CSUB + CSUB):
+                for i in range(ix * CSUB, ix * CSUB + CSUB):
+                    free = free + (not cov[j, i])
+            if free == 0:
+                continue
+            pick = <Py_ssize_t>(uu[k - first, 0] * free)
+            for j in range(iy * CSUB, iy * CSUB + CSUB):
+                for i in range(ix * CSUB, ix * CSUB + CSUB):
+                    if not cov[j, i]:
+                        if pick == 0:
+                            dt[k, 0] = x0 + (i + uu[k - first, 1]) * h
+                            dt[k, 1] = y0 + (j + uu[k - first, 2]) * h
+                        pick = pick - 1
+            is_open[k] = True
     with nogil:
         for k in range(n):
             if is_open[k]:
@@ -394,25 +402,31 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     """Count the open darts of lower rank than open dart d, closer than alpha to it, that
     it sees; list the first ``room`` of them in ``out``."""
     cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
-    cdef Py_ssize_t jx, jy, c, e
+    cdef Py_ssize_t jy, c, e, stop
     cdef double dx, dy, x = darts[d, 0], y = darts[d, 1]
     cdef int64_t own = rank[d]
     cdef bint walls = near_boundary(x, y, vis)      # else dart d sees every dart near it
     cdef Py_ssize_t k = chord_cell(x, y, vis) if walls else 0
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
-        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
-            c = jy * nx + jx
-            e = head[c]
-            while 0 <= e < m and cell[e] == c:
-                if state[e] == 0 and rank[e] < own:
-                    dx = darts[e, 0] - x
-                    dy = darts[e, 1] - y
-                    if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
-                            x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
-                        if found < room:
-                            out[found] = <int32_t>e
-                        found += 1
-                e += 1
+        # darts are sorted by cell: those of the row's five cells are contiguous, from
+        # the first dart of the first of them that has one
+        c = jy * nx + max(ix - 2, 0)
+        stop = jy * nx + min(ix + 3, nx)
+        while c < stop and head[c] < 0:
+            c += 1
+        if c == stop:
+            continue
+        e = head[c]
+        while e < m and cell[e] < stop:
+            if state[e] == 0 and rank[e] < own:
+                dx = darts[e, 0] - x
+                dy = darts[e, 1] - y
+                if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
+                        x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
+                    if found < room:
+                        out[found] = <int32_t>e
+                    found += 1
+            e += 1
     return found
 
 

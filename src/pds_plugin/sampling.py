@@ -501,8 +501,7 @@ class _Sampler:
         cells = np.flatnonzero(self.status.ravel())
         darts = np.empty((len(cells), 2))
         for _ in range(_PHASE1_PASSES):
-            u = rng.random(out=self.work.array("u", 3 * len(cells), float).reshape(-1, 3))
-            n_open = kern.darts_in_open_subcells(cells, u, darts, self.grid, self.covered, self.x0,
+            n_open = kern.darts_in_open_subcells(cells, rng, darts, self.grid, self.covered, self.x0,
                                                  self.y0, s, self.one_per_cell, self.work)
             cells, darts = cells[:n_open], darts[:n_open]
             self._throw(cells, darts, rng)
