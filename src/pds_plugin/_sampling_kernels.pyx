@@ -42,6 +42,15 @@ SUB = CSUB
 ctypedef const uint8_t[:, ::1] const_flags2
 
 
+_LARGE_BYTES = 1 << 20
+_MAPPED_BYTES = 1 << 25
+"""Workspace buffers of _LARGE_BYTES or more are reserved at least this large (32 MiB): glibc
+maps blocks that large on their own and gives them back to the OS when they are freed.
+Smaller blocks come from the heap, where what is freed after the sampling mostly stays
+resident: the certificate of a 1M square then peaked 22 MB higher (docs/engine.md). Only
+the pages written become resident."""
+
+
 class Workspace:
     """Scratch arrays kept across the passes and refinement levels of one sampling.
 
@@ -69,8 +78,15 @@ class Workspace:
         memory as the previous request of ``name``: valid until the next one."""
         buffer = self._buffers.get(name)
         if buffer is None or len(buffer) < n:
-            buffer = self._buffers[name] = np.empty(n + n // 8 + 16, dtype)
+            size, item = n + n // 8, np.dtype(dtype).itemsize
+            if size * item >= _LARGE_BYTES:        # reserved, not touched: see _MAPPED_BYTES
+                size = max(size, _MAPPED_BYTES // item)
+            buffer = self._buffers[name] = np.empty(size, dtype)
         return buffer[:n]
+
+    def release(self, name):
+        """Free the buffer ``name`` (an array too large to keep beside the next steps)."""
+        self._buffers.pop(name, None)
 
     def permutation(self, name, Py_ssize_t n, rng):
         """``rng.permutation(n)`` (the same values, drawn the same way: 0..n-1 shuffled)
@@ -511,6 +527,10 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
         else:
             for q in range(degree[d + 1] - degree[d]):
                 conflict[degree[d] + q] = slot[t * CONFLICT_SLOTS + q]
+    # the slots are the largest array of the throw (8 int32 per open dart): kept, they
+    # would add to the memory peak of the caller's next step (the marks of place_all)
+    del slot
+    work.release("slots")
     with nogil:
         while n_todo:
             kept = 0

@@ -505,6 +505,10 @@ class _Sampler:
                                                  self.y0, s, self.one_per_cell, self.work)
             cells, darts = cells[:n_open], darts[:n_open]
             self._throw(cells, darts, rng)
+        # the first pass's arrays (one dart per cell) are about three times the largest
+        # level's: free them, so that the refinement does not add to the peak memory
+        del cells, darts
+        self.work = kern.Workspace()
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
         parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered,
