@@ -505,7 +505,7 @@ class _Sampler:
                                                  self.y0, s, self.one_per_cell, self.work)
             cells, darts = cells[:n_open], darts[:n_open]
             self._throw(cells, darts, rng)
-        # the first pass's arrays (one dart per cell) are about three times the largest
+        # the first pass's arrays (one dart per cell) are 2-3 times the largest
         # level's: free them, so that the refinement does not add to the peak memory
         del cells, darts
         self.work = kern.Workspace()
