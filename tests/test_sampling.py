@@ -138,11 +138,23 @@ def test_a_runaway_refinement_stops(monkeypatch):
 
     counts = []
 
-    def never_covered(parent, *args):
-        counts.append(len(parent))
-        return np.ones(len(parent), bool)
+    def all_open(parent, sub_x, sub_y, size, status, domain, grid, nxt, points, alpha, vis,
+                 x0, y0, s, bx, by, work):
+        bx[:] = x0 + (parent % grid.shape[1]) * s + sub_x * size
+        by[:] = y0 + (parent // grid.shape[1]) * s + sub_y * size
+        return len(parent)
 
-    monkeypatch.setattr(sampling.kern, "uncovered_boxes", never_covered)
+    def split_all(parent, sub_x, sub_y, bx, by, size, first, grid, nxt, points, alpha, vis,
+                  child_parent, child_sub_x, child_sub_y, work):
+        counts.append(len(parent))
+        corner = np.arange(4 * len(parent)) % 4
+        child_parent[:] = np.repeat(parent, 4)
+        child_sub_x[:] = 2 * np.repeat(sub_x, 4) + corner % 2
+        child_sub_y[:] = 2 * np.repeat(sub_y, 4) + corner // 2
+        return len(parent)
+
+    monkeypatch.setattr(sampling.kern, "open_boxes", all_open)
+    monkeypatch.setattr(sampling.kern, "split_uncovered", split_all)
     region = pds.Region.from_shapely(box(0, 0, 1, 1))
     samples = pds.poisson_disc(region, 0.05, conforming=True)
     cells = (1 / (0.05 / np.sqrt(2)) + 3) ** 2

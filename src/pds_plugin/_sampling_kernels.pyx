@@ -22,8 +22,8 @@ from libc.stdlib cimport qsort
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
-from ._visibility_kernels cimport (Chords, box_seen, chord_cell, chords_of, near_boundary,
-                                  sees, sees_near_chords)
+from ._visibility_kernels cimport (Chords, box_seen, box_state, chord_cell, chords_of,
+                                  near_boundary, point_inside, sees, sees_near_chords)
 
 cdef enum:
     C_OUTSIDE = 0
@@ -33,11 +33,71 @@ cdef enum:
     CONFLICT_SLOTS = 8   # conflicts listed per dart in the first scan
     CHUNK = 256     # iterations a thread takes at a time
     MAX_RUNS = 32   # intervals of gap lengths listed by _lengths
+    BOX_OUTSIDE = 0  # _visibility_kernels.box_state of a box outside the region
+    RANDOM_ROWS = 65536  # rows of random numbers drawn at a time by darts_in_open_subcells
 
 OUTSIDE, INSIDE, BOUNDARY = C_OUTSIDE, C_INSIDE, C_BOUNDARY
 SUB = CSUB
 
 ctypedef const uint8_t[:, ::1] const_flags2
+
+
+_LARGE_BYTES = 1 << 20
+_MAPPED_BYTES = 1 << 25
+"""Workspace buffers of _LARGE_BYTES or more are reserved at least this large (32 MiB): glibc
+maps blocks that large on their own and gives them back to the OS when they are freed.
+Smaller blocks come from the heap, where what is freed after the sampling mostly stays
+resident: the certificate of a 1M square then peaked 22 MB higher (docs/engine.md). Only
+the pages written become resident."""
+
+
+class Workspace:
+    """Scratch arrays kept across the passes and refinement levels of one sampling.
+
+    The first dart pass needs the largest arrays (one dart per cell of the region), the
+    later passes and levels smaller ones. Arrays that large come from the OS as fresh
+    pages, which the OS clears on first touch, and return to it when freed: allocated anew
+    for every pass and level they cost 1.0-1.5 s of system time at 1M samples
+    (docs/engine.md). ``array`` hands out views of buffers that only grow.
+
+    >>> work = Workspace()
+    >>> a = work.array("darts", 10, np.float64)
+    >>> b = work.array("darts", 4, np.float64)       # the same memory, valid until the next call
+    >>> bool(np.shares_memory(a, b)), b.shape
+    (True, (4,))
+    >>> ranks = work.permutation("rank", 6, np.random.default_rng(1))
+    >>> bool((ranks == np.random.default_rng(1).permutation(6)).all())
+    True
+    """
+
+    def __init__(self):
+        self._buffers = {}
+
+    def array(self, name, n, dtype):
+        """A contiguous 1-D array of ``n`` items of ``dtype`` (contents undefined), the same
+        memory as the previous request of ``name``: valid until the next one."""
+        buffer = self._buffers.get(name)
+        if buffer is None or len(buffer) < n:
+            size, item = n + n // 8, np.dtype(dtype).itemsize
+            if size * item >= _LARGE_BYTES:        # reserved, not touched: see _MAPPED_BYTES
+                size = max(size, _MAPPED_BYTES // item)
+            buffer = self._buffers[name] = np.empty(size, dtype)
+        return buffer[:n]
+
+    def release(self, name):
+        """Free the buffer ``name`` (an array too large to keep beside the next steps)."""
+        self._buffers.pop(name, None)
+
+    def permutation(self, name, Py_ssize_t n, rng):
+        """``rng.permutation(n)`` (the same values, drawn the same way: 0..n-1 shuffled)
+        in the reused array ``name``."""
+        ranks = self.array(name, n, np.int64)
+        cdef int64_t[::1] r = ranks
+        cdef Py_ssize_t k
+        for k in range(n):
+            r[k] = k
+        rng.shuffle(ranks)
+        return ranks
 
 
 cdef inline Py_ssize_t _clamp(Py_ssize_t i, Py_ssize_t n) noexcept nogil:
@@ -171,42 +231,57 @@ cdef void _mark(Py_ssize_t q, const double[:, ::1] points, uint8_t[:, ::1] cover
                 covered[j, i] = True
 
 
-def darts_in_open_subcells(cells, u, grid, covered, double x0, double y0, double s,
-                           bint one_per_cell):
+def darts_in_open_subcells(cells, rng, darts, grid, covered, double x0, double y0, double s,
+                           bint one_per_cell, work):
     """For each cell without a sample (any cell unless ``one_per_cell``), a dart uniform
-    in one of its sub-cells that no disc covers yet, the sub-cell chosen uniformly
-    (``u`` (n, 3) in [0, 1)). Returns (darts, is_open); closed cells get no dart."""
-    cdef const int64_t[::1] c = cells
-    cdef const double[:, ::1] uu = u
+    in one of its sub-cells that no disc covers yet, the sub-cell chosen uniformly by
+    three numbers of ``rng.random((len(cells), 3))`` (drawn RANDOM_ROWS rows at a time,
+    the same stream). Closed cells get no dart: ``cells`` and ``darts`` (n, 2) are
+    rewritten in place to list the open cells and their darts first, in order.
+    Returns how many there are."""
+    cdef int64_t[::1] c = cells
     cdef const int32_t[:, ::1] g = grid
     cdef const_flags2 cov = covered.view(np.uint8)
-    cdef Py_ssize_t n = c.shape[0], nx = g.shape[1], k, iy, ix, i, j, free, pick
+    cdef Py_ssize_t n = c.shape[0], nx = g.shape[1], k, iy, ix, i, j, free, pick, n_open = 0
+    cdef Py_ssize_t first, stop
     cdef double h = s / CSUB
-    darts_array = np.empty((n, 2))
-    is_open_array = np.zeros(n, bool)
-    cdef double[:, ::1] darts = darts_array
-    cdef uint8_t[::1] is_open = is_open_array.view(np.uint8)
-    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
-        iy = c[k] // nx
-        ix = c[k] % nx
-        if one_per_cell and g[iy, ix] >= 0:
-            continue
-        free = 0
-        for j in range(iy * CSUB, iy * CSUB + CSUB):
-            for i in range(ix * CSUB, ix * CSUB + CSUB):
-                free = free + (not cov[j, i])
-        if free == 0:
-            continue
-        pick = <Py_ssize_t>(uu[k, 0] * free)
-        for j in range(iy * CSUB, iy * CSUB + CSUB):
-            for i in range(ix * CSUB, ix * CSUB + CSUB):
-                if not cov[j, i]:
-                    if pick == 0:
-                        darts[k, 0] = x0 + (i + uu[k, 1]) * h
-                        darts[k, 1] = y0 + (j + uu[k, 2]) * h
-                    pick = pick - 1
-        is_open[k] = True
-    return darts_array, is_open_array
+    cdef double[:, ::1] dt = darts
+    cdef const double[:, ::1] uu
+    cdef uint8_t[::1] is_open = work.array("is_open", n, np.uint8)
+    random_rows = work.array("u", 3 * min(n, RANDOM_ROWS), np.float64).reshape(-1, 3)
+    for first in range(0, n, RANDOM_ROWS):
+        stop = min(first + RANDOM_ROWS, n)
+        uu = rng.random(out=random_rows[:stop - first])
+        for k in prange(first, stop, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                        num_threads=threads_for(stop - first)):
+            is_open[k] = False
+            iy = c[k] // nx
+            ix = c[k] % nx
+            if one_per_cell and g[iy, ix] >= 0:
+                continue
+            free = 0
+            for j in range(iy * CSUB, iy * CSUB + CSUB):
+                for i in range(ix * CSUB, ix * CSUB + CSUB):
+                    free = free + (not cov[j, i])
+            if free == 0:
+                continue
+            pick = <Py_ssize_t>(uu[k - first, 0] * free)
+            for j in range(iy * CSUB, iy * CSUB + CSUB):
+                for i in range(ix * CSUB, ix * CSUB + CSUB):
+                    if not cov[j, i]:
+                        if pick == 0:
+                            dt[k, 0] = x0 + (i + uu[k - first, 1]) * h
+                            dt[k, 1] = y0 + (j + uu[k - first, 2]) * h
+                        pick = pick - 1
+            is_open[k] = True
+    with nogil:
+        for k in range(n):
+            if is_open[k]:
+                c[n_open] = c[k]
+                dt[n_open, 0] = dt[k, 0]
+                dt[n_open, 1] = dt[k, 1]
+                n_open += 1
+    return n_open
 
 
 def insert_where_free(cand, grid, nxt, covered, points, Py_ssize_t count, double alpha,
@@ -343,34 +418,44 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     """Count the open darts of lower rank than open dart d, closer than alpha to it, that
     it sees; list the first ``room`` of them in ``out``."""
     cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
-    cdef Py_ssize_t jx, jy, c, e
+    cdef Py_ssize_t jy, c, e, stop
     cdef double dx, dy, x = darts[d, 0], y = darts[d, 1]
     cdef int64_t own = rank[d]
     cdef bint walls = near_boundary(x, y, vis)      # else dart d sees every dart near it
     cdef Py_ssize_t k = chord_cell(x, y, vis) if walls else 0
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
-        for jx in range(max(ix - 2, 0), min(ix + 3, nx)):
-            c = jy * nx + jx
-            e = head[c]
-            while 0 <= e < m and cell[e] == c:
-                if state[e] == 0 and rank[e] < own:
-                    dx = darts[e, 0] - x
-                    dy = darts[e, 1] - y
-                    if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
-                            x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
-                        if found < room:
-                            out[found] = <int32_t>e
-                        found += 1
-                e += 1
+        # darts are sorted by cell: those of the row's five cells are contiguous, from
+        # the first dart of the first of them that has one
+        c = jy * nx + max(ix - 2, 0)
+        stop = jy * nx + min(ix + 3, nx)
+        while c < stop and head[c] < 0:
+            c += 1
+        if c == stop:
+            continue
+        e = head[c]
+        while e < m and cell[e] < stop:
+            if state[e] == 0 and rank[e] < own:
+                dx = darts[e, 0] - x
+                dy = darts[e, 1] - y
+                if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
+                        x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
+                    if found < room:
+                        out[found] = <int32_t>e
+                    found += 1
+            e += 1
     return found
 
 
-def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, double x0,
-                double y0, double s, tuple vis):
+def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points,
+                double alpha, double x0, double y0, double s, tuple vis, work):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
-    each that is in the region (``ok``) and at least alpha from every sample so far.
-    Returns the kept darts' indices, increasing (:func:`place_all` adds them: the
-    caller makes room for exactly as many samples as were kept).
+    each that is in the region and at least alpha from every sample so far. Returns
+    the kept darts' indices, increasing (:func:`place_all` adds them: the caller makes
+    room for exactly as many samples as were kept); the array is ``work``'s, valid
+    until the next throw.
+
+    Darts in cells whose ``status`` is BOUNDARY are tested against ``domain`` (the
+    chord bundle and cell sides of ``_visibility_kernels.points_inside``).
 
     Thrown in random order they would cost a cache miss each, so the same result is
     computed cell by cell instead: it is the lexicographically first maximal
@@ -385,7 +470,10 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
     cdef const double[:, ::1] dt = darts
     cdef const int64_t[::1] cl = cell
     cdef const int64_t[::1] rk = rank
-    cdef const uint8_t[::1] good = ok.view(np.uint8)
+    cdef const int8_t[::1] st = status.reshape(-1)
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
     cdef const int32_t[:, ::1] g = grid
     cdef const int32_t[::1] nx_ = nxt
     cdef int32_t[::1] hd = head
@@ -395,20 +483,23 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
     cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
     cdef Py_ssize_t n_todo, kept, n_accepted
     cdef bint blocked
-    cdef int8_t[::1] state = np.empty(m, np.int8)
-    cdef int64_t[::1] degree = np.zeros(m + 1, np.int64)
-    todo_array = np.empty(m, np.int32)
+    cdef int8_t[::1] state = work.array("state", m, np.int8)
+    cdef int64_t[::1] degree = work.array("degree", m + 1, np.int64)
+    todo_array = work.array("todo", m, np.int32)
     cdef int32_t[::1] todo = todo_array
+    cdef int32_t[::1] slot
     cdef int32_t[::1] conflict
-    cdef int64_t[::1] accepted
     with nogil:
         for d in range(m - 1, -1, -1):
             hd[cl[d]] = <int32_t>d
+        degree[0] = 0
     for d in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(m)):
-        if good[d] and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch):
+        if ((st[cl[d]] != C_BOUNDARY or point_inside(&region, sd, dt[d, 0], dt[d, 1]))
+                and _free(dt[d, 0], dt[d, 1], g, nx_, pts, alpha2, x0, y0, s, &ch)):
             state[d] = UNDECIDED
         else:
             state[d] = REJECTED
+        degree[d + 1] = 0
     n_todo = 0
     with nogil:
         for d in range(m):
@@ -417,17 +508,16 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
                 n_todo += 1
     # the conflict lists of the open darts, in CSR form over all darts: one scan lists
     # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
-    slots = np.empty((n_todo, CONFLICT_SLOTS), np.int32)
-    cdef int32_t[:, ::1] slot = slots
+    slot = work.array("slots", n_todo * CONFLICT_SLOTS, np.int32)
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
         degree[d + 1] = _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, &ch,
-                                       &slot[t, 0], CONFLICT_SLOTS)
+                                       &slot[t * CONFLICT_SLOTS], CONFLICT_SLOTS)
     with nogil:
         for d in range(m):
             degree[d + 1] += degree[d]
-    conflict = np.empty(degree[m], np.int32)
+    conflict = work.array("conflicts", degree[m], np.int32)
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
@@ -436,8 +526,11 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
                            &conflict[degree[d]], degree[d + 1] - degree[d])
         else:
             for q in range(degree[d + 1] - degree[d]):
-                conflict[degree[d] + q] = slot[t, q]
-    del slot, slots
+                conflict[degree[d] + q] = slot[t * CONFLICT_SLOTS + q]
+    # the slots are the largest array of the throw (8 int32 per open dart): kept, they
+    # would add to the memory peak of the caller's next step (the marks of place_all)
+    del slot
+    work.release("slots")
     with nogil:
         while n_todo:
             kept = 0
@@ -465,7 +558,7 @@ def throw_darts(darts, cell, rank, ok, grid, nxt, head, points, double alpha, do
             if state[d] == ACCEPTED:
                 todo[n_accepted] = <int32_t>d
                 n_accepted += 1
-    return todo_array[:n_accepted].copy()
+    return todo_array[:n_accepted]
 
 
 def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,
@@ -552,27 +645,82 @@ cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, d
     return False
 
 
-def uncovered_boxes(parent, bx, by, double size, grid, nxt, points, double alpha, tuple vis,
-                    Py_ssize_t first=0):
-    """For boxes [bx, bx+size] x [by, by+size] inside level-0 cells ``parent``: True
-    where no single disc of a sample numbered ``first`` or later contains the whole box
-    (and its sample sees it). Boxes that the earlier samples are known not to cover
-    need only the later ones tested."""
-    cdef const int64_t[:] pr = parent
-    cdef const double[:] x = bx
-    cdef const double[:] y = by
+def open_boxes(parent, sub_x, sub_y, double size, status, tuple domain, grid, nxt, points,
+               double alpha, tuple vis, double x0, double y0, double s, bx, by, work):
+    """The boxes of a refinement level still to get a dart: box k is the child
+    (sub_x[k], sub_y[k]), of side ``size``, of level-0 cell ``parent[k]``; it stays open
+    if no single disc contains it whole (and its sample sees it) and, in a BOUNDARY
+    cell, it meets the region (``domain``, as in :func:`throw_darts`). ``parent``,
+    ``sub_x`` and ``sub_y`` are rewritten in place to list the open boxes first, in
+    order, and ``bx``, ``by`` get their lower-left corners. Returns how many are open."""
+    cdef int64_t[::1] pr = parent
+    cdef int64_t[::1] sx = sub_x
+    cdef int64_t[::1] sy = sub_y
+    cdef double[::1] x = bx
+    cdef double[::1] y = by
+    cdef const int8_t[::1] st = status.reshape(-1)
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
     cdef const int32_t[:, ::1] g = grid
     cdef const int32_t[::1] nx_ = nxt
     cdef const double[:, ::1] pts = points
-    cdef double alpha2 = alpha * alpha
     cdef Chords ch = chords_of(vis)
-    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k
-    keep_array = np.empty(n, bool)
-    cdef uint8_t[::1] keep = keep_array.view(np.uint8)
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k, ix, iy, n_open = 0
+    cdef uint8_t[::1] is_open = work.array("is_open", n, np.uint8)
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
-        keep[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, nx_, pts,
-                                   first, alpha2, &ch)
-    return keep_array
+        ix = pr[k] % nx
+        iy = pr[k] // nx
+        x[k] = x0 + ix * s + sx[k] * size
+        y[k] = y0 + iy * s + sy[k] * size
+        is_open[k] = (not _box_covered(ix, iy, x[k], y[k], size, g, nx_, pts, 0, alpha2, &ch)
+                      and (st[pr[k]] != C_BOUNDARY
+                           or box_state(&region, sd, x[k], y[k], size) != BOX_OUTSIDE))
+    with nogil:
+        for k in range(n):
+            if is_open[k]:
+                pr[n_open], sx[n_open], sy[n_open] = pr[k], sx[k], sy[k]
+                x[n_open], y[n_open] = x[k], y[k]
+                n_open += 1
+    return n_open
+
+
+def split_uncovered(parent, sub_x, sub_y, bx, by, double size, Py_ssize_t first, grid, nxt,
+                    points, double alpha, tuple vis, child_parent, child_sub_x, child_sub_y,
+                    work):
+    """Split in four the boxes (as in :func:`open_boxes`) that no single disc of a sample
+    numbered ``first`` or later contains (the earlier samples are known not to): the
+    children of the j-th such box are written at 4j..4j+3 of the ``child_`` arrays, in
+    the order (0, 0), (1, 0), (0, 1), (1, 1) of the next level. Returns how many boxes
+    were split."""
+    cdef const int64_t[::1] pr = parent
+    cdef const int64_t[::1] sx = sub_x
+    cdef const int64_t[::1] sy = sub_y
+    cdef const double[::1] x = bx
+    cdef const double[::1] y = by
+    cdef int64_t[::1] cp = child_parent
+    cdef int64_t[::1] cx = child_sub_x
+    cdef int64_t[::1] cy = child_sub_y
+    cdef const int32_t[:, ::1] g = grid
+    cdef const int32_t[::1] nx_ = nxt
+    cdef const double[:, ::1] pts = points
+    cdef Chords ch = chords_of(vis)
+    cdef double alpha2 = alpha * alpha
+    cdef Py_ssize_t nx = g.shape[1], n = pr.shape[0], k, c, j = 0
+    cdef uint8_t[::1] uncovered = work.array("uncovered", n, np.uint8)
+    for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        uncovered[k] = not _box_covered(pr[k] % nx, pr[k] // nx, x[k], y[k], size, g, nx_, pts,
+                                        first, alpha2, &ch)
+    with nogil:
+        for k in range(n):
+            if uncovered[k]:
+                for c in range(4):
+                    cp[4 * j + c] = pr[k]
+                    cx[4 * j + c] = 2 * sx[k] + (c & 1)
+                    cy[4 * j + c] = 2 * sy[k] + (c >> 1)
+                j += 1
+    return j
 
 
 cdef int _lengths(double first, double last, double m, double big, double *lo,

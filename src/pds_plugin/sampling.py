@@ -420,6 +420,7 @@ class _Sampler:
         self.grid = np.full((self.ny, self.nx), -1, np.int32)
         self.covered = np.zeros((self.ny * kern.SUB, self.nx * kern.SUB), bool)
         self.head = np.full(self.ny * self.nx, -1, np.int32)     # scratch of throw_darts
+        self.work = kern.Workspace()        # the kernels' scratch, reused pass after pass
         # room for the samples expected, grown as needed (_reserve)
         capacity = int(1.1 * estimate_samples(region, alpha)) + 64
         self.points = np.empty((capacity, 2))
@@ -498,12 +499,16 @@ class _Sampler:
         # stage 1: dart passes over the level-0 cells in random order; each dart goes to
         # a random sub-cell of its cell that no disc covers yet
         cells = np.flatnonzero(self.status.ravel())
+        darts = np.empty((len(cells), 2))
         for _ in range(_PHASE1_PASSES):
-            darts, is_open = kern.darts_in_open_subcells(cells, rng.random((len(cells), 3)),
-                                                         self.grid, self.covered, self.x0, self.y0, s,
-                                                         self.one_per_cell)
-            cells, darts = cells[is_open], darts[is_open]
+            n_open = kern.darts_in_open_subcells(cells, rng, darts, self.grid, self.covered, self.x0,
+                                                 self.y0, s, self.one_per_cell, self.work)
+            cells, darts = cells[:n_open], darts[:n_open]
             self._throw(cells, darts, rng)
+        # the first pass's arrays (one dart per cell) are 2-3 times the largest
+        # level's: free them, so that the refinement does not add to the peak memory
+        del cells, darts
+        self.work = kern.Workspace()
         # stage 2: throw darts in the sub-cells no single disc covers, splitting them in
         # four at each level, until none is left
         parent, sub_x, sub_y = kern.open_subcells(self.status, self.grid, self.covered,
@@ -511,17 +516,24 @@ class _Sampler:
         level = int(np.log2(kern.SUB))
         while len(parent):
             size = s / 2**level
-            bx, by = self._box(parent, sub_x, sub_y, level)
-            keep = self._uncovered(parent, bx, by, size)
-            on_edge = keep & (self.status.ravel()[parent] == kern.BOUNDARY)
-            keep[on_edge] = vis_kern.boxes_state(*self.domain, bx[on_edge], by[on_edge],
-                                                 size) != vis_kern.BOX_OUTSIDE
-            parent, sub_x, sub_y, bx, by = (a[keep] for a in (parent, sub_x, sub_y, bx, by))
+            bx, by = (self.work.array(name, len(parent), float) for name in ("bx", "by"))
+            n_open = kern.open_boxes(parent, sub_x, sub_y, size, self.status, self.domain,
+                                     self.grid, self.nxt, self.points, self.alpha, self.vis,
+                                     self.x0, self.y0, s, bx, by, self.work)
+            parent, sub_x, sub_y, bx, by = (a[:n_open] for a in (parent, sub_x, sub_y, bx, by))
+            darts = rng.random(out=self.work.array("darts", 2 * n_open, float).reshape(-1, 2))
+            darts *= size                   # a dart uniform in each box
+            darts[:, 0] += bx
+            darts[:, 1] += by
             before = self.count
-            self._throw(parent, np.column_stack([bx, by]) + rng.random((len(bx), 2)) * size, rng)
+            self._throw(parent, darts, rng)
             # no sample before the throw covers these boxes: only the new ones can
-            keep = self._uncovered(parent, bx, by, size, first=before)
-            if not self.one_per_cell and keep.sum() > _REFINEMENT_BOXES * self.nx * self.ny:
+            children = [self.work.array(f"{name}{level % 2}", 4 * n_open, np.int64)
+                        for name in ("parent", "sub_x", "sub_y")]
+            n_split = kern.split_uncovered(parent, sub_x, sub_y, bx, by, size, before, self.grid,
+                                           self.nxt, self.points, self.alpha, self.vis, *children,
+                                           self.work)
+            if not self.one_per_cell and n_split > _REFINEMENT_BOXES * self.nx * self.ny:
                 # the boxes left uncovered are at most about a fifth of the cells at the
                 # first level, then the few around each boundary vertex, or along a slot
                 # narrower than alpha until they are narrower than it; where the
@@ -532,33 +544,15 @@ class _Sampler:
             if size / 2 < _RESOLUTION * self.alpha:
                 break
             level += 1
-            parent = np.repeat(parent[keep], 4)
-            sub_x = 2 * np.repeat(sub_x[keep], 4) + np.tile([0, 1, 0, 1], len(parent) // 4)
-            sub_y = 2 * np.repeat(sub_y[keep], 4) + np.tile([0, 0, 1, 1], len(parent) // 4)
-
-    def _box(self, cells, sub_x, sub_y, level):
-        """Lower-left corners of the level-``level`` children (sub_x, sub_y) of cells."""
-        size = self.s / 2**level
-        return (self.x0 + (cells % self.nx) * self.s + sub_x * size,
-                self.y0 + (cells // self.nx) * self.s + sub_y * size)
-
-    def _uncovered(self, cells, bx, by, size, first=0):
-        return kern.uncovered_boxes(cells, bx, by, size, self.grid, self.nxt, self.points,
-                                    self.alpha, self.vis, first)
-
-    def _in_region(self, cells, darts):
-        """True for darts in the region; only darts in boundary cells need the test."""
-        inside = np.ones(len(cells), bool)
-        on_edge = self.status.ravel()[cells] == kern.BOUNDARY
-        inside[on_edge] = vis_kern.points_inside(*self.domain, darts[on_edge, 0], darts[on_edge, 1])
-        return inside
+            parent, sub_x, sub_y = (a[:4 * n_split] for a in children)
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
         ``cells`` is sorted) and add the ones kept."""
-        kept = kern.throw_darts(darts, cells, rng.permutation(len(cells)),
-                                self._in_region(cells, darts), self.grid, self.nxt, self.head,
-                                self.points, self.alpha, self.x0, self.y0, self.s, self.vis)
+        rank = self.work.permutation("rank", len(cells), rng)
+        kept = kern.throw_darts(darts, cells, rank, self.status, self.domain, self.grid,
+                                self.nxt, self.head, self.points, self.alpha, self.x0, self.y0,
+                                self.s, self.vis, self.work)
         self._reserve(len(kept))
         kern.place_all(darts[kept], self.grid, self.nxt, self.covered, self.points, self.count,
                        self.alpha, self.x0, self.y0, self.s, self.vis)
