@@ -421,36 +421,48 @@ class _GradedSampler:
 
     def add_interior(self, rng):
         """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
-        Boxes are (x, y, size, low, edge): ``low`` the lower bound of r on the box,
-        ``edge`` whether it may reach outside the chord polygons."""
-        boxes = self._leaves()
+        Boxes are (x, y, size, low, high, edge): ``low`` and ``high`` bounds of r on the
+        box, ``edge`` whether it may reach outside the chord polygons. A box found open
+        is tested again, after the darts, against the new samples only."""
+        boxes, since = self._leaves(), 0
         for _ in range(_PASSES):
-            boxes = self._open(boxes)
+            boxes, since = self._open(boxes, since), self.count
             self._throw(boxes, rng)
         while len(boxes[0]):
-            boxes = self._open(boxes)
+            boxes = self._open(boxes, since)
             fine = boxes[2] >= _RESOLUTION * boxes[3]
-            bx, by, size, low, edge = (a[fine] for a in boxes)
-            self._check_boxes(4 * len(bx))
-            half = 0.5 * size
-            bx = np.concatenate([bx, bx + half, bx, bx + half])
-            by = np.concatenate([by, by, by + half, by + half])
-            size, edge = np.tile(half, 4), np.tile(edge, 4)
-            boxes = self._open(self._boxes(bx, by, size, edge))   # darts only where no
-            self._throw(boxes, rng)                                # disc covers already
+            children = self._children(tuple(a[fine] for a in boxes))
+            boxes, since = self._open(children), self.count     # darts only where no
+            self._throw(boxes, rng)                              # disc covers already
 
-    def _boxes(self, bx, by, size, edge):
-        """Boxes with their radius bound; of those that may reach outside (``edge``),
-        the ones outside the chord polygons dropped and the ones inside marked so."""
+    def _children(self, boxes):
+        """The four quarters of each box, with their bounds of r (:meth:`_boxes`)."""
+        bx, by, size, low, high, edge = boxes
+        self._check_boxes(4 * len(bx))
+        half = 0.5 * size
+        bx = np.concatenate([bx, bx + half, bx, bx + half])
+        by = np.concatenate([by, by, by + half, by + half])
+        return self._boxes(bx, by, np.tile(half, 4), np.tile(edge, 4))
+
+    def _inside(self, bx, by, size, edge):
+        """Which boxes to keep, and their ``edge`` flags: of those that may reach outside
+        (``edge``), the ones outside the chord polygons dropped and the ones inside
+        marked so."""
         state = vis_kern.boxes_state(*self.domain, bx[edge], by[edge], size[edge])
         keep = np.ones(len(bx), bool)
         keep[edge] = state != vis_kern.BOX_OUTSIDE
         edge = edge.copy()
         edge[edge] = state != vis_kern.BOX_INSIDE
-        bx, by, size, edge = bx[keep], by[keep], size[keep], edge[keep]
+        return keep, edge[keep]
+
+    def _boxes(self, bx, by, size, edge):
+        """The boxes kept by :meth:`_inside`, with the bounds of r on each from r at its
+        centre."""
+        keep, edge = self._inside(bx, by, size, edge)
+        bx, by, size = bx[keep], by[keep], size[keep]
         centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
-        low = self.field.bounds(centre, size / math.sqrt(2))
-        return bx, by, size, low, edge
+        low, high = self.field.bounds(centre, size / math.sqrt(2))
+        return bx, by, size, low, high, edge
 
     def _leaves(self):
         """Quadtree leaves over the region: boxes split while their side exceeds r_low,
@@ -464,9 +476,9 @@ class _GradedSampler:
         edge = np.ones(len(bx), bool)
         done, total = [], 0
         while len(bx):
-            bx, by, size, low, edge = self._boxes(bx, by, size, edge)
+            bx, by, size, low, high, edge = self._boxes(bx, by, size, edge)
             leaf = size <= low
-            done.append(tuple(a[leaf] for a in (bx, by, size, low, edge)))
+            done.append(tuple(a[leaf] for a in (bx, by, size, low, high, edge)))
             total += int(leaf.sum())
             self._check_boxes(total + 4 * int((~leaf).sum()))
             bx, by, size, edge = bx[~leaf], by[~leaf], size[~leaf], edge[~leaf]
@@ -488,17 +500,18 @@ class _GradedSampler:
         return ("raise max_samples or the grading, or pass a larger alpha or sizing (the "
                 f"field's smallest radius here is {self.field.sizes.min(initial=self.field.cap):.3g})")
 
-    def _open(self, boxes):
-        """The boxes no single visible disc covers."""
-        bx, by, size, low, edge = boxes
-        keep = kern.uncovered_boxes(bx, by, size, low, self.field.grading, self.chord_bound,
-                                    self.bins, self.nxt, self.points, self.radius, self.x0,
-                                    self.y0, self.vis)
+    def _open(self, boxes, since=0):
+        """The boxes no single visible disc covers; with ``since``, boxes found open
+        before sample ``since`` was placed, tested against the later samples only."""
+        bx, by, size, low, high, edge = boxes
+        keep = kern.uncovered_boxes(bx, by, size, low, high, self.field.grading,
+                                    self.chord_bound, self.bins, self.nxt, self.points,
+                                    self.radius, self.x0, self.y0, self.vis, since)
         return tuple(a[keep] for a in boxes)
 
     def _throw(self, boxes, rng):
         """One dart uniform in each box; darts in the region thrown in random order."""
-        bx, by, size, low, edge = boxes
+        bx, by, size, low, high, edge = boxes
         u = rng.random((len(bx), 2))
         darts = np.column_stack([bx + u[:, 0] * size, by + u[:, 1] * size])
         order = rng.permutation(len(darts))
@@ -506,8 +519,6 @@ class _GradedSampler:
         inside[~inside] = vis_kern.points_inside(*self.domain, darts[order[~inside], 0],
                                                  darts[order[~inside], 1])
         order = order[inside]
-        # r(x) <= r(centre) + L h = low + 2 L h on a box of half-diagonal h
-        high = low + 2.0 * self.field.grading * size / math.sqrt(2)
         refused = kern.refused(darts[order], low[order], high[order], self.field.grading,
                                self.bins, self.nxt, self.points, self.radius, self.x0,
                                self.y0, self.vis)

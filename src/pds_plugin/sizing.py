@@ -113,9 +113,12 @@ class RadiusField:
             r = np.minimum(r, user)
         return r
 
-    def bounds(self, centres, half_diagonal) -> np.ndarray:
-        """A lower bound of r on each disc (centre, half_diagonal): r(centre) - L h."""
-        return self(centres) - self.grading * np.asarray(half_diagonal)
+    def bounds(self, centres, half_diagonal):
+        """Lower and upper bounds of r on each disc (centre, half_diagonal):
+        r(centre) -+ L h."""
+        r = self(centres)
+        spread = self.grading * np.asarray(half_diagonal)
+        return r - spread, r + spread
 
 
 def _undominated(features, sizes, L) -> np.ndarray:
