@@ -12,7 +12,7 @@ import numpy as np
 from cython.parallel cimport parallel, prange
 from libc.math cimport INFINITY, sqrt
 from libc.stdlib cimport free, malloc
-from libc.stdint cimport int64_t
+from libc.stdint cimport int64_t, uint8_t
 
 from ._parallel cimport threads_for
 
@@ -163,6 +163,62 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
             out[k] = _cone_minimum(q[k, 0], q[k, 1], f, sz, L, cap, pm, fs, st, lf, rt, bx, sm,
                                    stack)
+        free(stack)
+    return out_array
+
+
+cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s, double L,
+                     const int64_t[::1] perm, const int64_t[::1] first,
+                     const int64_t[::1] stop, const int64_t[::1] left,
+                     const int64_t[::1] right, const double[:, ::1] box,
+                     const double[::1] smin, int64_t *stack) noexcept nogil:
+    """Is cone i nowhere below another: s_j + L|f_i - f_j| < s_i for some j, or equal
+    with j < i? (Then s_i + L|x - f_i| >= s_j + L|x - f_j| everywhere.) A depth-first
+    search, the more promising child first, pruning nodes whose smin + L·distance is
+    above s_i; it stops at the first such j."""
+    cdef double x = xy[i, 0], y = xy[i, 1], dx, dy, value
+    cdef Py_ssize_t top = 1, k, t, j, a, b
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        if smin[k] + L * _box_distance(x, y, box, k) > s[i]:
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                j = perm[t]
+                if j == i:
+                    continue
+                dx, dy = xy[j, 0] - x, xy[j, 1] - y
+                value = s[j] + L * sqrt(dx * dx + dy * dy)
+                if value < s[i] or (value == s[i] and j < i):
+                    return True
+            continue
+        a, b = left[k], right[k]
+        if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
+            a, b = b, a
+        stack[top] = a          # the less promising child waits
+        stack[top + 1] = b
+        top += 2
+    return False
+
+
+def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin):
+    """True for the cones s_i + L|x - f_i| that another cone is nowhere above
+    (:func:`_dominated`), over the ``build_cone_tree`` tree of all of them: dropping
+    them leaves min_i(s_i + L|x - f_i|) unchanged."""
+    cdef const double[:, ::1] f = xy
+    cdef const double[::1] sz = s, sm = smin
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef const double[:, ::1] bx = box
+    cdef Py_ssize_t n = f.shape[0], k
+    out_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = out_array.view(np.uint8)
+    cdef int64_t *stack
+    with nogil, parallel(num_threads=threads_for(n)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))
+        for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            out[k] = _dominated(k, f, sz, L, pm, fs, st, lf, rt, bx, sm, stack)
         free(stack)
     return out_array
 

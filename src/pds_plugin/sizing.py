@@ -34,7 +34,7 @@ _PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length
                      # so it splits into two or more chords (graded_sampling._positions)
 _CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
-_K = 24              # nearest neighbours looked at for dominated cones and corners
+_K = 24              # nearest neighbours looked at first for the corners' discs
 _ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
 _MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
 
@@ -123,15 +123,12 @@ class RadiusField:
 
 def _undominated(features, sizes, L) -> np.ndarray:
     """Features whose cone s_i + L|x - f_i| is not everywhere above another's
-    (s_i >= s_j + L|f_i - f_j| means cone i never attains the minimum)."""
-    n = len(sizes)
-    if n < 2:
-        return np.ones(n, bool)
-    k = min(_K, n)
-    d, idx = cKDTree(features).query(features, k=k)
-    above = sizes[:, None] > sizes[idx] + L * d
-    tie = (sizes[:, None] == sizes[idx] + L * d) & (idx < np.arange(n)[:, None])
-    return ~np.any(above | tie, axis=1)
+    (s_i >= s_j + L|f_i - f_j| means cone i never attains the minimum; of equal cones
+    the first is kept), against all the others (``_sizing_kernels.dominated_cones``)."""
+    if len(sizes) < 2:
+        return np.ones(len(sizes), bool)
+    features, sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
+    return ~kern.dominated_cones(features, sizes, L, *kern.build_cone_tree(features, sizes, 8))
 
 
 def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | None = None,
