@@ -100,8 +100,8 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
 def _tau_rings(rings, field, grading):
     """Each ring densified by bisection until every part is at most 0.3 of the lowest r
     the field can have on it, with r at its points, the flags of its own vertices among
-    the points, and the normalized arc length τ = ∫ dt / r at its points and closing point (trapezoid
-    rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
+    the points, and the normalized arc length τ = ∫ dt / r at its points and closing
+    point (trapezoid rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
     are densified together (one field evaluation per round for all of them)."""
     points = np.concatenate(rings)
     ring = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
@@ -219,7 +219,8 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit):
             walk = (corner[c] + step * np.arange(steps + 1)) % n
             position = (step * (tau[walk] - tau[corner[c]])) % length
             position[-1] = position[-1] or length
-            g = np.hypot(*(dense[walk] - dense[corner[c]]).T) - _TAU_MARGIN * k[c] * radius[walk]
+            apart = np.hypot(*(dense[walk] - dense[corner[c]]).T)
+            g = apart - _TAU_MARGIN * k[c] * radius[walk]
             j = int(np.argmax(g >= 0))          # g[0] = -k r(c) < 0
             if not j:
                 out[c] = position[-1]               # the whole piece: too short
@@ -244,10 +245,10 @@ def _fixed(at, corners, cleared_after, cleared_before):
 
 def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
     """A ring's boundary samples (at positions ``at`` along it, ``fixed`` the ones that
-    must not move, :func:`_fixed`; ``vertices`` its own vertices at positions ``vertex_at``, of ``length`` in
-    all) with a chord end moved onto the point where the ring crosses the chord, wherever
-    the ring's piece beyond the chord would otherwise reach farther than r from the only
-    chord end that sees it.
+    must not move, :func:`_fixed`; ``vertices`` its own vertices at positions
+    ``vertex_at``, of ``length`` in all) with a chord end moved onto the point where the
+    ring crosses the chord, wherever the ring's piece beyond the chord would otherwise
+    reach farther than r from the only chord end that sees it.
 
     A ring that crosses its chord leaves a piece of region beyond the chord that only the
     chord end it touches sees (the segment to the other end leaves the region, if only by
@@ -373,8 +374,8 @@ class _GradedSampler:
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
         ring_xy = []
-        for ring, (dense, radius, first, tau) in zip(self.region.rings,
-                                                     _tau_rings(self.region.rings, self.field, L)):
+        rings = self.region.rings
+        for ring, (dense, radius, first, tau) in zip(rings, _tau_rings(rings, self.field, L)):
             turns = turning_angles(ring)
             sharp_vertex = np.abs(turns) >= np.radians(feature_angle)
             sharp = np.zeros(len(dense), bool)
