@@ -34,6 +34,8 @@ _PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length
                      # so it splits into two or more chords (graded_sampling._positions)
 _CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
+_FLAT_BELOW = math.pi / 3   # convex corners sharper than this keep their size along
+_FLAT_REACH = 2             # their sides up to this many times it
 _K = 24              # nearest neighbours looked at first for the corners' discs
 _ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
 _MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
@@ -301,7 +303,17 @@ def _corner_discs(region, rings, corners, piece, dense):
     """Sharp corners and their disc radius: _CORNER x the distance to the nearest
     boundary point that is not on the two pieces incident to the corner and is seen
     through material (the midpoint in the region: a notch or gap does not count), at
-    most the ring sizes of those pieces."""
+    most the ring sizes of those pieces.
+
+    A convex corner where the region's angle is below _FLAT_BELOW (60°) gets the same
+    size along its two sides, up to _FLAT_REACH times it (:func:`_shoulders`): the field
+    is then about flat where the sampler puts the corner's neighbours p, q (at most
+    1.02 √3 r from it, graded_sampling._corner_clearance), and their triangle with the
+    corner c, of circumradius |p - c| / (2 cos(θ/2)) <= 1.02 r / (2 sin θ) < 0.93 r above
+    33.56°, stays within what the complex keeps, min r / (1 - L). Where the field grew
+    at the rate L from the corner instead, r(p) reached (1 + 1.6 L) r(c) at 37° and the
+    triangle was dropped: a tooth's tip came off at L = 0.3."""
+    turns = [turning_angles(ring) for ring in rings]
     tree = cKDTree(dense["xy"])
     xy, s = [], []
     for k, ring in enumerate(rings):
@@ -318,11 +330,30 @@ def _corner_discs(region, rings, corners, piece, dense):
                     break
             far = d[other][0] if other.any() else np.inf
             on_pieces = own & np.isin(dense["piece"], incident)
-            xy.append(ring[v])
-            s.append(min(_CORNER * far, dense["base"][on_pieces].min()))
+            size = min(_CORNER * far, dense["base"][on_pieces].min())
+            xy.append(ring[v][None])
+            s.append([size])
+            if turns[k][v] > math.pi - _FLAT_BELOW:
+                shoulders = _shoulders(ring, v, size)
+                xy.append(shoulders)
+                s.append(np.full(len(shoulders), size))
     if not xy:
         return np.empty((0, 2)), np.empty(0)
-    return np.asarray(xy), np.asarray(s)
+    return np.concatenate(xy), np.concatenate(s)
+
+
+def _shoulders(ring, v, size):
+    """Points along the two edges of ring vertex v, every quarter of ``size`` up to
+    _FLAT_REACH x size from it (at most the edges' lengths): with the corner's size they
+    keep the field within L size / 8 of it there."""
+    steps = 0.25 * size * np.arange(1, 4 * _FLAT_REACH + 1)
+    out = []
+    for end in (ring[(v + 1) % len(ring)], ring[v - 1]):
+        edge = end - ring[v]
+        length = math.hypot(*edge)
+        t = steps[steps < length]
+        out.append(ring[v] + t[:, None] * (edge / length))
+    return np.concatenate(out)
 
 
 def _in_corner_discs(dense, corner_xy, corner_s):
