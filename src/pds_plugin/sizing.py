@@ -206,16 +206,16 @@ def _features(region: Region, cap: float, feature_angle: float):
     vertex_size = np.concatenate([f[1] for f in from_ring])
     piece = [f[2] for f in from_ring]
     corners = [f[3] for f in from_ring]
-    dense = _densify(rings, ring_size, ring_size, piece)
+    edges = _edges(rings)
+    dense = _densify(edges, ring_size, ring_size, piece)
     corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
     edge_size = [size.copy() for size in ring_size]
     for round_ in range(_ROUNDS):
         if round_:
-            parts = sum(int(np.sum(np.ceil(4 * np.hypot(*(np.roll(r, -1, axis=0) - r).T) / e)))
-                        for r, e in zip(rings, edge_size))
+            parts = int(np.sum(np.ceil(4 * edges[2] / np.concatenate(edge_size))))
             if parts > _MAX_DENSE:
                 break                   # keep the last densification: memory stays bounded
-            dense = _densify(rings, edge_size, ring_size, piece)
+            dense = _densify(edges, edge_size, ring_size, piece)
         size = _wall_sizes(region, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
         changed = False
@@ -250,26 +250,31 @@ def _ring_sizes(ring, cap, sharp_turn):
     return edge_size, size, piece, sharp
 
 
-def _densify(rings, edge_size, ring_size, piece):
-    """Points along every edge at spacing <= a quarter of its size, with the edge's
-    inward unit normal, ring, edge and piece index, and its size from the ring alone."""
-    xy, normal, ring_id, edge_id, piece_id, base = [], [], [], [], [], []
-    for k, ring in enumerate(rings):
-        d = np.roll(ring, -1, axis=0) - ring
-        length = np.hypot(d[:, 0], d[:, 1])
-        parts = np.maximum(np.ceil(4 * length / edge_size[k]), 1).astype(np.int64)
-        edge = np.repeat(np.arange(len(ring)), parts)
-        start = np.cumsum(parts) - parts
-        t = (np.arange(parts.sum()) - start[edge] + 0.5) / parts[edge]
-        xy.append(ring[edge] + t[:, None] * d[edge])
-        normal.append(np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None])
-        ring_id.append(np.full(len(edge), k))
-        edge_id.append(edge)
-        piece_id.append(piece[k][edge])
-        base.append(ring_size[k][edge])
-    return {"xy": np.concatenate(xy), "normal": np.concatenate(normal),
-            "ring": np.concatenate(ring_id), "edge": np.concatenate(edge_id),
-            "piece": np.concatenate(piece_id), "base": np.concatenate(base)}
+def _edges(rings):
+    """Every ring's edges at once: (start vertices, edge vectors, lengths, ring of each
+    edge, index of each ring's first edge), edge k of a ring from its vertex k to k + 1."""
+    start = np.concatenate(rings)
+    counts = np.array([len(ring) for ring in rings])
+    first = np.cumsum(counts) - counts
+    following = np.arange(1, len(start) + 1)
+    following[first + counts - 1] = first
+    d = start[following] - start
+    return start, d, np.hypot(d[:, 0], d[:, 1]), np.repeat(np.arange(len(rings)), counts), first
+
+
+def _densify(edges, edge_size, ring_size, piece):
+    """Points along every edge (``edges`` from :func:`_edges`) at spacing <= a quarter of
+    its size, with the edge's inward unit normal, ring, edge and piece index, and its
+    size from the ring alone; all rings at once."""
+    start, d, length, ring_of, first = edges
+    parts = np.maximum(np.ceil(4 * length / np.concatenate(edge_size)), 1).astype(np.int64)
+    edge = np.repeat(np.arange(len(start)), parts)
+    begin = np.cumsum(parts) - parts
+    t = (np.arange(parts.sum()) - begin[edge] + 0.5) / parts[edge]
+    return {"xy": start[edge] + t[:, None] * d[edge],
+            "normal": np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None],
+            "ring": ring_of[edge], "edge": edge - first[ring_of[edge]],
+            "piece": np.concatenate(piece)[edge], "base": np.concatenate(ring_size)[edge]}
 
 
 def _wall_sizes(region, dense, cap):
