@@ -174,22 +174,19 @@ def _positions(tau, corners, after, before, unit, rng):
 def _cleared_piece(lo, span, first, last, unit):
     """The inner positions of a piece [lo, lo + span] whose first part must be at least
     ``first`` and last part at least ``last`` long (τ): those two, and the rest split
-    into the most equal parts of at least ``unit``. A rest shorter than ``unit`` goes to
-    the end that needs no clearance (its part stays below 2 unit), or half to each; a
-    piece too short for both clearances gets one point dividing it in their ratio (its
-    parts then fall short of them by the same factor: the corner's neighbours may be
-    closer than r)."""
+    into the most equal parts of at least ``unit``. A rest shorter than ``unit`` leaves
+    one point, as near the middle as the two allow (given wholly to one part it made a
+    chord of up to 2 r, whose guard found no room in a narrow tooth: the tooth came
+    off); a piece too short for both clearances gets one point dividing it in their
+    ratio (its parts then fall short of them by the same factor: the corner's neighbours
+    may be closer than r)."""
     rest = span - first - last
     if rest < 0:
         return np.array([lo + span * first / (first + last)])
-    if rest >= unit:
-        parts = int(rest // unit)
-        return lo + first + rest * np.arange(parts + 1) / parts
-    if first <= unit:
-        return np.array([lo + span - last])
-    if last <= unit:
-        return np.array([lo + first])
-    return np.array([lo + first + 0.5 * rest])
+    if rest < unit:
+        return np.array([lo + min(max(0.5 * span, first), span - last)])
+    parts = int(rest // unit)
+    return lo + first + rest * np.arange(parts + 1) / parts
 
 
 def _corner_clearance(dense, radius, tau, corner, turn, unit):
