@@ -112,6 +112,20 @@ cdef inline double _box_distance(double x, double y, const double[:, ::1] box,
     return sqrt(dx * dx + dy * dy)
 
 
+cdef inline Py_ssize_t _push_children(double x, double y, Py_ssize_t k, double L,
+                                      const int64_t[::1] left, const int64_t[::1] right,
+                                      const double[:, ::1] box, const double[::1] smin,
+                                      int64_t *stack, Py_ssize_t top) noexcept nogil:
+    """Push node k's two children on a cone search's stack, the more promising for
+    (x, y) (lower smin / L + distance) on top; returns the new top."""
+    cdef Py_ssize_t a = left[k], b = right[k]
+    if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
+        a, b = b, a
+    stack[top] = a          # the less promising child waits
+    stack[top + 1] = b
+    return top + 2
+
+
 cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const double[::1] s,
                           double L, double cap, const int64_t[::1] perm,
                           const int64_t[::1] first, const int64_t[::1] stop,
@@ -122,7 +136,7 @@ cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const dou
     the more promising child first, pruning nodes whose bound smin + L·distance is no
     better than the best so far."""
     cdef double best = cap, dx, dy, value
-    cdef Py_ssize_t top = 1, k, t, i, a, b
+    cdef Py_ssize_t top = 1, k, t, i
     stack[0] = 0
     while top:
         top -= 1
@@ -137,12 +151,7 @@ cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const dou
                 if value < best:
                     best = value
             continue
-        a, b = left[k], right[k]
-        if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
-            a, b = b, a
-        stack[top] = a          # the less promising child waits
-        stack[top + 1] = b
-        top += 2
+        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
     return best
 
 
@@ -177,7 +186,7 @@ cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s,
     search, the more promising child first, pruning nodes whose smin + L·distance is
     above s_i; it stops at the first such j."""
     cdef double x = xy[i, 0], y = xy[i, 1], dx, dy, value
-    cdef Py_ssize_t top = 1, k, t, j, a, b
+    cdef Py_ssize_t top = 1, k, t, j
     stack[0] = 0
     while top:
         top -= 1
@@ -194,12 +203,7 @@ cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s,
                 if value < s[i] or (value == s[i] and j < i):
                     return True
             continue
-        a, b = left[k], right[k]
-        if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
-            a, b = b, a
-        stack[top] = a          # the less promising child waits
-        stack[top + 1] = b
-        top += 2
+        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
     return False
 
 
