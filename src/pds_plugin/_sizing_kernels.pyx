@@ -176,6 +176,83 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
     return out_array
 
 
+cdef void _quarter_minimum(double x_lo, double y_lo, double size, const double[:, ::1] xy,
+                           const double[::1] s, double L, double cap,
+                           const int64_t[::1] perm, const int64_t[::1] first,
+                           const int64_t[::1] stop, const int64_t[::1] left,
+                           const int64_t[::1] right, const double[:, ::1] box,
+                           const double[::1] smin, int64_t *stack,
+                           double *best) noexcept nogil:
+    """:func:`_cone_minimum` at the centres of the four quarters of the box
+    [x_lo, x_lo + size]² at once, into best[0..3] (lower left, lower right, upper left,
+    upper right), each centre computed as the sampler computes it. One search: a node
+    is pruned when its bound is no better than the best so far for all four, so each
+    value is the exact minimum, the same as four searches give."""
+    cdef double half = 0.5 * size, dx, dy, value
+    cdef double qx[4]
+    cdef double qy[4]
+    cdef Py_ssize_t top = 1, k, t, i, j
+    cdef bint needed
+    qx[0] = x_lo + 0.5 * half
+    qx[1] = (x_lo + half) + 0.5 * half
+    qx[2], qx[3] = qx[0], qx[1]
+    qy[0] = y_lo + 0.5 * half
+    qy[2] = (y_lo + half) + 0.5 * half
+    qy[1], qy[3] = qy[0], qy[2]
+    for j in range(4):
+        best[j] = cap
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        needed = False
+        for j in range(4):
+            if smin[k] + L * _box_distance(qx[j], qy[j], box, k) < best[j]:
+                needed = True
+                break
+        if not needed:
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                i = perm[t]
+                for j in range(4):
+                    dx, dy = xy[i, 0] - qx[j], xy[i, 1] - qy[j]
+                    value = s[i] + L * sqrt(dx * dx + dy * dy)
+                    if value < best[j]:
+                        best[j] = value
+            continue
+        top = _push_children(x_lo + half, y_lo + half, k, L, left, right, box, smin, stack,
+                             top)
+
+
+def quarter_cone_minimum(bx, by, size, xy, s, double L, double cap, perm, first, stop, left,
+                         right, box, smin):
+    """min(cap, min_i(s_i + L|x - f_i|)) at the centres of the quarters of each box
+    [bx, bx + size] x [by, by + size], exactly: an (4 n,) array, the lower left quarters
+    of the n boxes first, then the lower right, upper left and upper right ones."""
+    cdef const double[::1] x = bx, y = by, sd = size
+    cdef const double[:, ::1] f = xy
+    cdef const double[::1] sz = s, sm = smin
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef const double[:, ::1] bb = box
+    cdef Py_ssize_t n = x.shape[0], k, j
+    out_array = np.empty(4 * n)
+    cdef double[::1] out = out_array
+    cdef int64_t *stack
+    cdef double *best
+    with nogil, parallel(num_threads=threads_for(n)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))      # one of each per thread
+        best = <double *>malloc(4 * sizeof(double))
+        for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            _quarter_minimum(x[k], y[k], sd[k], f, sz, L, cap, pm, fs, st, lf, rt, bb, sm,
+                             stack, best)
+            for j in range(4):
+                out[j * n + k] = best[j]
+        free(best)
+        free(stack)
+    return out_array
+
+
 cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s, double L,
                      const int64_t[::1] perm, const int64_t[::1] first,
                      const int64_t[::1] stop, const int64_t[::1] left,

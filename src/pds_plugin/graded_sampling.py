@@ -434,13 +434,17 @@ class _GradedSampler:
             self._throw(boxes, rng)                              # disc covers already
 
     def _children(self, boxes):
-        """The four quarters of each box, with their bounds of r (:meth:`_boxes`)."""
+        """The four quarters of each box kept by :meth:`_inside`, with their bounds of r
+        (:meth:`_boxes`; r at their centres from one cone search per box)."""
         bx, by, size, low, high, edge = boxes
         self._check_boxes(4 * len(bx))
+        r = self.field.at_quarters(bx, by, size)
         half = 0.5 * size
         bx = np.concatenate([bx, bx + half, bx, bx + half])
         by = np.concatenate([by, by, by + half, by + half])
-        return self._boxes(bx, by, np.tile(half, 4), np.tile(edge, 4))
+        keep, edge = self._inside(bx, by, np.tile(half, 4), np.tile(edge, 4))
+        size = np.tile(half, 4)[keep]
+        return (bx[keep], by[keep], size, *self._bounds(r[keep], size), edge)
 
     def _inside(self, bx, by, size, edge):
         """Which boxes to keep, and their ``edge`` flags: of those that may reach outside
@@ -459,8 +463,13 @@ class _GradedSampler:
         keep, edge = self._inside(bx, by, size, edge)
         bx, by, size = bx[keep], by[keep], size[keep]
         centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
-        low, high = self.field.bounds(centre, size / math.sqrt(2))
-        return bx, by, size, low, high, edge
+        return (bx, by, size, *self._bounds(self.field(centre), size), edge)
+
+    def _bounds(self, centre_r, size):
+        """Lower and upper bounds of r on boxes of side ``size`` with r ``centre_r`` at
+        their centres: r(centre) -+ L times the half-diagonal."""
+        spread = self.field.grading * (size / math.sqrt(2))
+        return centre_r - spread, centre_r + spread
 
     def _leaves(self):
         """Quadtree leaves over the region: boxes split while their side exceeds r_low,

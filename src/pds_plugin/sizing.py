@@ -115,12 +115,25 @@ class RadiusField:
             r = np.minimum(r, user)
         return r
 
-    def bounds(self, centres, half_diagonal):
-        """Lower and upper bounds of r on each disc (centre, half_diagonal):
-        r(centre) -+ L h."""
-        r = self(centres)
-        spread = self.grading * np.asarray(half_diagonal)
-        return r - spread, r + spread
+    def at_quarters(self, x, y, size) -> np.ndarray:
+        """r at the centres of the four quarters of each box [x, x + size]², the same
+        values as calling the field there, from one cone search per box: the lower left
+        quarters of all boxes first, then the lower right, upper left and upper right.
+
+        Examples
+        --------
+        >>> field = RadiusField([[0, 0]], [0.1], grading=0.5, cap=1.0)
+        >>> field.at_quarters(np.array([0.0]), np.array([0.0]), np.array([4.0])).tolist()
+        [0.8071067811865476, 1.0, 1.0, 1.0]
+        """
+        x, y, size = (np.ascontiguousarray(v, float) for v in (x, y, size))
+        if self._tree is None or self.sizing is not None or not len(x):
+            half = 0.5 * size
+            quarter = 0.5 * np.tile(half, 4)
+            return self(np.column_stack([np.concatenate([x, x + half, x, x + half]) + quarter,
+                                         np.concatenate([y, y, y + half, y + half]) + quarter]))
+        return kern.quarter_cone_minimum(x, y, size, self.features, self.sizes, self.grading,
+                                         self.cap, *self._tree)
 
 
 def _undominated(features, sizes, L) -> np.ndarray:
