@@ -180,3 +180,18 @@ def test_issue_13_targets_compare_every_size_with_triangle():
                                   "pds": 0.06, "triangle_vertices": 9100, "triangle": 0.01})
     assert not auto.holds and auto.measured.startswith("6×")
     assert _targets._auto_target(None).holds is None
+
+
+def test_graded_targets_are_checked_on_the_run():
+    import graded
+
+    def mesh(vertices, angle, wall, exact=True, ok=True):
+        return {"vertices": vertices, "min_angle": angle, "max_angle": 120.0, "exact": exact,
+                "wall": wall, "cpu": wall, "ok": ok}
+    pairs = [("sheet", mesh(60_000, 25.0, 2.4), mesh(30_000, 30.0, 0.05)),
+             ("part", mesh(900, 22.0, 0.05, exact=False), mesh(1_000, 30.0, 0.01))]
+    lines = graded.targets(pairs, 0.2)
+    assert "worst 2.00× (sheet)" in lines[2] and lines[2].endswith("**holds** |")
+    assert "smallest 22.00° (part)" in lines[3] and lines[3].endswith("**misses** |")  # < 23.58°
+    assert "1 of 2 regions" in lines[4] and lines[4].endswith("**misses** |")
+    assert "1.20 s per 30k (sheet)" in lines[6] and lines[6].endswith("**misses** |")
