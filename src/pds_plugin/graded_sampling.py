@@ -32,8 +32,8 @@ from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
-from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along,
-                       _guards, _joined, check_rings_apart)
+from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _guards,
+                       _joined, check_rings_apart, corner_clearance)
 from .sizing import RadiusField
 
 __all__ = ["graded_poisson_disc"]
@@ -99,8 +99,8 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
 
 def _tau_rings(rings, field, grading):
     """Each ring densified by bisection until every part is at most 0.3 of the lowest r
-    the field can have on it, with the flags of its own vertices among the points, and
-    the normalized arc length τ = ∫ dt / r at its points and closing point (trapezoid
+    the field can have on it, with r at its points, the flags of its own vertices among
+    the points, and the normalized arc length τ = ∫ dt / r at its points and closing point (trapezoid
     rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
     are densified together (one field evaluation per round for all of them)."""
     points = np.concatenate(rings)
@@ -128,7 +128,7 @@ def _tau_rings(rings, field, grading):
         step = np.hypot(*np.diff(np.vstack([p, p[:1]]), axis=0).T)
         inv = 1.0 / np.append(r, r[0])
         tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inv[:-1] + inv[1:]))])
-        out.append((p, first[lo:hi], tau))
+        out.append((p, r, first[lo:hi], tau))
     return out
 
 
@@ -140,22 +140,30 @@ def _next_index(ring):
     return following
 
 
-def _positions(tau, corners, unit, rng):
+def _positions(tau, corners, after, before, unit, rng):
     """Positions (in τ) of a ring's boundary samples, increasing: its sharp corners (or
     one random point if it has none) and each piece between them split into the most
     equal parts of τ-length at least ``unit``, so in [unit, 2 unit) when the piece is at
     least 2 unit long, which the field makes every piece (sizing.py's _PIECE: a single
     part longer than √3 r needs a guard, which a neighbouring sample can refuse); at
-    least three in all."""
+    least three in all. A piece whose first part must be longer than ``unit`` (``after``
+    its corner) or whose last part must (``before`` the next: :func:`_corner_clearance`)
+    is split by :func:`_cleared_piece` instead."""
     length = tau[-1]
     if not len(corners):
-        corners = np.array([rng.random() * length])
+        corners, after, before = np.array([rng.random() * length]), [unit], [unit]
     lo = corners
     span = np.append(corners[1:], corners[0] + length) - lo
     parts = np.maximum(np.floor(span / unit), 1).astype(np.int64)
+    first, last = np.asarray(after), np.roll(before, -1)
+    cleared = (first > unit) | (last > unit)
+    parts[cleared] = 1
     piece = np.repeat(np.arange(len(lo)), parts - 1)
     k = np.arange(len(piece)) - np.repeat(np.cumsum(parts - 1) - (parts - 1), parts - 1) + 1
-    at = np.sort(np.concatenate([corners, lo[piece] + span[piece] * k / parts[piece]]) % length)
+    inner = [lo[piece] + span[piece] * k / parts[piece]]
+    inner += [_cleared_piece(lo[i], span[i], first[i], last[i], unit)
+              for i in np.flatnonzero(cleared)]
+    at = np.sort(np.concatenate([corners, *inner]) % length)
     while len(at) < 3:                       # a ring smaller than r: keep it a ring
         gaps = np.diff(np.append(at, at[0] + length))
         g = int(np.argmax(gaps))
@@ -163,9 +171,80 @@ def _positions(tau, corners, unit, rng):
     return at
 
 
-def _uncrossed(samples, at, corner, vertices, vertex_at, length, field):
-    """A ring's boundary samples (at positions ``at`` along it, ``corner`` the sharp
-    ones; ``vertices`` its own vertices at positions ``vertex_at``, of ``length`` in
+def _cleared_piece(lo, span, first, last, unit):
+    """The inner positions of a piece [lo, lo + span] whose first part must be at least
+    ``first`` and last part at least ``last`` long (τ): those two, and the rest split
+    into the most equal parts of at least ``unit``. A rest shorter than ``unit`` goes to
+    the end that needs no clearance (its part stays below 2 unit), or half to each; a
+    piece too short for both clearances gets one point dividing it in their ratio (its
+    parts then fall short of them by the same factor: the corner's neighbours may be
+    closer than r)."""
+    rest = span - first - last
+    if rest < 0:
+        return np.array([lo + span * first / (first + last)])
+    if rest >= unit:
+        parts = int(rest // unit)
+        return lo + first + rest * np.arange(parts + 1) / parts
+    if first <= unit:
+        return np.array([lo + span - last])
+    if last <= unit:
+        return np.array([lo + first])
+    return np.array([lo + first + 0.5 * rest])
+
+
+def _corner_clearance(dense, radius, tau, corner, turn, unit):
+    """The τ-lengths kept free of samples after and before each sharp corner of a ring
+    (``dense`` its densified points with r at them and τ along them, ``corner`` the
+    corners' indices among them, ``turn`` their turning angles, positive left: convex
+    with the region on the left), so that a corner's two neighbours p, q are separated.
+
+    ``unit`` where the region's angle θ = π - turn is at least 60°. Below, the part from
+    the corner c to p ends where |p - c| first reaches 1.02 k r(p), k = 1 / (2 sin(θ/2))
+    (capped just below √3, :func:`pds_plugin.sampling.corner_clearance`; 1.02 covers the
+    linear interpolation between the dense points): on straight sides
+    |pq| >= 2 sin(θ/2) min(|p - c|, |q - c|) >= min(r(p), r(q)) (docs/conforming.md,
+    "Sharp corner"; below 33.56° the cap leaves them closer, as for uniform meshes). The
+    first such point, not a later one: |p - c| - k r(p) grows along a straight side (r is
+    L-Lipschitz, k L < 1), and a longer part would make the corner's triangle (of
+    circumradius |p - c| / (2 cos(θ/2)) when |p - c| = |q - c|) larger than separation
+    needs, and too large for the complex where r(c) is small."""
+    n, length = len(dense), tau[-1]
+    k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
+    after, before = np.full(len(corner), unit), np.full(len(corner), unit)
+    for c in np.flatnonzero(k > 1.0):
+        nxt_corner = corner[(c + 1) % len(corner)]
+        prev_corner = corner[c - 1]
+        for out, stop, step in ((after, nxt_corner, 1), (before, prev_corner, -1)):
+            steps = (step * (stop - corner[c])) % n or n
+            walk = (corner[c] + step * np.arange(steps + 1)) % n
+            position = (step * (tau[walk] - tau[corner[c]])) % length
+            position[-1] = position[-1] or length
+            g = np.hypot(*(dense[walk] - dense[corner[c]]).T) - _TAU_MARGIN * k[c] * radius[walk]
+            j = int(np.argmax(g >= 0))          # g[0] = -k r(c) < 0
+            if not j:
+                out[c] = position[-1]               # the whole piece: too short
+                continue
+            t = g[j - 1] / (g[j - 1] - g[j])
+            out[c] = max(unit, position[j - 1] + t * (position[j] - position[j - 1]))
+    return after, before
+
+
+def _fixed(at, corners, cleared_after, cleared_before):
+    """Which of a ring's boundary samples (at positions ``at``) must not move: its sharp
+    corners (at positions ``corners``), and the neighbour after (before) each corner
+    whose first part was chosen by its clearance: that part is the shortest that
+    separates the corner's two neighbours, and a longer one would grow the corner's
+    triangle beyond what the complex keeps at a small r(c) (:func:`_corner_clearance`)."""
+    fixed = np.isin(at, corners)
+    where = np.searchsorted(at, corners)
+    fixed[(where[cleared_after] + 1) % len(at)] = True
+    fixed[where[cleared_before] - 1] = True
+    return fixed
+
+
+def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
+    """A ring's boundary samples (at positions ``at`` along it, ``fixed`` the ones that
+    must not move, :func:`_fixed`; ``vertices`` its own vertices at positions ``vertex_at``, of ``length`` in
     all) with a chord end moved onto the point where the ring crosses the chord, wherever
     the ring's piece beyond the chord would otherwise reach farther than r from the only
     chord end that sees it.
@@ -174,7 +253,7 @@ def _uncrossed(samples, at, corner, vertices, vertex_at, length, field):
     chord end it touches sees (the segment to the other end leaves the region, if only by
     rounding: an STL section's straight edges are chains of vertices 1e-8 off a line).
     When the crossing c, the piece's far point, is more than r(c) from that end, the
-    other end (not a sharp corner) moves onto c: a point of the ring between the two
+    other end (unless fixed) moves onto c: a point of the ring between the two
     ends, so the order of the samples stays, and the piece then lies between the chord
     and its arc, seen from both ends. The move is made only when the moved sample stays
     at least ``min(r(p), r(q))`` from both its neighbours q along the ring (the
@@ -208,18 +287,18 @@ def _uncrossed(samples, at, corner, vertices, vertex_at, length, field):
             t = h[j] / (h[j] - h[j + step])
             crossing = arc[j] + t * (arc[j + step] - arc[j])
             mover = (k if step == 1 else k + 1) % n
-            _move_onto(samples, mover, crossing, corner, samples[end % n], field)
+            _move_onto(samples, mover, crossing, fixed, samples[end % n], field)
     return samples
 
 
-def _move_onto(samples, mover, crossing, corner, holder, field):
+def _move_onto(samples, mover, crossing, fixed, holder, field):
     """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
-    farther than r there, ``mover`` is not a sharp corner, and it stays separated from
-    its two neighbours along the ring."""
+    farther than r there, ``mover`` is not ``fixed``, and it stays separated from its
+    two neighbours along the ring."""
     n = len(samples)
     neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
     radius = field(np.vstack([crossing, holder, neighbours]))
-    if corner[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
+    if fixed[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
         return
     if np.all(np.hypot(*(neighbours - crossing).T) >= np.minimum(radius[0], radius[2:])):
         samples[mover] = crossing
@@ -294,14 +373,20 @@ class _GradedSampler:
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
         ring_xy = []
-        for ring, (dense, first, tau) in zip(self.region.rings,
-                                             _tau_rings(self.region.rings, self.field, L)):
+        for ring, (dense, radius, first, tau) in zip(self.region.rings,
+                                                     _tau_rings(self.region.rings, self.field, L)):
+            turns = turning_angles(ring)
+            sharp_vertex = np.abs(turns) >= np.radians(feature_angle)
             sharp = np.zeros(len(dense), bool)
-            sharp[first] = np.abs(turning_angles(ring)) >= np.radians(feature_angle)
-            at = _positions(tau, tau[:-1][sharp], unit, rng)
+            sharp[first] = sharp_vertex
+            corner = np.flatnonzero(sharp)
+            after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
+                                              unit)
+            at = _positions(tau, tau[corner], after, before, unit, rng)
             samples = _along(at, tau, np.vstack([dense, dense[:1]]))
-            ring_xy.append(_uncrossed(samples, at, np.isin(at, tau[:-1][sharp]), ring,
-                                      tau[:-1][first], tau[-1], self.field))
+            ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
+                                                          before > unit),
+                                      ring, tau[:-1][first], tau[-1], self.field))
         boundary, self.rings = _joined(ring_xy)
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())
