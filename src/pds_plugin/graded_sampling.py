@@ -36,7 +36,7 @@ from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _guard
                        _joined, check_rings_apart, corner_clearance)
 from .sizing import RadiusField
 
-__all__ = ["graded_poisson_disc"]
+__all__ = ["graded_poisson_disc", "graded_corner_clearance"]
 
 _PASSES = 3
 _TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
@@ -173,34 +173,68 @@ def _positions(tau, corners, after, before, unit, rng):
 
 def _cleared_piece(lo, span, first, last, unit):
     """The inner positions of a piece [lo, lo + span] whose first part must be at least
-    ``first`` and last part at least ``last`` long (τ): those two, and the rest split
-    into the most equal parts of at least ``unit``. A rest shorter than ``unit`` goes to
-    the end that needs no clearance (its part stays below 2 unit), or half to each; a
-    piece too short for both clearances gets one point dividing it in their ratio (its
-    parts then fall short of them by the same factor: the corner's neighbours may be
-    closer than r)."""
+    ``first`` and last part at least ``last`` long (τ): as many parts as fit with the
+    others at least ``unit``, split as equally as those two bounds allow (the inner
+    parts equal, each end part equal to them unless its bound needs more), as pieces
+    without a clearance are. A long part beside a short one makes a long chord, and
+    across a narrow spike the triangles of such chords had circumradii above r at their
+    centres: 26 of 494 random stars left uncovered there. A piece too short for both
+    clearances gets one point dividing it in their ratio (its parts then fall short of
+    them by the same factor: the corner's neighbours may be closer than r).
+
+    Examples
+    --------
+    >>> _cleared_piece(0.0, 10.0, 3.0, 1.0, 1.0).tolist()     # 3, then parts of 1
+    [3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+    >>> _cleared_piece(0.0, 7.5, 2.0, 1.0, 1.0).round(6).tolist()   # 2, then 5 parts of 1.1
+    [2.0, 3.1, 4.2, 5.3, 6.4]
+    """
     rest = span - first - last
     if rest < 0:
         return np.array([lo + span * first / (first + last)])
-    if rest >= unit:
-        parts = int(rest // unit)
-        return lo + first + rest * np.arange(parts + 1) / parts
-    if first <= unit:
-        return np.array([lo + span - last])
-    if last <= unit:
-        return np.array([lo + first])
-    return np.array([lo + first + 0.5 * rest])
+    parts = 2 + int(rest // unit)
+    high, low = max(first, last), min(first, last)
+    size = span / parts                     # equal parts, unless an end needs more
+    if size < high:
+        size = (span - high) / (parts - 1)
+        if size < low and parts > 2:
+            size = (span - first - last) / (parts - 2)
+    return lo + max(first, size) + size * np.arange(parts - 1)
 
 
-def _corner_clearance(dense, radius, tau, corner, turn, unit):
+def graded_corner_clearance(angle, grading):
+    """``k``: how far at least, in units of their own r, the boundary samples on the two
+    straight sides of a convex corner of angle ``angle`` (radians) stay from it in a
+    graded sampling (:func:`_corner_clearance`), so that two of them are at least
+    ``2 k sin(θ/2) min(r)`` apart (docs/graded.md §9).
+
+    :func:`~pds_plugin.sampling.corner_clearance` with r for alpha (1/(2 sin(θ/2)) below
+    60°, capped just below √3, 1 otherwise) is what the sampler keeps, except where the
+    corner's triangle would then not be covered; there, and so always at least, it keeps
+    the smaller ``2 cos(θ/2) / (1 + L)``: the corner's triangle, legs ``k r``, then has
+    circumradius ``ρ <= r / (1 + L)``, and r at its circumcentre, at least ``r - L ρ``,
+    covers it. ``k L < 1`` either way.
+
+    Examples
+    --------
+    >>> graded_corner_clearance(np.radians([90, 45, 36, 20]), 0.2).round(4).tolist()
+    [1.0, 1.3066, 1.5851, 1.6413]
+    """
+    angle = np.asarray(angle, float)
+    k = corner_clearance(angle, 1.0)
+    return np.where(angle < np.pi / 3, np.minimum(k, 2 * np.cos(angle / 2) / (1 + grading)), k)
+
+
+def _corner_clearance(dense, radius, tau, corner, k, unit):
     """The τ-lengths kept free of samples after and before each sharp corner of a ring
     (``dense`` its densified points with r at them and τ along them, ``corner`` the
-    corners' indices among them, ``turn`` their turning angles, positive left: convex
-    with the region on the left), so that a corner's two neighbours p, q are separated.
+    corners' indices among them, ``k`` their clearances), so that a corner's two
+    neighbours p, q are separated.
 
-    ``unit`` where the region's angle θ = π - turn is at least 60°. Below, the part from
+    ``unit`` where ``k`` is 1 (the region's angle θ at least 60°). Below, the part from
     the corner c to p ends where |p - c| first reaches 1.02 k r(p), k = 1 / (2 sin(θ/2))
-    (capped just below √3, :func:`pds_plugin.sampling.corner_clearance`; 1.02 covers the
+    (capped just below √3, :func:`pds_plugin.sampling.corner_clearance`, or
+    :func:`graded_corner_clearance` where the corner's triangle needs it; 1.02 covers the
     linear interpolation between the dense points): on straight sides
     |pq| >= 2 sin(θ/2) min(|p - c|, |q - c|) >= min(r(p), r(q)) (docs/conforming.md,
     "Sharp corner"; below 33.56° the cap leaves them closer, as for uniform meshes). The
@@ -209,7 +243,6 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit):
     circumradius |p - c| / (2 cos(θ/2)) when |p - c| = |q - c|) larger than separation
     needs, and too large for the complex where r(c) is small."""
     n, length = len(dense), tau[-1]
-    k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
     after, before = np.full(len(corner), unit), np.full(len(corner), unit)
     for c in np.flatnonzero(k > 1.0):
         nxt_corner = corner[(c + 1) % len(corner)]
@@ -227,6 +260,24 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit):
             t = g[j - 1] / (g[j - 1] - g[j])
             out[c] = max(unit, position[j - 1] + t * (position[j] - position[j - 1]))
     return after, before
+
+
+def _uncovered_corners(samples, at, corners, field):
+    """Whether the triangle of each corner (at positions ``corners`` among the ring's
+    samples, at positions ``at``) and its two neighbours has its circumcentre farther
+    than r there from its corners (a degenerate triangle counts as uncovered)."""
+    n = len(at)
+    where = np.searchsorted(at, corners)
+    c, p, q = samples[where], samples[(where + 1) % n], samples[where - 1]
+    u, v = p - c, q - c
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    uu, vv = np.sum(u * u, axis=1), np.sum(v * v, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        offset = np.column_stack([v[:, 1] * uu - u[:, 1] * vv,
+                                  u[:, 0] * vv - v[:, 0] * uu]) / (2 * cross[:, None])
+    flat = ~np.isfinite(offset).all(axis=1)
+    offset[flat] = 0.0
+    return flat | (np.hypot(*offset.T) > field(c + offset))
 
 
 def _fixed(at, corners, cleared_after, cleared_before):
@@ -380,10 +431,16 @@ class _GradedSampler:
             sharp = np.zeros(len(dense), bool)
             sharp[first] = sharp_vertex
             corner = np.flatnonzero(sharp)
-            after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
-                                              unit)
-            at = _positions(tau, tau[corner], after, before, unit, rng)
-            samples = _along(at, tau, np.vstack([dense, dense[:1]]))
+            angle = np.pi - turns[sharp_vertex]               # the region's angle there
+            k, smaller = corner_clearance(angle, 1.0), graded_corner_clearance(angle, L)
+            for _ in range(2):      # again with the smaller k where a triangle is uncovered
+                after, before = _corner_clearance(dense, radius, tau, corner, k, unit)
+                at = _positions(tau, tau[corner], after, before, unit, rng)
+                samples = _along(at, tau, np.vstack([dense, dense[:1]]))
+                redo = (k > smaller) & _uncovered_corners(samples, at, tau[corner], self.field)
+                if not redo.any():
+                    break
+                k = np.where(redo, smaller, k)
             ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
                                                           before > unit),
                                       ring, tau[:-1][first], tau[-1], self.field))
