@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 import shapely
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Point, box
 
@@ -119,11 +119,15 @@ def _tooth(angle):
 
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.floats(34, 59), st.integers(0, 2**16), st.sampled_from([0.05, 0.2, 0.3]))
+@example(36.9, 0, 0.3).via("the tip came off: the field grew at the rate L from it")
+@example(41.0, 0, 0.05).via("the tip came off: the rest of its side in one long chord")
+@example(42.0, 210, 0.05).via("coverage 1.013 r: the same long chord")
 def test_the_neighbours_of_a_corner_sharper_than_60_degrees_are_separated(angle, seed,
                                                                           grading):
     # the first samples on the two sides of a convex corner of angle θ are
     # 2 d sin(θ/2) apart at distance d from it: parts of one r left them 0.83 r apart at
-    # 46° (the angle_block section at L = 0.05, before the corner clearance)
+    # 46° (the angle_block section at L = 0.05, before the corner clearance); the
+    # examples are what this test found after it
     _check_mesh(graded_mesh(pds.Region.from_shapely(_tooth(angle)), seed, grading),
                 polygonal=True)
 

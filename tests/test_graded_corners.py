@@ -1,11 +1,9 @@
 """Graded meshes beside sharp convex corners (issue 12, docs/graded.md "Sharp corners").
 
 The boundary samples on the two sides of a convex corner of angle θ < 60° are each at
-least k r from it, k = min(1/(2 sin(θ/2)), √3) (so r apart down to 33.56°), or, where the
-corner's triangle would then not be covered, the smaller c(θ) = min(k, 2 cos(θ/2)/(1 + L)):
-always at least c(θ) r, so two of them are at least 2 c(θ) sin(θ/2) min(r) apart. Where
-they are closer than r the certificate explains the pair as a sharp-corner exception
-within that bound.
+least c(θ) r from it, c(θ) = min(1/(2 sin(θ/2)), √3), so two of them are at least
+2 c(θ) sin(θ/2) min(r) apart: r when θ >= 2 arcsin(1/(2√3)) = 33.56°, less below, where
+the certificate explains the pair as a sharp-corner exception within that bound.
 
 Oracles are closed forms and distances measured here, not the certificate's own numbers:
 the clearance from the corner, the separation of the side samples, where the exceptions
@@ -25,10 +23,8 @@ THRESHOLD = 2 * math.degrees(math.asin(1 / (2 * math.sqrt(3))))      # 33.56°
 
 
 def clearance(angle):
-    """c(θ) for a corner of ``angle`` degrees: the uniform sampler's with r for alpha,
-    capped so that the corner's triangle is covered (the least the sampler keeps)."""
-    half = math.radians(angle) / 2
-    return min(1 / (2 * math.sin(half)), math.sqrt(3) * (1 - 1e-6), 2 * math.cos(half) / (1 + L))
+    """c(θ) for a corner of ``angle`` degrees (the uniform sampler's, r for alpha)."""
+    return min(1 / (2 * math.sin(math.radians(angle) / 2)), math.sqrt(3) * (1 - 1e-6))
 
 
 def toothed_plate(angle, height=2.0):

@@ -36,6 +36,47 @@ def test_the_radius_field_is_lipschitz_capped_and_exact(geometry, grading):
     assert np.allclose(ra[:200], np.minimum(cones.min(axis=1), field.cap), rtol=1e-13, atol=0)
 
 
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 2**16), st.sampled_from([0.05, 0.2, 0.45]), st.integers(1, 400))
+def test_dropping_dominated_cones_leaves_the_field_unchanged(seed, grading, count):
+    # clustered features, some of them duplicates: every cone dropped is nowhere below
+    # the others, and of equal cones exactly one is kept
+    rng = np.random.default_rng(seed)
+    features = rng.normal(scale=rng.choice([0.1, 1.0, 10.0], size=(count, 1)), size=(count, 2))
+    sizes = rng.uniform(0.01, 2.0, count)
+    twins = rng.integers(0, count, count // 4)
+    features, sizes = np.vstack([features, features[twins]]), np.append(sizes, sizes[twins])
+    field = RadiusField(features, sizes, grading, cap=1e9)
+    x = rng.uniform(-30, 30, (2000, 2))
+    every = sizes + grading * np.hypot(*(x[:, None, :] - features).transpose(2, 0, 1))
+    assert np.allclose(field(x), every.min(axis=1), rtol=1e-13, atol=0)
+    f = field.features
+    kept = field.sizes + grading * np.hypot(*(f[:, None, :] - f).transpose(2, 0, 1))
+    np.fill_diagonal(kept, np.inf)
+    assert np.all(kept.min(axis=1) > field.sizes)       # none of the kept is dominated
+    assert len(np.unique(field.features, axis=0)) == len(field.features)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_the_field_at_quarters_is_the_field_at_their_centres_bit_for_bit(threads):
+    from pds_plugin._parallel import get_threads, set_threads
+    plate = box(0, 0, 40, 10).difference(box(10, 3, 10.3, 3.3)).difference(box(20, 2, 30, 2.5))
+    field = radius_field(pds.Region.from_shapely(plate), 0.2)
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(-1, 40, 5000), rng.uniform(-1, 10, 5000)
+    size = np.exp2(rng.integers(-20, 3, 5000)).astype(float)
+    half = 0.5 * size
+    quarter = 0.5 * np.tile(half, 4)
+    centres = np.column_stack([np.concatenate([x, x + half, x, x + half]) + quarter,
+                               np.concatenate([y, y, y + half, y + half]) + quarter])
+    before = get_threads()
+    set_threads(threads)
+    try:
+        assert field.at_quarters(x, y, size).tobytes() == field(centres).tobytes()
+    finally:
+        set_threads(before)
+
+
 def test_walls_shrink_the_field_gaps_and_notches_do_not():
     # two plates 0.02 apart and a notch 0.02 wide: along the gap and the notch's walls
     # the radius stays the plates' scale; a wall 0.5 thick shrinks it to below 0.5

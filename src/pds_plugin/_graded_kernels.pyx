@@ -134,22 +134,24 @@ cdef bint _encroaches(double x, double y, double bound, const double[::1] chord_
     return False
 
 
-cdef bint _box_in_lens(double x_lo, double y_lo, double s, double low, double grading,
-                       const double[::1] chord_bound, const Chords *c) noexcept nogil:
+cdef bint _box_in_lens(double x_lo, double y_lo, double s, double low, double high,
+                       double grading, const double[::1] chord_bound,
+                       const Chords *c) noexcept nogil:
     """Is no dart in the box ever kept because of the chord lenses? True if its four
-    corners are in one chord's lens for the largest radius r can have on the box (the
-    lens is convex, and a dart's own lens is at least as large), or if the box is
+    corners are in one chord's lens for the largest radius r can have on the box
+    (``high``, an upper bound of r on it: the lens is convex, and a dart's own lens is
+    at least as large), or if the box is
     smaller than 1e-6 low and touches a lens: refining along a lens's arc would never
     end, and a point so close to the arc is within 1e-6 r of one that the chord's
     triangle covers."""
     if c.empty:
         return False
     cdef Py_ssize_t cell = _chord_cell(x_lo + 0.5 * s, y_lo + 0.5 * s, c), t, e
-    cdef double high = (low + 2.0 * grading * s) / (1.0 - grading), limit
+    cdef double limit
     cdef int inside
     for t in range(c.start[cell], c.start[cell + 1]):
         e = c.items[t]
-        limit = min(chord_bound[e], high)
+        limit = min(chord_bound[e], high / (1.0 - grading))
         inside = (_in_lens(x_lo, y_lo, c.xy[4 * e], c.xy[4 * e + 1], c.xy[4 * e + 2],
                            c.xy[4 * e + 3], limit)
                   + _in_lens(x_lo + s, y_lo, c.xy[4 * e], c.xy[4 * e + 1], c.xy[4 * e + 2],
@@ -195,9 +197,11 @@ ctypedef bint (*SampleTest)(const Query *query, Py_ssize_t q) noexcept nogil
 
 
 cdef bint _any_sample(const Query *query, SampleTest test, Py_ssize_t first, Py_ssize_t last,
-                      const Bins *b) noexcept nogil:
-    """Does ``test`` hold for a sample on the levels first..last within min(r, 2 h) of
-    the query's box (a sample of level l matters within r(q) < 2 h of it)?"""
+                      Py_ssize_t since, const Bins *b) noexcept nogil:
+    """Does ``test`` hold for a sample numbered ``since`` or later on the levels
+    first..last within min(r, 2 h) of the query's box (a sample of level l matters within
+    r(q) < 2 h of it)? A bin lists its samples newest first, so the walk stops at the
+    first one before ``since``."""
     cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
     cdef int32_t q
     cdef double h, reach, x0 = query.placed.x0, y0 = query.placed.y0
@@ -213,7 +217,7 @@ cdef bint _any_sample(const Query *query, SampleTest test, Py_ssize_t first, Py_
         for jy in range(lo_y, hi_y + 1):
             for jx in range(lo_x, hi_x + 1):
                 q = b.heads[b.offsets[level] + jy * nx + jx]
-                while q >= 0:
+                while q >= since:
                     if test(query, q):
                         return True
                     q = query.placed.nxt[q]
@@ -250,7 +254,7 @@ cdef bint _free(double x, double y, double rx, double grading, const double[::1]
         return False
     cdef Query query = Query(x, y, 0.0, rx, p, c)
     return not _any_sample(&query, _conflicts, _level(rx * (1.0 - grading), b),
-                           _level(rx * (1.0 + grading), b), b)
+                           _level(rx * (1.0 + grading), b), 0, b)
 
 
 cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double[:, ::1] points,
@@ -329,28 +333,31 @@ def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, do
                     num_threads=threads_for(n)):
         query = Query(cd[k, 0], cd[k, 1], 0.0, lw[k], &p, &c)
         out[k] = _any_sample(&query, _conflicts, _level(lw[k] * (1.0 - grading), &b),
-                             _level(hi[k] * (1.0 + grading), &b), &b)
+                             _level(hi[k] * (1.0 + grading), &b), 0, &b)
     return out_array
 
 
-cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double grading,
-                       const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
-    """Does one sample q cover the box (see :func:`uncovered_boxes`)? Such a q is within
-    low + s√2 of the box's centre, where r is at most low + L s/√2, so r(q) is within
-    L (low + 2 s) of that: that picks the levels."""
-    cdef double centre_r = low + grading * s, spread = grading * (low + 2.0 * s)
+cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double high,
+                       double grading, Py_ssize_t since, const Bins *b, const Placed *p,
+                       const Chords *c) noexcept nogil:
+    """Does one sample q numbered ``since`` or later cover the box (see
+    :func:`uncovered_boxes`)? Such a q is within ``low`` of every corner of the box, where
+    r lies in [low, high], so r(q) lies in [(1 - L) low, high + L low]: that picks the
+    levels."""
     cdef Query query = Query(x_lo, y_lo, s, low, p, c)
-    return _any_sample(&query, _covers, _level(centre_r - spread, b),
-                       _level(centre_r + spread, b), b)
+    return _any_sample(&query, _covers, _level((1.0 - grading) * low, b),
+                       _level(high + grading * low, b), since, b)
 
 
-def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, nxt, points,
-                    radius, double x0, double y0, tuple vis):
+def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple bins, nxt,
+                    points, radius, double x0, double y0, tuple vis, Py_ssize_t since=0):
     """True for boxes [bx, bx+size]² that no single sample q covers and that are not in
     a chord's lens (:func:`_box_in_lens`): covering needs the box's farthest corner
-    within min(r(q), low) (``low`` a lower bound of r on the box) and q to see all of
-    the box that lies in the region."""
-    cdef const double[::1] x = bx, y = by, s = size, lw = low, cb = chord_bound
+    within min(r(q), low) and q to see all of the box that lies in the region (``low``
+    and ``high`` bound r on the box). With ``since`` > 0 the boxes are ones found open
+    before sample ``since`` was placed: only the later samples are tested, and not the
+    lenses (a box's lens test does not depend on the samples)."""
+    cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high, cb = chord_bound
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
@@ -360,6 +367,6 @@ def uncovered_boxes(bx, by, size, low, double grading, chord_bound, tuple bins, 
     for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n)):
         keep[k] = lw[k] <= 0.0 or not (
-            _box_covered(x[k], y[k], s[k], lw[k], grading, &b, &p, &c)
-            or _box_in_lens(x[k], y[k], s[k], lw[k], grading, cb, &c))
+            _box_covered(x[k], y[k], s[k], lw[k], hg[k], grading, since, &b, &p, &c)
+            or (since == 0 and _box_in_lens(x[k], y[k], s[k], lw[k], hg[k], grading, cb, &c)))
     return keep_array

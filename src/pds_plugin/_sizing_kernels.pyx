@@ -12,7 +12,7 @@ import numpy as np
 from cython.parallel cimport parallel, prange
 from libc.math cimport INFINITY, sqrt
 from libc.stdlib cimport free, malloc
-from libc.stdint cimport int64_t
+from libc.stdint cimport int64_t, uint8_t
 
 from ._parallel cimport threads_for
 
@@ -112,6 +112,20 @@ cdef inline double _box_distance(double x, double y, const double[:, ::1] box,
     return sqrt(dx * dx + dy * dy)
 
 
+cdef inline Py_ssize_t _push_children(double x, double y, Py_ssize_t k, double L,
+                                      const int64_t[::1] left, const int64_t[::1] right,
+                                      const double[:, ::1] box, const double[::1] smin,
+                                      int64_t *stack, Py_ssize_t top) noexcept nogil:
+    """Push node k's two children on a cone search's stack, the more promising for
+    (x, y) (lower smin / L + distance) on top; returns the new top."""
+    cdef Py_ssize_t a = left[k], b = right[k]
+    if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
+        a, b = b, a
+    stack[top] = a          # the less promising child waits
+    stack[top + 1] = b
+    return top + 2
+
+
 cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const double[::1] s,
                           double L, double cap, const int64_t[::1] perm,
                           const int64_t[::1] first, const int64_t[::1] stop,
@@ -122,7 +136,7 @@ cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const dou
     the more promising child first, pruning nodes whose bound smin + L·distance is no
     better than the best so far."""
     cdef double best = cap, dx, dy, value
-    cdef Py_ssize_t top = 1, k, t, i, a, b
+    cdef Py_ssize_t top = 1, k, t, i
     stack[0] = 0
     while top:
         top -= 1
@@ -137,12 +151,7 @@ cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const dou
                 if value < best:
                     best = value
             continue
-        a, b = left[k], right[k]
-        if _box_distance(x, y, box, a) + smin[a] / L < _box_distance(x, y, box, b) + smin[b] / L:
-            a, b = b, a
-        stack[top] = a          # the less promising child waits
-        stack[top + 1] = b
-        top += 2
+        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
     return best
 
 
@@ -163,6 +172,134 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
             out[k] = _cone_minimum(q[k, 0], q[k, 1], f, sz, L, cap, pm, fs, st, lf, rt, bx, sm,
                                    stack)
+        free(stack)
+    return out_array
+
+
+cdef void _quarter_minimum(double x_lo, double y_lo, double size, const double[:, ::1] xy,
+                           const double[::1] s, double L, double cap,
+                           const int64_t[::1] perm, const int64_t[::1] first,
+                           const int64_t[::1] stop, const int64_t[::1] left,
+                           const int64_t[::1] right, const double[:, ::1] box,
+                           const double[::1] smin, int64_t *stack,
+                           double *best) noexcept nogil:
+    """:func:`_cone_minimum` at the centres of the four quarters of the box
+    [x_lo, x_lo + size]² at once, into best[0..3] (lower left, lower right, upper left,
+    upper right), each centre computed as the sampler computes it. One search: a node
+    is pruned when its bound is no better than the best so far for all four, so each
+    value is the exact minimum, the same as four searches give."""
+    cdef double half = 0.5 * size, dx, dy, value
+    cdef double qx[4]
+    cdef double qy[4]
+    cdef Py_ssize_t top = 1, k, t, i, j
+    cdef bint needed
+    qx[0] = x_lo + 0.5 * half
+    qx[1] = (x_lo + half) + 0.5 * half
+    qx[2], qx[3] = qx[0], qx[1]
+    qy[0] = y_lo + 0.5 * half
+    qy[2] = (y_lo + half) + 0.5 * half
+    qy[1], qy[3] = qy[0], qy[2]
+    for j in range(4):
+        best[j] = cap
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        needed = False
+        for j in range(4):
+            if smin[k] + L * _box_distance(qx[j], qy[j], box, k) < best[j]:
+                needed = True
+                break
+        if not needed:
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                i = perm[t]
+                for j in range(4):
+                    dx, dy = xy[i, 0] - qx[j], xy[i, 1] - qy[j]
+                    value = s[i] + L * sqrt(dx * dx + dy * dy)
+                    if value < best[j]:
+                        best[j] = value
+            continue
+        top = _push_children(x_lo + half, y_lo + half, k, L, left, right, box, smin, stack,
+                             top)
+
+
+def quarter_cone_minimum(bx, by, size, xy, s, double L, double cap, perm, first, stop, left,
+                         right, box, smin):
+    """min(cap, min_i(s_i + L|x - f_i|)) at the centres of the quarters of each box
+    [bx, bx + size] x [by, by + size], exactly: an (4 n,) array, the lower left quarters
+    of the n boxes first, then the lower right, upper left and upper right ones."""
+    cdef const double[::1] x = bx, y = by, sd = size
+    cdef const double[:, ::1] f = xy
+    cdef const double[::1] sz = s, sm = smin
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef const double[:, ::1] bb = box
+    cdef Py_ssize_t n = x.shape[0], k, j
+    out_array = np.empty(4 * n)
+    cdef double[::1] out = out_array
+    cdef int64_t *stack
+    cdef double *best
+    with nogil, parallel(num_threads=threads_for(n)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))      # one of each per thread
+        best = <double *>malloc(4 * sizeof(double))
+        for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            _quarter_minimum(x[k], y[k], sd[k], f, sz, L, cap, pm, fs, st, lf, rt, bb, sm,
+                             stack, best)
+            for j in range(4):
+                out[j * n + k] = best[j]
+        free(best)
+        free(stack)
+    return out_array
+
+
+cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s, double L,
+                     const int64_t[::1] perm, const int64_t[::1] first,
+                     const int64_t[::1] stop, const int64_t[::1] left,
+                     const int64_t[::1] right, const double[:, ::1] box,
+                     const double[::1] smin, int64_t *stack) noexcept nogil:
+    """Is cone i nowhere below another: s_j + L|f_i - f_j| < s_i for some j, or equal
+    with j < i? (Then s_i + L|x - f_i| >= s_j + L|x - f_j| everywhere.) A depth-first
+    search, the more promising child first, pruning nodes whose smin + L·distance is
+    above s_i; it stops at the first such j."""
+    cdef double x = xy[i, 0], y = xy[i, 1], dx, dy, value
+    cdef Py_ssize_t top = 1, k, t, j
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        if smin[k] + L * _box_distance(x, y, box, k) > s[i]:
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                j = perm[t]
+                if j == i:
+                    continue
+                dx, dy = xy[j, 0] - x, xy[j, 1] - y
+                value = s[j] + L * sqrt(dx * dx + dy * dy)
+                if value < s[i] or (value == s[i] and j < i):
+                    return True
+            continue
+        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
+    return False
+
+
+def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin):
+    """True for the cones s_i + L|x - f_i| that another cone is nowhere above
+    (:func:`_dominated`), over the ``build_cone_tree`` tree of all of them: dropping
+    them leaves min_i(s_i + L|x - f_i|) unchanged."""
+    cdef const double[:, ::1] f = xy
+    cdef const double[::1] sz = s, sm = smin
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef const double[:, ::1] bx = box
+    cdef Py_ssize_t n = f.shape[0], k
+    out_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = out_array.view(np.uint8)
+    cdef int64_t *stack
+    with nogil, parallel(num_threads=threads_for(n)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))
+        for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            out[k] = _dominated(k, f, sz, L, pm, fs, st, lf, rt, bx, sm, stack)
         free(stack)
     return out_array
 

@@ -36,7 +36,7 @@ from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _guard
                        _joined, check_rings_apart, corner_clearance)
 from .sizing import RadiusField
 
-__all__ = ["graded_poisson_disc", "graded_corner_clearance"]
+__all__ = ["graded_poisson_disc"]
 
 _PASSES = 3
 _TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
@@ -100,8 +100,8 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
 def _tau_rings(rings, field, grading):
     """Each ring densified by bisection until every part is at most 0.3 of the lowest r
     the field can have on it, with r at its points, the flags of its own vertices among
-    the points, and the normalized arc length τ = ∫ dt / r at its points and closing point (trapezoid
-    rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
+    the points, and the normalized arc length τ = ∫ dt / r at its points and closing
+    point (trapezoid rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
     are densified together (one field evaluation per round for all of them)."""
     points = np.concatenate(rings)
     ring = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
@@ -178,7 +178,8 @@ def _cleared_piece(lo, span, first, last, unit):
     parts equal, each end part equal to them unless its bound needs more), as pieces
     without a clearance are. A long part beside a short one makes a long chord, and
     across a narrow spike the triangles of such chords had circumradii above r at their
-    centres: 26 of 494 random stars left uncovered there. A piece too short for both
+    centres or were dropped (53 of 494 random stars failed their certificate, 2 now, for
+    another reason: docs/graded.md §9). A piece too short for both
     clearances gets one point dividing it in their ratio (its parts then fall short of
     them by the same factor: the corner's neighbours may be closer than r).
 
@@ -202,39 +203,15 @@ def _cleared_piece(lo, span, first, last, unit):
     return lo + max(first, size) + size * np.arange(parts - 1)
 
 
-def graded_corner_clearance(angle, grading):
-    """``k``: how far at least, in units of their own r, the boundary samples on the two
-    straight sides of a convex corner of angle ``angle`` (radians) stay from it in a
-    graded sampling (:func:`_corner_clearance`), so that two of them are at least
-    ``2 k sin(θ/2) min(r)`` apart (docs/graded.md §9).
-
-    :func:`~pds_plugin.sampling.corner_clearance` with r for alpha (1/(2 sin(θ/2)) below
-    60°, capped just below √3, 1 otherwise) is what the sampler keeps, except where the
-    corner's triangle would then not be covered; there, and so always at least, it keeps
-    the smaller ``2 cos(θ/2) / (1 + L)``: the corner's triangle, legs ``k r``, then has
-    circumradius ``ρ <= r / (1 + L)``, and r at its circumcentre, at least ``r - L ρ``,
-    covers it. ``k L < 1`` either way.
-
-    Examples
-    --------
-    >>> graded_corner_clearance(np.radians([90, 45, 36, 20]), 0.2).round(4).tolist()
-    [1.0, 1.3066, 1.5851, 1.6413]
-    """
-    angle = np.asarray(angle, float)
-    k = corner_clearance(angle, 1.0)
-    return np.where(angle < np.pi / 3, np.minimum(k, 2 * np.cos(angle / 2) / (1 + grading)), k)
-
-
-def _corner_clearance(dense, radius, tau, corner, k, unit):
+def _corner_clearance(dense, radius, tau, corner, turn, unit):
     """The τ-lengths kept free of samples after and before each sharp corner of a ring
     (``dense`` its densified points with r at them and τ along them, ``corner`` the
-    corners' indices among them, ``k`` their clearances), so that a corner's two
-    neighbours p, q are separated.
+    corners' indices among them, ``turn`` their turning angles, positive left: convex
+    with the region on the left), so that a corner's two neighbours p, q are separated.
 
-    ``unit`` where ``k`` is 1 (the region's angle θ at least 60°). Below, the part from
+    ``unit`` where the region's angle θ = π - turn is at least 60°. Below, the part from
     the corner c to p ends where |p - c| first reaches 1.02 k r(p), k = 1 / (2 sin(θ/2))
-    (capped just below √3, :func:`pds_plugin.sampling.corner_clearance`, or
-    :func:`graded_corner_clearance` where the corner's triangle needs it; 1.02 covers the
+    (capped just below √3, :func:`pds_plugin.sampling.corner_clearance`; 1.02 covers the
     linear interpolation between the dense points): on straight sides
     |pq| >= 2 sin(θ/2) min(|p - c|, |q - c|) >= min(r(p), r(q)) (docs/conforming.md,
     "Sharp corner"; below 33.56° the cap leaves them closer, as for uniform meshes). The
@@ -243,6 +220,7 @@ def _corner_clearance(dense, radius, tau, corner, k, unit):
     circumradius |p - c| / (2 cos(θ/2)) when |p - c| = |q - c|) larger than separation
     needs, and too large for the complex where r(c) is small."""
     n, length = len(dense), tau[-1]
+    k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
     after, before = np.full(len(corner), unit), np.full(len(corner), unit)
     for c in np.flatnonzero(k > 1.0):
         nxt_corner = corner[(c + 1) % len(corner)]
@@ -252,7 +230,8 @@ def _corner_clearance(dense, radius, tau, corner, k, unit):
             walk = (corner[c] + step * np.arange(steps + 1)) % n
             position = (step * (tau[walk] - tau[corner[c]])) % length
             position[-1] = position[-1] or length
-            g = np.hypot(*(dense[walk] - dense[corner[c]]).T) - _TAU_MARGIN * k[c] * radius[walk]
+            apart = np.hypot(*(dense[walk] - dense[corner[c]]).T)
+            g = apart - _TAU_MARGIN * k[c] * radius[walk]
             j = int(np.argmax(g >= 0))          # g[0] = -k r(c) < 0
             if not j:
                 out[c] = position[-1]               # the whole piece: too short
@@ -260,24 +239,6 @@ def _corner_clearance(dense, radius, tau, corner, k, unit):
             t = g[j - 1] / (g[j - 1] - g[j])
             out[c] = max(unit, position[j - 1] + t * (position[j] - position[j - 1]))
     return after, before
-
-
-def _uncovered_corners(samples, at, corners, field):
-    """Whether the triangle of each corner (at positions ``corners`` among the ring's
-    samples, at positions ``at``) and its two neighbours has its circumcentre farther
-    than r there from its corners (a degenerate triangle counts as uncovered)."""
-    n = len(at)
-    where = np.searchsorted(at, corners)
-    c, p, q = samples[where], samples[(where + 1) % n], samples[where - 1]
-    u, v = p - c, q - c
-    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-    uu, vv = np.sum(u * u, axis=1), np.sum(v * v, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        offset = np.column_stack([v[:, 1] * uu - u[:, 1] * vv,
-                                  u[:, 0] * vv - v[:, 0] * uu]) / (2 * cross[:, None])
-    flat = ~np.isfinite(offset).all(axis=1)
-    offset[flat] = 0.0
-    return flat | (np.hypot(*offset.T) > field(c + offset))
 
 
 def _fixed(at, corners, cleared_after, cleared_before):
@@ -295,10 +256,10 @@ def _fixed(at, corners, cleared_after, cleared_before):
 
 def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
     """A ring's boundary samples (at positions ``at`` along it, ``fixed`` the ones that
-    must not move, :func:`_fixed`; ``vertices`` its own vertices at positions ``vertex_at``, of ``length`` in
-    all) with a chord end moved onto the point where the ring crosses the chord, wherever
-    the ring's piece beyond the chord would otherwise reach farther than r from the only
-    chord end that sees it.
+    must not move, :func:`_fixed`; ``vertices`` its own vertices at positions
+    ``vertex_at``, of ``length`` in all) with a chord end moved onto the point where the
+    ring crosses the chord, wherever the ring's piece beyond the chord would otherwise
+    reach farther than r from the only chord end that sees it.
 
     A ring that crosses its chord leaves a piece of region beyond the chord that only the
     chord end it touches sees (the segment to the other end leaves the region, if only by
@@ -424,23 +385,17 @@ class _GradedSampler:
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
         ring_xy = []
-        for ring, (dense, radius, first, tau) in zip(self.region.rings,
-                                                     _tau_rings(self.region.rings, self.field, L)):
+        rings = self.region.rings
+        for ring, (dense, radius, first, tau) in zip(rings, _tau_rings(rings, self.field, L)):
             turns = turning_angles(ring)
             sharp_vertex = np.abs(turns) >= np.radians(feature_angle)
             sharp = np.zeros(len(dense), bool)
             sharp[first] = sharp_vertex
             corner = np.flatnonzero(sharp)
-            angle = np.pi - turns[sharp_vertex]               # the region's angle there
-            k, smaller = corner_clearance(angle, 1.0), graded_corner_clearance(angle, L)
-            for _ in range(2):      # again with the smaller k where a triangle is uncovered
-                after, before = _corner_clearance(dense, radius, tau, corner, k, unit)
-                at = _positions(tau, tau[corner], after, before, unit, rng)
-                samples = _along(at, tau, np.vstack([dense, dense[:1]]))
-                redo = (k > smaller) & _uncovered_corners(samples, at, tau[corner], self.field)
-                if not redo.any():
-                    break
-                k = np.where(redo, smaller, k)
+            after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
+                                              unit)
+            at = _positions(tau, tau[corner], after, before, unit, rng)
+            samples = _along(at, tau, np.vstack([dense, dense[:1]]))
             ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
                                                           before > unit),
                                       ring, tau[:-1][first], tau[-1], self.field))
@@ -478,36 +433,57 @@ class _GradedSampler:
 
     def add_interior(self, rng):
         """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
-        Boxes are (x, y, size, low, edge): ``low`` the lower bound of r on the box,
-        ``edge`` whether it may reach outside the chord polygons."""
-        boxes = self._leaves()
+        Boxes are (x, y, size, low, high, edge): ``low`` and ``high`` bounds of r on the
+        box, ``edge`` whether it may reach outside the chord polygons. A box found open
+        is tested again, after the darts, against the new samples only."""
+        boxes, since = self._leaves(), 0
         for _ in range(_PASSES):
-            boxes = self._open(boxes)
+            boxes, since = self._open(boxes, since), self.count
             self._throw(boxes, rng)
         while len(boxes[0]):
-            boxes = self._open(boxes)
+            boxes = self._open(boxes, since)
             fine = boxes[2] >= _RESOLUTION * boxes[3]
-            bx, by, size, low, edge = (a[fine] for a in boxes)
-            self._check_boxes(4 * len(bx))
-            half = 0.5 * size
-            bx = np.concatenate([bx, bx + half, bx, bx + half])
-            by = np.concatenate([by, by, by + half, by + half])
-            size, edge = np.tile(half, 4), np.tile(edge, 4)
-            boxes = self._open(self._boxes(bx, by, size, edge))   # darts only where no
-            self._throw(boxes, rng)                                # disc covers already
+            children = self._children(tuple(a[fine] for a in boxes))
+            boxes, since = self._open(children), self.count     # darts only where no
+            self._throw(boxes, rng)                              # disc covers already
 
-    def _boxes(self, bx, by, size, edge):
-        """Boxes with their radius bound; of those that may reach outside (``edge``),
-        the ones outside the chord polygons dropped and the ones inside marked so."""
+    def _children(self, boxes):
+        """The four quarters of each box kept by :meth:`_inside`, with their bounds of r
+        (:meth:`_boxes`; r at their centres from one cone search per box)."""
+        bx, by, size, low, high, edge = boxes
+        self._check_boxes(4 * len(bx))
+        r = self.field.at_quarters(bx, by, size)
+        half = 0.5 * size
+        bx = np.concatenate([bx, bx + half, bx, bx + half])
+        by = np.concatenate([by, by, by + half, by + half])
+        keep, edge = self._inside(bx, by, np.tile(half, 4), np.tile(edge, 4))
+        size = np.tile(half, 4)[keep]
+        return (bx[keep], by[keep], size, *self._bounds(r[keep], size), edge)
+
+    def _inside(self, bx, by, size, edge):
+        """Which boxes to keep, and their ``edge`` flags: of those that may reach outside
+        (``edge``), the ones outside the chord polygons dropped and the ones inside
+        marked so."""
         state = vis_kern.boxes_state(*self.domain, bx[edge], by[edge], size[edge])
         keep = np.ones(len(bx), bool)
         keep[edge] = state != vis_kern.BOX_OUTSIDE
         edge = edge.copy()
         edge[edge] = state != vis_kern.BOX_INSIDE
-        bx, by, size, edge = bx[keep], by[keep], size[keep], edge[keep]
+        return keep, edge[keep]
+
+    def _boxes(self, bx, by, size, edge):
+        """The boxes kept by :meth:`_inside`, with the bounds of r on each from r at its
+        centre."""
+        keep, edge = self._inside(bx, by, size, edge)
+        bx, by, size = bx[keep], by[keep], size[keep]
         centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
-        low = self.field.bounds(centre, size / math.sqrt(2))
-        return bx, by, size, low, edge
+        return (bx, by, size, *self._bounds(self.field(centre), size), edge)
+
+    def _bounds(self, centre_r, size):
+        """Lower and upper bounds of r on boxes of side ``size`` with r ``centre_r`` at
+        their centres: r(centre) -+ L times the half-diagonal."""
+        spread = self.field.grading * (size / math.sqrt(2))
+        return centre_r - spread, centre_r + spread
 
     def _leaves(self):
         """Quadtree leaves over the region: boxes split while their side exceeds r_low,
@@ -521,9 +497,9 @@ class _GradedSampler:
         edge = np.ones(len(bx), bool)
         done, total = [], 0
         while len(bx):
-            bx, by, size, low, edge = self._boxes(bx, by, size, edge)
+            bx, by, size, low, high, edge = self._boxes(bx, by, size, edge)
             leaf = size <= low
-            done.append(tuple(a[leaf] for a in (bx, by, size, low, edge)))
+            done.append(tuple(a[leaf] for a in (bx, by, size, low, high, edge)))
             total += int(leaf.sum())
             self._check_boxes(total + 4 * int((~leaf).sum()))
             bx, by, size, edge = bx[~leaf], by[~leaf], size[~leaf], edge[~leaf]
@@ -545,17 +521,18 @@ class _GradedSampler:
         return ("raise max_samples or the grading, or pass a larger alpha or sizing (the "
                 f"field's smallest radius here is {self.field.sizes.min(initial=self.field.cap):.3g})")
 
-    def _open(self, boxes):
-        """The boxes no single visible disc covers."""
-        bx, by, size, low, edge = boxes
-        keep = kern.uncovered_boxes(bx, by, size, low, self.field.grading, self.chord_bound,
-                                    self.bins, self.nxt, self.points, self.radius, self.x0,
-                                    self.y0, self.vis)
+    def _open(self, boxes, since=0):
+        """The boxes no single visible disc covers; with ``since``, boxes found open
+        before sample ``since`` was placed, tested against the later samples only."""
+        bx, by, size, low, high, edge = boxes
+        keep = kern.uncovered_boxes(bx, by, size, low, high, self.field.grading,
+                                    self.chord_bound, self.bins, self.nxt, self.points,
+                                    self.radius, self.x0, self.y0, self.vis, since)
         return tuple(a[keep] for a in boxes)
 
     def _throw(self, boxes, rng):
         """One dart uniform in each box; darts in the region thrown in random order."""
-        bx, by, size, low, edge = boxes
+        bx, by, size, low, high, edge = boxes
         u = rng.random((len(bx), 2))
         darts = np.column_stack([bx + u[:, 0] * size, by + u[:, 1] * size])
         order = rng.permutation(len(darts))
@@ -563,8 +540,6 @@ class _GradedSampler:
         inside[~inside] = vis_kern.points_inside(*self.domain, darts[order[~inside], 0],
                                                  darts[order[~inside], 1])
         order = order[inside]
-        # r(x) <= r(centre) + L h = low + 2 L h on a box of half-diagonal h
-        high = low + 2.0 * self.field.grading * size / math.sqrt(2)
         refused = kern.refused(darts[order], low[order], high[order], self.field.grading,
                                self.bins, self.nxt, self.points, self.radius, self.x0,
                                self.y0, self.vis)

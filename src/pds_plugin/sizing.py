@@ -34,7 +34,9 @@ _PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length
                      # so it splits into two or more chords (graded_sampling._positions)
 _CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
-_K = 24              # nearest neighbours looked at for dominated cones and corners
+_FLAT_BELOW = math.pi / 3   # convex corners sharper than this keep their size along
+_FLAT_REACH = 2             # their sides up to this many times it
+_K = 24              # nearest neighbours looked at first for the corners' discs
 _ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
 _MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
 
@@ -113,22 +115,35 @@ class RadiusField:
             r = np.minimum(r, user)
         return r
 
-    def bounds(self, centres, half_diagonal) -> np.ndarray:
-        """A lower bound of r on each disc (centre, half_diagonal): r(centre) - L h."""
-        return self(centres) - self.grading * np.asarray(half_diagonal)
+    def at_quarters(self, x, y, size) -> np.ndarray:
+        """r at the centres of the four quarters of each box [x, x + size]², the same
+        values as calling the field there, from one cone search per box: the lower left
+        quarters of all boxes first, then the lower right, upper left and upper right.
+
+        Examples
+        --------
+        >>> field = RadiusField([[0, 0]], [0.1], grading=0.5, cap=1.0)
+        >>> field.at_quarters(np.array([0.0]), np.array([0.0]), np.array([4.0])).tolist()
+        [0.8071067811865476, 1.0, 1.0, 1.0]
+        """
+        x, y, size = (np.ascontiguousarray(v, float) for v in (x, y, size))
+        if self._tree is None or self.sizing is not None or not len(x):
+            half = 0.5 * size
+            quarter = 0.5 * np.tile(half, 4)
+            return self(np.column_stack([np.concatenate([x, x + half, x, x + half]) + quarter,
+                                         np.concatenate([y, y, y + half, y + half]) + quarter]))
+        return kern.quarter_cone_minimum(x, y, size, self.features, self.sizes, self.grading,
+                                         self.cap, *self._tree)
 
 
 def _undominated(features, sizes, L) -> np.ndarray:
     """Features whose cone s_i + L|x - f_i| is not everywhere above another's
-    (s_i >= s_j + L|f_i - f_j| means cone i never attains the minimum)."""
-    n = len(sizes)
-    if n < 2:
-        return np.ones(n, bool)
-    k = min(_K, n)
-    d, idx = cKDTree(features).query(features, k=k)
-    above = sizes[:, None] > sizes[idx] + L * d
-    tie = (sizes[:, None] == sizes[idx] + L * d) & (idx < np.arange(n)[:, None])
-    return ~np.any(above | tie, axis=1)
+    (s_i >= s_j + L|f_i - f_j| means cone i never attains the minimum; of equal cones
+    the first is kept), against all the others (``_sizing_kernels.dominated_cones``)."""
+    if len(sizes) < 2:
+        return np.ones(len(sizes), bool)
+    features, sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
+    return ~kern.dominated_cones(features, sizes, L, *kern.build_cone_tree(features, sizes, 8))
 
 
 def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | None = None,
@@ -204,16 +219,16 @@ def _features(region: Region, cap: float, feature_angle: float):
     vertex_size = np.concatenate([f[1] for f in from_ring])
     piece = [f[2] for f in from_ring]
     corners = [f[3] for f in from_ring]
-    dense = _densify(rings, ring_size, ring_size, piece)
+    edges = _edges(rings)
+    dense = _densify(edges, ring_size, ring_size, piece)
     corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
     edge_size = [size.copy() for size in ring_size]
     for round_ in range(_ROUNDS):
         if round_:
-            parts = sum(int(np.sum(np.ceil(4 * np.hypot(*(np.roll(r, -1, axis=0) - r).T) / e)))
-                        for r, e in zip(rings, edge_size))
+            parts = int(np.sum(np.ceil(4 * edges[2] / np.concatenate(edge_size))))
             if parts > _MAX_DENSE:
                 break                   # keep the last densification: memory stays bounded
-            dense = _densify(rings, edge_size, ring_size, piece)
+            dense = _densify(edges, edge_size, ring_size, piece)
         size = _wall_sizes(region, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
         changed = False
@@ -248,26 +263,31 @@ def _ring_sizes(ring, cap, sharp_turn):
     return edge_size, size, piece, sharp
 
 
-def _densify(rings, edge_size, ring_size, piece):
-    """Points along every edge at spacing <= a quarter of its size, with the edge's
-    inward unit normal, ring, edge and piece index, and its size from the ring alone."""
-    xy, normal, ring_id, edge_id, piece_id, base = [], [], [], [], [], []
-    for k, ring in enumerate(rings):
-        d = np.roll(ring, -1, axis=0) - ring
-        length = np.hypot(d[:, 0], d[:, 1])
-        parts = np.maximum(np.ceil(4 * length / edge_size[k]), 1).astype(np.int64)
-        edge = np.repeat(np.arange(len(ring)), parts)
-        start = np.cumsum(parts) - parts
-        t = (np.arange(parts.sum()) - start[edge] + 0.5) / parts[edge]
-        xy.append(ring[edge] + t[:, None] * d[edge])
-        normal.append(np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None])
-        ring_id.append(np.full(len(edge), k))
-        edge_id.append(edge)
-        piece_id.append(piece[k][edge])
-        base.append(ring_size[k][edge])
-    return {"xy": np.concatenate(xy), "normal": np.concatenate(normal),
-            "ring": np.concatenate(ring_id), "edge": np.concatenate(edge_id),
-            "piece": np.concatenate(piece_id), "base": np.concatenate(base)}
+def _edges(rings):
+    """Every ring's edges at once: (start vertices, edge vectors, lengths, ring of each
+    edge, index of each ring's first edge), edge k of a ring from its vertex k to k + 1."""
+    start = np.concatenate(rings)
+    counts = np.array([len(ring) for ring in rings])
+    first = np.cumsum(counts) - counts
+    following = np.arange(1, len(start) + 1)
+    following[first + counts - 1] = first
+    d = start[following] - start
+    return start, d, np.hypot(d[:, 0], d[:, 1]), np.repeat(np.arange(len(rings)), counts), first
+
+
+def _densify(edges, edge_size, ring_size, piece):
+    """Points along every edge (``edges`` from :func:`_edges`) at spacing <= a quarter of
+    its size, with the edge's inward unit normal, ring, edge and piece index, and its
+    size from the ring alone; all rings at once."""
+    start, d, length, ring_of, first = edges
+    parts = np.maximum(np.ceil(4 * length / np.concatenate(edge_size)), 1).astype(np.int64)
+    edge = np.repeat(np.arange(len(start)), parts)
+    begin = np.cumsum(parts) - parts
+    t = (np.arange(parts.sum()) - begin[edge] + 0.5) / parts[edge]
+    return {"xy": start[edge] + t[:, None] * d[edge],
+            "normal": np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None],
+            "ring": ring_of[edge], "edge": edge - first[ring_of[edge]],
+            "piece": np.concatenate(piece)[edge], "base": np.concatenate(ring_size)[edge]}
 
 
 def _wall_sizes(region, dense, cap):
@@ -301,7 +321,17 @@ def _corner_discs(region, rings, corners, piece, dense):
     """Sharp corners and their disc radius: _CORNER x the distance to the nearest
     boundary point that is not on the two pieces incident to the corner and is seen
     through material (the midpoint in the region: a notch or gap does not count), at
-    most the ring sizes of those pieces."""
+    most the ring sizes of those pieces.
+
+    A convex corner where the region's angle is below _FLAT_BELOW (60°) gets the same
+    size along its two sides, up to _FLAT_REACH times it (:func:`_shoulders`): the field
+    is then about flat where the sampler puts the corner's neighbours p, q (at most
+    1.02 √3 r from it, graded_sampling._corner_clearance), and their triangle with the
+    corner c, of circumradius |p - c| / (2 cos(θ/2)) <= 1.02 r / (2 sin θ) < 0.93 r above
+    33.56°, stays within what the complex keeps, min r / (1 - L). Where the field grew
+    at the rate L from the corner instead, r(p) reached (1 + 1.6 L) r(c) at 37° and the
+    triangle was dropped: a tooth's tip came off at L = 0.3."""
+    turns = [turning_angles(ring) for ring in rings]
     tree = cKDTree(dense["xy"])
     xy, s = [], []
     for k, ring in enumerate(rings):
@@ -318,11 +348,30 @@ def _corner_discs(region, rings, corners, piece, dense):
                     break
             far = d[other][0] if other.any() else np.inf
             on_pieces = own & np.isin(dense["piece"], incident)
-            xy.append(ring[v])
-            s.append(min(_CORNER * far, dense["base"][on_pieces].min()))
+            size = min(_CORNER * far, dense["base"][on_pieces].min())
+            xy.append(ring[v][None])
+            s.append([size])
+            if turns[k][v] > math.pi - _FLAT_BELOW:
+                shoulders = _shoulders(ring, v, size)
+                xy.append(shoulders)
+                s.append(np.full(len(shoulders), size))
     if not xy:
         return np.empty((0, 2)), np.empty(0)
-    return np.asarray(xy), np.asarray(s)
+    return np.concatenate(xy), np.concatenate(s)
+
+
+def _shoulders(ring, v, size):
+    """Points along the two edges of ring vertex v, every quarter of ``size`` up to
+    _FLAT_REACH x size from it (at most the edges' lengths): with the corner's size they
+    keep the field within L size / 8 of it there."""
+    steps = 0.25 * size * np.arange(1, 4 * _FLAT_REACH + 1)
+    out = []
+    for end in (ring[(v + 1) % len(ring)], ring[v - 1]):
+        edge = end - ring[v]
+        length = math.hypot(*edge)
+        t = steps[steps < length]
+        out.append(ring[v] + t[:, None] * (edge / length))
+    return np.concatenate(out)
 
 
 def _in_corner_discs(dense, corner_xy, corner_s):

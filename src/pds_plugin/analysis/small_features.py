@@ -39,7 +39,6 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ..graded_sampling import graded_corner_clearance
 from ..sampling import corner_clearance
 from ..sizing import angle_bound
 from .conformity import ON_BOUNDARY_TOL, SampledBoundary, _keys, _xy, say_located
@@ -146,8 +145,8 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
 
     A graded mesh (``radius`` given) is measured the same way with r for alpha: a pair is
     close below the smaller r of its two samples, a sharp corner keeps the samples on its
-    sides :func:`~pds_plugin.graded_sampling.graded_corner_clearance` times their own r
-    from it, and a triangle is below the bound
+    sides ``corner_clearance(θ, 1)`` times their own r from it (the graded sampler's
+    clearance, ``graded_sampling._corner_clearance``), and a triangle is below the bound
     ``θ_L = arcsin((1 - L)/2)`` of its grading, its circumradius bounded by
     ``min_v r(v) / (1 - L)`` (the graded complex's rule, docs/graded.md) in place of
     alpha.
@@ -193,7 +192,7 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
     faces = np.asarray(mesh.faces, np.int64).reshape(-1, 3)
     pairs = np.unique(np.sort(np.asarray(close_pairs, np.int64).reshape(-1, 2), axis=1), axis=0)
     cause, feature, bound, place = _explain(pairs, points, mesh.on_boundary, sampled, alpha,
-                                            scale if graded else None, grading)
+                                            scale if graded else None)
     unit = np.minimum(scale[pairs[:, 0]], scale[pairs[:, 1]])
     length = np.hypot(*(points[pairs[:, 1]] - points[pairs[:, 0]]).T)
     excused = (cause >= 0) & (length >= bound * (1 - _TOL))
@@ -247,7 +246,7 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
     return tuple(exceptions), int(excused.sum()), tuple(unexplained)
 
 
-def _explain(pairs, points, on_boundary, sampled, alpha, scale=None, grading=0.0):
+def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     """For each pair of samples: the small feature that keeps them apart (index into
     :data:`CAUSES`, -1 if none), its size (/ alpha, or / the pair's smaller r when
     ``scale``, a graded mesh's r at the samples, is given), the proven distance and its
@@ -298,7 +297,7 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None, grading=0.0
             for second in b_segments:
                 meet = other & (cause < 0) & (following[first] == second)
                 if meet.any():
-                    scales = None if scale is None else (scale[a[meet]], scale[b[meet]], grading)
+                    scales = None if scale is None else (scale[a[meet]], scale[b[meet]])
                     _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
                                     segments[second[meet]], alpha, tol, cause, feature, bound,
                                     place, scales)
@@ -319,8 +318,8 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
     which follows it at a corner. Each sample is at least the corner's clearance from
     it (the boundary sampling's first part), or it is the vertex at its segment's far
     end, a corner of the region, itself a sample (a side shorter than the clearance).
-    On a graded mesh (``scales`` = r at ``a``, r at ``b``, L) each sample's clearance
-    is :func:`~pds_plugin.graded_sampling.graded_corner_clearance` times its own r."""
+    On a graded mesh (``scales`` = r at ``a`` and at ``b``) each sample's clearance is
+    ``corner_clearance(θ, 1)`` times its own r (``graded_sampling._corner_clearance``)."""
     corner = second[:, 0]
     into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
     angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
@@ -328,7 +327,7 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
     if scales is None:
         clear_a = clear_b = corner_clearance(angle, alpha)
     else:
-        c = graded_corner_clearance(angle, scales[2])
+        c = corner_clearance(angle, 1.0)
         clear_a, clear_b = c * scales[0], c * scales[1]
     at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
     fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
