@@ -187,6 +187,7 @@ class Certificate:
     aspect_bound = ASPECT_BOUND
     angle_range = (30.0, 120.0)
     unit = "alpha"              # what separation and coverage are ratios to
+    _bound_name = "Theorem 1"   # the angle bound the exceptions are below
     _aspect_name = "4√3 = "
 
     @property
@@ -334,8 +335,8 @@ class Certificate:
         if not (self.exceptions or self.excused_pairs or self.unexplained):
             return []
         more = len(self.exceptions) - _LISTED
-        return [f"  exceptions   {len(self.exceptions)} triangles below Theorem 1 and "
-                f"{self.excused_pairs} pairs closer than alpha at small features, "
+        return [f"  exceptions   {len(self.exceptions)} triangles below {self._bound_name} and "
+                f"{self.excused_pairs} pairs closer than {self.unit} at small features, "
                 f"{'each within its proven bound' if self.exceptions_ok else 'NOT all explained and bounded'}",
                 *[f"    - {e}" for e in self.exceptions[:_LISTED]],
                 *([f"    ... {more} more (certificate.exceptions)"] if more > 0 else []),

@@ -12,6 +12,11 @@
   is exact for the distance and samples r where the distance peaks (docs/graded.md §7).
 - **Quality**: the angles against the proven ``θ_L = arcsin((1 - L)/2)`` and the aspect
   ratio against ``4 cot θ_L``; the triangles below θ_L are located.
+- **Small features** (:mod:`.small_features`, with r for alpha): every pair closer than
+  the smaller r of the two that see each other and every triangle below θ_L is explained
+  by a sharp corner, short piece, small ring or thin wall within its proven bound
+  (``exceptions``, ``excused_pairs``), or listed in ``unexplained``: ``ok`` stays strict,
+  ``ok_with_exceptions`` holds when everything else does and every breach is explained.
 - **Boundary and topology**: conformity, the outline as the polygon through the
   boundary samples, deviation and areas (:mod:`.conformity`), Betti numbers
   (:mod:`.topology`), exactly as for uniform meshes.
@@ -28,9 +33,10 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
-from .certificate import (QUALITY_TOL, Certificate, _nonmanifold_vertices, _sees,
-                          _visibility_route_fails)
+from .certificate import (QUALITY_TOL, SEPARATION_TOL, Certificate, _nonmanifold_vertices,
+                          _sees, _visibility_route_fails)
 from .conformity import SampledBoundary, boundary_report
+from .small_features import small_feature_exceptions
 from .topology import topology_report
 
 if TYPE_CHECKING:
@@ -79,6 +85,7 @@ class GradedCertificate(Certificate):
 
     unit = "r"
     _aspect_name = "4 cot θ_L = "
+    _bound_name = "θ_L"
 
     @property
     def aspect_bound(self) -> float:
@@ -139,11 +146,14 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     proven = angle_bound(field.grading)
     angles = quality.angles.reshape(-1, 3)
     low = np.flatnonzero(angles.min(axis=1, initial=180.0) < proven * (1 - QUALITY_TOL))
+    separation, close = _relative_separation(mesh, radius, sampled)
+    exceptions, excused, unexplained = small_feature_exceptions(
+        mesh, quality, sampled, close, radius=radius, grading=field.grading)
     used = np.zeros(len(points), bool)
     used[faces.ravel()] = True
     return GradedCertificate(
         alpha=field.cap, samples=len(points), triangles=len(faces),
-        min_separation=_relative_separation(mesh, radius, sampled),
+        min_separation=separation,
         coverage_gap=gap, coverage_gap_at=tuple(float(v) for v in gap_at),
         max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
         min_angle=float(quality.angles.min(initial=180.0)),
@@ -157,6 +167,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
         conforming=boundary.conforming, sampled_outline=boundary.sampled_outline,
         claims_conforming=True, visibility=not why_not,
         boundary_problems=tuple(problems), topology=topology_report(mesh),
+        exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
         grading=field.grading, proven_angle=proven,
         below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
                           for k in low[:_MAX_LOCATED]),
@@ -166,30 +177,35 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     )
 
 
-def _relative_separation(mesh, radius, sampled) -> float:
-    """min |pq| / min(r(p), r(q)) over the mesh edges and the pairs that see each other:
-    a pair below the edges' minimum m has |pq| < m r(p), so the samples within m r(p)
-    of each p are the only ones to look at."""
+def _relative_separation(mesh, radius, sampled):
+    """min |pq| / min(r(p), r(q)) over the mesh edges and the pairs that see each other,
+    and the (P, 2) pairs among them closer than the smaller r of the two: a pair below
+    the edges' minimum m (or below 1) has |pq| < max(m, 1) r(p), so the samples within
+    that of each p are the only ones to look at."""
     points = mesh.vertices
     edges = mesh.edges
     ratio = np.hypot(*(points[edges[:, 0]] - points[edges[:, 1]]).T) / np.minimum(
         radius[edges[:, 0]], radius[edges[:, 1]])
     best = float(ratio.min(initial=np.inf))
+    short_edges = edges[ratio < 1 - SEPARATION_TOL]
     if not np.isfinite(best) or len(points) < 2:
-        return best
+        return best, short_edges
     tree = cKDTree(points)
-    near = tree.query_ball_point(points, best * radius, return_sorted=False)
+    near = tree.query_ball_point(points, max(best, 1.0) * radius, return_sorted=False)
     count = np.fromiter(map(len, near), np.int64, len(near))
     p = np.repeat(np.arange(len(points)), count)
     q = np.fromiter((j for group in near for j in group), np.int64, int(count.sum()))
     p, q = p[p < q], q[p < q]
     ratio = np.hypot(*(points[p] - points[q]).T) / np.minimum(radius[p], radius[q])
-    close = ratio < best
+    close = ratio < max(best, 1 - SEPARATION_TOL)
     if not close.any():
-        return best
+        return best, short_edges
     seen = _sees(shapely.union(mesh.region.geometry, sampled.polygon()),
                  np.stack([points[p[close]], points[q[close]]], axis=1), mesh.alpha)
-    return float(min(best, ratio[close][seen].min(initial=np.inf)))
+    below = seen & (ratio[close] < 1 - SEPARATION_TOL)
+    pairs = np.column_stack([p[close][below], q[close][below]])
+    nearest = float(min(best, ratio[close][seen].min(initial=np.inf)))
+    return nearest, np.concatenate([short_edges, pairs])
 
 
 def _relative_coverage(points, faces, field, sampled):

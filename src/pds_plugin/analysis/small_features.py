@@ -40,6 +40,7 @@ import numpy as np
 import shapely
 
 from ..sampling import corner_clearance
+from ..sizing import angle_bound
 from .conformity import ON_BOUNDARY_TOL, SampledBoundary, _keys, _xy, say_located
 from .quality import ASPECT_BOUND
 
@@ -81,6 +82,10 @@ class ExceptionalTriangle:
     meets_bound : bool
         The triangle meets its proven bounds: circumradius <= alpha, each angle at least
         arcsin(d_e / 2 alpha) opposite each edge e, the aspect ratio at most 4 cot θ_p.
+    unit : str
+        What the lengths are ratios to: "alpha", or "r" for a graded mesh (feature and
+        separation to the smaller r of the pair, circumradius to the complex's bound
+        min_v r(v) / (1 - L), and d_e / 2 alpha above reads d_e / 2 that bound).
 
     Examples
     --------
@@ -102,6 +107,7 @@ class ExceptionalTriangle:
     circumradius: float
     proven_angle: float
     meets_bound: bool
+    unit: str = "alpha"
 
     @property
     def proven_aspect_ratio(self) -> float:
@@ -110,11 +116,12 @@ class ExceptionalTriangle:
 
     def describe_feature(self) -> str:
         """The feature in words, e.g. 'sharp corner of 20°'."""
-        return {"short piece": f"short piece {self.feature:.3g} alpha long",
-                "small ring": f"small ring or tight curve ({self.feature:.3g} alpha round), "
-                              f"chord {self.separation:.3g} alpha",
+        unit = self.unit
+        return {"short piece": f"short piece {self.feature:.3g} {unit} long",
+                "small ring": f"small ring or tight curve ({self.feature:.3g} {unit} round), "
+                              f"chord {self.separation:.3g} {unit}",
                 "sharp corner": f"sharp corner of {self.feature:.3g}°",
-                "thin wall": f"wall {self.feature:.3g} alpha thin"}[self.cause]
+                "thin wall": f"wall {self.feature:.3g} {unit} thin"}[self.cause]
 
     def as_dict(self) -> dict:
         """Plain JSON-ready values, ``proven_aspect_ratio`` included."""
@@ -131,9 +138,18 @@ class ExceptionalTriangle:
                 f"{self.proven_aspect_ratio:.3g} {'ok' if self.meets_bound else 'FAILED'}")
 
 
-def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pairs):
+def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pairs,
+                             radius=None, grading=0.0):
     """The triangles of a conforming ``mesh`` below Theorem 1, each explained by a small
     feature with its proven bound (see the module documentation), and what is not.
+
+    A graded mesh (``radius`` given) is measured the same way with r for alpha: a pair is
+    close below the smaller r of its two samples, a sharp corner keeps the samples on its
+    sides ``corner_clearance(θ, 1)`` times their own r from it (the graded sampler's
+    clearance, ``graded_sampling._corner_clearance``), and a triangle is below the bound
+    ``θ_L = arcsin((1 - L)/2)`` of its grading, its circumradius bounded by
+    ``min_v r(v) / (1 - L)`` (the graded complex's rule, docs/graded.md) in place of
+    alpha.
 
     Parameters
     ----------
@@ -146,6 +162,10 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
     close_pairs : (P, 2) int ndarray
         The pairs of samples closer than alpha that see each other (the mesh's shorter
         edges among them).
+    radius : (N,) float ndarray, optional
+        A graded mesh's radius field at its samples (alpha everywhere if not given).
+    grading : float
+        The graded field's Lipschitz constant L (0 for uniform meshes).
 
     Returns
     -------
@@ -167,9 +187,13 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
     """
     points, alpha = mesh.vertices, mesh.alpha
     n = len(points)
+    graded = radius is not None
+    scale = np.asarray(radius, float) if graded else np.full(n, float(alpha))
     faces = np.asarray(mesh.faces, np.int64).reshape(-1, 3)
     pairs = np.unique(np.sort(np.asarray(close_pairs, np.int64).reshape(-1, 2), axis=1), axis=0)
-    cause, feature, bound, place = _explain(pairs, points, mesh.on_boundary, sampled, alpha)
+    cause, feature, bound, place = _explain(pairs, points, mesh.on_boundary, sampled, alpha,
+                                            scale if graded else None)
+    unit = np.minimum(scale[pairs[:, 0]], scale[pairs[:, 1]])
     length = np.hypot(*(points[pairs[:, 1]] - points[pairs[:, 0]]).T)
     excused = (cause >= 0) & (length >= bound * (1 - _TOL))
     unexplained = []
@@ -178,29 +202,33 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
                 place[~excused])
 
     angles, edges = quality.angles, quality.edge_lengths          # edge k opposite corner k
-    below = ((angles.min(axis=1, initial=180) < 30 * (1 - _TOL))
-             | (angles.max(axis=1, initial=0) > 120 * (1 + _TOL))
-             | (quality.aspect_ratio > ASPECT_BOUND * (1 + _TOL)))
+    smallest = angle_bound(grading) if graded else 30.0
+    below = ((angles.min(axis=1, initial=180) < smallest * (1 - _TOL))
+             | (angles.max(axis=1, initial=0) > (180 - 2 * smallest) * (1 + _TOL))
+             | (quality.aspect_ratio > (4 / math.tan(math.radians(smallest)) if graded
+                                        else ASPECT_BOUND) * (1 + _TOL)))
     rows = np.flatnonzero(below)
     opposite = np.stack([faces[rows][:, [1, 2, 0]], faces[rows][:, [2, 0, 1]]], axis=2)  # (k, 3, 2)
     keys = _keys(opposite[..., 0], opposite[..., 1], n)
     pair_keys = _keys(pairs[:, 0], pairs[:, 1], n)
     at = np.minimum(np.searchsorted(pair_keys, keys), max(len(pairs) - 1, 0))
     found = (pair_keys[at] == keys) & excused[at] if len(pairs) else np.zeros(keys.shape, bool)
-    short = edges[rows] < alpha * (1 - _TOL)
+    short = edges[rows] < scale[opposite].min(axis=2) * (1 - _TOL)
     # below Theorem 1 with every edge at least alpha: only a circumradius above alpha does it
     explained = short.any(axis=1) & ~(short & ~found).any(axis=1)
     say_located(unexplained, int((~explained).sum()), "triangles below Theorem 1 that no small "
                 "feature explains (an edge shorter than alpha between samples no feature keeps "
                 "apart, or a circumradius above alpha)",
                 points[faces[rows[~explained]]].mean(axis=1))
-    edge_bound = np.where(short & found, bound[at] if len(pairs) else 0.0, alpha)
-    proven = np.degrees(np.arcsin(np.minimum(edge_bound / (2 * alpha), 1.0)))    # per corner
+    low = scale[faces[rows]].min(axis=1, initial=np.inf)         # alpha, or min_v r(v)
+    allowed = (low / (1 - grading))[:, None]                       # the circumradius's bound
+    edge_bound = np.where(short & found, bound[at] if len(pairs) else 0.0, low[:, None])
+    proven = np.degrees(np.arcsin(np.minimum(edge_bound / (2 * allowed), 1.0)))  # per corner
     area = quality.area[rows]
-    radius = np.prod(edges[rows], axis=1) / np.maximum(4 * area, 1e-300)
+    circumradius = np.prod(edges[rows], axis=1) / np.maximum(4 * area, 1e-300)
     theta = proven.min(axis=1, initial=90)
     cot = 1 / np.tan(np.radians(np.maximum(theta, 1e-300)))
-    meets = ((radius <= alpha * (1 + _TOL))
+    meets = ((circumradius <= allowed[:, 0] * (1 + _TOL))
              & (angles[rows] >= proven * (1 - _TOL) - _ANGLE_ROUNDING).all(axis=1)
              & (quality.aspect_ratio[rows] <= 4 * cot * (1 + _TOL)))
     tightest = np.argmin(np.where(short & found, edge_bound, np.inf), axis=1)
@@ -210,21 +238,24 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
         exceptions.append(ExceptionalTriangle(
             triangle=int(rows[i]), vertices=tuple(tuple(map(float, v)) for v in points[faces[rows[i]]]),
             cause=CAUSES[cause[k]], feature=float(feature[k]),
-            place=tuple(map(float, place[k])), separation=float(bound[k] / alpha),
+            place=tuple(map(float, place[k])), separation=float(bound[k] / unit[k]),
             min_angle=float(angles[rows[i]].min()), max_angle=float(angles[rows[i]].max()),
             aspect_ratio=float(quality.aspect_ratio[rows[i]]),
-            circumradius=float(radius[i] / alpha), proven_angle=float(theta[i]),
-            meets_bound=bool(meets[i])))
+            circumradius=float(circumradius[i] / allowed[i, 0]), proven_angle=float(theta[i]),
+            meets_bound=bool(meets[i]), unit="r" if graded else "alpha"))
     return tuple(exceptions), int(excused.sum()), tuple(unexplained)
 
 
-def _explain(pairs, points, on_boundary, sampled, alpha):
+def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     """For each pair of samples: the small feature that keeps them apart (index into
-    :data:`CAUSES`, -1 if none), its size, the proven distance and its place."""
+    :data:`CAUSES`, -1 if none), its size (/ alpha, or / the pair's smaller r when
+    ``scale``, a graded mesh's r at the samples, is given), the proven distance and its
+    place."""
     region = sampled.region
     k = len(pairs)
     cause, feature, bound = np.full(k, -1), np.zeros(k), np.zeros(k)
     p, q = pairs.T
+    unit = np.full(k, float(alpha)) if scale is None else np.minimum(scale[p], scale[q])
     place = (points[p] + points[q]) / 2
     distance = np.hypot(*(points[q] - points[p]).T)
     both = on_boundary[p] & on_boundary[q]
@@ -245,12 +276,12 @@ def _explain(pairs, points, on_boundary, sampled, alpha):
                           np.hypot(*(points[sample] - ends[:, 1]).T)) <= tol
 
     corners = at_vertex(p, segment_p) & at_vertex(q, segment_q)
-    short = is_chord & corners & (sampled.arc_length[chord] < alpha)
-    cause[short], feature[short], bound[short] = (_SHORT_PIECE, sampled.arc_length[chord[short]] / alpha,
-                                                  distance[short])
+    short = is_chord & corners & (sampled.arc_length[chord] < unit)
+    cause[short], feature[short], bound[short] = (
+        _SHORT_PIECE, sampled.arc_length[chord[short]] / unit[short], distance[short])
     ring = is_chord & ~short
     cause[ring], bound[ring] = _SMALL_RING, distance[ring]
-    feature[ring] = sampled.perimeter[sampled.ring[chord[ring]]] / alpha
+    feature[ring] = sampled.perimeter[sampled.ring[chord[ring]]] / unit[ring]
     # corners: a sample on each of two segments that meet at a convex corner. A sample
     # at a vertex lies on the segment before it too
     other = both & ~is_chord
@@ -266,9 +297,10 @@ def _explain(pairs, points, on_boundary, sampled, alpha):
             for second in b_segments:
                 meet = other & (cause < 0) & (following[first] == second)
                 if meet.any():
+                    scales = None if scale is None else (scale[a[meet]], scale[b[meet]])
                     _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
                                     segments[second[meet]], alpha, tol, cause, feature, bound,
-                                    place)
+                                    place, scales)
     # thin walls: samples on two boundary segments apart from each other
     wall = other & (cause < 0)
     if wall.any():
@@ -276,41 +308,50 @@ def _explain(pairs, points, on_boundary, sampled, alpha):
         width = shapely.distance(lines[segment_p[wall]], lines[segment_q[wall]])
         rows = np.flatnonzero(wall)[width > 0]
         cause[rows], bound[rows] = _THIN_WALL, width[width > 0]
-        feature[rows] = width[width > 0] / alpha
+        feature[rows] = width[width > 0] / unit[rows]
     return cause, feature, bound, place
 
 
-def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound, place):
+def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound, place,
+                    scales=None):
     """Explain the pairs ``meet``: ``a`` on the segments ``first``, ``b`` on ``second``,
     which follows it at a corner. Each sample is at least the corner's clearance from
     it (the boundary sampling's first part), or it is the vertex at its segment's far
-    end, a corner of the region, itself a sample (a side shorter than the clearance)."""
+    end, a corner of the region, itself a sample (a side shorter than the clearance).
+    On a graded mesh (``scales`` = r at ``a`` and at ``b``) each sample's clearance is
+    ``corner_clearance(θ, 1)`` times its own r (``graded_sampling._corner_clearance``)."""
     corner = second[:, 0]
     into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
     angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
                                np.einsum("ij,ij->i", into, out))
-    clearance = corner_clearance(angle, alpha)
+    if scales is None:
+        clear_a = clear_b = corner_clearance(angle, alpha)
+    else:
+        c = corner_clearance(angle, 1.0)
+        clear_a, clear_b = c * scales[0], c * scales[1]
     at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
     fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
     fixed_b = np.hypot(*(b - second[:, 1]).T) <= tol
     # two free samples are alpha apart beside a corner of 60° or more: only sharper
     # corners keep them closer, and the bound's minimum needs less than 90°
-    apart = ((fixed_a | (at_a >= clearance * (1 - _TOL))) & (fixed_b | (at_b >= clearance * (1 - _TOL)))
+    apart = ((fixed_a | (at_a >= clear_a * (1 - _TOL))) & (fixed_b | (at_b >= clear_b * (1 - _TOL)))
              & ((angle < np.pi / 2) | fixed_a | fixed_b))
     rows = np.flatnonzero(meet)[apart]
     cause[rows], feature[rows], place[rows] = _SHARP_CORNER, np.degrees(angle[apart]), corner[apart]
     bound[rows] = _nearest_on_sides(at_a[apart], fixed_a[apart], at_b[apart], fixed_b[apart],
-                                    clearance[apart], angle[apart])
+                                    clear_a[apart], angle[apart], clear_b[apart])
 
 
-def _nearest_on_sides(a, a_fixed, b, b_fixed, clearance, angle) -> np.ndarray:
+def _nearest_on_sides(a, a_fixed, b, b_fixed, clearance, angle, clearance_b=None) -> np.ndarray:
     """The least distance between two points on the two sides of a corner of ``angle``
     (< 90°), each at distance ``a`` (``b``) from the corner if fixed, else at least
-    ``clearance``: the law of cosines, minimised where a point is free (its squared
-    distance is convex in that point's distance, least at the other's times cos θ)."""
+    ``clearance`` (``clearance_b`` for b if given): the law of cosines, minimised where a
+    point is free (its squared distance is convex in that point's distance, least at the
+    other's times cos θ)."""
+    clearance_b = clearance if clearance_b is None else clearance_b
     cos = np.cos(angle)
-    a = np.where(a_fixed, a, np.maximum(clearance, np.where(b_fixed, b * cos, clearance)))
-    b = np.where(b_fixed, b, np.maximum(clearance, a * cos))
+    a = np.where(a_fixed, a, np.maximum(clearance, np.where(b_fixed, b, clearance_b) * cos))
+    b = np.where(b_fixed, b, np.maximum(clearance_b, a * cos))
     return np.sqrt(np.maximum(a * a + b * b - 2 * a * b * cos, 0.0))
 
 
