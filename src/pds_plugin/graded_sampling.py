@@ -101,8 +101,9 @@ def _tau_rings(rings, field, grading):
     """Each ring densified by bisection until every part is at most 0.3 of the lowest r
     the field can have on it, with r at its points, the flags of its own vertices among
     the points, and the normalized arc length τ = ∫ dt / r at its points and closing
-    point (trapezoid rule). The number of points grows with ∫ dt / r, not with length / min r. All rings
-    are densified together (one field evaluation per round for all of them)."""
+    point (trapezoid rule). The number of points grows with ∫ dt / r, not with
+    length / min r. All rings are densified together (one field evaluation per round for
+    all of them)."""
     points = np.concatenate(rings)
     ring = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
     radius = field(points)

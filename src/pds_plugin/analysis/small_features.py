@@ -338,20 +338,19 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
              & ((angle < np.pi / 2) | fixed_a | fixed_b))
     rows = np.flatnonzero(meet)[apart]
     cause[rows], feature[rows], place[rows] = _SHARP_CORNER, np.degrees(angle[apart]), corner[apart]
-    bound[rows] = _nearest_on_sides(at_a[apart], fixed_a[apart], at_b[apart], fixed_b[apart],
-                                    clear_a[apart], angle[apart], clear_b[apart])
+    bound[rows] = _nearest_on_sides(at_a[apart], fixed_a[apart], clear_a[apart], at_b[apart],
+                                    fixed_b[apart], clear_b[apart], angle[apart])
 
 
-def _nearest_on_sides(a, a_fixed, b, b_fixed, clearance, angle, clearance_b=None) -> np.ndarray:
+def _nearest_on_sides(a, a_fixed, clear_a, b, b_fixed, clear_b, angle) -> np.ndarray:
     """The least distance between two points on the two sides of a corner of ``angle``
-    (< 90°), each at distance ``a`` (``b``) from the corner if fixed, else at least
-    ``clearance`` (``clearance_b`` for b if given): the law of cosines, minimised where a
-    point is free (its squared distance is convex in that point's distance, least at the
+    (< 90° where both are free), each at distance ``a`` (``b``) from the corner if fixed,
+    else at least ``clear_a`` (``clear_b``): the law of cosines, minimised where a point
+    is free (its squared distance is convex in that point's distance, least at the
     other's times cos θ)."""
-    clearance_b = clearance if clearance_b is None else clearance_b
     cos = np.cos(angle)
-    a = np.where(a_fixed, a, np.maximum(clearance, np.where(b_fixed, b, clearance_b) * cos))
-    b = np.where(b_fixed, b, np.maximum(clearance_b, a * cos))
+    a = np.where(a_fixed, a, np.maximum(clear_a, np.where(b_fixed, b, clear_b) * cos))
+    b = np.where(b_fixed, b, np.maximum(clear_b, a * cos))
     return np.sqrt(np.maximum(a * a + b * b - 2 * a * b * cos, 0.0))
 
 
