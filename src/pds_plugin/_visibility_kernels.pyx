@@ -386,6 +386,9 @@ def chord_bundle(points, rings, n_points, reach):
     a = np.concatenate(starts)
     b = np.concatenate([np.roll(np.asarray(r, np.int64), -1) for r in rings])
     chords = np.ascontiguousarray(np.stack([points[a], points[b]], axis=1), float)
+    # every chord is within the bounding box's diagonal of every point in it: a reach
+    # beyond that lists the same chords (and an alpha near the float limit would overflow)
+    reach = min(reach, 2.0 * max(float(np.ptp(chords.reshape(-1, 2), axis=0).max()), 1e-300))
     lo = chords.reshape(-1, 2).min(axis=0) - reach
     hi = chords.reshape(-1, 2).max(axis=0) + reach
     h = reach / 2.0
