@@ -61,6 +61,8 @@ _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
 _STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
+_GUARD_SPREAD = (0.5, -0.5, 1.0, -1.0, 0.25, -0.25, 0.75, -0.75)  # other guard heights, / t_c
+_GUARD_MARGIN = 1e-9     # guards stay this much (/ t_c) inside the heights of circumradius alpha
 
 
 @dataclass(frozen=True)
@@ -597,12 +599,24 @@ def _joined(ring_xy):
 
 
 def _guards(boundary, rings, alpha) -> np.ndarray:
-    """A guard sample inside each chord longer than √3 alpha (a piece that cannot be
-    split into parts in [alpha, √3 alpha]): on the chord's bisector at distance alpha,
-    so that the triangle of the chord and the guard has circumradius
-    (alpha² + g²/4) / (2 alpha) <= alpha and angles in [45°, 90°] (docs/conforming.md).
-    ``alpha`` may be a radius field (a callable on points), taken at the chord's middle
-    (graded samplings)."""
+    """Guard candidates inside each chord longer than √3 alpha (a piece that cannot be
+    split into parts in [alpha, √3 alpha]), in the order to try them: first, for every
+    such chord, the point on its bisector at height alpha, where the triangle of the
+    chord and the guard has circumradius (alpha² + g²/4) / (2 alpha) <= alpha and angles
+    in [45°, 90°]; then, for the chords whose first guard an earlier sample blocks,
+    heights alpha ± f·t_c (f in ``_GUARD_SPREAD``, t_c = sqrt(alpha² - g²/4)), all of
+    which keep the circumradius <= alpha and the chord an edge (docs/conforming.md,
+    "Why consecutive boundary samples are mesh edges"). The candidates of one chord are
+    less than alpha apart, so at most one becomes a sample. ``alpha`` may be a radius
+    field (a callable on points), taken at the chord's middle (graded samplings).
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1.9, 0], [1.9, 1.9], [0, 1.9]])
+    >>> guards = _guards(square, [np.arange(4)], 1.0)
+    >>> len(guards) == 4 * (1 + len(_GUARD_SPREAD)), guards[0].round(3).tolist()
+    (True, [0.95, 1.0])
+    """
     a = np.concatenate([ring for ring in rings])
     b = np.concatenate([np.roll(ring, -1) for ring in rings])
     p, q = boundary[a], boundary[b]
@@ -610,5 +624,9 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
     g = np.hypot(chord[:, 0], chord[:, 1])
     alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
     long = g > math.sqrt(3) * alpha
-    inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[long, None]
-    return np.ascontiguousarray(0.5 * (p[long] + q[long]) + alpha[long, None] * inward)
+    g, alpha = g[long], alpha[long]
+    inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[:, None]
+    spread = np.sqrt(np.maximum(alpha ** 2 - g ** 2 / 4, 0.0)) * (1 - _GUARD_MARGIN)
+    height = alpha + np.multiply.outer((0.0, *_GUARD_SPREAD), spread)    # (levels, chords)
+    middle = 0.5 * (p[long] + q[long])
+    return np.ascontiguousarray((middle + height[..., None] * inward).reshape(-1, 2))
