@@ -87,7 +87,8 @@ def test_sections_of_a_manifold():
     heights = [0.5, 1.5, 2.5, 3.5]
     assert [r.frame[2, 3] for r in regions] == pytest.approx(heights)
     exact = [polygon_area(2 - z / 2) for z in heights]
-    assert [r.area for r in regions] == pytest.approx(exact, rel=1e-12)
+    assert [r.source.area for r in regions] == pytest.approx(exact, rel=1e-12)   # the cut
+    assert all(r.source_deviation <= r.tolerance for r in regions)    # the region within τ of it
 
 
 def test_invalid_manifold_status_is_an_error():

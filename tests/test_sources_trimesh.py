@@ -125,7 +125,7 @@ def test_sections_by_count_are_mid_slab_planes_with_shared_axes():
     regions = sections(mesh, (0, 0, 1), count=4)
     assert [r.frame[2, 3] for r in regions] == pytest.approx([-0.5, 0.5, 1.5, 2.5])
     assert all(np.array_equal(r.frame[:3, :2], regions[0].frame[:3, :2]) for r in regions)
-    assert all(r.area == pytest.approx(polygon_area(2), rel=1e-12) for r in regions)
+    assert all(r.source.area == pytest.approx(polygon_area(2), rel=1e-12) for r in regions)
     assert [r.frame[2, 3] for r in sections(mesh, (0, 0, 1), count=1)] == pytest.approx([1.0])
 
 

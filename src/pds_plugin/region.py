@@ -13,7 +13,8 @@ from shapely.geometry import MultiPolygon, Polygon
 from ._checks import check_flag, check_instance
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 
-__all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region"]
+__all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region", "check_tolerance",
+           "source_deviation"]
 
 
 class Region:
@@ -29,6 +30,11 @@ class Region:
         The region, exteriors counter-clockwise and holes clockwise.
     frame : (4, 4) ndarray
         Maps the 2D coordinates ``(x, y, 0, 1)`` into 3D (identity for plain 2D input).
+    tolerance : float
+        How far, at most, the region's boundary may lie from the input's: the boundary
+        is known only up to it (0: exact, every input vertex is kept).
+    source : shapely.MultiPolygon
+        The validated input before the tolerance pass (``geometry`` itself at tolerance 0).
 
     Examples
     --------
@@ -38,14 +44,27 @@ class Region:
     ((1, 1), 15.0)
     """
 
-    def __init__(self, geometry: MultiPolygon, frame: np.ndarray):
+    def __init__(self, geometry: MultiPolygon, frame: np.ndarray, tolerance: float = 0.0,
+                 source: MultiPolygon | None = None):
         self.geometry = geometry
         self.frame = np.array(frame, dtype=float)      # a copy: the caller's stays writable
         self.frame.setflags(write=False)
+        self.tolerance = float(tolerance)
+        self.source = geometry if source is None else source
 
     @classmethod
-    def from_shapely(cls, geometry, frame=None, *, repair: bool = False) -> "Region":
+    def from_shapely(cls, geometry, frame=None, *, repair: bool = False,
+                     tolerance: float = 0.0) -> "Region":
         """Validate a shapely Polygon or MultiPolygon and make a Region of it.
+
+        With a ``tolerance`` τ > 0 the boundary is simplified within τ, keeping its
+        topology (GEOS's topology-preserving Douglas-Peucker): vertices closer than τ to
+        the chord of their neighbours go, which absorbs the float noise and the zigzags
+        of tessellated curves that a CAD export leaves on its sections. Every removed
+        vertex lies within τ of the segment that replaces it, so the Hausdorff distance
+        between the two boundaries is at most τ (:attr:`source_deviation` measures it
+        exactly); where the simplified rings would not make the same valid region, the
+        input is kept as it is.
 
         Parameters
         ----------
@@ -55,6 +74,9 @@ class Region:
         repair : bool
             Mend invalid geometry with ``shapely.make_valid`` (never ``buffer(0)``,
             which drops lobes) and drop zero-area parts, instead of raising.
+        tolerance : float
+            Absolute; 0 (the default) keeps every vertex: shapely input is taken as
+            exact. :func:`pds_plugin.section` derives one from the mesh file.
 
         Returns
         -------
@@ -71,6 +93,8 @@ class Region:
             If ``frame`` is not a finite 4x4 matrix of rank 2 in its first two columns.
         ArgumentTypeError
             If ``frame`` is not numbers, or ``repair`` not a bool.
+        ArgumentError
+            If ``tolerance`` is negative or not finite.
 
         Examples
         --------
@@ -82,8 +106,13 @@ class Region:
         pds_plugin.errors.RegionError: invalid region geometry: Self-intersection[1 1]; fix the outline or pass repair=True (shapely.make_valid)
         >>> Region.from_shapely(bowtie, repair=True).betti
         (2, 0)
+        >>> noisy = Polygon([(0, 0), (1, 1e-9), (2, 0), (2, 1), (0, 1)])
+        >>> region = Region.from_shapely(noisy, tolerance=1e-6)
+        >>> len(region.rings[0]), region.source_deviation
+        (4, 1e-09)
         """
         repair = check_flag(repair, "repair")
+        tolerance = check_tolerance(tolerance)
         polygons = _polygons_of(geometry)
         coords = shapely.get_coordinates(geometry)
         if not np.isfinite(coords).all():
@@ -101,7 +130,24 @@ class Region:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(MultiPolygon(polygons))
         _check_scale(geometry)
-        return cls(geometry, _checked_frame(frame))
+        opened, step = _pinches_opened(geometry, tolerance)
+        tolerance = max(tolerance, step)
+        region = cls(_within_tolerance(opened, tolerance - step), _checked_frame(frame),
+                     tolerance, geometry)
+        region._pinch_step = step
+        return region
+
+    _pinch_step = 0.0     # how far touching components were moved apart (_pinches_opened)
+
+    @cached_property
+    def source_deviation(self) -> float:
+        """The Hausdorff distance between the boundaries of :attr:`geometry` and
+        :attr:`source`: measured exactly (see :func:`source_deviation`), plus the step
+        by which touching components were moved apart, if they were."""
+        if not self._pinch_step:
+            return source_deviation(self.geometry, self.source)
+        opened, step = _pinches_opened(self.source, self.tolerance)
+        return source_deviation(self.geometry, opened) + step
 
     @cached_property
     def rings(self) -> list[np.ndarray]:
@@ -231,6 +277,166 @@ def _polygons_of(geometry) -> list[Polygon]:
     if others and not (polygons or nested):
         raise ArgumentTypeError(f"expected polygons, got {others[0].geom_type}: a region needs area")
     return polygons + nested
+
+
+def check_tolerance(tolerance) -> float:
+    """``tolerance`` as a float, if it is a finite number >= 0.
+
+    >>> check_tolerance(-1)
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentError: tolerance must be a finite number >= 0 (0: exact), got -1
+    """
+    try:
+        value = float(tolerance)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"tolerance must be a number, got {tolerance!r}") from None
+    if not (np.isfinite(value) and value >= 0):
+        raise ArgumentError(f"tolerance must be a finite number >= 0 (0: exact), got {tolerance!r}")
+    return value
+
+
+def _within_tolerance(geometry: MultiPolygon, tolerance: float) -> MultiPolygon:
+    """The tolerance pass: ``geometry`` simplified within ``tolerance`` with its topology
+    kept, or ``geometry`` itself where the result is not the same valid region with a
+    subsequence of each ring's vertices (see :func:`source_deviation`)."""
+    if tolerance == 0:
+        return geometry
+    parts = _polygons_of(shapely.simplify(geometry, tolerance, preserve_topology=True))
+    if len(parts) != len(geometry.geoms) or not MultiPolygon(parts).is_valid:
+        return geometry
+    simplified = shapely.orient_polygons(MultiPolygon(parts))
+    return simplified if source_deviation(simplified, geometry) <= tolerance else geometry
+
+
+PINCH_STEP = 1e-9
+"""How far, relative to the region's extent, the vertices where two components touch are
+moved into their own component when the tolerance is smaller (see :func:`_pinches_opened`)."""
+
+
+def _pinches_opened(geometry: MultiPolygon, tolerance: float):
+    """``geometry`` with its components moved apart where they touch, and how far.
+
+    Two polygons of a valid MultiPolygon may touch at points (two parts of an assembly
+    sharing an edge, cut across it). A conforming mesh joins each ring's samples by
+    chords, and one sample cannot end the chords of two rings; the interiors do not
+    meet there anyway (two open squares touching at a corner are two components). So
+    each ring vertex at such a point moves into its own polygon along the bisector of its
+    corner, by half the tolerance or ``PINCH_STEP`` of the extent, whichever is larger:
+    the boundary moves by at most that, and the two parts no longer touch. The input is
+    returned unchanged (step 0) when nothing touches or the result would not be valid.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> touching = MultiPolygon([box(0, 0, 1, 1), box(1, 1, 2, 2)])
+    >>> opened, step = _pinches_opened(touching, 0.0)
+    >>> step, opened.is_valid, opened.geoms[0].touches(opened.geoms[1])
+    (2e-09, True, False)
+    """
+    polygons = list(geometry.geoms)
+    if len(polygons) < 2:
+        return geometry, 0.0
+    first, second = shapely.STRtree(polygons).query(polygons, predicate="touches")
+    pairs = first < second
+    if not pairs.any():
+        return geometry, 0.0
+    xmin, ymin, xmax, ymax = geometry.bounds
+    step = max(tolerance / 2, PINCH_STEP * max(xmax - xmin, ymax - ymin))
+    contacts = shapely.get_coordinates(shapely.intersection(
+        shapely.boundary(np.array(polygons)[first[pairs]]),
+        shapely.boundary(np.array(polygons)[second[pairs]])))
+    moved = [Polygon(*(_moved_ring(ring, contacts, step) for ring in _rings_of(polygon)))
+             if polygon in set(np.array(polygons)[np.concatenate([first[pairs], second[pairs]])])
+             else polygon for polygon in polygons]
+    opened = MultiPolygon(moved)
+    if not opened.is_valid or len(opened.geoms) != len(polygons) or any(
+            a.intersects(b) for a, b in zip(np.array(moved)[first[pairs]], np.array(moved)[second[pairs]])):
+        return geometry, 0.0
+    return opened, step
+
+
+def _rings_of(polygon):
+    """The exterior and the list of interiors' coordinates of a polygon (closed rings)."""
+    return (shapely.get_coordinates(polygon.exterior),
+            [shapely.get_coordinates(hole) for hole in polygon.interiors])
+
+
+def _moved_ring(ring, contacts, step):
+    """A closed ring (region on its left) whose vertices at ``contacts`` moved by ``step``
+    along their corner's inward bisector; the list of holes passes through unchanged
+    (see :func:`_pinches_opened`)."""
+    if isinstance(ring, list):
+        return [_moved_ring(hole, contacts, step) for hole in ring]
+    xy = ring[:-1].copy()
+    at = np.flatnonzero((xy[:, None, :] == contacts[None, :, :]).all(axis=2).any(axis=1))
+    if len(at):
+        into = xy[at] - xy[at - 1]
+        out = xy[(at + 1) % len(xy)] - xy[at]
+        left = (np.column_stack([-into[:, 1], into[:, 0]]) / np.hypot(*into.T)[:, None]
+                + np.column_stack([-out[:, 1], out[:, 0]]) / np.hypot(*out.T)[:, None])
+        xy[at] += step * left / np.hypot(*left.T)[:, None]
+    return np.vstack([xy, xy[:1]])
+
+
+def source_deviation(geometry: MultiPolygon, source: MultiPolygon) -> float:
+    """The Hausdorff distance between the boundaries of ``geometry`` and ``source``, when
+    each ring of ``geometry`` keeps a subsequence of the vertices of the same ring of
+    ``source`` (as the tolerance pass makes it); infinity otherwise (not measured).
+
+    Each removed chain runs from one kept vertex to the next, and the distance to the
+    segment between them is convex along each of its segments, so the farthest the chain
+    gets from that segment is at one of its vertices; and the segment is as close to the
+    chain (the chain's projection onto it covers it). So the distance is exactly the
+    largest distance from a removed vertex to its segment.
+
+    Examples
+    --------
+    >>> from shapely.geometry import MultiPolygon, Polygon
+    >>> noisy = MultiPolygon([Polygon([(0, 0), (1, 1e-9), (2, 0), (2, 1), (0, 1)])])
+    >>> square = MultiPolygon([Polygon([(0, 0), (2, 0), (2, 1), (0, 1)])])
+    >>> source_deviation(square, noisy), source_deviation(noisy, square)
+    (1e-09, inf)
+    """
+    if geometry is source:
+        return 0.0
+    if len(geometry.geoms) != len(source.geoms):
+        return np.inf
+    deviation = 0.0
+    for after, before in zip(geometry.geoms, source.geoms):
+        if len(before.interiors) != len(after.interiors):
+            return np.inf
+        for ring, kept in zip((before.exterior, *before.interiors),
+                              (after.exterior, *after.interiors)):
+            farthest = _removed_distance(shapely.get_coordinates(ring),
+                                         shapely.get_coordinates(kept))
+            if farthest is None:
+                return np.inf
+            deviation = max(deviation, farthest)
+    return deviation
+
+
+def _removed_distance(ring: np.ndarray, kept: np.ndarray):
+    """The largest distance from a vertex of the closed ``ring`` to the segment of
+    ``kept`` that replaces it; None if ``kept`` (closed too, possibly starting elsewhere
+    on the ring) is not a subsequence of ``ring`` in order."""
+    ring, kept = ring[:-1], kept[:-1]
+    start = np.flatnonzero((ring == kept[0]).all(axis=1))
+    if len(kept) < 3 or len(start) != 1:
+        return None
+    ring = np.roll(ring, -start[0], axis=0)
+    keys = ring[:, 0] + 1j * ring[:, 1]
+    order = np.argsort(keys, kind="stable")
+    found = np.searchsorted(keys[order], kept[:, 0] + 1j * kept[:, 1])
+    index = order[np.minimum(found, len(ring) - 1)]
+    if not (np.array_equal(ring[index], kept) and (np.diff(index) > 0).all()):
+        return None                 # not found in order (a ring through a point twice)
+    owner = np.searchsorted(index, np.arange(len(ring)), side="right") - 1
+    a, b = kept[owner], kept[(owner + 1) % len(kept)]
+    ab, ap = b - a, ring - a
+    t = np.clip(np.einsum("ij,ij->i", ap, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab),
+                                                           np.finfo(float).tiny), 0.0, 1.0)
+    return float(np.hypot(*(ap - t[:, None] * ab).T).max(initial=0.0))
 
 
 def _invalidity(polygons) -> str:

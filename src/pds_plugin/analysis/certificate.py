@@ -117,6 +117,12 @@ class Certificate:
         Mesh area outside the region, and region area outside the mesh, / region area.
     boundary_deviation : float
         Hausdorff distance between the mesh's and the region's boundaries / alpha.
+    tolerance : float
+        The region's tolerance (absolute, :attr:`Region.tolerance`): how far its
+        boundary may lie from the input's.
+    source_deviation : float
+        The Hausdorff distance between the region's boundary and the input's, measured
+        exactly (absolute; at most ``tolerance``, or ``ok`` is false).
     conforming : bool
         Consecutive boundary samples are joined by mesh edges, and no edge of the mesh's
         boundary ends at an interior sample.
@@ -183,6 +189,8 @@ class Certificate:
     exceptions: tuple[ExceptionalTriangle, ...] = ()
     excused_pairs: int = 0
     unexplained: tuple[str, ...] = ()
+    tolerance: float = 0.0
+    source_deviation: float = 0.0
 
     aspect_bound = ASPECT_BOUND
     angle_range = (30.0, 120.0)
@@ -227,6 +235,18 @@ class Certificate:
         return self.conforming and self.sampled_outline and self.visibility
 
     @property
+    def tolerance_ok(self) -> bool:
+        """The region lies within its tolerance of the input."""
+        return self.source_deviation <= self.tolerance
+
+    @property
+    def input_deviation(self) -> float:
+        """A bound on the Hausdorff distance between the mesh's boundary and the input's,
+        / alpha: the mesh's deviation from the region plus the region's from the input
+        (the triangle inequality); at most the tolerance plus the chords' sagitta."""
+        return self.boundary_deviation + self.source_deviation / self.alpha
+
+    @property
     def ok(self) -> bool:
         """Every guarantee holds: sampling, quality, topology, no isolated sample, manifold."""
         return (self.sampling_ok and self.quality_ok and self._rest_ok)
@@ -251,7 +271,7 @@ class Certificate:
 
     @property
     def _rest_ok(self) -> bool:
-        return (self.topology_ok and self.isolated_samples == 0
+        return (self.topology_ok and self.tolerance_ok and self.isolated_samples == 0
                 and self.nonmanifold_vertices == 0
                 and (self.boundary_ok or not self.claims_conforming))
 
@@ -284,6 +304,7 @@ class Certificate:
                       betti_region=self.betti_region, sampling_ok=self.sampling_ok,
                       quality_ok=self.quality_ok, topology_ok=self.topology_ok,
                       boundary_ok=self.boundary_ok, exceptions_ok=self.exceptions_ok,
+                      tolerance_ok=self.tolerance_ok, input_deviation=self.input_deviation,
                       ok=self.ok, ok_with_exceptions=self.ok_with_exceptions)
         return values
 
@@ -325,10 +346,19 @@ class Certificate:
             f"    deviation {self.boundary_deviation:.3g} alpha, outside "
             f"{self.outside_area_ratio:.3g} and missing {self.missing_area_ratio:.3g} of the "
             "region's area",
+            *self._tolerance_lines(),
             *[f"    - {p}" for p in self.boundary_problems],
             *self._exception_lines(),
             "  " + str(self.topology).replace("\n", "\n  "),
         ])
+
+    def _tolerance_lines(self) -> list[str]:
+        """The tolerance pass's deviation from the input, if the region had one."""
+        if not self.tolerance:
+            return []
+        return [f"    tolerance {self.tolerance:.3g}: region within {self.source_deviation:.3g} "
+                f"of the input {'ok' if self.tolerance_ok else 'FAILED'}, mesh within "
+                f"{self.input_deviation:.3g} alpha of it"]
 
     def _exception_lines(self) -> list[str]:
         """The small features' exceptions to Theorem 1, the first few located."""
@@ -408,6 +438,7 @@ def certify(mesh: PlanarMesh) -> Certificate:
         boundary_problems=tuple(problems),
         topology=topology_report(mesh),
         exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
+        tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
     )
 
 

@@ -168,6 +168,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
         claims_conforming=True, visibility=not why_not,
         boundary_problems=tuple(problems), topology=topology_report(mesh),
         exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
+        tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
         grading=field.grading, proven_angle=proven,
         below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
                           for k in low[:_MAX_LOCATED]),

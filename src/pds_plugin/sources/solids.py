@@ -21,12 +21,12 @@ import shapely.affinity
 
 from .._checks import check_positive_int, check_vector
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
-from ..region import Region, lift
+from ..region import Region, check_tolerance, lift
 from . import manifold as manifold_backend
 from . import trimesh as trimesh_backend
 from .polygons import outline_geometry, snap
 
-__all__ = ["section", "sections", "MAX_SECTIONS"]
+__all__ = ["section", "sections", "mesh_tolerance", "MAX_SECTIONS"]
 
 MAX_SECTIONS = 10_000
 """Most planes one call of :func:`sections` cuts (each section is a Region in memory)."""
@@ -35,7 +35,7 @@ MAX_SECTIONS = 10_000
 _SOLIDS = (("trimesh", "Trimesh", trimesh_backend), ("manifold3d", "Manifold", manifold_backend))
 
 
-def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
+def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) -> Region:
     """Cut a solid with a plane and return the section as a :class:`Region`.
 
     The 2D coordinates are those of ``trimesh.geometry.plane_transform(origin, normal)``:
@@ -56,6 +56,11 @@ def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
         None refuses it (the section is ambiguous there); "above" / "below" cut just above
         / below those faces instead, 1e-6 of the solid's size along the normal, and
         ``region.frame`` holds the plane used.
+    tolerance : float, optional
+        How far the section's boundary may be moved to absorb the noise of the mesh
+        (:attr:`Region.tolerance`). By default :func:`mesh_tolerance`: the mesh's
+        float precision, or the chord error of its tessellated curves if larger. 0
+        keeps every vertex of the cut.
 
     Returns
     -------
@@ -90,11 +95,11 @@ def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
     1.0
     """
     origin, normal = _plane(plane_origin, plane_normal)
-    return _Solid(solid).cut(origin, normal, _on_face(on_face))
+    return _Solid(solid, tolerance).cut(origin, normal, _on_face(on_face))
 
 
 def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None,
-             on_face=None) -> list[Region]:
+             on_face=None, tolerance=None) -> list[Region]:
     """Cut a solid with parallel planes and return one :class:`Region` per plane.
 
     Give either ``offsets`` (the planes' signed distances along the unit normal from
@@ -116,6 +121,8 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
         The point offsets are measured from; the world origin by default.
     on_face : {None, "above", "below"}
         For planes at ``offsets`` that lie on faces, as in :func:`section`.
+    tolerance : float, optional
+        As in :func:`section`.
 
     Returns
     -------
@@ -141,7 +148,7 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     """
     origin, normal = _plane((0.0, 0.0, 0.0) if plane_origin is None else plane_origin,
                             plane_normal)
-    solid = _Solid(solid)
+    solid = _Solid(solid, tolerance)
     heights = _offsets(offsets, count, solid.heights(origin, normal))
     on_face = "nearest" if count is not None else _on_face(on_face)
     return [solid.cut(origin + height * normal, normal, on_face) for height in heights]
@@ -150,7 +157,7 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
 class _Solid:
     """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
 
-    def __init__(self, solid):
+    def __init__(self, solid, tolerance=None):
         self.mesh = _consistently_oriented(_source_of(solid).load(solid))
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
@@ -164,6 +171,11 @@ class _Solid:
         corners = self.vertices[self.faces] - self.vertices.mean(axis=0)
         volume = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))
         self.outward = 1.0 if volume.sum() >= 0 else -1.0
+        if tolerance is None:
+            from_file = isinstance(solid, (str, os.PathLike))
+            single = from_file and np.array_equal(self.vertices.astype(np.float32), self.vertices)
+            tolerance = mesh_tolerance(self.mesh, np.float32 if single else np.float64)
+        self.tolerance = check_tolerance(tolerance)
 
     def heights(self, origin, normal) -> np.ndarray:
         """Signed distances of the vertices to the plane."""
@@ -189,7 +201,7 @@ class _Solid:
             raise SectionError(
                 f"the plane at normal·x = {offset:.9g} crosses the solid's extent but cuts no "
                 f"material (it passes through a gap between parts); move the plane")
-        return Region.from_shapely(geometry, frame=to_3d)
+        return Region.from_shapely(geometry, frame=to_3d, tolerance=self.tolerance)
 
     def _section_geometry(self, local):
         """The section in the plane's 2D coordinates, and the open ends of its curves.
@@ -300,6 +312,62 @@ class _Solid:
                 f"the plane at normal·x = {offset:.9g} only touches the solid (at an edge or "
                 f"a corner where the solid spans normal·x in [{low:.9g}, {high:.9g}]), so the "
                 f"section has no area; put the plane strictly inside that range")
+
+
+NOISE_ULPS = 16
+"""Float noise of a mesh's sections, in units in the last place of its largest coordinate
+in the precision its file stores (float32 for STL): a plane through two facets that
+rounding left not quite coplanar bends there by a few of them."""
+CURVED = (1e-4, np.radians(30))
+"""Angles between neighbouring faces' normals (radians) of a tessellated curved surface:
+above rounding, below a feature edge."""
+
+
+def mesh_tolerance(mesh, precision=np.float64) -> float:
+    """The default tolerance of a mesh's sections: the larger of its float noise and the
+    chord error of its tessellated curves.
+
+    - Noise: ``NOISE_ULPS`` units in the last place of the largest coordinate, in the
+      ``precision`` the mesh was stored in (:func:`section` gives float32 for a file
+      whose vertices are all float32 numbers, as an STL file's are).
+    - Chord error: a facet of width w between neighbours whose normals turn by φ
+      approximates an arc that lies up to w·tan(φ/4)/2 from it (the sagitta of a circle
+      through the facet's ends, w = 2ρ sin(φ/2)); the median over the edges of curved
+      surfaces (``CURVED``), w the narrower face's height over the edge. A plane through
+      such a surface zigzags within about that much of the true curve; the median, not
+      the largest, so that one coarse surface does not flatten the finer ones.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+    precision : numpy float type
+        The precision the mesh's coordinates were stored in.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> cylinder = trimesh.creation.cylinder(radius=1.0, height=2.0, sections=32)
+    >>> round(mesh_tolerance(cylinder), 6)          # 1 - cos(π/32)
+    0.004815
+    >>> mesh_tolerance(trimesh.creation.box(), np.float32)   # flat: 16 float32 ulps of 0.5
+    9.5367431640625e-07
+    """
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    largest = precision(np.abs(vertices).max(initial=0.0))
+    noise = NOISE_ULPS * float(np.spacing(largest))
+    angle = np.asarray(mesh.face_adjacency_angles)
+    curved = (angle > CURVED[0]) & (angle < CURVED[1])
+    if not curved.any():
+        return noise
+    edge = vertices[mesh.face_adjacency_edges[curved]]
+    length = np.linalg.norm(edge[:, 1] - edge[:, 0], axis=1)
+    width = 2 * np.asarray(mesh.area_faces)[mesh.face_adjacency[curved]].min(axis=1) / length
+    sagitta = width * np.tan(angle[curved] / 4) / 2
+    return max(noise, float(np.median(sagitta)))
 
 
 def _consistently_oriented(mesh):
