@@ -1,0 +1,121 @@
+"""The geometric tolerance (issue 20): boundaries known up to their float noise and
+tessellation are simplified within a stated tolerance, the certificate proves its claims
+for the region as meshed and bounds the distance to the raw input; and the guards that
+keep consecutive boundary samples joined.
+
+Oracles: shapely's Hausdorff distance (densified) between the raw and the meshed
+boundaries, the region's topology, and the certificate's theorems.
+"""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+import trimesh
+from shapely.geometry import MultiPolygon, Polygon, box
+
+import pds_plugin as pds
+from conftest import shared_file
+from pds_plugin.sources.solids import mesh_tolerance
+
+
+def certified(mesh):
+    certificate = mesh.certificate()
+    return certificate.ok or certificate.ok_with_exceptions
+
+
+# --- the tolerance pass ---
+
+def test_noise_within_the_tolerance_is_absorbed_and_measured_exactly():
+    rng = np.random.default_rng(0)
+    x = np.linspace(0, 10, 200)
+    bottom = np.column_stack([x, rng.uniform(-1e-7, 1e-7, len(x))])       # a noisy edge
+    noisy = Polygon(np.vstack([bottom, [(10, 3), (0, 3)]]))
+    region = pds.Region.from_shapely(noisy, tolerance=1e-6)
+    assert len(region.rings[0]) < 10
+    assert region.betti == (1, 0) and region.source.equals(pds.Region.from_shapely(noisy).geometry)
+    hausdorff = shapely.hausdorff_distance(region.geometry.boundary, region.source.boundary,
+                                           densify=0.01)
+    assert hausdorff <= region.source_deviation * (1 + 1e-9) <= region.tolerance
+    certificate = pds.mesh_region(region, 0.5, seed=0).certificate()
+    assert certificate.ok and certificate.tolerance_ok
+    assert certificate.input_deviation == pytest.approx(
+        certificate.boundary_deviation + region.source_deviation / 0.5)
+
+
+def test_zero_tolerance_keeps_every_vertex_and_the_same_mesh():
+    collinear = Polygon([(0, 0), (1, 0), (2, 0), (2, 1), (0, 1)])
+    exact = pds.Region.from_shapely(collinear)
+    assert exact.tolerance == 0 and exact.source is exact.geometry and len(exact.rings[0]) == 5
+    again = pds.Region.from_shapely(collinear, tolerance=0)
+    one, two = (pds.mesh_region(r, 0.2, seed=3) for r in (exact, again))
+    assert np.array_equal(one.vertices, two.vertices) and np.array_equal(one.faces, two.faces)
+
+
+def test_holes_and_components_are_kept_by_the_tolerance_pass():
+    plate = box(0, 0, 10, 4).difference(shapely.Point(5, 2).buffer(0.01, quad_segs=2))
+    region = pds.Region.from_shapely(MultiPolygon([plate, box(12, 0, 13, 1)]), tolerance=0.5)
+    assert region.betti == (2, 1)                      # a hole smaller than the tolerance stays
+    assert region.source_deviation <= 0.5
+
+
+def test_a_region_further_from_its_source_than_its_tolerance_is_not_ok():
+    noisy = MultiPolygon([Polygon([(0, 0), (1, 0.01), (2, 0), (2, 1), (0, 1)])])
+    square = MultiPolygon([Polygon([(0, 0), (2, 0), (2, 1), (0, 1)])])
+    region = pds.Region(square, np.eye(4), tolerance=1e-3, source=noisy)
+    certificate = pds.mesh_region(region, 0.2, seed=0).certificate()
+    assert region.source_deviation == pytest.approx(0.01)
+    assert not certificate.tolerance_ok and not certificate.ok
+    assert not certificate.ok_with_exceptions and "FAILED" in str(certificate)
+
+
+@pytest.mark.parametrize("tolerance", [-1.0, math.nan, math.inf])
+def test_a_bad_tolerance_is_refused(tolerance):
+    with pytest.raises(pds.PdsError, match="tolerance"):
+        pds.Region.from_shapely(box(0, 0, 1, 1), tolerance=tolerance)
+
+
+def test_mesh_tolerance_is_the_float_noise_or_the_chord_error():
+    cylinder = trimesh.creation.cylinder(radius=2.0, height=1.0, sections=48)
+    assert mesh_tolerance(cylinder) == pytest.approx(2 * (1 - math.cos(math.pi / 48)), rel=1e-6)
+    box = trimesh.creation.box(extents=(30, 30, 30))              # corners at ±15
+    assert mesh_tolerance(box, np.float32) == 16 * float(np.spacing(np.float32(15)))
+    assert mesh_tolerance(box) == 16 * float(np.spacing(15.0))    # in memory: float64
+
+
+# --- sections of CAD exports: float32 noise and tessellated curves ---
+
+@pytest.mark.parametrize("height", [-16.51, -5.55])
+def test_float32_noise_of_a_cad_export_is_certified(height):
+    path = shared_file("7_8ths_cube.stl")
+    region = pds.section(path, plane_origin=(0, 0, height), plane_normal=(0, 0, 1))
+    assert region.tolerance > 0 and region.source_deviation <= region.tolerance
+    for graded in (False, True):
+        mesh = pds.mesh_region(region, "auto", graded=graded, seed=0)
+        certificate = mesh.certificate()
+        assert certificate.ok, certificate
+        assert certificate.coverage_gap <= 1 + 1e-9
+
+
+# --- guards: consecutive boundary samples joined ---
+
+def test_a_blocked_guard_moves_along_its_chord_bisector():
+    """A chord between two corners 1.89 alpha apart (a strip ending flat) gets a guard
+    that keeps it a mesh edge even when a sample beside it blocks the guard's first place
+    (featuretype.STL cut at x = 0, alpha = extent / 150, had it unjoined)."""
+    path = shared_file("featuretype.STL")
+    region = pds.section(path, plane_origin=(0, 0, 0), plane_normal=(1, 0, 0))
+    xmin, ymin, xmax, ymax = region.bounds
+    mesh = pds.mesh_region(region, max(xmax - xmin, ymax - ymin) / 150, seed=0)
+    certificate = mesh.certificate()
+    assert certificate.conforming and certificate.ok, certificate
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_flat_ends_of_strips_stay_joined(seed):
+    alpha = 1.0
+    strips = [box(0, 3 * k, 9.0, 3 * k + width) for k, width in enumerate((1.76, 1.82, 1.89, 1.95))]
+    region = pds.Region.from_shapely(shapely.union_all([*strips, box(8.0, 0, 9.0, 12)]))
+    certificate = pds.mesh_region(region, alpha, seed=seed).certificate()
+    assert certificate.conforming, certificate
