@@ -236,3 +236,25 @@ def test_the_same_sheet_reads_the_same_bit_for_bit(tmp_path):
     again, _ = read(path)
     assert first.geometry.equals_exact(again.geometry, tolerance=0)
     assert np.array_equal(first.rings[0], again.rings[0])
+
+
+def test_the_command_line_reads_the_sheet_and_chooses_the_layout(tmp_path, capsys):
+    import json
+
+    from pds_plugin.cli import main
+
+    path, _ = sheet(tmp_path, plates=2, holes=3)
+    report = tmp_path / "r.json"
+    assert main([path, "-o", tmp_path / "sheet.ply", "--alpha", "auto",
+                 "--report", report]) == 0
+    printed = capsys.readouterr()
+    assert "paper-space layout 'Sheet1' is read instead" in printed.out + printed.err
+    [entry] = json.loads(report.read_text())["sections"]
+    assert entry["region"]["betti"] == [2, 3] and entry["certificate"]["ok"]
+    assert main([path, "-o", tmp_path / "model.ply", "--alpha", "1", "--layout", "Model"]) == 1
+    assert "no outline curve" in capsys.readouterr().err
+    svg = tmp_path / "square.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 4 4">'
+                   '<rect width="4" height="4"/></svg>')
+    assert main([svg, "-o", tmp_path / "s.ply", "--alpha", "1", "--layout", "Sheet1"]) == 1
+    assert "--layout selects a layout of a DXF drawing" in capsys.readouterr().err
