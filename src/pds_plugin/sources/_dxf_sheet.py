@@ -141,11 +141,16 @@ def sheet_border(curves, tolerance: float, papers=()) -> tuple[np.ndarray, tuple
     >>> sheet_border([border, plate], 1e-3, papers=[(420, 297)])
     (array([ True, False]), (400.0, 280.0))
     """
-    lines = [shapely.LineString(curve) if len(curve) > 1 else shapely.Point(curve[0])
-             for curve in (np.asarray(curve, dtype=float) for curve in curves)]
+    lines = np.array([shapely.LineString(curve) if len(curve) > 1 else shapely.Point(curve[0])
+                      for curve in (np.asarray(curve, dtype=float) for curve in curves)],
+                     dtype=object)
     group = _connected(lines, tolerance)
-    extents = {g: shapely.total_bounds([line for line, h in zip(lines, group) if h == g])
-               for g in dict.fromkeys(group.tolist())}
+    bounds = shapely.bounds(lines)
+    low = np.full((group.max() + 1, 2), np.inf)
+    high = np.full((group.max() + 1, 2), -np.inf)
+    np.minimum.at(low, group, bounds[:, :2])
+    np.maximum.at(high, group, bounds[:, 2:])
+    extents = {g: np.r_[low[g], high[g]] for g in dict.fromkeys(group.tolist())}
     remaining, chain = list(extents), []             # chain: (group, frame), outside in
     while remaining:
         everything = np.r_[np.min([extents[g][:2] for g in remaining], axis=0),
@@ -153,9 +158,9 @@ def sheet_border(curves, tolerance: float, papers=()) -> tuple[np.ndarray, tuple
         found = None
         for g in remaining:
             if np.array_equal(extents[g], everything):    # only it can enclose the others
-                members = [line for line, h in zip(lines, group) if h == g]
-                others = [line for line, h in zip(lines, group) if h != g and h in remaining]
-                frame = _frame(members, others, tolerance, papers)
+                alive = np.isin(group, remaining)
+                frame = _frame(lines[group == g], lines[alive & (group != g)], tolerance,
+                               papers)
                 if frame is not None:
                     found = g, frame
                     break
@@ -182,7 +187,7 @@ def _connected(lines, tolerance) -> np.ndarray:
 
 def _frame(members, others, tolerance, papers):
     """``(is a border, (width, height))`` when the lines ``members`` close off an area
-    covering every line of ``others``, else None."""
+    covering every line of ``others`` (arrays of geometries), else None."""
     noded = shapely.union_all(shapely.set_precision(members, tolerance))
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
     if len(faces) == 0:
@@ -191,8 +196,8 @@ def _frame(members, others, tolerance, papers):
     if not isinstance(closed, shapely.Polygon):
         return None
     area = shapely.Polygon(closed.exterior)
-    others = shapely.union_all(others) if others else shapely.GeometryCollection()
-    if not (others.is_empty or area.covers(others)):
+    shapely.prepare(area)
+    if not shapely.covers(area, others).all():
         return None
     box = area.envelope
     rectangle = box.area - area.area <= tolerance * box.length
@@ -201,5 +206,6 @@ def _frame(members, others, tolerance, papers):
     paper = any(PAPER_SHARE * w <= size[0] <= _PAPER_SLACK * w
                 and PAPER_SHARE * h <= size[1] <= _PAPER_SLACK * h
                 for width, height in papers for w, h in ((width, height), (height, width)))
-    title_block = len(faces) > 1 and not shapely.intersects(faces, others).all()
+    holding = np.unique(shapely.STRtree(others).query(faces, predicate="intersects")[0])
+    title_block = len(faces) > 1 and len(holding) < len(faces)
     return rectangle and (paper or title_block), size
