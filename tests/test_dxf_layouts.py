@@ -61,7 +61,8 @@ def _rounded_rectangle(space, x0, y0, width, height):
 
 def draw_sheet_format(space, layer="0", paper=PAPER, trim=False):
     """A border of LINEs at the margin, a title block drawn against its lower right
-    corner with text in its cells; ``trim``: a trim line at the paper's edge too."""
+    corner with text and a hatched logo in its cells; ``trim``: a trim line at the
+    paper's edge too."""
     attributes = {"layer": layer}
     x1, y1 = paper[0] - MARGIN, paper[1] - MARGIN
     corners = [(MARGIN, MARGIN), (x1, MARGIN), (x1, y1), (MARGIN, y1)]
@@ -78,6 +79,9 @@ def draw_sheet_format(space, layer="0", paper=PAPER, trim=False):
     for text, at in [("PLATES", (left + 4, top - 10)), ("SCALE 1:1", (left + 4, MARGIN + 8)),
                      ("SHEET 1 OF 1", (left + 94, MARGIN + 8))]:
         space.add_text(text, height=3.5, dxfattribs=attributes).set_placement(at)
+    logo = space.add_hatch(dxfattribs=attributes)                # a filled logo in a cell
+    logo.paths.add_polyline_path([(left + 150, MARGIN + 5), (left + 170, MARGIN + 5),
+                                  (left + 160, MARGIN + 22)])
 
 
 def sheet(tmp_path, plates=10, holes=373, format="layer", model=False, name="sheet.dxf"):
@@ -142,7 +146,8 @@ def test_a_paper_space_sheet_gives_its_plates_and_holes_without_the_sheet(tmp_pa
         border = PAPER[0] - 2 * MARGIN, PAPER[1] - 2 * MARGIN
         size = PAPER if format == "trimmed" else border
         assert f"the sheet border ({size[0]:.6g} x {size[1]:.6g})" in left_out[0]
-        assert f"{4 + 4 + (format == 'trimmed')} curves" in left_out[0]
+        assert f"{4 + 4 + (format == 'trimmed')} curves; 1 HATCH in its title block" \
+            in left_out[0]
         assert any("ignored 3 TEXT" in message for message in said)
 
 

@@ -17,7 +17,8 @@ is part of the region. Two rules find it, both only in paper space:
   between :data:`PAPER_SHARE` and 101 % of the layout's paper (its plot settings or its
   limits, either orientation) or the title block is drawn against it: its lines divide the
   rectangle into several faces, some holding no other curve. The outermost frames down to
-  the innermost border are left out, with everything connected to them.
+  the innermost border are left out, with everything connected to them and the hatches
+  in their empty faces (a logo in a title-block cell).
 
 A lone part never encloses all other curves *and* has the paper's size or empty cells,
 so a drawing of plates is read whole; a part that does (a rectangular plate filling the
@@ -110,7 +111,7 @@ def paper_sizes(layout, millimetres_per_unit) -> list[tuple[float, float]]:
     return sizes
 
 
-def sheet_border(curves, tolerance: float, papers=()) -> tuple[np.ndarray, tuple | None]:
+def sheet_border(curves, tolerance: float, papers=()):
     """The curves of a paper-space layout that form its sheet border and title block.
 
     Parameters
@@ -128,17 +129,21 @@ def sheet_border(curves, tolerance: float, papers=()) -> tuple[np.ndarray, tuple
         Per curve: part of the sheet border or its title block.
     size : (float, float) or None
         The width and height of the outermost border left out.
+    cells : shapely geometry
+        The faces of the borders left out that hold no other curve (the title block's
+        cells, where a hatched logo is no part either), empty when none.
 
     Examples
     --------
     >>> border = [(0, 0), (400, 0), (400, 280), (0, 280), (0, 0)]
     >>> title = [(300, 0), (300, 40), (400, 40)]                # a cell against it
     >>> plate = [(50, 50), (150, 50), (150, 100), (50, 100), (50, 50)]
-    >>> sheet_border([border, title, plate], 1e-3)
-    (array([ True,  True, False]), (400.0, 280.0))
-    >>> sheet_border([border, plate], 1e-3)                      # no paper, no title block
+    >>> dropped, size, cells = sheet_border([border, title, plate], 1e-3)
+    >>> dropped, size, cells.bounds
+    (array([ True,  True, False]), (400.0, 280.0), (300.0, 0.0, 400.0, 40.0))
+    >>> sheet_border([border, plate], 1e-3)[:2]                  # no paper, no title block
     (array([False, False]), None)
-    >>> sheet_border([border, plate], 1e-3, papers=[(420, 297)])
+    >>> sheet_border([border, plate], 1e-3, papers=[(420, 297)])[:2]
     (array([ True, False]), (400.0, 280.0))
     """
     lines = np.array([shapely.LineString(curve) if len(curve) > 1 else shapely.Point(curve[0])
@@ -168,11 +173,12 @@ def sheet_border(curves, tolerance: float, papers=()) -> tuple[np.ndarray, tuple
             break
         chain.append(found)
         remaining.remove(found[0])
-    borders = [index for index, (_, (border, _)) in enumerate(chain) if border]
+    borders = [index for index, (_, (border, _, _)) in enumerate(chain) if border]
     if not borders:
-        return np.zeros(len(lines), dtype=bool), None
-    left_out = [g for g, _ in chain[:borders[-1] + 1]]
-    return np.isin(group, left_out), chain[0][1][1]
+        return np.zeros(len(lines), dtype=bool), None, shapely.Polygon()
+    left_out = chain[:borders[-1] + 1]
+    cells = shapely.union_all([cells for _, (_, _, cells) in left_out])
+    return np.isin(group, [g for g, _ in left_out]), chain[0][1][1], cells
 
 
 def _connected(lines, tolerance) -> np.ndarray:
@@ -186,8 +192,8 @@ def _connected(lines, tolerance) -> np.ndarray:
 
 
 def _frame(members, others, tolerance, papers):
-    """``(is a border, (width, height))`` when the lines ``members`` close off an area
-    covering every line of ``others`` (arrays of geometries), else None."""
+    """``(is a border, (width, height), empty cells)`` when the lines ``members`` close
+    off an area covering every line of ``others`` (arrays of geometries), else None."""
     noded = shapely.union_all(shapely.set_precision(members, tolerance))
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
     if len(faces) == 0:
@@ -206,6 +212,8 @@ def _frame(members, others, tolerance, papers):
     paper = any(PAPER_SHARE * w <= size[0] <= _PAPER_SLACK * w
                 and PAPER_SHARE * h <= size[1] <= _PAPER_SLACK * h
                 for width, height in papers for w, h in ((width, height), (height, width)))
-    holding = np.unique(shapely.STRtree(others).query(faces, predicate="intersects")[0])
-    title_block = len(faces) > 1 and len(holding) < len(faces)
-    return rectangle and (paper or title_block), size
+    holding = np.isin(np.arange(len(faces)),
+                      shapely.STRtree(others).query(faces, predicate="intersects")[0])
+    title_block = len(faces) > 1 and not holding.all()
+    cells = shapely.union_all(faces[~holding]) if len(faces) > 1 else shapely.Polygon()
+    return rectangle and (paper or title_block), size, cells

@@ -77,8 +77,8 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
     space the sheet itself is left out, with a warning saying what: VIEWPORT entities,
     entities on layers or in blocks named like a sheet format (FORMAT, TITLE, BORDER),
     and the sheet border (a rectangle enclosing everything else, of the paper's size or
-    with a title block drawn against it) with what is drawn against it
-    (:mod:`._dxf_sheet`).
+    with a title block drawn against it) with what is drawn against it and the hatches
+    in its title block (the rules: docs/dxf_readers.md).
 
     Parameters
     ----------
@@ -296,14 +296,26 @@ def _drawing(document, space, *, name, layers, scale, tolerance, limits) -> _Dra
         code = document.header.get("$INSUNITS", 0)
         papers = [(scale * width, scale * height)
                   for width, height in paper_sizes(space, _MILLIMETRES.get(code))]
-        border, size = sheet_border([_points(chain, chosen) for chain in curves], chosen,
-                                    papers)
+        border, size, cells = sheet_border([_points(chain, chosen) for chain in curves],
+                                           chosen, papers)
         if border.any():
             sheet.append(f"the sheet border ({size[0]:.6g} x {size[1]:.6g}) and what is "
                          f"drawn against it, {int(border.sum())} curves")
             curves = [chain for chain, dropped in zip(curves, border) if not dropped]
+            logos = [_within(chains, cells, chosen) for chains in hatches]
+            if any(logos):
+                sheet.append(f"{sum(logos)} HATCH in its title block")
+                hatches = [chains for chains, logo in zip(hatches, logos) if not logo]
             chosen = tolerance or _default_tolerance(hatches, curves)
     return _Drawing(where, hatches, curves, chosen, ignored, sheet, unknown, drawn)
+
+
+def _within(chains, area, tolerance) -> bool:
+    """Whether every boundary of a hatch lies in ``area`` (within ``tolerance``)."""
+    if area.is_empty:
+        return False
+    near = area.buffer(tolerance)
+    return all(near.covers(shapely.MultiPoint(_points(chain, tolerance))) for chain in chains)
 
 
 def _default_tolerance(hatches, curves):
