@@ -88,7 +88,8 @@ def sheet(tmp_path, plates=10, holes=373, format="layer", model=False, name="she
     """A SolidWorks-like drawing. ``format``: where the sheet format is -- on the layer
     FORMAT ("layer"), in a block named like a sheet format ("block"), as plain lines on
     layer 0 ("lines"), plain lines with a trim line ("trimmed"), or plain lines on a
-    layout whose paper size is not stated ("unsized"). ``model``: the plates are in model
+    layout left at ezdxf's default paper, A3, smaller than the A1 border: only the title
+    block drawn against it tells ("unsized"). ``model``: the plates are in model
     space (the sheet then shows them through its viewport). Returns (path, exact area)."""
     doc = ezdxf.new("R2010", units=4)
     doc.layouts.rename("Layout1", "Sheet1")

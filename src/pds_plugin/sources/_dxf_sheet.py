@@ -145,6 +145,8 @@ def sheet_border(curves, tolerance: float, papers=()):
     (array([False, False]), None)
     >>> sheet_border([border, plate], 1e-3, papers=[(420, 297)])[:2]
     (array([ True, False]), (400.0, 280.0))
+    >>> sheet_border([border, plate], 1e-3, papers=[(297, 210)])[:2]   # larger than paper
+    (array([False, False]), None)
     """
     lines = np.array([shapely.LineString(curve) if len(curve) > 1 else shapely.Point(curve[0])
                       for curve in (np.asarray(curve, dtype=float) for curve in curves)],
