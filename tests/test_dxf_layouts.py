@@ -264,3 +264,16 @@ def test_the_command_line_reads_the_sheet_and_chooses_the_layout(tmp_path, capsy
                    '<rect width="4" height="4"/></svg>')
     assert main([svg, "-o", tmp_path / "s.ply", "--alpha", "1", "--layout", "Sheet1"]) == 1
     assert "--layout selects a layout of a DXF drawing" in capsys.readouterr().err
+
+
+def test_the_limits_count_the_layout_read(tmp_path):
+    """The paper-space layout's entities are counted before it is expanded, each INSERT
+    with its block's entities (the model space, empty, would count nothing)."""
+    path, _ = sheet(tmp_path, plates=2, holes=10)
+    doc = ezdxf.readfile(path)
+    count = sum(1 + (len(doc.blocks.get(entity.dxf.name)) if entity.dxftype() == "INSERT"
+                     else 0) for entity in doc.layouts.get("Sheet1"))
+    with pytest.raises(pds.SourceError, match=f"more than {count - 1} entities"):
+        load_dxf(path, max_entities=count - 1)
+    region, _ = read(path, max_entities=count)
+    assert region.betti == (2, 10)
