@@ -20,10 +20,10 @@ is part of the region. Two rules find it, both only in paper space:
   the innermost border are left out, with everything connected to them and the hatches
   in their empty faces (a logo in a title-block cell).
 
-A lone part never encloses all other curves *and* has the paper's size or empty cells,
-so a drawing of plates is read whole; a part that does (a rectangular plate filling the
-sheet, with its holes inside) would be taken for a border, and the warning that names
-what was left out says so.
+A part is taken for a border only if it is an axis-aligned rectangle enclosing every
+other curve of the sheet and either spans 75-101 % of the paper or is divided by lines
+into faces of which one holds nothing; a drawing of several parts, or of one part smaller
+than the sheet, is read whole. The warning names what was left out, with its size.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ SHEET_WORDS = ("FORMAT", "TITLE", "BORDER")
 """Words that name a sheet format's layer or block."""
 PAPER_SHARE = 0.75
 """Smallest share of the paper's width and height a border spans (ISO 5457 borders of
-A4 to A0 span 86-98 %, ANSI ones with half-inch margins 88-97 %)."""
+A4 to A0 span 86-98 %, ANSI ones with half-inch margins 88-98 %)."""
 _PAPER_SLACK = 1.01
 
 
