@@ -483,10 +483,10 @@ def test_non_finite_coordinates_are_named(tmp_path, bad):
 def test_empty_drawing_and_bad_arguments(tmp_path):
     doc, msp = new()
     msp.add_point((1, 1))
-    doc.paperspace().add_circle((0, 0), 1)                   # paper space is not read
+    doc.paperspace().add_circle((0, 0), 1)          # read unless the model space is asked for
     path = save(doc, tmp_path)
     with pytest.raises(RegionError, match="no outline curve.*model space"):
-        load_dxf(path)
+        load_dxf(path, layout="Model")
     empty_hatch, hatch_space = new()
     hatch_space.add_hatch()                                  # no boundary path
     with pytest.raises(RegionError, match="nothing to mesh"):

@@ -173,6 +173,11 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--layer", action="append", metavar="NAME",
                         help="DXF drawings: read this layer (repeat for several; default: "
                              "every layer with outline curves or hatches)")
+    parser.add_argument("--layout", metavar="NAME",
+                        help="DXF drawings: read this layout, 'Model' or a paper-space sheet "
+                             "(default: the model space, or the first sheet with an outline "
+                             "when the model space has none; the sheet's border and title "
+                             "block are left out)")
     parser.add_argument("--seed", type=_seed, default=0,
                         help="random seed, an integer >= 0; the same seed gives the same "
                              "mesh (default 0)")

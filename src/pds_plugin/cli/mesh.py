@@ -292,6 +292,8 @@ def _read_regions(args) -> list[Region]:
     kind = path.suffix.lower()
     if args.layer and kind != ".dxf":
         raise ArgumentError(f"--layer selects layers of a DXF drawing; {path} is not one")
+    if args.layout is not None and kind != ".dxf":
+        raise ArgumentError(f"--layout selects a layout of a DXF drawing; {path} is not one")
     if kind in READERS:
         given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices",
                                    "on_face") if getattr(args, name) is not None]
@@ -300,7 +302,7 @@ def _read_regions(args) -> list[Region]:
                                 f"planar: drop --{given[0].replace('_', '-')}")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            region = load_drawing(path, **({"layers": args.layer} if args.layer else {}))
+            region = load_drawing(path, **_dxf_options(args))
         for warning in caught:
             say("warning", warning.message)
         return [region]
@@ -313,6 +315,12 @@ def _read_regions(args) -> list[Region]:
                             "--plane-origin, or give --at offsets from it instead")
     return plane_sections(path, normal, plane_origin=args.plane_origin, at=args.at,
                           slices=args.slices, on_face=args.on_face)
+
+
+def _dxf_options(args) -> dict:
+    """The keywords of load_dxf that --layer and --layout give."""
+    options = {"layers": args.layer, "layout": args.layout}
+    return {key: value for key, value in options.items() if value is not None}
 
 
 def _check_picture(path: Path) -> None:

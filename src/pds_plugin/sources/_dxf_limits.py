@@ -3,7 +3,7 @@
 A few kilobytes of nested INSERTs (a block inserting another ten times, nine levels
 deep, or one MINSERT array of 10^4 x 10^4 copies) stand for 10^8 entities, and one
 polyline can hold millions of vertices: expanding them would take hours and gigabytes.
-:func:`check_dxf_limits` counts what the model space *expands to* from the block
+:func:`check_dxf_limits` counts what the layout read *expands to* from the block
 definitions alone (every INSERT counted as all the copies it places), refusing before
 any of it is built. The twin of :mod:`._svg_limits`; the file size is checked by
 :func:`.curves.checked_file` before ezdxf reads anything.
@@ -27,8 +27,8 @@ expand to (``max_segments``)."""
 
 
 def check_dxf_limits(document, name: str, max_entities=MAX_ENTITIES,
-                     max_segments=MAX_SEGMENTS) -> None:
-    """Refuse a DXF document whose model space expands to too many entities or segments.
+                     max_segments=MAX_SEGMENTS, layout=None) -> None:
+    """Refuse a DXF layout that expands to too many entities or segments.
 
     Parameters
     ----------
@@ -38,6 +38,8 @@ def check_dxf_limits(document, name: str, max_entities=MAX_ENTITIES,
     max_entities, max_segments : int
         The limits; each error names the keyword of :func:`pds_plugin.load_dxf` that
         raises it.
+    layout : ezdxf.layouts.Layout, optional
+        The layout read; default: the model space.
 
     Raises
     ------
@@ -63,7 +65,7 @@ def check_dxf_limits(document, name: str, max_entities=MAX_ENTITIES,
     """
     max_entities = check_positive_int(max_entities, "max_entities")
     max_segments = check_positive_int(max_segments, "max_segments")
-    entities, segments = _expanded(document, max_entities, max_segments)
+    entities, segments = _expanded(document, layout, max_entities, max_segments)
     if entities > max_entities:
         raise SourceError(f"{name} expands to more than {max_entities:,} entities (every "
                           f"block INSERT counted with all its copies); pass a larger "
@@ -74,21 +76,25 @@ def check_dxf_limits(document, name: str, max_entities=MAX_ENTITIES,
                           f"max_segments to read it")
 
 
-def _expanded(document, max_entities, max_segments) -> tuple[int, int]:
-    """Entities and segments of the model space with every INSERT replaced by its
-    copies of the block, counted without recursion and capped past the limits. A block
-    that inserts itself counts nothing for that INSERT (the reader refuses it)."""
+def _expanded(document, layout, max_entities, max_segments) -> tuple[int, int]:
+    """Entities and segments of the layout (None: the model space) with every INSERT
+    replaced by its copies of the block, counted without recursion and capped past the
+    limits. A block that inserts itself counts nothing for that INSERT (the reader
+    refuses it)."""
     def inserted(space):
         return {entity.dxf.name for entity in space if entity.dxftype() == "INSERT"
                 and document.blocks.get(entity.dxf.name) is not None}
 
-    cost, visiting = {}, set()             # block name (None: model space) -> (entities, segments)
+    cost, visiting = {}, set()             # block name (None: the layout) -> (entities, segments)
     stack = [(None, False)]
     while stack:
         block, children_done = stack.pop()
         if block in cost or (block in visiting and not children_done):
             continue
-        space = document.modelspace() if block is None else document.blocks.get(block)
+        if block is not None:
+            space = document.blocks.get(block)
+        else:
+            space = document.modelspace() if layout is None else layout
         if not children_done:
             visiting.add(block)
             stack.append((block, True))

@@ -26,7 +26,7 @@ def load_drawing(path, **options):
     path : str or os.PathLike
     **options
         Keyword arguments of the reader (``tolerance``, ``units``, ``mode``, and
-        ``layers`` for DXF).
+        ``layers`` and ``layout`` for DXF).
 
     Returns
     -------

@@ -31,6 +31,7 @@ from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
 from ._dxf_limits import MAX_BYTES, MAX_ENTITIES, MAX_SEGMENTS, check_dxf_limits
+from ._dxf_sheet import paper_sizes, sheet_border, sheet_format_name
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
 
@@ -48,10 +49,11 @@ _UNITS = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, "ft": 304.8}
 _MAX_NESTING = 64
 
 
-def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto",
-             max_bytes: int = MAX_BYTES, max_entities: int = MAX_ENTITIES,
+def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
+             mode: str = "auto", max_bytes: int = MAX_BYTES, max_entities: int = MAX_ENTITIES,
              max_segments: int = MAX_SEGMENTS) -> Region:
-    """Read a DXF drawing's model space as a :class:`Region` in the plane z = 0.
+    """Read a DXF drawing's model space (or a paper-space sheet) as a :class:`Region` in
+    the plane z = 0.
 
     Two kinds of content are understood, as in :func:`load_svg`:
 
@@ -69,6 +71,15 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
     ignored and counted in one warning. The drawing is seen from above: entities in a
     tilted coordinate system are projected onto the XY plane.
 
+    The model space is read. When it has no outline curve or hatch on the layers read,
+    the first paper-space layout (in tab order) that has one is read instead, with a
+    warning naming it: SolidWorks, among others, exports drawing sheets there. In paper
+    space the sheet itself is left out, with a warning saying what: VIEWPORT entities,
+    entities on layers or in blocks named like a sheet format (FORMAT, TITLE, BORDER),
+    and the sheet border (a rectangle enclosing everything else, of the paper's size or
+    with a title block drawn against it) with what is drawn against it and the hatches
+    in its title block (the rules: docs/dxf_readers.md).
+
     Parameters
     ----------
     path : str or os.PathLike
@@ -77,6 +88,10 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
         The layers to read (names are case-insensitive, as in CAD). Default: every layer
         with an outline curve or a hatch; layers that hold only text, dimensions and
         other annotation are left out without a warning.
+    layout : str, optional
+        The layout to read, by its name (case-insensitive): "Model" for the model space,
+        or a paper-space sheet ("Layout1", "Sheet1", ...). Default: the model space, or
+        the first paper-space layout with an outline when the model space has none.
     units : {None, "mm", "cm", "m", "in", "ft"}
         None keeps the drawing's numbers; a unit converts from the drawing's
         ``$INSUNITS`` (an error when the drawing is unitless).
@@ -90,7 +105,7 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
         of the curves otherwise.
     max_bytes, max_entities, max_segments : int
         Limits checked before the drawing is expanded (see :mod:`._dxf_limits`): the
-        file's size (50 MB), the entities its model space expands to with every INSERT
+        file's size (50 MB), the entities the layout read expands to with every INSERT
         copy (100,000), and its polyline vertices, spline control points and hatch edges
         (1,000,000). Raise them for bigger drawings.
 
@@ -107,11 +122,17 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
         If the file is empty, not DXF, truncated or damaged, exceeds a limit, a block
         inserts itself or is missing, or an entity has NaN or infinite coordinates.
     RegionError
-        If nothing is left to mesh: no curve on the layers, or no loop that closes (the
-        message gives the open ends).
+        If nothing is left to mesh: no curve on the layers (in the model space nor in a
+        paper-space layout), or no loop that closes (the message gives the open ends).
     ArgumentError
-        If a layer does not exist, ``units`` is given for a unitless drawing, or an
-        argument is bad.
+        If a layer or the layout does not exist (the message lists the layouts),
+        ``units`` is given for a unitless drawing, or an argument is bad.
+
+    Warns
+    -----
+    UserWarning
+        When a paper-space layout is read because the model space is empty, when a sheet
+        format is left out, and about ignored entities and open curve ends.
 
     Examples
     --------
@@ -130,24 +151,24 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
     if units is not None and units not in _UNITS:
         raise ArgumentError(f"units must be None (the drawing's own) or one of "
                             f"{tuple(_UNITS)}, got {units!r}")
+    if layout is not None and not isinstance(layout, str):
+        raise ArgumentError(f"layout must be the name of a layout ('Model' for the model "
+                            f"space), got {layout!r}")
     tolerance = None if tolerance is None else check_positive(tolerance, "tolerance")
     document, name = _read(path, max_bytes)
-    check_dxf_limits(document, name, max_entities, max_segments)
     scale = _scale(document, units, name)
-    entities = _selected(_placed(document.modelspace()), _layer_names(layers), document, name)
-    hatches = [entity for entity in entities if entity.dxftype() == "HATCH"]
-    curves = [entity for entity in entities if entity.dxftype() in CURVES]
-    if not hatches and not curves:
+    read = dict(name=name, layers=_layer_names(layers), scale=scale, tolerance=tolerance,
+                limits=(max_entities, max_segments))
+    if layout is not None:
+        drawing = _drawing(document, _layout(document, layout, name), **read)
+        drawing.check_layers(name)
+    else:
+        drawing = _first_drawn(document, **read)
+    drawing.warn(name)
+    hatch_loops, curve_chains, tolerance = drawing.hatches, drawing.curves, drawing.tolerance
+    if not hatch_loops and not curve_chains:
         raise RegionError(f"{name} has no outline curve ({', '.join(CURVES)}) or HATCH in its "
-                          f"model space on the layers read: nothing to mesh")
-    hatch_loops = [[_chain(boundary, entity, scale) for boundary in _hatch_paths(entity)]
-                   for entity in hatches]
-    curve_chains = [_chain(pieces, entity, scale) for entity in curves
-                    for pieces in _curve_pieces(entity)]
-    every = [piece for chains in hatch_loops for chain in chains for piece in chain]
-    every += [piece for chain in curve_chains for piece in chain]
-    if tolerance is None:
-        tolerance = default_tolerance([point for piece in every for point in piece.extent()])
+                          f"{drawing.space} on the layers read: nothing to mesh")
     geometry = shapely.Polygon()
     if mode != "outline":
         geometry = shapely.union_all([fill_geometry(
@@ -163,6 +184,147 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
         geometry = outline([_points(chain, tolerance) for chain in curve_chains], tolerance,
                            name, kind="curve")
     return Region.from_shapely(geometry)
+
+
+# --- layouts: the model space and the paper-space sheets ---------------------------
+
+def _layout_names(document) -> list:
+    """The layouts in tab order, "Model" first."""
+    return document.layouts.names_in_taborder()
+
+
+def _listed(names) -> str:
+    return ", ".join(repr(title) for title in names)
+
+
+def _layout(document, layout, name):
+    """The layout called ``layout`` (case-insensitive, as in CAD)."""
+    if layout not in document.layouts:
+        raise ArgumentError(f"{name} has no layout {layout!r}; its layouts are "
+                            f"{_listed(_layout_names(document))} ('Model' is the model "
+                            f"space)")
+    return document.layouts.get(layout)
+
+
+def _first_drawn(document, **read):
+    """The model space's drawing, or else the first paper-space layout's with an outline
+    (in tab order), said in a warning."""
+    name = read["name"]
+    drawing = _drawing(document, document.modelspace(), **read)
+    papers = [document.layouts.get(title) for title in _layout_names(document)[1:]]
+    if not drawing.empty or not papers:
+        drawing.check_layers(name)
+        return drawing
+    for paper in papers:
+        found = _drawing(document, paper, **read)
+        if not found.unknown and not found.empty:
+            warnings.warn(f"{name}: its model space has no outline curve or hatch on the "
+                          f"layers read, so its paper-space layout {paper.name!r} is read "
+                          f"instead (layout= chooses one of "
+                          f"{_listed(_layout_names(document))})", UserWarning, stacklevel=3)
+            return found
+    drawing.check_layers(name)
+    drawing.warn(name, stacklevel=4)           # what the model space holds instead
+    raise RegionError(f"{name} has no outline curve ({', '.join(CURVES)}) or HATCH on the "
+                      f"layers read in its model space nor, once viewports, sheet borders "
+                      f"and title blocks are left out, in its paper-space layouts "
+                      f"{_listed(paper.name for paper in papers)}: nothing to mesh")
+
+
+class _Drawing:
+    """What one layout gives: hatch boundaries and curve chains (in output units), the
+    tolerance, and what was left out, to be said in warnings."""
+
+    def __init__(self, space, hatches, curves, tolerance, ignored, sheet, unknown, drawn):
+        self.space, self.hatches, self.curves = space, hatches, curves
+        self.tolerance, self.ignored, self.sheet = tolerance, ignored, sheet
+        self.unknown, self.drawn = unknown, drawn     # layers asked for; layers drawn on
+
+    def check_layers(self, name):
+        """Refuse a layer asked for that is not in the drawing."""
+        if self.unknown:
+            raise ArgumentError(f"{name} has no layer {self.unknown[0]!r}; its layers with "
+                                f"outline curves or hatches are: "
+                                f"{', '.join(self.drawn) or 'none'}")
+
+    @property
+    def empty(self) -> bool:
+        return not self.hatches and not self.curves
+
+    def warn(self, name, stacklevel=3):
+        """Say what was ignored and what was left out as the sheet format."""
+        if self.ignored:
+            counts = ", ".join(f"{count} {kind}" for kind, count in sorted(self.ignored.items()))
+            warnings.warn(f"{name}: ignored {counts} (text, dimensions and entities without an "
+                          f"outline are not part of the region)", UserWarning,
+                          stacklevel=stacklevel)
+        if self.sheet:
+            warnings.warn(f"{name}: left out the sheet format of {self.space}: "
+                          f"{'; '.join(self.sheet)} (the rules: docs/dxf_readers.md; "
+                          f"layers= reads a layer named like a sheet format)", UserWarning,
+                          stacklevel=stacklevel)
+
+
+def _drawing(document, space, *, name, layers, scale, tolerance, limits) -> _Drawing:
+    """The outline and hatch entities of a layout, its sheet format left out."""
+    check_dxf_limits(document, name, *limits, layout=space)
+    paper = not space.is_modelspace
+    where = f"paper-space layout {space.name!r}" if paper else "model space"
+    placed, sheet = list(_placed(space)), []
+    if paper:
+        asked = None if layers is None else {layer.lower() for layer in layers}
+        named = Counter()
+        kept = []
+        for entity, layer, blocks in placed:
+            if entity.dxftype() == "VIEWPORT":
+                continue                       # a window onto model space, not geometry
+            reason = sheet_format_name(layer, blocks, asked)
+            if reason is None:
+                kept.append((entity, layer, blocks))
+            else:
+                named[reason] += 1
+        placed = kept
+        sheet += [f"{count} entities of {reason}" for reason, count in sorted(named.items())]
+    entities, ignored, unknown = _selected(placed, layers, document)
+    drawn = sorted({layer.lower() for entity, layer, _ in placed if _is_drawn(entity)})
+    hatches = [[_chain(boundary, entity, scale) for boundary in _hatch_paths(entity)]
+               for entity in entities if entity.dxftype() == "HATCH"]
+    curves = [_chain(pieces, entity, scale) for entity in entities
+              if entity.dxftype() in CURVES for pieces in _curve_pieces(entity)]
+    chosen = tolerance or _default_tolerance(hatches, curves)
+    if paper and curves:
+        code = document.header.get("$INSUNITS", 0)
+        papers = [(scale * width, scale * height)
+                  for width, height in paper_sizes(space, _MILLIMETRES.get(code))]
+        border, size, cells = sheet_border([_points(chain, chosen) for chain in curves],
+                                           chosen, papers)
+        if border.any():
+            sheet.append(f"the sheet border ({size[0]:.6g} x {size[1]:.6g}) and what is "
+                         f"drawn against it, {int(border.sum())} curves")
+            curves = [chain for chain, dropped in zip(curves, border) if not dropped]
+            logos = [_within(chains, cells, chosen) for chains in hatches]
+            if any(logos):
+                sheet.append(f"{sum(logos)} HATCH in its title block")
+                hatches = [chains for chains, logo in zip(hatches, logos) if not logo]
+            chosen = tolerance or _default_tolerance(hatches, curves)
+    return _Drawing(where, hatches, curves, chosen, ignored, sheet, unknown, drawn)
+
+
+def _within(chains, area, tolerance) -> bool:
+    """Whether every boundary of a hatch lies in ``area`` (within ``tolerance``)."""
+    if area.is_empty:
+        return False
+    near = area.buffer(tolerance)
+    return all(near.covers(shapely.MultiPoint(_points(chain, tolerance))) for chain in chains)
+
+
+def _default_tolerance(hatches, curves):
+    """The default tolerance of these pieces' extent (None when there are none)."""
+    every = [piece for chains in hatches for chain in chains for piece in chain]
+    every += [piece for chain in curves for piece in chain]
+    if not every:
+        return None
+    return default_tolerance([point for piece in every for point in piece.extent()])
 
 
 # --- the file -----------------------------------------------------------------------
@@ -198,16 +360,18 @@ def _scale(document, units, name) -> float:
 # --- entities and layers ------------------------------------------------------------
 
 def _placed(space, layer=None, blocks=()):
-    """Yield (entity, layer) for every entity of ``space``, blocks expanded in place.
+    """Yield (entity, layer, blocks) for every entity of ``space``, blocks expanded in
+    place.
 
     ``layer``: the layer that entities on layer "0" take (the INSERT's); ``blocks``: the
-    names of the blocks being expanded, to refuse a block that inserts itself.
+    names of the blocks being expanded, outermost first (yielded with each entity they
+    place), to refuse a block that inserts itself.
     """
     for entity in space:
         own = entity.dxf.get("layer", "0")
         effective = layer if layer is not None and own == "0" else own
         if entity.dxftype() != "INSERT":
-            yield entity, effective
+            yield entity, effective, blocks
             continue
         block = entity.dxf.name
         if block in blocks:
@@ -225,7 +389,7 @@ def _placed(space, layer=None, blocks=()):
             skipped = []
             parts = list(insert.virtual_entities(
                 skipped_entity_callback=lambda part, reason: skipped.append(part)))
-            yield from ((part, effective) for part in skipped)   # counted as ignored
+            yield from ((part, effective, (*blocks, block)) for part in skipped)   # ignored
             yield from _placed(parts, effective, (*blocks, block))
 
 
@@ -238,27 +402,21 @@ def _layer_names(layers):
     return names
 
 
-def _selected(placed, layers, document, name) -> list:
-    """The outline and hatch entities of the chosen layers; warn about the others."""
-    placed = list(placed)
-    drawn = {layer.lower() for entity, layer in placed if _is_drawn(entity)}
+def _selected(placed, layers, document) -> tuple[list, Counter, list]:
+    """The outline and hatch entities of the chosen layers, the count of each kind of the
+    other entities on them (to be said in a warning), and the chosen layers that neither
+    the drawing's layer table nor an entity here names."""
     if layers is None:
-        chosen = drawn
+        unknown = []
+        chosen = {layer.lower() for entity, layer, _ in placed if _is_drawn(entity)}
     else:
         known = {layer.dxf.name.lower() for layer in document.layers} | {
-            layer.lower() for _, layer in placed}
+            layer.lower() for _, layer, _ in placed}
         unknown = [layer for layer in layers if layer.lower() not in known]
-        if unknown:
-            raise ArgumentError(f"{name} has no layer {unknown[0]!r}; its layers with outline "
-                                f"curves or hatches are: {', '.join(sorted(drawn)) or 'none'}")
         chosen = {layer.lower() for layer in layers}
-    kept = [entity for entity, layer in placed if layer.lower() in chosen]
+    kept = [entity for entity, layer, _ in placed if layer.lower() in chosen]
     ignored = Counter(entity.dxftype() for entity in kept if not _is_drawn(entity))
-    if ignored:
-        counts = ", ".join(f"{count} {kind}" for kind, count in sorted(ignored.items()))
-        warnings.warn(f"{name}: ignored {counts} (text, dimensions and entities without an "
-                      f"outline are not part of the region)", UserWarning, stacklevel=3)
-    return [entity for entity in kept if _is_drawn(entity)]
+    return [entity for entity in kept if _is_drawn(entity)], ignored, unknown
 
 
 def _is_drawn(entity) -> bool:
