@@ -119,3 +119,47 @@ def test_flat_ends_of_strips_stay_joined(seed):
     region = pds.Region.from_shapely(shapely.union_all([*strips, box(8.0, 0, 9.0, 12)]))
     certificate = pds.mesh_region(region, alpha, seed=seed).certificate()
     assert certificate.conforming, certificate
+
+
+# --- components touching at a point ---
+
+@pytest.mark.parametrize("second", [box(1, 1, 2, 2), Polygon([(0.5, 1), (0.8, 1.5), (0.5, 2), (0.2, 1.5)])],
+                         ids=["corner to corner", "corner on an edge"])
+def test_components_touching_at_a_point_are_moved_apart_within_the_tolerance(second):
+    region = pds.Region.from_shapely(MultiPolygon([box(0, 0, 1, 1), second]))
+    first, other = region.geometry.geoms
+    assert region.betti == (2, 0) and not first.intersects(other)
+    assert 0 < region.source_deviation <= region.tolerance <= 1e-6
+    for alpha, graded in ((0.1, False), ("auto", False), ("auto", True)):
+        mesh = pds.mesh_region(region, alpha, graded=graded, seed=1)
+        assert mesh.certificate().ok, mesh.certificate()
+        assert mesh.betti == (2, 0)
+
+
+def test_sections_of_two_solids_sharing_an_edge_are_certified():
+    """shared.STL: two boxes sharing an edge; every section across it was refused on main
+    ("the region's boundary touches itself")."""
+    path = shared_file("shared.STL")
+    for height in (-0.25, 0.0, 0.3):
+        region = pds.section(path, plane_origin=(0, 0, height), plane_normal=(0, 0, 1))
+        assert region.betti == (2, 0) and region.source_deviation <= region.tolerance
+        for alpha, graded in (("auto", False), ("auto", True), (0.02, False)):
+            assert pds.mesh_region(region, alpha, graded=graded, seed=0).certificate().ok
+
+
+# --- "auto" never raises on a valid region ---
+
+def test_auto_meshes_what_the_budget_allows_and_the_certificate_says_what_was_lost():
+    """A hole narrower than the budget's smallest alpha: auto_mesh raises (its contract
+    is a verified topology), mesh_region(alpha="auto") meshes at that alpha, warns, and
+    the certificate names the lost hole."""
+    region = pds.Region.from_shapely(shapely.Point(0, 0).buffer(1).difference(
+        shapely.Point(0.5, 0).buffer(0.01)))
+    with pytest.raises(pds.TopologyError) as raised:
+        pds.auto_mesh(region, max_samples=200, conforming=False)
+    with pytest.warns(UserWarning, match="smallest the sample budget"):
+        mesh = pds.mesh_region(region, "auto", max_samples=200, conforming=False)
+    assert np.array_equal(mesh.vertices, raised.value.mesh.vertices)
+    certificate = mesh.certificate()
+    assert not certificate.topology_ok and not certificate.ok
+    assert "hole" in str(certificate.topology)

@@ -227,10 +227,10 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
 def check_rings_apart(region: Region):
     """Refuse, for conforming samplings, a region whose boundary rings touch.
 
-    A valid polygon may have a hole touching its outline at a point, and a valid
-    multipolygon parts touching at points. A conforming sampling joins each ring's
-    samples by chords, so such a point would be a sample of two rings at once: a
-    :class:`~pds_plugin.errors.RegionError` names the point instead.
+    A valid polygon may have a hole touching its outline at a point (parts touching at
+    points are moved apart by :meth:`Region.from_shapely`). A conforming sampling joins
+    each ring's samples by chords, so such a point would be a sample of two rings at
+    once: a :class:`~pds_plugin.errors.RegionError` names the point instead.
 
     Examples
     --------
@@ -251,7 +251,7 @@ def check_rings_apart(region: Region):
         x, y = shapely.get_coordinates(shapely.intersection(rings[i], rings[j]))[0]
         raise RegionError(
             f"the region's boundary touches itself at ({x:.6g}, {y:.6g}) (a hole touching "
-            "the outline, or two parts touching at a point); a conforming mesh needs rings "
+            "the outline or another hole); a conforming mesh needs rings "
             "that do not touch: mesh it with conforming=False (pds-mesh --no-conforming), or "
             "open the point, e.g. region.geometry.buffer(-tiny)")
 
