@@ -47,7 +47,15 @@ class BudgetError(PdsError):
 
 
 class TopologyError(PdsError):
-    """No alpha within the budget gives a mesh with the region's topology."""
+    """No alpha within the budget gives a mesh with the region's topology.
+
+    ``mesh`` is the last mesh tried (at the smallest alpha the budget allows), whose
+    certificate says what it lost; :func:`pds_plugin.mesh_region` with ``"auto"``
+    returns it, with a warning, instead of raising."""
+
+    def __init__(self, message: str, mesh=None):
+        super().__init__(message)
+        self.mesh = mesh
 
 
 class EmptyMeshError(PdsError):

@@ -95,8 +95,12 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
         If ``region`` is not a Region or ``alpha`` is not a positive number or "auto".
     BudgetError
         If the sampling would exceed ``max_samples``.
-    TopologyError
-        With ``"auto"``, as :func:`auto_mesh` (uniform meshes).
+
+    With ``"auto"`` a valid region always gets a mesh: where the sample budget keeps
+    alpha above what a feature needs and the topology is lost, the mesh at the smallest
+    alpha the budget allows is returned with a warning (:func:`auto_mesh` raises a
+    :class:`~pds_plugin.errors.TopologyError` there), and its certificate lists what it
+    could not keep.
 
     Examples
     --------
@@ -119,7 +123,12 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     if grading is not None or sizing is not None:
         raise ArgumentError("grading and sizing apply to graded meshes; pass graded=True")
     if isinstance(alpha, str):
-        return auto_mesh(region, seed=seed, conforming=conforming, **sampling_options)
+        try:
+            return auto_mesh(region, seed=seed, conforming=conforming, **sampling_options)
+        except TopologyError as error:
+            warnings.warn(f"{error}; meshed at that alpha anyway: its certificate lists what "
+                          "it could not keep", stacklevel=2)
+            return error.mesh
     _check_resolution(require_region(region, "mesh_region"), check_alpha(alpha))
     check_seed(seed)
     _check_sampling_options(sampling_options)
@@ -280,9 +289,9 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
             break
         alpha = max(alpha * refine, smallest)
     raise TopologyError(f"the {size} needs alpha <= {size.lfs / 2:.6g}, but alpha "
-                     f"{alpha:.6g} is the smallest the sample budget of {budget} allows, and "
-                     f"its mesh: {'; '.join(report.problems)}; raise max_samples or widen "
-                     "that feature")
+                        f"{alpha:.6g} is the smallest the sample budget of {budget} allows, "
+                        f"and its mesh: {'; '.join(report.problems)}; raise max_samples or "
+                        "widen that feature", mesh=mesh)
 
 
 ALPHA_RESOLUTION = 1e3
