@@ -29,6 +29,9 @@ class Region:
         The region, exteriors counter-clockwise and holes clockwise.
     frame : (4, 4) ndarray
         Maps the 2D coordinates ``(x, y, 0, 1)`` into 3D (identity for plain 2D input).
+    curves : BoundaryCurves or None
+        The exact curves the boundary was flattened from, with the drawing element of
+        each, when a drawing reader kept them (:mod:`pds_plugin.boundary_curves`).
 
     Examples
     --------
@@ -38,10 +41,11 @@ class Region:
     ((1, 1), 15.0)
     """
 
-    def __init__(self, geometry: MultiPolygon, frame: np.ndarray):
+    def __init__(self, geometry: MultiPolygon, frame: np.ndarray, curves=None):
         self.geometry = geometry
         self.frame = np.array(frame, dtype=float)      # a copy: the caller's stays writable
         self.frame.setflags(write=False)
+        self.curves = curves
 
     @classmethod
     def from_shapely(cls, geometry, frame=None, *, repair: bool = False) -> "Region":
