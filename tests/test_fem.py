@@ -211,3 +211,43 @@ def test_p1_and_p2_converge_on_the_unit_disc_from_an_svg_circle(tmp_path):
     rate = {k: np.polyfit(np.log(alphas), np.log(e), 1)[0] for k, e in errors.items()}
     assert rate[1] >= 1.8, errors[1]
     assert rate[2] >= 2.8, errors[2]
+
+
+def test_dxf_layers_name_the_boundaries_and_its_arcs_carry_the_mid_nodes(tmp_path):
+    ezdxf = pytest.importorskip("ezdxf")
+    document = ezdxf.new()
+    space = document.modelspace()
+    space.add_lwpolyline([(0, 0, 0), (4, 0, 0), (4, 2, 1), (0, 2, 0)], format="xyb",
+                         close=True, dxfattribs={"layer": "OUTLINE"})  # a semicircle on top
+    space.add_circle((1, 1), radius=0.4, dxfattribs={"layer": "HOLES"})
+    document.saveas(tmp_path / "plate.dxf")
+    mesh = pds.mesh_region(pds.load_dxf(tmp_path / "plate.dxf"), 0.1)
+    tags = boundary_tags(mesh, by="source")
+    assert tags.names == {"OUTLINE": 1, "HOLES": 2} and (tags.values > 0).all()
+    np.testing.assert_array_equal(tags.values == 2, mesh.boundary_tags.values == 2)
+    q = mesh.quadratic()
+    hole = np.unique(q.boundary_lines[tags.values == 2])
+    assert np.abs(np.linalg.norm(q.points[hole] - (1, 1), axis=1) - 0.4).max() < 1e-12
+    outline = q.points[np.unique(q.boundary_lines[tags.values == 1])]
+    top = outline[outline[:, 1] > 2 + 1e-9]                 # the bulge: centre (2, 2), r 2
+    assert len(top) and np.abs(np.linalg.norm(top - (2, 2), axis=1) - 2).max() < 1e-12
+    assert len(q.inverted) == 0
+
+
+def test_the_same_input_gives_the_same_tags_and_nodes_bit_for_bit(tmp_path):
+    region = pds.load_svg(_svg(tmp_path, '<circle id="rim" r="1"/>'))
+    first, second = (pds.mesh_region(region, 0.15) for _ in range(2))
+    assert np.array_equal(first.quadratic().points, second.quadratic().points)
+    assert np.array_equal(first.boundary_tags.values, second.boundary_tags.values)
+    assert np.array_equal(first.to_skfem(2).doflocs, second.to_skfem(2).doflocs)
+
+
+def test_isolated_samples_are_left_out_of_the_skfem_mesh(plate):
+    extra = np.vstack([plate.vertices, [[4.5, 1.5]]])         # in no triangle
+    mesh = pds.PlanarMesh(extra, plate.faces, np.r_[plate.on_boundary, False],
+                          plate.region, plate.alpha)
+    for order in (1, 2):
+        m = mesh.to_skfem(order)
+        assert m.t.max() + 1 == len(plate.vertices) and m.nvertices == len(plate.vertices)
+        assert set(m.boundaries) == set(plate.boundary_tags.names)
+    assert np.array_equal(mesh.to_skfem(2).doflocs, plate.to_skfem(2).doflocs)

@@ -256,6 +256,13 @@ class _Builder:
         start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
         self.cubic([start, (2 * start + end) / 3, (start + 2 * end) / 3, end], label)
 
+    def polyline(self, points, label) -> None:
+        """The straight segments through ``points`` (k, 2), each a line (none repeated)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        for start, end in zip(points[:-1], points[1:]):
+            if np.any(start != end):
+                self.line(start, end, label)
+
     def quadratic(self, control, label) -> None:
         """A quadratic Bézier (raised to the cubic of the same curve)."""
         p = np.asarray(control, dtype=float)

@@ -172,14 +172,21 @@ def _curve_midpoints(points, edges, curves) -> np.ndarray:
 
     The piece is the one nearest the edge's midpoint; an edge whose ends are not both
     on that piece (it crosses from one piece to the next) gets the point of the piece
-    nearest its midpoint.
+    nearest its midpoint, or that midpoint itself if no piece is near.
     """
-    piece, t_middle, _ = curves.locate(points[edges].mean(axis=1))
+    chord_middle = points[edges].mean(axis=1)
+    piece, t_middle, gap = curves.locate(chord_middle)
     _, t0, d0 = curves.locate(points[edges[:, 0]], piece)
     _, t1, d1 = curves.locate(points[edges[:, 1]], piece)
     within = np.maximum(d0, d1) <= 2 * curves.tolerance
     t = np.where(within, curves.arc_midpoint(piece, t0, t1), t_middle)
-    return curves.point(piece, t)
+    middle = curves.point(piece, t)
+    # no piece under the edge (the boundary there was not drawn by the kept curves):
+    # the chord's midpoint, rather than a point of a curve far from it
+    length = np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1)
+    lost = ~within & (gap > 0.25 * length)
+    middle[lost] = chord_middle[lost]
+    return middle
 
 
 def _edge_index(edges, pairs, count) -> np.ndarray:

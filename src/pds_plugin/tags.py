@@ -8,14 +8,16 @@ the complex know nothing of them:
   holes, in the order of ``region.geometry.geoms``) that holds its centroid, or the
   nearest one; component ``c`` has tag ``c + 1`` and the name ``"component c"``;
 - a boundary edge's **boundary tag** is the ring it lies on (``by="ring"``, the
-  default): the ring nearest its midpoint among ``region.rings``, tag ``ring + 1``, named
+  default): the ring nearest its midpoint among ``region.rings``, if both its ends lie
+  on that ring, tag ``ring + 1``, named
   ``"outline c"`` for the outline of component ``c`` and ``"hole c.h"`` for its hole
   ``h``; or the drawing element it was drawn by (``by="source"``: the SVG element's id,
   from ``region.curves``, see :mod:`pds_plugin.boundary_curves`).
 
 Tag 0 means untagged: interior edges are never given a tag, and a boundary edge is
-tagged only when both its ends are boundary samples (a non-conforming mesh can have
-boundary edges inside the region, across a gap it leaves open).
+tagged only when both its ends are boundary samples of the same ring (a non-conforming
+mesh can have boundary edges inside the region, across a gap it leaves open, or from
+one ring to another).
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ import shapely
 from .errors import ArgumentError
 
 __all__ = ["Tags", "region_tags", "boundary_tags"]
+
+_ON_RING = 1e-9
+"""How far from its ring (relative to the mesh's extent) a boundary sample may be found:
+samples are placed on the rings' segments, so only rounding separates them."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,10 +152,14 @@ def boundary_tags(mesh, by: str = "ring") -> Tags:
                  for ring, (c, h) in enumerate(region.ring_owners)}
         rings = shapely.linearrings(np.vstack(region.rings), indices=np.repeat(
             np.arange(len(region.rings)), [len(r) for r in region.rings]))
-        nearest = (shapely.STRtree(rings).query_nearest(shapely.points(midpoints),
-                                                        all_matches=False)[1]
-                   if len(edges) else np.zeros(0, np.int64))
-        return Tags(np.where(on_boundary, nearest + 1, 0), names)
+        if not len(edges):
+            return Tags(np.zeros(0, dtype=np.int64), names)
+        nearest = shapely.STRtree(rings).query_nearest(shapely.points(midpoints),
+                                                       all_matches=False)[1]
+        ends = shapely.points(mesh.vertices[edges])
+        gap = shapely.distance(rings[nearest][:, None], ends).max(axis=1)
+        on_ring = on_boundary & (gap <= _ON_RING * max(np.ptp(mesh.vertices, axis=0)))
+        return Tags(np.where(on_ring, nearest + 1, 0), names)
     curves = mesh.region.curves
     if curves is None:
         raise ArgumentError("the region kept no drawing curves, so its boundary has no "

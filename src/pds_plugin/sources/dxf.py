@@ -27,6 +27,7 @@ import numpy as np
 import shapely
 
 from .._checks import check_positive
+from ..boundary_curves import curves_builder
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
@@ -134,7 +135,9 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
     document, name = _read(path, max_bytes)
     check_dxf_limits(document, name, max_entities, max_segments)
     scale = _scale(document, units, name)
-    entities = _selected(_placed(document.modelspace()), _layer_names(layers), document, name)
+    placed = list(_placed(document.modelspace()))
+    layer_of = {id(entity): layer for entity, layer in placed}
+    entities = _selected(placed, _layer_names(layers), document, name)
     hatches = [entity for entity in entities if entity.dxftype() == "HATCH"]
     curves = [entity for entity in entities if entity.dxftype() in CURVES]
     if not hatches and not curves:
@@ -142,8 +145,9 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
                           f"model space on the layers read: nothing to mesh")
     hatch_loops = [[_chain(boundary, entity, scale) for boundary in _hatch_paths(entity)]
                    for entity in hatches]
-    curve_chains = [_chain(pieces, entity, scale) for entity in curves
-                    for pieces in _curve_pieces(entity)]
+    labelled = [(layer_of[id(entity)], _chain(pieces, entity, scale)) for entity in curves
+                for pieces in _curve_pieces(entity)]
+    curve_chains = [chain for _, chain in labelled]
     every = [piece for chains in hatch_loops for chain in chains for piece in chain]
     every += [piece for chain in curve_chains for piece in chain]
     if tolerance is None:
@@ -153,6 +157,8 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
         geometry = shapely.union_all([fill_geometry(
             [_points(chain, tolerance) for chain in chains], "evenodd")
             for chains in hatch_loops])
+        drawn = [(layer_of[id(hatch)], chain) for hatch, chains in zip(hatches, hatch_loops)
+                 for chain in chains]
         if geometry.is_empty and mode == "fill":
             raise RegionError(f"the hatches of {name} enclose no area: nothing to mesh (for "
                               f"an outline drawing use mode='outline')")
@@ -162,7 +168,9 @@ def load_dxf(path, *, layers=None, units=None, tolerance=None, mode: str = "auto
                               f"layers read and its hatches enclose no area: nothing to mesh")
         geometry = outline([_points(chain, tolerance) for chain in curve_chains], tolerance,
                            name, kind="curve")
-    return Region.from_shapely(geometry)
+        drawn = labelled
+    region = Region.from_shapely(geometry)
+    return Region(region.geometry, region.frame, _curves(drawn, tolerance))
 
 
 # --- the file -----------------------------------------------------------------------
@@ -484,6 +492,23 @@ def _hatch_paths(hatch) -> list:
                 pieces.extend(_spline(edge.construction_tool()))
         paths.append(pieces)
     return paths
+
+
+def _curves(drawn, tolerance):
+    """The exact pieces of the chains drawn, each labelled with its entity's layer;
+    splines beyond cubics and rational ones as their polylines within ``tolerance``."""
+    build = curves_builder(tolerance)
+    for layer, chain in drawn:
+        for piece in chain:
+            if isinstance(piece, _Elliptic):
+                build.arc(piece.center, piece.radii, piece.start, piece.sweep, layer)
+            elif isinstance(piece, _Bezier) and len(piece.control) == 4:
+                build.cubic(piece.control, layer)
+            elif isinstance(piece, _Bezier) and len(piece.control) == 3:
+                build.quadratic(piece.control, layer)
+            else:
+                build.polyline(piece.flatten(tolerance), layer)
+    return build.done()
 
 
 def _points(chain, tolerance) -> np.ndarray:

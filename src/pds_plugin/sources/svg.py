@@ -14,11 +14,11 @@ import numpy as np
 import shapely
 
 from .._checks import check_positive
+from ..boundary_curves import curves_builder
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
 from ._svg_limits import MAX_BYTES, MAX_ELEMENTS, MAX_SEGMENTS, check_svg_limits
-from ..boundary_curves import curves_builder
 from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
 from .polygons import fill_geometry
 
