@@ -140,10 +140,14 @@ def quadratic(mesh) -> QuadraticMesh:
     triangles = np.hstack([faces, count + side_index])
     boundary_lines = np.column_stack([boundary, count + _edge_index(edges, boundary, count)])
     points = np.vstack([points, middle])
-    corners = mesh.vertices[faces]
+    # a triangle without boundary vertices keeps straight sides and its corners: det J is
+    # its own, ratio 1; the others are measured
+    min_jacobian = np.ones(len(faces))
+    measured = np.flatnonzero(mesh.on_boundary[faces].any(axis=1))
+    corners = mesh.vertices[faces[measured]]
     straight = ((corners[:, 1, 0] - corners[:, 0, 0]) * (corners[:, 2, 1] - corners[:, 0, 1])
                 - (corners[:, 1, 1] - corners[:, 0, 1]) * (corners[:, 2, 0] - corners[:, 0, 0]))
-    min_jacobian = _min_jacobian(points[triangles]) / np.abs(straight)
+    min_jacobian[measured] = _min_jacobian(points[triangles[measured]]) / np.abs(straight)
     for array in (points, triangles, boundary_lines, min_jacobian):
         array.setflags(write=False)
     result = QuadraticMesh(mesh, points, triangles, boundary_lines, min_jacobian, moved)
@@ -210,9 +214,11 @@ def _shape_gradients(xi, eta) -> np.ndarray:
 def _jacobians(nodes, at) -> np.ndarray:
     """det J of each triangle's quadratic map at reference points ``at`` (k, 2): (M, k)."""
     out = np.empty((len(nodes), len(at)))
+    x, y = np.ascontiguousarray(nodes[..., 0]), np.ascontiguousarray(nodes[..., 1])
     for k, (xi, eta) in enumerate(at):
-        jacobian = np.einsum("mid,ie->mde", nodes, _shape_gradients(xi, eta))
-        out[:, k] = np.linalg.det(jacobian)
+        gradients = _shape_gradients(xi, eta)
+        dx, dy = x @ gradients, y @ gradients              # (M, 2): d/dξ, d/dη
+        out[:, k] = dx[:, 0] * dy[:, 1] - dx[:, 1] * dy[:, 0]
     return out
 
 

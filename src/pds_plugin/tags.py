@@ -105,8 +105,15 @@ def region_tags(mesh) -> Tags:
     if not len(mesh.faces):
         return Tags(np.zeros(0, dtype=np.int64), names)
     centroids = mesh.vertices[mesh.faces].mean(axis=1)
-    tree = shapely.STRtree(list(polygons))
-    component = tree.query_nearest(shapely.points(centroids), all_matches=False)[1]
+    component = np.full(len(centroids), -1, dtype=np.int64)
+    for c, polygon in enumerate(polygons):
+        shapely.prepare(polygon)
+        component[(component < 0) & shapely.contains_xy(polygon, *centroids.T)] = c
+    outside = np.flatnonzero(component < 0)   # a non-conforming mesh's, or on an edge
+    if len(outside):
+        tree = shapely.STRtree(list(polygons))
+        component[outside] = tree.query_nearest(shapely.points(centroids[outside]),
+                                                all_matches=False)[1]
     return Tags(component + 1, names)
 
 

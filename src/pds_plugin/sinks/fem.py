@@ -157,8 +157,9 @@ def write_meshio(mesh: PlanarMesh, path, suffix: str) -> None:
     if suffix == ".msh":                       # the tags as gmsh's physical groups
         tagged.cell_data = {"gmsh:physical": physical, "gmsh:geometrical": physical}
     elif suffix == ".inp":                     # Abaqus: the tags as element sets
-        tagged = meshio.Mesh(np.column_stack([tagged.points, np.zeros(len(tagged.points))]),
-                             tagged.cells, cell_sets=_element_sets(tagged))
+        tagged = meshio.Mesh(tagged.points, tagged.cells, cell_sets=_element_sets(tagged))
+    if suffix in (".vtu", ".vtk", ".inp"):     # 3D points (z = 0), as these formats want
+        tagged.points = np.column_stack([tagged.points, np.zeros(len(tagged.points))])
     file_format = _FORMAT.get(suffix) or meshio._helpers.extension_to_filetypes[suffix][0]
     meshio.write(path, tagged, file_format=file_format, **options)
 
@@ -224,9 +225,9 @@ def to_skfem(mesh: PlanarMesh, order: int = 1, boundary: str = "ring") -> skfem.
     linear = skfem.MeshTri(np.ascontiguousarray(points[:len(used)][used].T), t)
     facets = linear.facets
     count = linear.p.shape[1]
-    keys = np.sort(facets, axis=0)
+    keys = np.sort(facets, axis=0).astype(np.int64)         # skfem's may be int32
     keys = keys[0] * count + keys[1]
-    ends = np.sort(renumber[lines[:, :2]], axis=1)
+    ends = np.sort(renumber[lines[:, :2]], axis=1).astype(np.int64)
     order_keys = np.argsort(keys)
     facet = order_keys[np.searchsorted(keys, ends[:, 0] * count + ends[:, 1], sorter=order_keys)]
     named_boundaries = {name: np.sort(facet[boundaries.values == tag])
@@ -238,7 +239,7 @@ def to_skfem(mesh: PlanarMesh, order: int = 1, boundary: str = "ring") -> skfem.
                              _subdomains=subdomains)
     q = mesh.quadratic()
     middle = np.empty((len(keys), 2))
-    edge_ends = np.sort(renumber[mesh.edges], axis=1)
+    edge_ends = np.sort(renumber[mesh.edges], axis=1).astype(np.int64)
     edge_keys = edge_ends[:, 0] * count + edge_ends[:, 1]
     middle[order_keys[np.searchsorted(keys, edge_keys, sorter=order_keys)]] = q.points[len(used):]
     doflocs = np.ascontiguousarray(np.hstack([linear.p, middle.T]))
