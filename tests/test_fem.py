@@ -128,11 +128,36 @@ def test_quadratic_meshio_cells(plate):
         plate.to_meshio(order=3)
 
 
-def test_missing_meshio_is_a_clear_error(plate, monkeypatch):
+@pytest.mark.parametrize("module, call", [("meshio", lambda m: m.to_meshio()),
+                                          ("meshio", lambda m: m.export("never.msh")),
+                                          ("skfem", lambda m: m.to_skfem())])
+def test_a_missing_fem_library_is_a_clear_error(plate, monkeypatch, module, call):
     import sys
-    monkeypatch.setitem(sys.modules, "meshio", None)
+    monkeypatch.setitem(sys.modules, module, None)
     with pytest.raises(MissingDependencyError, match=r'pip install "pds_plugin\[fem\]"'):
-        plate.to_meshio()
+        call(plate)
+
+
+def test_tags_name_lookups_fail_clearly(plate):
+    with pytest.raises(ArgumentError, match="no tag named 'hole 7.0'"):
+        plate.boundary_tags.where("hole 7.0")
+    with pytest.raises(ArgumentError, match="no name has tag 0"):
+        plate.boundary_tags.name_of(0)
+    with pytest.raises(ArgumentError, match="by 'ring' or by 'source'"):
+        plate.to_skfem(boundary="layer")
+
+
+def test_graded_meshes_go_out_with_tags_and_curved_nodes(tmp_path):
+    region = pds.load_svg(_svg(tmp_path, '<path id="ring" fill-rule="evenodd" '
+                               'd="M1 0A1 1 0 0 0 -1 0A1 1 0 0 0 1 0Z '
+                               'M0.3 0A0.3 0.3 0 0 0 -0.3 0A0.3 0.3 0 0 0 0.3 0Z"/>'))
+    mesh = pds.mesh_region(region, 0.2, graded=True)
+    assert mesh.boundary_tags.names == {"outline 0": 1, "hole 0.0": 2}
+    q = mesh.quadratic()
+    radius = np.linalg.norm(q.points[np.unique(q.boundary_lines)], axis=1)
+    assert np.minimum(np.abs(radius - 1), np.abs(radius - 0.3)).max() < 1e-12
+    assert len(q.inverted) == 0
+    assert abs(q.area - np.pi * (1 - 0.09)) < abs(mesh.outline.area - np.pi * (1 - 0.09)) / 10
 
 
 # --- scikit-fem ---------------------------------------------------------------------

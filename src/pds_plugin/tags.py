@@ -75,8 +75,18 @@ class Tags:
         return np.flatnonzero(self.values == self.names[name])
 
     def name_of(self, tag: int) -> str:
-        """The name of ``tag``."""
-        return {value: name for name, value in self.names.items()}[int(tag)]
+        """The name of ``tag``.
+
+        Raises
+        ------
+        ArgumentError
+            If no name has that tag (0, untagged, has none).
+        """
+        named = {value: name for name, value in self.names.items()}
+        if int(tag) not in named:
+            raise ArgumentError(f"no name has tag {tag}; the tags are "
+                                f"{', '.join(f'{v} ({n})' for v, n in named.items())}")
+        return named[int(tag)]
 
 
 def region_tags(mesh) -> Tags:
