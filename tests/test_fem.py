@@ -276,3 +276,25 @@ def test_isolated_samples_are_left_out_of_the_skfem_mesh(plate):
         assert m.t.max() + 1 == len(plate.vertices) and m.nvertices == len(plate.vertices)
         assert set(m.boundaries) == set(plate.boundary_tags.names)
     assert np.array_equal(mesh.to_skfem(2).doflocs, plate.to_skfem(2).doflocs)
+
+
+def test_curve_pieces_locate_points_and_halve_arc_length():
+    from pds_plugin.boundary_curves import curves_builder
+    build = curves_builder(1e-6)
+    build.arc((1, 1), [[2, 0.5], [0, 1]], 0.3, 2.0, "skewed ellipse")
+    build.cubic([(0, 0), (1, 2), (2, -1), (3, 1)], "s-curve")
+    curves = build.done()
+    for piece in range(2):
+        t = np.linspace(0, 1, 200_001)
+        dense = curves.point(np.full(len(t), piece), t)
+        along = np.r_[0, np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))]
+        for t0, t1 in ((0.0, 1.0), (0.1, 0.7), (0.9, 0.2)):
+            middle = curves.arc_midpoint([piece], [t0], [t1])[0]
+            def s(u):
+                return np.interp(u, t, along)
+            assert abs(abs(s(middle) - s(t0)) - abs(s(t1) - s(middle))) < 1e-8
+        on = dense[::997]                                   # points on the piece, nudged
+        nudged = on + 1e-4 * np.array([0.6, -0.8])
+        found, _, distance = curves.locate(nudged)
+        assert (found == piece).all() and (distance <= 1e-4 + 1e-12).all()
+        assert np.linalg.norm(curves.point(found, curves.locate(on)[1]) - on, axis=1).max() < 1e-9

@@ -26,6 +26,7 @@ __all__ = ["BoundaryCurves", "curves_builder"]
 
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
 _NEWTON_STEPS = 8
+_PANELS = 4
 _POLYLINE_POINTS = 64
 """Points per piece of the polyline that gives the first guess of a projection."""
 
@@ -60,8 +61,10 @@ class BoundaryCurves:
     >>> build.line((-1, 0), (1, 0), "base")
     >>> curves = build.done()
     >>> piece, t, distance = curves.locate([[0, 1.0001], [0.5, 0]])
-    >>> piece.tolist(), np.round(t, 6).tolist(), [curves.labels[s] for s in curves.source[piece]]
-    ([0, 1], [0.5, 0.75], ['top', 'base'])
+    >>> [curves.labels[s] for s in curves.source[piece]], np.round(t, 6).tolist()
+    (['top', 'base'], [0.5, 0.75])
+    >>> np.round(distance, 6).tolist()
+    [0.0001, 0.0]
     """
 
     elliptic: np.ndarray
@@ -188,13 +191,16 @@ class BoundaryCurves:
         return out
 
     def _length(self, piece, t0, t1) -> np.ndarray:
-        """Arc length from ``t0`` to ``t1`` (Gauss-Legendre; the pieces are smooth)."""
-        middle, half = 0.5 * (t0 + t1), 0.5 * (t1 - t0)
+        """Arc length from ``t0`` to ``t1`` (Gauss-Legendre on ``_PANELS`` panels; the
+        pieces are smooth, but a Bézier's speed may nearly vanish)."""
         total = np.zeros(len(piece))
-        for node, weight in zip(_GAUSS_NODES, _GAUSS_WEIGHTS):
-            speed = np.linalg.norm(self._derivatives(piece, middle + half * node, 1), axis=1)
-            total += weight * speed
-        return total * half
+        width = (t1 - t0) / _PANELS
+        for panel in range(_PANELS):
+            middle, half = t0 + (panel + 0.5) * width, 0.5 * width
+            for node, weight in zip(_GAUSS_NODES, _GAUSS_WEIGHTS):
+                speed = np.linalg.norm(self._derivatives(piece, middle + half * node, 1), axis=1)
+                total += weight * speed * half
+        return total
 
     # --- locating ------------------------------------------------------------------
 
@@ -238,30 +244,36 @@ class BoundaryCurves:
 
 
 class _Builder:
-    """Collects pieces for :class:`BoundaryCurves` (see :func:`curves_builder`)."""
+    """Collects pieces for :class:`BoundaryCurves` (see :func:`curves_builder`): single
+    pieces as rows of numbers, polylines as blocks of arrays, joined by ``done()``."""
 
     def __init__(self, tolerance):
         self.tolerance = check_positive(tolerance, "tolerance")
-        self.elliptic, self.control, self.conic, self.source = [], [], [], []
+        self.cubics: list[tuple] = []         # (8 control coordinates, source)
+        self.arcs: list[tuple] = []           # (cx, cy, ux, uy, vx, vy, start, sweep, source)
+        self.blocks: list[tuple] = []         # ((k, 4, 2) controls, source) of polylines
         self.labels: dict[str, int] = {}
 
-    def _add(self, elliptic, control, conic, label):
-        self.elliptic.append(elliptic)
-        self.control.append(control)
-        self.conic.append(conic)
-        self.source.append(self.labels.setdefault(str(label), len(self.labels)))
+    def _source(self, label) -> int:
+        return self.labels.setdefault(str(label), len(self.labels))
 
     def line(self, start, end, label) -> None:
         """A straight segment (as the cubic with control points at thirds)."""
-        start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
-        self.cubic([start, (2 * start + end) / 3, (start + 2 * end) / 3, end], label)
+        (x0, y0), (x1, y1) = start, end
+        if (x0, y0) != (x1, y1):
+            self.cubics.append((x0, y0, (2 * x0 + x1) / 3, (2 * y0 + y1) / 3,
+                                (x0 + 2 * x1) / 3, (y0 + 2 * y1) / 3, x1, y1,
+                                self._source(label)))
 
     def polyline(self, points, label) -> None:
         """The straight segments through ``points`` (k, 2), each a line (none repeated)."""
         points = np.asarray(points, dtype=float).reshape(-1, 2)
-        for start, end in zip(points[:-1], points[1:]):
-            if np.any(start != end):
-                self.line(start, end, label)
+        start, end = points[:-1], points[1:]
+        keep = np.any(start != end, axis=1)
+        start, end = start[keep], end[keep]
+        if len(start):
+            control = np.stack([start, (2 * start + end) / 3, (start + 2 * end) / 3, end], axis=1)
+            self.blocks.append((control, self._source(label)))
 
     def quadratic(self, control, label) -> None:
         """A quadratic Bézier (raised to the cubic of the same curve)."""
@@ -270,23 +282,33 @@ class _Builder:
 
     def cubic(self, control, label) -> None:
         """A cubic Bézier from its four control points."""
-        control = np.asarray(control, dtype=float).reshape(4, 2)
-        self._add(False, control, np.zeros(8), label)
+        control = np.asarray(control, dtype=float).reshape(8)
+        self.cubics.append((*control.tolist(), self._source(label)))
 
     def arc(self, center, radii, start, sweep, label) -> None:
         """``center + u cos θ + v sin θ``, θ from ``start`` over ``sweep``; ``radii``
         holds u and v as columns."""
         radii = np.asarray(radii, dtype=float).reshape(2, 2)
-        conic = np.r_[np.asarray(center, dtype=float), radii[:, 0], radii[:, 1], start, sweep]
-        self._add(True, np.zeros((4, 2)), conic, label)
+        self.arcs.append((*np.asarray(center, dtype=float).tolist(), *radii[:, 0].tolist(),
+                          *radii[:, 1].tolist(), float(start), float(sweep),
+                          self._source(label)))
 
     def done(self) -> BoundaryCurves | None:
         """The curves collected, or None if there are none."""
-        if not self.elliptic:
+        cubics = np.array(self.cubics, dtype=float).reshape(-1, 9)
+        arcs = np.array(self.arcs, dtype=float).reshape(-1, 9)
+        control = [cubics[:, :8].reshape(-1, 4, 2)] + [block for block, _ in self.blocks]
+        count = sum(len(c) for c in control)
+        if not count + len(arcs):
             return None
-        return BoundaryCurves(np.array(self.elliptic), np.array(self.control),
-                              np.array(self.conic), np.array(self.source, dtype=np.int64),
-                              tuple(self.labels), self.tolerance)
+        source = np.concatenate([cubics[:, 8].astype(np.int64)]
+                                + [np.full(len(b), s, np.int64) for b, s in self.blocks]
+                                + [arcs[:, 8].astype(np.int64)])
+        return BoundaryCurves(
+            np.r_[np.zeros(count, bool), np.ones(len(arcs), bool)],
+            np.concatenate(control + [np.zeros((len(arcs), 4, 2))]),
+            np.concatenate([np.zeros((count, 8)), arcs[:, :8]]),
+            source, tuple(self.labels), self.tolerance)
 
 
 def curves_builder(tolerance) -> _Builder:

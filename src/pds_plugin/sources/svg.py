@@ -301,7 +301,7 @@ def _curves(drawn, matrix, tolerance):
             elif isinstance(segment, svgelements.CubicBezier):
                 build.cubic(_apply(matrix, [segment.start, segment.control1, segment.control2,
                                             segment.end]), label)
-            elif np.any(start != end):
+            else:
                 build.line(start, end, label)
     return build.done()
 
