@@ -196,6 +196,33 @@ def test_quadratic_nodes_of_an_svg_circle_are_on_the_circle(tmp_path):
     assert abs(mesh.outline.area - np.pi) > 10 * abs(q.area - np.pi)
 
 
+def test_a_node_that_would_invert_its_triangle_leaves_the_edge_straight(tmp_path):
+    """A triangle whose third vertex lies nearer the chord of a round hole than the hole's
+    arc does: on the arc, the edge's node would pass that vertex and invert the map."""
+    region = pds.load_svg(_svg(tmp_path, '<path fill-rule="evenodd" d="M-2 -2H2V2H-2Z '
+                               'M1 0A1 1 0 0 1 -1 0A1 1 0 0 1 1 0Z"/>', view="-2 -2 4 4"))
+    hole = region.rings[1]
+    angle = np.arctan2(hole[:, 1], hole[:, 0])
+    a, b = hole[np.argmin(np.abs(angle))], hole[np.argmin(np.abs(angle - np.pi / 2))]
+    for radius, straightened in ((1.1, 1), (1.5, 0)):
+        c = radius * (a + b) / np.linalg.norm(a + b)
+        turn = (b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]
+        faces = [[0, 1, 2]] if turn > 0 else [[0, 2, 1]]          # counter-clockwise
+        mesh = pds.PlanarMesh([a, b, c], faces, [True, True, False], region, 1.0)
+        on_hole = np.flatnonzero(mesh.boundary_tags.values == 2)
+        assert len(on_hole) == 1
+        if straightened:
+            with pytest.warns(UserWarning, match="1 boundary edge.* left straight"):
+                q = mesh.quadratic()
+            assert q.straightened.tolist() == on_hole.tolist()
+            np.testing.assert_allclose(q.points[q.boundary_lines[on_hole[0], 2]], (a + b) / 2)
+        else:                                   # room for the arc: curved, and valid
+            q = mesh.quadratic()
+            node = q.points[q.boundary_lines[on_hole[0], 2]]
+            assert len(q.straightened) == 0 and abs(np.linalg.norm(node) - 1) < 1e-12
+        assert len(q.inverted) == 0 and (q.min_jacobian > 0).all()
+
+
 def test_quadratic_check_reports_an_inverted_triangle(plate):
     import dataclasses
     from pds_plugin.quadratic import _min_jacobian
@@ -298,3 +325,22 @@ def test_curve_pieces_locate_points_and_halve_arc_length():
         found, _, distance = curves.locate(nudged)
         assert (found == piece).all() and (distance <= 1e-4 + 1e-12).all()
         assert np.linalg.norm(curves.point(found, curves.locate(on)[1]) - on, axis=1).max() < 1e-9
+
+
+def test_a_real_drawing_goes_out_quadratic_with_its_elements_named():
+    from conftest import shared_file
+    with pytest.warns(UserWarning, match="stroke end"):        # two open strokes in it
+        region = pds.load_svg(shared_file("MIL.svg"))
+    mesh = pds.mesh_region(region, 30.0)
+    with pytest.warns(UserWarning, match="left straight"):     # corners under 30° unsampled
+        q = mesh.quadratic()
+    assert len(q.inverted) == 0 and 0 < len(q.straightened) <= 0.01 * len(q.boundary_lines)
+    curved = np.delete(q.boundary_lines, q.straightened, axis=0)
+    nodes = q.points[np.unique(curved)]
+    _, _, distance = region.curves.locate(nodes)
+    assert distance.max() < 1e-9 * np.ptp(nodes, axis=0).max()       # on the true curves
+    straight = q.boundary_lines[q.straightened]
+    np.testing.assert_allclose(q.points[straight[:, 2]], q.points[straight[:, :2]].mean(axis=1))
+    sources = boundary_tags(mesh, by="source")
+    assert (sources.values > 0).all() and set(sources.names) == set(region.curves.labels)
+    assert (mesh.boundary_tags.values > 0).all()

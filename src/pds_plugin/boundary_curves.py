@@ -113,11 +113,44 @@ class BoundaryCurves:
         """
         piece = np.asarray(piece, dtype=np.int64)
         t0, t1 = np.asarray(t0, dtype=float), np.asarray(t1, dtype=float)
-        half = 0.5 * self._length(piece, t0, t1)
-        t = 0.5 * (t0 + t1)
+        return self.at_length(piece, t0, t1, 0.5 * self.length(piece, t0, t1))
+
+    def length(self, piece, t0, t1) -> np.ndarray:
+        """The arc length of each piece between parameters ``t0`` and ``t1``.
+
+        Parameters
+        ----------
+        piece, t0, t1 : (n,) array_like
+
+        Returns
+        -------
+        (n,) float ndarray
+            Non-negative, whichever way round ``t0`` and ``t1`` are.
+        """
+        piece = np.asarray(piece, dtype=np.int64)
+        return np.abs(self._length(piece, np.asarray(t0, float), np.asarray(t1, float)))
+
+    def at_length(self, piece, t0, t1, length) -> np.ndarray:
+        """The parameter ``length`` along each piece from ``t0`` towards ``t1``.
+
+        Parameters
+        ----------
+        piece, t0, t1, length : (n,) array_like
+
+        Returns
+        -------
+        (n,) float ndarray
+            Between ``t0`` and ``t1``.
+        """
+        piece = np.asarray(piece, dtype=np.int64)
+        t0, t1 = np.asarray(t0, dtype=float), np.asarray(t1, dtype=float)
+        target = np.asarray(length, dtype=float) * np.sign(t1 - t0)
+        total = self._length(piece, t0, t1)
+        t = t0 + (t1 - t0) * np.divide(target, total, out=np.full(len(t0), 0.5),
+                                       where=total != 0)
         for _ in range(_NEWTON_STEPS):
             speed = np.linalg.norm(self._derivatives(piece, t, 1), axis=1)
-            step = (self._length(piece, t0, t) - half) / np.where(speed > 0, speed, 1.0)
+            step = (self._length(piece, t0, t) - target) / np.where(speed > 0, speed, 1.0)
             t = np.clip(t - step, np.minimum(t0, t1), np.maximum(t0, t1))
         return t
 
@@ -141,9 +174,21 @@ class BoundaryCurves:
         points = np.asarray(points, dtype=float).reshape(-1, 2)
         if not len(points):
             return np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0)
-        if piece is None:
-            piece = self._tree.query_nearest(shapely.points(points), all_matches=False)[1]
-        piece = np.asarray(piece, dtype=np.int64)
+        if piece is not None:
+            return self._project(points, np.asarray(piece, dtype=np.int64))
+        # the polylines stray from their curves by up to _sagitta: every piece whose
+        # polyline is that much nearer than the nearest one's is a candidate
+        shapes = shapely.points(points)
+        distance = self._tree.query_nearest(shapes, all_matches=False, return_distance=True)[1]
+        point, candidate = self._tree.query(shapes, predicate="dwithin",
+                                            distance=distance + 2 * self._sagitta)
+        _, t, gap = self._project(points[point], candidate)
+        best = np.lexsort((candidate, gap, point))        # nearest first, ties by index
+        first = best[np.r_[True, point[best][1:] != point[best][:-1]]]
+        return candidate[first], t[first], gap[first]
+
+    def _project(self, points, piece):
+        """The nearest point of the given piece to each point: piece, t, distance."""
         polyline = self._polylines[piece]
         along = shapely.line_locate_point(polyline, shapely.points(points), normalized=True)
         t = self._parameter_of(piece, along)
@@ -225,6 +270,23 @@ class BoundaryCurves:
     def _tree(self):
         self._polylines
         return self.__dict__["_tree_cache"]
+
+    @property
+    def _sagitta(self) -> float:
+        """The farthest any piece strays from its polyline (measured at the middles of
+        the polyline's segments, with a margin of a half)."""
+        cached = self.__dict__.get("_sagitta_cache")
+        if cached is None:
+            count = len(self)
+            grid = self._parameters
+            middle = np.tile(0.5 * (grid[1:] + grid[:-1]), count)
+            piece = np.repeat(np.arange(count), len(grid) - 1)
+            chords = shapely.get_coordinates(self._polylines).reshape(count, -1, 2)
+            chord_middle = (0.5 * (chords[:, 1:] + chords[:, :-1])).reshape(-1, 2)
+            cached = 1.5 * float(np.linalg.norm(self._derivatives(piece, middle, 0)
+                                                - chord_middle, axis=1).max())
+            object.__setattr__(self, "_sagitta_cache", cached)
+        return cached
 
     def _parameter_of(self, piece, along) -> np.ndarray:
         """The parameter at a fraction ``along`` of each piece's polyline length."""

@@ -9,11 +9,17 @@ tolerance, reported as :attr:`QuadraticMesh.moved`), so every boundary node of t
 quadratic mesh is on the true boundary. Without curves the region is its polygon and the
 boundary mid nodes are the edges' midpoints, exactly on it.
 
+An edge that crosses from one piece to the next (past a corner or a junction that is
+not a sample) gets its node halfway along the path through their common end.
+
 The curved triangles are checked: the Jacobian of each triangle's quadratic map is a
 quadratic polynomial, whose exact minimum over the triangle is
 :attr:`QuadraticMesh.min_jacobian` (relative to the straight triangle's, so 1 for a
-straight one); a triangle where it is not positive is inverted, listed in
-:attr:`QuadraticMesh.inverted` and reported in a warning.
+straight one). Where a boundary node on the curve would make it non-positive (the curve
+turns too much between the edge's ends for the triangle), that edge is left straight,
+listed in :attr:`QuadraticMesh.straightened` and reported in a warning; a triangle still
+inverted (by its vertices' moves onto the curves) is listed in
+:attr:`QuadraticMesh.inverted` and reported too.
 """
 
 from __future__ import annotations
@@ -23,6 +29,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+import shapely
 
 from ._checks import check_has_triangles
 
@@ -54,6 +61,11 @@ class QuadraticMesh:
         straight triangle's (1 for a triangle left straight).
     moved : float
         The farthest a boundary vertex was moved onto its curve.
+    straightened : (S,) int64 ndarray
+        The boundary edges (indices into ``mesh.boundary_edges``) left straight, their
+        mid node at the chord's midpoint, because on the curve it would invert their
+        triangle (the curve turns too much between the edge's ends: a corner that is not
+        a sample, or a curve too tight for alpha).
 
     Examples
     --------
@@ -73,6 +85,7 @@ class QuadraticMesh:
     boundary_lines: np.ndarray
     min_jacobian: np.ndarray
     moved: float
+    straightened: np.ndarray
 
     @property
     def inverted(self) -> np.ndarray:
@@ -86,7 +99,8 @@ class QuadraticMesh:
 
     def __repr__(self) -> str:
         return (f"QuadraticMesh(points={len(self.points)}, triangles={len(self.triangles)}, "
-                f"inverted={len(self.inverted)}, min_jacobian={self.min_jacobian.min():.3g})")
+                f"inverted={len(self.inverted)}, straightened={len(self.straightened)}, "
+                f"min_jacobian={self.min_jacobian.min():.3g})")
 
 
 def quadratic(mesh) -> QuadraticMesh:
@@ -108,8 +122,8 @@ def quadratic(mesh) -> QuadraticMesh:
     Warns
     -----
     UserWarning
-        If a curved triangle is inverted (its Jacobian not positive somewhere), with how
-        many and where the first is.
+        If boundary edges are left straight, or a triangle is inverted (its Jacobian not
+        positive somewhere), with how many and where the first is.
 
     Examples
     --------
@@ -122,42 +136,63 @@ def quadratic(mesh) -> QuadraticMesh:
     """
     check_has_triangles(mesh, "for quadratic triangles")
     points = np.array(mesh.vertices, dtype=float)
-    edges, boundary = mesh.edges, mesh.boundary_edges
+    edges, boundary, faces = mesh.edges, mesh.boundary_edges, mesh.faces
     curves = mesh.region.curves
-    moved = 0.0
-    curved = np.zeros(0, dtype=np.int64)
-    if curves is not None and len(boundary):
-        on_curve = boundary[mesh.on_boundary[boundary].all(axis=1)]
-        moved = _snap(points, np.unique(on_curve), curves)
-        curved = _edge_index(edges, on_curve, len(points))
-    middle = points[edges].mean(axis=1)
-    if len(curved):
-        middle[curved] = _curve_midpoints(points, edges[curved], curves)
     count = len(points)
-    faces = mesh.faces
+    moved = 0.0
+    curved = np.zeros(0, dtype=np.int64)                 # boundary edges given curve nodes
+    if curves is not None and len(boundary):
+        ring = mesh.boundary_tags.values - 1           # -1: not on a ring of the region
+        curved = np.flatnonzero(ring >= 0)
+        moved = _snap(points, np.unique(boundary[curved]), curves)
+    middle = points[edges].mean(axis=1)
+    chord_middle = middle.copy()
+    boundary_edge = _edge_index(edges, boundary, count)
+    if len(curved):
+        middle[boundary_edge[curved]] = _curve_midpoints(
+            points, boundary[curved], curves, mesh.vertices, ring[curved], mesh.region.rings)
     sides = np.stack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]], axis=1)
     side_index = _edge_index(edges, sides.reshape(-1, 2), count).reshape(-1, 3)
     triangles = np.hstack([faces, count + side_index])
-    boundary_lines = np.column_stack([boundary, count + _edge_index(edges, boundary, count)])
-    points = np.vstack([points, middle])
+    boundary_lines = np.column_stack([boundary, count + boundary_edge])
     # a triangle without boundary vertices keeps straight sides and its corners: det J is
     # its own, ratio 1; the others are measured
     min_jacobian = np.ones(len(faces))
     measured = np.flatnonzero(mesh.on_boundary[faces].any(axis=1))
     corners = mesh.vertices[faces[measured]]
-    straight = ((corners[:, 1, 0] - corners[:, 0, 0]) * (corners[:, 2, 1] - corners[:, 0, 1])
-                - (corners[:, 1, 1] - corners[:, 0, 1]) * (corners[:, 2, 0] - corners[:, 0, 0]))
-    min_jacobian[measured] = _min_jacobian(points[triangles[measured]]) / np.abs(straight)
-    for array in (points, triangles, boundary_lines, min_jacobian):
+    straight = np.abs((corners[:, 1, 0] - corners[:, 0, 0]) * (corners[:, 2, 1] - corners[:, 0, 1])
+                      - (corners[:, 1, 1] - corners[:, 0, 1]) * (corners[:, 2, 0] - corners[:, 0, 0]))
+    nodes = np.vstack([points, middle])
+    min_jacobian[measured] = _min_jacobian(nodes[triangles[measured]]) / straight
+    # where a curved node inverts its triangle, the edge stays straight
+    bad = ~(min_jacobian > 0)
+    straightened = np.flatnonzero(np.isin(boundary_edge[curved], side_index[bad].ravel()))
+    straightened = curved[straightened]
+    if len(straightened):
+        middle[boundary_edge[straightened]] = chord_middle[boundary_edge[straightened]]
+        nodes = np.vstack([points, middle])
+        again = measured[bad[measured]]
+        min_jacobian[again] = (_min_jacobian(nodes[triangles[again]])
+                               / straight[np.searchsorted(measured, again)])
+    for array in (nodes, triangles, boundary_lines, min_jacobian, straightened):
         array.setflags(write=False)
-    result = QuadraticMesh(mesh, points, triangles, boundary_lines, min_jacobian, moved)
-    bad = result.inverted
-    if len(bad):
-        x, y = points[triangles[bad[0], :3]].mean(axis=0)
-        warnings.warn(f"{len(bad)} curved triangle(s) of the quadratic mesh are inverted "
+    result = QuadraticMesh(mesh, nodes, triangles, boundary_lines, min_jacobian, moved,
+                           straightened)
+    if len(straightened):
+        x, y = mesh.vertices[boundary[straightened[0]]].mean(axis=0)
+        warnings.warn(f"{len(straightened)} boundary edge(s) of the quadratic mesh are left "
+                      f"straight, the first near ({x:.6g}, {y:.6g}): on the curve their mid "
+                      f"node would invert a triangle (a corner that is not a sample, or a "
+                      f"curve too tight for alpha {mesh.alpha:.6g}); mesh with a smaller alpha "
+                      f"or graded=True there", UserWarning, stacklevel=2)
+    inverted = result.inverted
+    if len(inverted):
+        x, y = nodes[triangles[inverted[0], :3]].mean(axis=0)
+        warnings.warn(f"{len(inverted)} triangle(s) of the quadratic mesh are inverted "
                       f"(Jacobian not positive somewhere), the first near ({x:.6g}, {y:.6g}): "
-                      f"the boundary curves too sharply for alpha {mesh.alpha:.6g} there; "
-                      f"mesh with a smaller alpha or graded=True", UserWarning, stacklevel=2)
+                      f"their boundary vertices moved onto the curves too far for alpha "
+                      f"{mesh.alpha:.6g}; mesh with a smaller alpha or graded=True",
+                      UserWarning, stacklevel=2)
     return result
 
 
@@ -171,26 +206,69 @@ def _snap(points, vertices, curves) -> float:
     return float(distance[near].max(initial=0.0))
 
 
-def _curve_midpoints(points, edges, curves) -> np.ndarray:
-    """Mid nodes of boundary edges on their curve piece, halfway in arc length.
+def _curve_midpoints(points, edges, curves, vertices, ring, rings) -> np.ndarray:
+    """Mid nodes of boundary edges (directed, on ring ``ring`` each) on the true curves,
+    halfway in arc length between their ends.
 
-    The piece is the one nearest the edge's midpoint; an edge whose ends are not both
-    on that piece (it crosses from one piece to the next) gets the point of the piece
-    nearest its midpoint, or that midpoint itself if no piece is near.
+    An edge whose ends are both on the piece nearest its midpoint takes its mid node on
+    that piece. An edge that crosses from one piece to the next (a junction or a corner
+    that is not a sample) takes it on the path through their common end. Any other
+    (across several pieces) takes the point halfway along its ring's polygon between
+    its ends (``vertices``, on the rings), moved onto the nearest curve when one is
+    within the tolerance.
     """
-    chord_middle = points[edges].mean(axis=1)
-    piece, t_middle, gap = curves.locate(chord_middle)
-    _, t0, d0 = curves.locate(points[edges[:, 0]], piece)
-    _, t1, d1 = curves.locate(points[edges[:, 1]], piece)
-    within = np.maximum(d0, d1) <= 2 * curves.tolerance
-    t = np.where(within, curves.arc_midpoint(piece, t0, t1), t_middle)
-    middle = curves.point(piece, t)
-    # no piece under the edge (the boundary there was not drawn by the kept curves):
-    # the chord's midpoint, rather than a point of a curve far from it
-    length = np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1)
-    lost = ~within & (gap > 0.25 * length)
-    middle[lost] = chord_middle[lost]
+    tolerance = 2 * curves.tolerance
+    a, b = points[edges[:, 0]], points[edges[:, 1]]
+    piece = curves.locate(0.5 * (a + b))[0]
+    _, t0, d0 = curves.locate(a, piece)
+    _, t1, d1 = curves.locate(b, piece)
+    within = np.maximum(d0, d1) <= tolerance
+    middle = curves.point(piece, curves.arc_midpoint(piece, t0, t1))
+    across = np.flatnonzero(~within)
+    if not len(across):
+        return middle
+    # two pieces: from a along its piece to the end nearer b, then on b's piece
+    first, ta, da = curves.locate(a[across])
+    second, tb, db = curves.locate(b[across])
+    end_a = np.where(np.linalg.norm(curves.point(first, np.ones(len(across))) - b[across],
+                                    axis=1)
+                     < np.linalg.norm(curves.point(first, np.zeros(len(across))) - b[across],
+                                      axis=1), 1.0, 0.0)
+    end_b = np.where(np.linalg.norm(curves.point(second, np.ones(len(across))) - a[across],
+                                    axis=1)
+                     < np.linalg.norm(curves.point(second, np.zeros(len(across))) - a[across],
+                                      axis=1), 1.0, 0.0)
+    meet = np.linalg.norm(curves.point(first, end_a) - curves.point(second, end_b), axis=1)
+    joined = (meet <= tolerance) & (np.maximum(da, db) <= tolerance) & (first != second)
+    before = curves.length(first, ta, end_a)
+    half = 0.5 * (before + curves.length(second, end_b, tb))
+    on_first = half <= before
+    result = np.where(on_first[:, None],
+                      curves.point(first, curves.at_length(first, ta, end_a, half)),
+                      curves.point(second, curves.at_length(second, end_b, tb, half - before)))
+    rest = np.flatnonzero(~joined)
+    if len(rest):
+        halfway = _halfway_along_rings(vertices, edges[across[rest]], ring[across[rest]], rings)
+        near, t, distance = curves.locate(halfway)
+        result[rest] = np.where((distance <= tolerance)[:, None], curves.point(near, t),
+                                halfway)
+    middle[across] = result
     return middle
+
+
+def _halfway_along_rings(vertices, edges, ring, rings) -> np.ndarray:
+    """The point of each edge's ring halfway along it from the edge's start to its end
+    (rings and boundary edges both run with the region on their left)."""
+    out = np.empty((len(edges), 2))
+    for k in np.unique(ring):
+        mine = np.flatnonzero(ring == k)
+        loop = shapely.LinearRing(rings[k])
+        start = shapely.line_locate_point(loop, shapely.points(vertices[edges[mine, 0]]))
+        end = shapely.line_locate_point(loop, shapely.points(vertices[edges[mine, 1]]))
+        along = start + 0.5 * np.mod(end - start, loop.length)
+        out[mine] = shapely.get_coordinates(shapely.line_interpolate_point(
+            loop, np.mod(along, loop.length)))
+    return out
 
 
 def _edge_index(edges, pairs, count) -> np.ndarray:
