@@ -20,7 +20,6 @@ import numpy as np
 import shapely
 
 from ._checks import check_positive
-from .errors import ArgumentError
 
 __all__ = ["BoundaryCurves", "curves_builder"]
 
@@ -400,10 +399,3 @@ def curves_builder(tolerance) -> _Builder:
     ('hump',)
     """
     return _Builder(tolerance)
-
-
-def require_curves(curves) -> BoundaryCurves | None:
-    """``curves`` if it is None or :class:`BoundaryCurves`, else a clear error."""
-    if curves is not None and not isinstance(curves, BoundaryCurves):
-        raise ArgumentError(f"curves must be BoundaryCurves or None, got {type(curves).__name__}")
-    return curves
