@@ -4,8 +4,8 @@ Every import in src/pds_plugin is read with ast, function-level ones included (o
 ``if TYPE_CHECKING:`` blocks, which never run, are left out), and checked against the
 layers of the README's Layout section:
 
-    kernels, errors, checks -> region -> sampling, complex, sizing
-    -> graded sampling and complex -> mesh -> analysis
+    kernels, errors, checks -> region, boundary curves -> sampling, complex, sizing
+    -> graded sampling and complex -> mesh -> analysis, tags, quadratic
     -> pipeline -> sources, sinks -> workflows, batch -> cli -> the package's lazy names
 """
 
@@ -26,11 +26,11 @@ LAYERS = [
     (0, "pds_plugin._version"),
     (1, "pds_plugin.errors"), (1, "pds_plugin.silence"), (1, "pds_plugin._atomic"),
     (2, "pds_plugin._checks"),
-    (3, "pds_plugin.region"),
+    (3, "pds_plugin.region"), (3, "pds_plugin.boundary_curves"),
     (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"), (4, "pds_plugin.sizing"),
     (5, "pds_plugin.graded_sampling"), (5, "pds_plugin.graded_complex"),
     (6, "pds_plugin.mesh"),
-    (7, "pds_plugin.analysis"),
+    (7, "pds_plugin.analysis"), (7, "pds_plugin.tags"), (7, "pds_plugin.quadratic"),
     (8, "pds_plugin.pipeline"),
     (9, "pds_plugin.sources"), (9, "pds_plugin.sinks"),
     (10, "pds_plugin.workflows"), (10, "pds_plugin.batch"),
@@ -50,6 +50,9 @@ SHORTCUTS = {
     ("pds_plugin.mesh", "pds_plugin.analysis.graded_certificate"),
     ("pds_plugin.mesh", "pds_plugin.sinks.files"),
     ("pds_plugin.mesh", "pds_plugin.sinks.meshlab"),
+    ("pds_plugin.mesh", "pds_plugin.tags"),             # region_tags, boundary_tags
+    ("pds_plugin.mesh", "pds_plugin.quadratic"),        # quadratic()
+    ("pds_plugin.mesh", "pds_plugin.sinks.fem"),        # to_meshio(), to_skfem()
 }
 
 

@@ -120,7 +120,7 @@ def test_registered_writer_is_used_by_suffix(mesh, tmp_path, monkeypatch):
     def write_xyz(mesh, path):
         np.savetxt(path, mesh.vertices_3d)
 
-    assert writers() == [".3mf", ".glb", ".obj", ".off", ".ply", ".stl", ".xyz"]
+    assert ".xyz" in writers() and writers() == sorted(writers())
     export(mesh, tmp_path / "plate.xyz")
     np.testing.assert_allclose(np.loadtxt(tmp_path / "plate.xyz"), mesh.vertices_3d, rtol=1e-15)
     with pytest.raises(ValueError, match="starts with a dot"):

@@ -24,8 +24,13 @@ from .errors import ArgumentError
 from .region import Region, lift, require_region
 
 if TYPE_CHECKING:
+    import meshio
     import pymeshlab
+    import skfem
     import trimesh
+
+    from .quadratic import QuadraticMesh
+    from .tags import Tags
 
     from .analysis.certificate import Certificate
     from .analysis.quality import Quality
@@ -241,13 +246,14 @@ class PlanarMesh:
         return to_meshset(self)
 
     def export(self, path) -> None:
-        """Write the mesh in 3D: binary PLY with per-face quality, or OBJ, by suffix (see
+        """Write the mesh by suffix: in 3D as binary PLY with per-face quality, or OBJ; in
+        2D with its tags through meshio (``.msh``, ``.vtu``, ``.xdmf``, ``.inp``...) (see
         :func:`pds_plugin.sinks.files.export`).
 
         Parameters
         ----------
         path : str or os.PathLike
-            Ends in a registered suffix (``.ply``, ``.obj``).
+            Ends in a registered suffix (``.ply``, ``.obj``, ``.msh``...).
 
         Examples
         --------
@@ -261,6 +267,59 @@ class PlanarMesh:
         """
         from .sinks.files import export
         export(self, path)
+
+    # --- finite elements (docs/fem.md) ----------------------------------------------
+
+    @cached_property
+    def region_tags(self) -> Tags:
+        """The region component of each triangle, named (see :mod:`pds_plugin.tags`)."""
+        from .tags import region_tags
+        return region_tags(self)
+
+    @cached_property
+    def boundary_tags(self) -> Tags:
+        """The ring of each of :attr:`boundary_edges`, named ``"outline c"`` or
+        ``"hole c.h"``; 0 for none (see :mod:`pds_plugin.tags`)."""
+        from .tags import boundary_tags
+        return boundary_tags(self)
+
+    def quadratic(self) -> QuadraticMesh:
+        """The 6-node triangles of this mesh, boundary nodes on the true curves, with each
+        curved triangle's Jacobian checked (see :func:`pds_plugin.quadratic.quadratic`).
+        Computed once.
+
+        Returns
+        -------
+        QuadraticMesh
+        """
+        return self._quadratic
+
+    @cached_property
+    def _quadratic(self) -> QuadraticMesh:
+        from .quadratic import quadratic
+        return quadratic(self)
+
+    def to_meshio(self, order: int = 1, boundary: str = "ring") -> meshio.Mesh:
+        """A tagged ``meshio.Mesh``, linear or quadratic (see
+        :func:`pds_plugin.sinks.fem.to_meshio`; needs the ``fem`` extra).
+
+        Returns
+        -------
+        meshio.Mesh
+        """
+        from .sinks.fem import to_meshio
+        return to_meshio(self, order, boundary)
+
+    def to_skfem(self, order: int = 1, boundary: str = "ring") -> skfem.Mesh:
+        """A scikit-fem ``MeshTri`` (or ``MeshTri2``) with named boundaries and subdomains
+        (see :func:`pds_plugin.sinks.fem.to_skfem`; needs the ``fem`` extra).
+
+        Returns
+        -------
+        skfem.MeshTri1 or skfem.MeshTri2
+        """
+        from .sinks.fem import to_skfem
+        return to_skfem(self, order, boundary)
 
     def __repr__(self) -> str:
         return (f"PlanarMesh(vertices={len(self.vertices)}, faces={len(self.faces)}, "

@@ -35,6 +35,9 @@ class Region:
         is known only up to it (0: exact, every input vertex is kept).
     source : shapely.MultiPolygon
         The validated input before the tolerance pass (``geometry`` itself at tolerance 0).
+    curves : BoundaryCurves or None
+        The exact curves the boundary was flattened from, with the drawing element of
+        each, when a drawing reader kept them (:mod:`pds_plugin.boundary_curves`).
 
     Examples
     --------
@@ -45,16 +48,17 @@ class Region:
     """
 
     def __init__(self, geometry: MultiPolygon, frame: np.ndarray, tolerance: float = 0.0,
-                 source: MultiPolygon | None = None):
+                 source: MultiPolygon | None = None, curves=None):
         self.geometry = geometry
         self.frame = np.array(frame, dtype=float)      # a copy: the caller's stays writable
         self.frame.setflags(write=False)
         self.tolerance = float(tolerance)
         self.source = geometry if source is None else source
+        self.curves = curves
 
     @classmethod
     def from_shapely(cls, geometry, frame=None, *, repair: bool = False,
-                     tolerance: float = 0.0) -> "Region":
+                     tolerance: float = 0.0, curves=None) -> "Region":
         """Validate a shapely Polygon or MultiPolygon and make a Region of it.
 
         With a ``tolerance`` τ > 0 the boundary is simplified within τ, keeping its
@@ -79,6 +83,8 @@ class Region:
         tolerance : float
             Absolute; 0 (the default) keeps every vertex: shapely input is taken as
             exact. :func:`pds_plugin.section` derives one from the mesh file.
+        curves : BoundaryCurves, optional
+            The exact curves the geometry was flattened from (the drawing readers').
 
         Returns
         -------
@@ -135,7 +141,7 @@ class Region:
         opened, step = _pinches_opened(geometry, tolerance)
         tolerance = max(tolerance, step)
         region = cls(_within_tolerance(opened, tolerance - step), _checked_frame(frame),
-                     tolerance, geometry)
+                     tolerance, geometry, curves)
         region._pinch_step = step
         return region
 

@@ -18,6 +18,7 @@ import numpy as np
 from .._atomic import atomic_path
 from .._checks import check_has_triangles, check_output_directory, check_path
 from ..errors import ArgumentError
+from .fem import MESHIO_SUFFIXES
 
 if TYPE_CHECKING:
     import trimesh
@@ -52,8 +53,8 @@ def register_writer(suffix: str):
     >>> @register_writer(".xyz")
     ... def write_xyz(mesh, path):
     ...     np.savetxt(path, mesh.vertices_3d)
-    >>> writers()
-    ['.3mf', '.glb', '.obj', '.off', '.ply', '.stl', '.xyz']
+    >>> ".xyz" in writers()
+    True
     >>> del _WRITERS[".xyz"]
     """
     suffix = suffix.lower()
@@ -122,6 +123,10 @@ def export(mesh: PlanarMesh, path) -> None:
     - ``.obj``: the geometry only (OBJ has no per-face scalars), 17 significant digits.
     - ``.stl``, ``.off``, ``.glb``, ``.3mf``: written by trimesh (:func:`to_trimesh`), in
       the precision of the format (STL and GLB store float32).
+    - ``.msh`` (gmsh 2.2), ``.vtu``, ``.xdmf``, ``.inp`` (Abaqus) and the other formats
+      of :data:`pds_plugin.sinks.fem.MESHIO_SUFFIXES`: in 2D with the region and
+      boundary tags, through meshio (the ``fem`` extra; see
+      :func:`pds_plugin.sinks.fem.write_meshio`).
 
     Every sample is written, including isolated ones (not in any triangle), so vertex
     ``i`` of the file is sample ``i`` of the mesh.
@@ -254,3 +259,16 @@ def _trimesh_writer(suffix: str) -> Callable:
 
 for _suffix in _TRIMESH_FORMATS:
     register_writer(_suffix)(_trimesh_writer(_suffix))
+
+
+def _meshio_writer(suffix: str) -> Callable:
+    def write(mesh, path) -> None:
+        from .fem import write_meshio
+        write_meshio(mesh, path, suffix)
+    write.__doc__ = (f"{suffix[1:].upper()} through meshio, 2D with tags (see "
+                     f":func:`pds_plugin.sinks.fem.write_meshio`).")
+    return write
+
+
+for _suffix in MESHIO_SUFFIXES:
+    register_writer(_suffix)(_meshio_writer(_suffix))

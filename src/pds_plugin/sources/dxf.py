@@ -27,6 +27,7 @@ import numpy as np
 import shapely
 
 from .._checks import check_positive
+from ..boundary_curves import curves_builder
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
@@ -174,6 +175,8 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
         geometry = shapely.union_all([fill_geometry(
             [_points(chain, tolerance) for chain in chains], "evenodd")
             for chains in hatch_loops])
+        drawn = [(layer, chain) for layer, chains in zip(drawing.hatch_layers, hatch_loops)
+                 for chain in chains]
         if geometry.is_empty and mode == "fill":
             raise RegionError(f"the hatches of {name} enclose no area: nothing to mesh (for "
                               f"an outline drawing use mode='outline')")
@@ -183,7 +186,8 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
                               f"layers read and its hatches enclose no area: nothing to mesh")
         geometry = outline([_points(chain, tolerance) for chain in curve_chains], tolerance,
                            name, kind="curve")
-    return Region.from_shapely(geometry)
+        drawn = list(zip(drawing.curve_layers, curve_chains))
+    return Region.from_shapely(geometry, curves=_curves(drawn, tolerance))
 
 
 # --- layouts: the model space and the paper-space sheets ---------------------------
@@ -232,11 +236,13 @@ def _first_drawn(document, **read):
 
 
 class _Drawing:
-    """What one layout gives: hatch boundaries and curve chains (in output units), the
-    tolerance, and what was left out, to be said in warnings."""
+    """What one layout gives: hatch boundaries and curve chains (in output units) with the
+    layer of each, the tolerance, and what was left out, to be said in warnings."""
 
     def __init__(self, space, hatches, curves, tolerance, ignored, sheet, unknown, drawn):
-        self.space, self.hatches, self.curves = space, hatches, curves
+        self.space = space
+        self.hatch_layers, self.hatches = (list(v) for v in zip(*hatches)) if hatches else ([], [])
+        self.curve_layers, self.curves = (list(v) for v in zip(*curves)) if curves else ([], [])
         self.tolerance, self.ignored, self.sheet = tolerance, ignored, sheet
         self.unknown, self.drawn = unknown, drawn     # layers asked for; layers drawn on
 
@@ -287,8 +293,12 @@ def _drawing(document, space, *, name, layers, scale, tolerance, limits) -> _Dra
         sheet += [f"{count} entities of {reason}" for reason, count in sorted(named.items())]
     entities, ignored, unknown = _selected(placed, layers, document)
     drawn = sorted({layer.lower() for entity, layer, _ in placed if _is_drawn(entity)})
+    layer_of = {id(entity): layer for entity, layer, _ in placed}
+    hatch_layers = [layer_of[id(entity)] for entity in entities if entity.dxftype() == "HATCH"]
     hatches = [[_chain(boundary, entity, scale) for boundary in _hatch_paths(entity)]
                for entity in entities if entity.dxftype() == "HATCH"]
+    curve_layers = [layer_of[id(entity)] for entity in entities
+                    if entity.dxftype() in CURVES for _ in _curve_pieces(entity)]
     curves = [_chain(pieces, entity, scale) for entity in entities
               if entity.dxftype() in CURVES for pieces in _curve_pieces(entity)]
     chosen = tolerance or _default_tolerance(hatches, curves)
@@ -301,13 +311,16 @@ def _drawing(document, space, *, name, layers, scale, tolerance, limits) -> _Dra
         if border.any():
             sheet.append(f"the sheet border ({size[0]:.6g} x {size[1]:.6g}) and what is "
                          f"drawn against it, {int(border.sum())} curves")
+            curve_layers = [layer for layer, dropped in zip(curve_layers, border) if not dropped]
             curves = [chain for chain, dropped in zip(curves, border) if not dropped]
             logos = [_within(chains, cells, chosen) for chains in hatches]
             if any(logos):
                 sheet.append(f"{sum(logos)} HATCH in its title block")
+                hatch_layers = [layer for layer, logo in zip(hatch_layers, logos) if not logo]
                 hatches = [chains for chains, logo in zip(hatches, logos) if not logo]
             chosen = tolerance or _default_tolerance(hatches, curves)
-    return _Drawing(where, hatches, curves, chosen, ignored, sheet, unknown, drawn)
+    return _Drawing(where, list(zip(hatch_layers, hatches)), list(zip(curve_layers, curves)),
+                    chosen, ignored, sheet, unknown, drawn)
 
 
 def _within(chains, area, tolerance) -> bool:
@@ -642,6 +655,23 @@ def _hatch_paths(hatch) -> list:
                 pieces.extend(_spline(edge.construction_tool()))
         paths.append(pieces)
     return paths
+
+
+def _curves(drawn, tolerance):
+    """The exact pieces of the chains drawn, each labelled with its entity's layer;
+    splines beyond cubics and rational ones as their polylines within ``tolerance``."""
+    build = curves_builder(tolerance)
+    for layer, chain in drawn:
+        for piece in chain:
+            if isinstance(piece, _Elliptic):
+                build.arc(piece.center, piece.radii, piece.start, piece.sweep, layer)
+            elif isinstance(piece, _Bezier) and len(piece.control) == 4:
+                build.cubic(piece.control, layer)
+            elif isinstance(piece, _Bezier) and len(piece.control) == 3:
+                build.quadratic(piece.control, layer)
+            else:
+                build.polyline(piece.flatten(tolerance), layer)
+    return build.done()
 
 
 def _points(chain, tolerance) -> np.ndarray:

@@ -14,6 +14,7 @@ import numpy as np
 import shapely
 
 from .._checks import check_positive
+from ..boundary_curves import curves_builder
 from ..errors import ArgumentError, RegionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
@@ -112,16 +113,18 @@ def load_svg(path, tolerance=None, units=None, mode: str = "auto", *,
     tolerance = _tolerance(tolerance, paths, matrix)
     step = tolerance / np.linalg.norm(matrix[:, :2], 2)  # the tolerance in svgelements units
     geometry = shapely.Polygon()
+    drawn = list(enumerate(zip(shapes, paths)))
     if mode != "outline":
-        geometry = _fill([(shape, path) for shape, path in zip(shapes, paths)
-                          if _is_filled(shape)], matrix, step)
+        drawn = [(index, pair) for index, pair in drawn if _is_filled(pair[0])]
+        geometry = _fill([pair for _, pair in drawn], matrix, step)
         if geometry.is_empty and mode == "fill":
             raise RegionError(f"the filled shapes of {name} enclose no area: nothing to mesh "
                              f"(for an outline drawing use mode='outline')")
     if geometry.is_empty:
+        drawn = list(enumerate(zip(shapes, paths)))
         chains = [_apply(matrix, points) for path in paths for points in _flatten(path, step)]
         geometry = outline(chains, tolerance, name, kind="stroke")
-    return Region.from_shapely(geometry)
+    return Region.from_shapely(geometry, curves=_curves(drawn, matrix, tolerance))
 
 
 def _parse(path, max_bytes, max_elements, max_segments):
@@ -272,6 +275,34 @@ def _points(segment, step) -> np.ndarray:
     else:  # Line, Close: straight
         return np.asarray([segment.end], dtype=float)
     return np.asarray(segment.npoint(steps(bound, step)), dtype=float)
+
+
+def _curves(drawn, matrix, tolerance):
+    """The exact pieces of the shapes drawn, in output coordinates, each labelled with its
+    element's id (else its tag and number among the visible shapes)."""
+    import svgelements
+
+    build = curves_builder(tolerance)
+    linear = matrix[:, :2]
+    for index, (shape, path) in drawn:
+        label = shape.id or f"{type(shape).__name__.lower()} {index}"
+        for segment in path:
+            if isinstance(segment, svgelements.Move) or segment.start is None:
+                continue
+            start, end = _apply(matrix, [segment.start, segment.end])
+            frame = _arc_frame(segment) if isinstance(segment, svgelements.Arc) else None
+            if frame is not None:
+                center, radii, theta, sweep = frame
+                build.arc(_apply(matrix, [center])[0], linear @ radii, theta, sweep, label)
+            elif isinstance(segment, svgelements.QuadraticBezier):
+                build.quadratic(_apply(matrix, [segment.start, segment.control, segment.end]),
+                                label)
+            elif isinstance(segment, svgelements.CubicBezier):
+                build.cubic(_apply(matrix, [segment.start, segment.control1, segment.control2,
+                                            segment.end]), label)
+            else:
+                build.line(start, end, label)
+    return build.done()
 
 
 def _arc_points(arc, step) -> np.ndarray:

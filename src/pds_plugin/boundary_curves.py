@@ -1,0 +1,401 @@
+"""The exact curves a region's boundary was flattened from, and where they came from.
+
+A drawing reader flattens every arc, ellipse and Bézier into chords within its tolerance
+(:mod:`pds_plugin.sources.curves`), so :class:`~pds_plugin.Region` itself is polygonal.
+The reader can keep the curves beside it as :class:`BoundaryCurves`: every piece is
+either an *elliptic* arc ``c + u cos θ + v sin θ`` (any affine image of a circular or
+elliptic arc, in the form of :func:`~pds_plugin.sources.curves.elliptic_points`) or a
+*cubic* Bézier (lines and quadratic Béziers raised to cubics, exactly), each with the
+label of the drawing element it belongs to (the SVG element's id). A point of the
+polygonal boundary is then located on its piece (:meth:`BoundaryCurves.locate`), so the
+finite-element sinks can put nodes on the true curve (:mod:`pds_plugin.quadratic`) and
+name boundaries after the drawing (:mod:`pds_plugin.tags`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from ._checks import check_positive
+
+__all__ = ["BoundaryCurves", "curves_builder"]
+
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
+_NEWTON_STEPS = 8
+_PANELS = 4
+_POLYLINE_POINTS = 64
+"""Points per piece of the polyline that gives the first guess of a projection."""
+
+
+@dataclass(frozen=True, eq=False)
+class BoundaryCurves:
+    """Exact curve pieces of a region's boundary, with the drawing element of each.
+
+    Build it with :func:`curves_builder`. Pieces are evaluated on the parameter
+    ``t`` in [0, 1].
+
+    Attributes
+    ----------
+    elliptic : (P,) bool ndarray
+        True for an elliptic arc, False for a cubic Bézier.
+    control : (P, 4, 2) float ndarray
+        The Bézier control points (unused for arcs).
+    conic : (P, 8) float ndarray
+        The arcs' ``cx, cy, ux, uy, vx, vy, start, sweep`` (unused for Béziers).
+    source : (P,) int64 ndarray
+        Index of each piece's label in :attr:`labels`.
+    labels : tuple of str
+        The drawing elements' names (an SVG element's id, else its tag and number).
+    tolerance : float
+        The distance within which the region's boundary follows the curves (the reader's
+        flattening tolerance).
+
+    Examples
+    --------
+    >>> build = curves_builder(1e-3)
+    >>> build.arc((0, 0), [[1, 0], [0, 1]], 0.0, np.pi, "top")
+    >>> build.line((-1, 0), (1, 0), "base")
+    >>> curves = build.done()
+    >>> piece, t, distance = curves.locate([[0, 1.0001], [0.5, 0]])
+    >>> [curves.labels[s] for s in curves.source[piece]], np.round(t, 6).tolist()
+    (['top', 'base'], [0.5, 0.75])
+    >>> np.round(distance, 6).tolist()
+    [0.0001, 0.0]
+    """
+
+    elliptic: np.ndarray
+    control: np.ndarray
+    conic: np.ndarray
+    source: np.ndarray
+    labels: tuple
+    tolerance: float
+
+    def __len__(self) -> int:
+        return len(self.elliptic)
+
+    def point(self, piece, t) -> np.ndarray:
+        """Points of the pieces at parameters ``t`` (arrays of the same shape).
+
+        Parameters
+        ----------
+        piece : (n,) int array_like
+        t : (n,) float array_like
+
+        Returns
+        -------
+        (n, 2) float ndarray
+        """
+        return self._derivatives(piece, t, 0)
+
+    def arc_midpoint(self, piece, t0, t1) -> np.ndarray:
+        """The parameter halfway in arc length between ``t0`` and ``t1`` on each piece.
+
+        Parameters
+        ----------
+        piece, t0, t1 : (n,) array_like
+
+        Returns
+        -------
+        (n,) float ndarray
+
+        Examples
+        --------
+        >>> build = curves_builder(1e-3)
+        >>> build.cubic([(0, 0), (0, 0), (0, 0), (3, 0)], "ramp")   # slow start
+        >>> curves = build.done()
+        >>> t = curves.arc_midpoint([0], [0.0], [1.0])
+        >>> np.round(curves.point([0], t), 9).tolist()
+        [[1.5, 0.0]]
+        """
+        piece = np.asarray(piece, dtype=np.int64)
+        t0, t1 = np.asarray(t0, dtype=float), np.asarray(t1, dtype=float)
+        return self.at_length(piece, t0, t1, 0.5 * self.length(piece, t0, t1))
+
+    def length(self, piece, t0, t1) -> np.ndarray:
+        """The arc length of each piece between parameters ``t0`` and ``t1``.
+
+        Parameters
+        ----------
+        piece, t0, t1 : (n,) array_like
+
+        Returns
+        -------
+        (n,) float ndarray
+            Non-negative, whichever way round ``t0`` and ``t1`` are.
+        """
+        piece = np.asarray(piece, dtype=np.int64)
+        return np.abs(self._length(piece, np.asarray(t0, float), np.asarray(t1, float)))
+
+    def at_length(self, piece, t0, t1, length) -> np.ndarray:
+        """The parameter ``length`` along each piece from ``t0`` towards ``t1``.
+
+        Parameters
+        ----------
+        piece, t0, t1, length : (n,) array_like
+
+        Returns
+        -------
+        (n,) float ndarray
+            Between ``t0`` and ``t1``.
+        """
+        piece = np.asarray(piece, dtype=np.int64)
+        t0, t1 = np.asarray(t0, dtype=float), np.asarray(t1, dtype=float)
+        target = np.asarray(length, dtype=float) * np.sign(t1 - t0)
+        total = self._length(piece, t0, t1)
+        t = t0 + (t1 - t0) * np.divide(target, total, out=np.full(len(t0), 0.5),
+                                       where=total != 0)
+        for _ in range(_NEWTON_STEPS):
+            speed = np.linalg.norm(self._derivatives(piece, t, 1), axis=1)
+            step = (self._length(piece, t0, t) - target) / np.where(speed > 0, speed, 1.0)
+            t = np.clip(t - step, np.minimum(t0, t1), np.maximum(t0, t1))
+        return t
+
+    def locate(self, points, piece=None):
+        """The piece nearest each point, the parameter of its nearest point there, and
+        the distance.
+
+        Parameters
+        ----------
+        points : (n, 2) array_like
+        piece : (n,) int array_like, optional
+            The piece to project each point onto, instead of the nearest one.
+
+        Returns
+        -------
+        piece : (n,) int64 ndarray
+        t : (n,) float ndarray
+            In [0, 1].
+        distance : (n,) float ndarray
+        """
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        if not len(points):
+            return np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0)
+        if piece is not None:
+            return self._project(points, np.asarray(piece, dtype=np.int64))
+        # the polylines stray from their curves by up to _sagitta: every piece whose
+        # polyline is that much nearer than the nearest one's is a candidate
+        shapes = shapely.points(points)
+        distance = self._tree.query_nearest(shapes, all_matches=False, return_distance=True)[1]
+        point, candidate = self._tree.query(shapes, predicate="dwithin",
+                                            distance=distance + 2 * self._sagitta)
+        _, t, gap = self._project(points[point], candidate)
+        best = np.lexsort((candidate, gap, point))        # nearest first, ties by index
+        first = best[np.r_[True, point[best][1:] != point[best][:-1]]]
+        return candidate[first], t[first], gap[first]
+
+    def _project(self, points, piece):
+        """The nearest point of the given piece to each point: piece, t, distance."""
+        polyline = self._polylines[piece]
+        along = shapely.line_locate_point(polyline, shapely.points(points), normalized=True)
+        t = self._parameter_of(piece, along)
+        for _ in range(_NEWTON_STEPS):
+            gap = self._derivatives(piece, t, 0) - points
+            first, second = self._derivatives(piece, t, 1), self._derivatives(piece, t, 2)
+            slope = (gap * first).sum(axis=1)
+            curvature = (first * first).sum(axis=1) + (gap * second).sum(axis=1)
+            step = np.where(curvature > 0, slope / np.where(curvature > 0, curvature, 1), 0)
+            t = np.clip(t - step, 0.0, 1.0)
+        distance = np.linalg.norm(self._derivatives(piece, t, 0) - points, axis=1)
+        return piece, t, distance
+
+    # --- evaluation ----------------------------------------------------------------
+
+    def _derivatives(self, piece, t, order: int) -> np.ndarray:
+        piece = np.asarray(piece, dtype=np.int64)
+        t = np.asarray(t, dtype=float)
+        out = np.empty((len(piece), 2))
+        arcs = self.elliptic[piece]
+        if arcs.any():
+            c = self.conic[piece[arcs]]
+            theta = c[:, 6] + c[:, 7] * t[arcs]
+            cos, sin = np.cos(theta), np.sin(theta)
+            if order == 0:
+                out[arcs] = c[:, :2] + cos[:, None] * c[:, 2:4] + sin[:, None] * c[:, 4:6]
+            elif order == 1:
+                out[arcs] = c[:, 7:8] * (-sin[:, None] * c[:, 2:4] + cos[:, None] * c[:, 4:6])
+            else:
+                out[arcs] = -c[:, 7:8] ** 2 * (cos[:, None] * c[:, 2:4] + sin[:, None] * c[:, 4:6])
+        cubic = ~arcs
+        if cubic.any():
+            p = self.control[piece[cubic]]
+            s = t[cubic][:, None]
+            if order == 0:
+                out[cubic] = ((1 - s) ** 3 * p[:, 0] + 3 * (1 - s) ** 2 * s * p[:, 1]
+                              + 3 * (1 - s) * s ** 2 * p[:, 2] + s ** 3 * p[:, 3])
+            elif order == 1:
+                out[cubic] = 3 * ((1 - s) ** 2 * (p[:, 1] - p[:, 0])
+                                  + 2 * (1 - s) * s * (p[:, 2] - p[:, 1])
+                                  + s ** 2 * (p[:, 3] - p[:, 2]))
+            else:
+                out[cubic] = 6 * ((1 - s) * (p[:, 2] - 2 * p[:, 1] + p[:, 0])
+                                  + s * (p[:, 3] - 2 * p[:, 2] + p[:, 1]))
+        return out
+
+    def _length(self, piece, t0, t1) -> np.ndarray:
+        """Arc length from ``t0`` to ``t1`` (Gauss-Legendre on ``_PANELS`` panels; the
+        pieces are smooth, but a Bézier's speed may nearly vanish)."""
+        total = np.zeros(len(piece))
+        width = (t1 - t0) / _PANELS
+        for panel in range(_PANELS):
+            middle, half = t0 + (panel + 0.5) * width, 0.5 * width
+            for node, weight in zip(_GAUSS_NODES, _GAUSS_WEIGHTS):
+                speed = np.linalg.norm(self._derivatives(piece, middle + half * node, 1), axis=1)
+                total += weight * speed * half
+        return total
+
+    # --- locating ------------------------------------------------------------------
+
+    @property
+    def _parameters(self) -> np.ndarray:
+        return np.linspace(0.0, 1.0, _POLYLINE_POINTS)
+
+    @property
+    def _polylines(self) -> np.ndarray:
+        cached = self.__dict__.get("_polyline_cache")
+        if cached is None:
+            count = len(self)
+            t = np.tile(self._parameters, count)
+            piece = np.repeat(np.arange(count), _POLYLINE_POINTS)
+            points = self._derivatives(piece, t, 0).reshape(count, _POLYLINE_POINTS, 2)
+            cached = shapely.linestrings(points)
+            object.__setattr__(self, "_polyline_cache", cached)
+            object.__setattr__(self, "_tree_cache", shapely.STRtree(cached))
+        return cached
+
+    @property
+    def _tree(self):
+        self._polylines
+        return self.__dict__["_tree_cache"]
+
+    @property
+    def _sagitta(self) -> float:
+        """The farthest any piece strays from its polyline (measured at the middles of
+        the polyline's segments, with a margin of a half)."""
+        cached = self.__dict__.get("_sagitta_cache")
+        if cached is None:
+            count = len(self)
+            grid = self._parameters
+            middle = np.tile(0.5 * (grid[1:] + grid[:-1]), count)
+            piece = np.repeat(np.arange(count), len(grid) - 1)
+            chords = shapely.get_coordinates(self._polylines).reshape(count, -1, 2)
+            chord_middle = (0.5 * (chords[:, 1:] + chords[:, :-1])).reshape(-1, 2)
+            cached = 1.5 * float(np.linalg.norm(self._derivatives(piece, middle, 0)
+                                                - chord_middle, axis=1).max())
+            object.__setattr__(self, "_sagitta_cache", cached)
+        return cached
+
+    def _parameter_of(self, piece, along) -> np.ndarray:
+        """The parameter at a fraction ``along`` of each piece's polyline length."""
+        coords = shapely.get_coordinates(self._polylines[piece]).reshape(len(piece), -1, 2)
+        steps = np.linalg.norm(np.diff(coords, axis=1), axis=2)
+        cumulative = np.concatenate([np.zeros((len(piece), 1)), np.cumsum(steps, axis=1)], axis=1)
+        total = np.where(cumulative[:, -1] > 0, cumulative[:, -1], 1.0)
+        fraction = (cumulative / total[:, None] + 2 * np.arange(len(piece))[:, None]).ravel()
+        where = np.asarray(along) + 2 * np.arange(len(piece))      # rows kept apart by 2
+        right = np.clip(np.searchsorted(fraction, where), 1, _POLYLINE_POINTS * len(piece) - 1)
+        right = np.where(right % _POLYLINE_POINTS == 0, right + 1, right)
+        left = right - 1
+        width = fraction[right] - fraction[left]
+        share = np.clip((where - fraction[left]) / np.where(width > 0, width, 1), 0, 1)
+        grid = self._parameters
+        return grid[left % _POLYLINE_POINTS] + share / (_POLYLINE_POINTS - 1)
+
+
+class _Builder:
+    """Collects pieces for :class:`BoundaryCurves` (see :func:`curves_builder`): single
+    pieces as rows of numbers, polylines as blocks of arrays, joined by ``done()``."""
+
+    def __init__(self, tolerance):
+        self.tolerance = check_positive(tolerance, "tolerance")
+        self.cubics: list[tuple] = []         # (8 control coordinates, source)
+        self.arcs: list[tuple] = []           # (cx, cy, ux, uy, vx, vy, start, sweep, source)
+        self.blocks: list[tuple] = []         # ((k, 4, 2) controls, source) of polylines
+        self.labels: dict[str, int] = {}
+
+    def _source(self, label) -> int:
+        return self.labels.setdefault(str(label), len(self.labels))
+
+    def line(self, start, end, label) -> None:
+        """A straight segment (as the cubic with control points at thirds)."""
+        (x0, y0), (x1, y1) = start, end
+        if (x0, y0) != (x1, y1):
+            self.cubics.append((x0, y0, (2 * x0 + x1) / 3, (2 * y0 + y1) / 3,
+                                (x0 + 2 * x1) / 3, (y0 + 2 * y1) / 3, x1, y1,
+                                self._source(label)))
+
+    def polyline(self, points, label) -> None:
+        """The straight segments through ``points`` (k, 2), each a line (none repeated)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        start, end = points[:-1], points[1:]
+        keep = np.any(start != end, axis=1)
+        start, end = start[keep], end[keep]
+        if len(start):
+            control = np.stack([start, (2 * start + end) / 3, (start + 2 * end) / 3, end], axis=1)
+            self.blocks.append((control, self._source(label)))
+
+    def quadratic(self, control, label) -> None:
+        """A quadratic Bézier (raised to the cubic of the same curve)."""
+        p = np.asarray(control, dtype=float)
+        self.cubic([p[0], (p[0] + 2 * p[1]) / 3, (2 * p[1] + p[2]) / 3, p[2]], label)
+
+    def cubic(self, control, label) -> None:
+        """A cubic Bézier from its four control points."""
+        control = np.asarray(control, dtype=float).reshape(8)
+        self.cubics.append((*control.tolist(), self._source(label)))
+
+    def arc(self, center, radii, start, sweep, label) -> None:
+        """``center + u cos θ + v sin θ``, θ from ``start`` over ``sweep``; ``radii``
+        holds u and v as columns."""
+        radii = np.asarray(radii, dtype=float).reshape(2, 2)
+        self.arcs.append((*np.asarray(center, dtype=float).tolist(), *radii[:, 0].tolist(),
+                          *radii[:, 1].tolist(), float(start), float(sweep),
+                          self._source(label)))
+
+    def done(self) -> BoundaryCurves | None:
+        """The curves collected, or None if there are none."""
+        cubics = np.array(self.cubics, dtype=float).reshape(-1, 9)
+        arcs = np.array(self.arcs, dtype=float).reshape(-1, 9)
+        control = [cubics[:, :8].reshape(-1, 4, 2)] + [block for block, _ in self.blocks]
+        count = sum(len(c) for c in control)
+        if not count + len(arcs):
+            return None
+        source = np.concatenate([cubics[:, 8].astype(np.int64)]
+                                + [np.full(len(b), s, np.int64) for b, s in self.blocks]
+                                + [arcs[:, 8].astype(np.int64)])
+        return BoundaryCurves(
+            np.r_[np.zeros(count, bool), np.ones(len(arcs), bool)],
+            np.concatenate(control + [np.zeros((len(arcs), 4, 2))]),
+            np.concatenate([np.zeros((count, 8)), arcs[:, :8]]),
+            source, tuple(self.labels), self.tolerance)
+
+
+def curves_builder(tolerance) -> _Builder:
+    """A collector of exact pieces: call ``line``, ``quadratic``, ``cubic`` or ``arc``
+    with each piece's label, then ``done()`` for the :class:`BoundaryCurves`.
+
+    Parameters
+    ----------
+    tolerance : float
+        How far the region's polygonal boundary may be from the curves (the reader's
+        flattening tolerance).
+
+    Returns
+    -------
+    builder
+
+    Raises
+    ------
+    ArgumentError
+        If ``tolerance`` is not a positive number.
+
+    Examples
+    --------
+    >>> build = curves_builder(0.01)
+    >>> build.quadratic([(0, 0), (1, 1), (2, 0)], "hump")
+    >>> build.done().labels
+    ('hump',)
+    """
+    return _Builder(tolerance)
