@@ -70,8 +70,9 @@ MODES = ("uniform auto", "graded auto", "uniform fine")
 FINE = 150
 
 
-def mesh(region, mode: str, seed: int = 0):
-    """Mesh ``region`` the way ``mode`` (one of :data:`MODES`) says.
+def mesh(region, mode: str, seed: int = 0, **options):
+    """Mesh ``region`` the way ``mode`` (one of :data:`MODES`) says; ``options`` go to
+    :func:`pds_plugin.mesh_region` (e.g. ``max_samples``).
 
     Examples
     --------
@@ -84,12 +85,12 @@ def mesh(region, mode: str, seed: int = 0):
     import pds_plugin as pds
 
     if mode == "uniform auto":
-        return pds.mesh_region(region, "auto", seed=seed)
+        return pds.mesh_region(region, "auto", seed=seed, **options)
     if mode == "graded auto":
-        return pds.mesh_region(region, "auto", seed=seed, graded=True)
+        return pds.mesh_region(region, "auto", seed=seed, graded=True, **options)
     if mode == "uniform fine":
         x0, y0, x1, y1 = region.bounds
-        return pds.mesh_region(region, max(x1 - x0, y1 - y0) / FINE, seed=seed)
+        return pds.mesh_region(region, max(x1 - x0, y1 - y0) / FINE, seed=seed, **options)
     raise ValueError(f"unknown mode {mode!r}; choose from {MODES}")
 
 
@@ -406,6 +407,26 @@ def generated_cases(parts=GENERATED_PARTS) -> list[Case]:
 def all_cases() -> list[Case]:
     """Every case: the shared parts present, then the generated ones."""
     return shared_cases() + generated_cases()
+
+
+FAST_SLICE = (
+    ("featuretype.STL z4/7", "uniform auto"), ("featuretype.STL z4/7", "graded auto"),
+    ("featuretype.STL z4/7", "uniform fine"), ("ADIS16480.STL z7/7", "uniform auto"),
+    ("ADIS16480.STL z7/7", "graded auto"), ("multibody.stl tilt-x", "uniform fine"),
+    ("20mm-xyz-cube.stl z4/7", "graded auto"), ("unit_sphere.STL tilt-xy", "graded auto"),
+    ("7_8ths_cube.stl z=-16.51", "uniform auto"), ("7_8ths_cube.stl z=-5.55", "uniform auto"),
+    ("teapot.stl z=23.64", "graded auto"), ("angle_block.STL z2/7", "uniform fine"),
+    ("featuretype.STL tilt-x", "graded auto"), ("shared.STL z4/7", "uniform fine"),
+    ("multibody.stl z7/7", "graded auto"))
+"""(case, mode) pairs of shared parts the test suite meshes (``tests/test_cad_corpus.py``),
+each in well under a second, among them every failure class of issue 20 that a shared
+part shows; the fuzz suite draws from the rest (:func:`rest_of_corpus`)."""
+
+
+def rest_of_corpus() -> list[tuple[str, str]]:
+    """Every (case, mode) pair of the corpus but :data:`FAST_SLICE`'s."""
+    return [(c.name, mode) for c in all_cases() for mode in MODES
+            if (c.name, mode) not in FAST_SLICE]
 
 
 def case(name: str) -> Case:

@@ -9,9 +9,13 @@
 Each section is meshed uniform at ``alpha="auto"``, graded at ``alpha="auto"`` and uniform
 at alpha = its extent / 150 (``_cad_corpus.MODES``), then certified. A mesh is **ok**
 (``certificate.ok``), **ok with exceptions** (``ok_with_exceptions``: every breach at a
-small feature explained and within its proven bound), **FAILED**, or an **error** (the
-section or the mesher raised; the exception's type is kept). For every mesh that is not
-certified the reasons are read off its certificate (:func:`reasons`). The script prints
+small feature explained and within its proven bound), **FAILED**, an **error** (the
+section or the mesher raised; the exception's type is kept) or **refused**: ``pds.section``
+refused the plane with a SectionError, because the part is open where the plane cuts it
+(``teapot.stl`` is not watertight) or the plane passes through a gap between bodies
+(``multibody.stl``): a clean refusal of a plane with no valid section, counted apart and
+left out of the *certified* share. For every mesh that is not certified the reasons
+are read off its certificate (:func:`reasons`). The script prints
 the verdict counts per mode and source, the reasons, the failing cases (each with the
 name that reproduces it: ``--only NAME --verbose`` prints its certificates) and the
 times of meshing and of the certificate; ``--write`` puts the same tables into the
@@ -21,6 +25,7 @@ section ``cad-corpus`` of docs/benchmarks.md (which peers.py keeps).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shlex
 import statistics
@@ -38,9 +43,9 @@ from _cad_corpus import DATA, MODES, all_cases, case, mesh  # noqa: E402
 from _environment import machine                             # noqa: E402
 from _sections import put_section                            # noqa: E402
 
-VERDICTS = ("ok", "ok with exceptions", "FAILED", "error")
+VERDICTS = ("ok", "ok with exceptions", "FAILED", "error", "refused")
 REPORT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks.md"
-LISTED_IN_REPORT = 60     # failing meshes named in docs/benchmarks.md (all are printed)
+LISTED_IN_REPORT = 60     # lines of failing meshes in docs/benchmarks.md (all are printed)
 
 # (words in a topology problem, the failure class it belongs to)
 _TOPOLOGY = (("has no triangle", "topology: component lost"),
@@ -88,14 +93,11 @@ def reasons(cert) -> list[str]:
                      else "unexplained triangles below the angle bound")
     if any(not e.meets_bound for e in cert.exceptions):
         found.append("exception beyond its proven bound")
-    if not cert.claims_conforming:
-        if cert.min_separation < 1 - SEPARATION_TOL:
-            found.append("separation below alpha")
-        if not cert.quality_ok:
-            found.append("triangles below Theorem 1")
-    elif not (cert.exceptions or cert.excused_pairs or cert.unexplained) and not cert.sampling_ok \
-            and cert.min_separation < 1 - SEPARATION_TOL:
-        found.append("separation below alpha, no small feature found")
+    excused = cert.exceptions or cert.excused_pairs or cert.unexplained
+    if cert.min_separation < 1 - SEPARATION_TOL and not excused:
+        found.append("separation below alpha, no small feature named")
+    if not cert.quality_ok and not excused:
+        found.append("triangles below the angle bound, no small feature named")
     if not cert.topology_ok:
         named = [label for text in cert.topology.problems
                  for words, label in _TOPOLOGY if words in text]
@@ -108,15 +110,12 @@ def reasons(cert) -> list[str]:
         named = [label for text in cert.boundary_problems
                  for words, label in _BOUNDARY if words in text]
         found += named or ["boundary: not conforming (unnamed)"]
-    if not (cert.quality_ok or cert.exceptions or cert.claims_conforming is False) \
-            and not cert.unexplained:
-        found.append("triangles below the angle bound, no exception listed")
     return list(dict.fromkeys(found)) or ["unclassified"]
 
 
 def run_case(name: str, modes=MODES, verbose=False) -> list[dict]:
     """Mesh and certify one case in every mode: one record per mode."""
-    import pds_plugin as pds  # noqa: F401  (imported before the clock starts)
+    from pds_plugin.errors import SectionError   # (and pds_plugin, before the clock starts)
 
     found = case(name)
     base = {"name": name, "source": found.source, "part": found.part}
@@ -125,12 +124,13 @@ def run_case(name: str, modes=MODES, verbose=False) -> list[dict]:
             warnings.simplefilter("ignore")
             region = found.region()
     except Exception as error:
-        return [{**base, "mode": mode, **_error("section", error)} for mode in modes]
+        outcome = _error("section", error, refused=isinstance(error, SectionError))
+        return [{**base, "mode": mode, **outcome} for mode in modes]
     records = []
     for mode in modes:
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
                 start = time.perf_counter()
                 result = mesh(region, mode)
                 meshed = time.perf_counter()
@@ -139,21 +139,35 @@ def run_case(name: str, modes=MODES, verbose=False) -> list[dict]:
         except Exception as error:
             records.append({**base, "mode": mode, **_error("mesh", error)})
             continue
+        said = list(dict.fromkeys(_warning_class(str(w.message)) for w in caught))
         verdict = ("ok" if cert.ok else "ok with exceptions" if cert.ok_with_exceptions
                    else "FAILED")
         records.append({**base, "mode": mode, "verdict": verdict, "reasons": reasons(cert),
                         "alpha": float(result.alpha), "samples": len(result.vertices),
                         "mesh_s": meshed - start, "cert_s": certified - meshed,
                         "coverage": float(cert.coverage_gap),
-                        "separation": float(cert.min_separation),
+                        "separation": float(cert.min_separation), "warnings": said,
                         "certificate": str(cert) if verbose and verdict == "FAILED" else ""})
     return records
 
 
-def _error(stage, error) -> dict:
+_WARNINGS = (("over the budget", "alpha kept above a feature by the sample budget"),)
+
+
+def _warning_class(message: str) -> str:
+    """A warning's class: a known one by its words, else its first words."""
+    for words, label in _WARNINGS:
+        if words in message:
+            return label
+    return " ".join(message.split()[:8]) + " ..."
+
+
+def _error(stage, error, refused=False) -> dict:
     frame = traceback.extract_tb(error.__traceback__)[-1]
     message = " ".join(str(error).split())[:200]
-    return {"verdict": "error", "reasons": [f"error in {stage}: {type(error).__name__}"],
+    what = f"refused by {stage}" if refused else f"error in {stage}"
+    return {"verdict": "refused" if refused else "error",
+            "reasons": [f"{what}: {type(error).__name__}"],
             "error": f"{type(error).__name__}: {message} ({Path(frame.filename).name}:"
                      f"{frame.lineno})"}
 
@@ -189,8 +203,8 @@ def _progress(on, k, count, name):
 
 def verdict_table(records) -> list[str]:
     """Verdict counts per source and mode, and for all sources."""
-    lines = ["| source | mode | meshes | ok | ok with exceptions | FAILED | error | certified |",
-             "|---|---|--:|--:|--:|--:|--:|--:|"]
+    lines = ["| source | mode | meshes | ok | ok with exceptions | FAILED | error | refused "
+             "| certified |", "|---|---|--:|--:|--:|--:|--:|--:|--:|"]
     for source in ("shared", "generated", "all"):
         for mode in MODES:
             mine = [r for r in records if r["mode"] == mode and source in ("all", r["source"])]
@@ -198,10 +212,11 @@ def verdict_table(records) -> list[str]:
                 continue
             count = Counter(r["verdict"] for r in mine)
             certified = count["ok"] + count["ok with exceptions"]
+            meshable = len(mine) - count["refused"]
             bold = "**" if source == "all" else ""
             lines.append(f"| {bold}{source}{bold} | {mode} | {len(mine)} | "
                          + " | ".join(str(count[v]) for v in VERDICTS)
-                         + f" | {100 * certified / len(mine):.1f} % |")
+                         + f" | {100 * certified / max(meshable, 1):.1f} % |")
     return lines
 
 
@@ -220,16 +235,35 @@ def reason_table(records) -> list[str]:
     return lines
 
 
+def warning_table(records) -> list[str]:
+    """How many meshes of each mode warned, by the warning's class."""
+    count = Counter((said, r["mode"]) for r in records for said in r.get("warnings", ()))
+    names = sorted({said for said, _ in count}, key=lambda n: -sum(count[n, m] for m in MODES))
+    if not names:
+        return ["No mesh warned."]
+    lines = ["| warning | " + " | ".join(MODES) + " | all |", "|---|" + "--:|" * (len(MODES) + 1)]
+    for name in names:
+        row = [count[name, mode] for mode in MODES]
+        lines.append(f"| {name} | " + " | ".join(map(str, row)) + f" | {sum(row)} |")
+    return lines
+
+
 def failing_list(records, limit=None) -> list[str]:
-    """The meshes that are not certified, one line each, by case name and mode."""
-    bad = [r for r in records if r["verdict"] in ("FAILED", "error")]
-    lines = [f"- `{r['name']}` / {r['mode']}: **{r['verdict']}** — "
-             + ("; ".join(r["reasons"]) if r["verdict"] == "FAILED" else r["error"])
-             + (f" (coverage {r['coverage']:.3g}, separation {r['separation']:.3g})"
-                if r["verdict"] == "FAILED" else "")
-             for r in bad[:limit]]
-    if limit is not None and len(bad) > limit:
-        lines.append(f"- ... {len(bad) - limit} more: run the script for the whole list")
+    """The meshes that are not certified, one line per case and outcome (the modes that
+    share it named together), by case name."""
+    groups = {}
+    for r in records:
+        if r["verdict"] in ("FAILED", "error", "refused"):
+            said = "; ".join(r["reasons"]) if r["verdict"] == "FAILED" else r["error"]
+            groups.setdefault((r["name"], r["verdict"], said), []).append(r)
+    lines = []
+    for (name, verdict, said), mine in list(groups.items())[:limit]:
+        numbers = "".join(f" ({r['mode']}: coverage {r['coverage']:.3g}, separation "
+                          f"{r['separation']:.3g})" for r in mine if verdict == "FAILED")
+        modes = ", ".join(r["mode"] for r in mine)
+        lines.append(f"- `{name}` / {modes}: **{verdict}** — {said}{numbers}")
+    if limit is not None and len(groups) > limit:
+        lines.append(f"- ... {len(groups) - limit} more: run the script for the whole list")
     return lines or ["None."]
 
 
@@ -258,6 +292,7 @@ def report(records, seconds, jobs, limit=None) -> list[str]:
     sections = len({r["name"] for r in records})
     return ["### Verdicts", "", *verdict_table(records), "",
             "### Why the others are not certified", "", *reason_table(records), "",
+            "### Warnings while meshing", "", *warning_table(records), "",
             "### Time (seconds)", "", *time_table(records), "",
             f"{sections} sections, {len(records)} meshes in {seconds / 60:.1f} min "
             f"({jobs} process{'es' if jobs > 1 else ''}).", "",
@@ -298,6 +333,9 @@ def parse(argv=None):
                         help="write the tables into the section 'cad-corpus' of --out")
     parser.add_argument("--out", type=Path, default=REPORT,
                         help="the report (default docs/benchmarks.md)")
+    parser.add_argument("--json", type=Path, metavar="PATH",
+                        help="also write every mesh's record (verdict, reasons, alpha, samples, "
+                        "times, error) to PATH as JSON")
     return parser.parse_args(argv)
 
 
@@ -320,6 +358,8 @@ def main(argv=None) -> list[dict]:
         for r in records:
             if r.get("certificate"):
                 print(f"\n{r['name']} / {r['mode']}:\n{r['certificate']}")
+    if args.json:
+        args.json.write_text(json.dumps(records, indent=1) + "\n")
     if args.write:
         put_section(args.out, "cad-corpus", "\n".join([
             "## Real CAD exports (bench/cad_corpus.py)\n",
