@@ -35,6 +35,7 @@ import traceback
 import warnings
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
+from functools import partial
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -147,7 +148,7 @@ def run_case(name: str, modes=MODES, verbose=False) -> list[dict]:
                         "mesh_s": meshed - start, "cert_s": certified - meshed,
                         "coverage": float(cert.coverage_gap),
                         "separation": float(cert.min_separation), "warnings": said,
-                        "certificate": str(cert) if verbose and verdict == "FAILED" else ""})
+                        **({"certificate": str(cert)} if verbose and verdict == "FAILED" else {})})
     return records
 
 
@@ -172,31 +173,24 @@ def _error(stage, error, refused=False) -> dict:
                      f"{frame.lineno})"}
 
 
-def _run_one(name):
-    return run_case(name)
-
-
-def run(names, jobs=1, verbose=False, progress=True) -> list[dict]:
+def run(names, jobs=1, verbose=False) -> list[dict]:
     """Every case's records, in the order of ``names``."""
     records = []
+    one = partial(run_case, verbose=verbose)
     if jobs > 1:
         os.environ.setdefault("PDS_THREADS", "1")     # the workers share the cores
         with ProcessPoolExecutor(jobs) as pool:
-            for k, found in enumerate(pool.map(_run_one, names)):
-                records += found
-                _progress(progress, k, len(names), names[k])
+            outcomes = pool.map(one, names)
     else:
-        for k, name in enumerate(names):
-            records += run_case(name, verbose=verbose)
-            _progress(progress, k, len(names), name)
-    if progress and sys.stderr.isatty():
+        outcomes = map(one, names)
+    for k, found in enumerate(outcomes):
+        records += found
+        if sys.stderr.isatty():
+            print(f"\r{k + 1}/{len(names)} {names[k][:60]:<60}", end="", file=sys.stderr,
+                  flush=True)
+    if sys.stderr.isatty():
         print("\r" + " " * 79 + "\r", end="", file=sys.stderr)
     return records
-
-
-def _progress(on, k, count, name):
-    if on and sys.stderr.isatty():
-        print(f"\r{k + 1}/{count} {name[:60]:<60}", end="", file=sys.stderr, flush=True)
 
 
 # --- tables ------------------------------------------------------------------------------
@@ -294,7 +288,7 @@ def report(records, seconds, jobs, limit=None) -> list[str]:
             "### Why the others are not certified", "", *reason_table(records), "",
             "### Warnings while meshing", "", *warning_table(records), "",
             "### Time (seconds)", "", *time_table(records), "",
-            f"{sections} sections, {len(records)} meshes in {seconds / 60:.1f} min "
+            f"{sections} section{'s' * (sections != 1)}, {len(records)} meshes in {seconds / 60:.1f} min "
             f"({jobs} process{'es' if jobs > 1 else ''}).", "",
             "### Meshes not certified (reproduce: `python bench/cad_corpus.py --only NAME "
             "--verbose`)", "", *failing_list(records, limit)]
@@ -328,7 +322,7 @@ def parse(argv=None):
                         help="worker processes (default 1; each then runs the kernels on "
                         "one thread)")
     parser.add_argument("--verbose", action="store_true",
-                        help="print the certificate of every FAILED mesh (with --jobs 1)")
+                        help="print the certificate of every FAILED mesh")
     parser.add_argument("--write", action="store_true",
                         help="write the tables into the section 'cad-corpus' of --out")
     parser.add_argument("--out", type=Path, default=REPORT,
