@@ -1,0 +1,82 @@
+"""A fast slice of the real-CAD corpus of issue 20 (``bench/_cad_corpus.py``).
+
+Sections of CAD-exported STL parts in ``../shared/data`` (skipped when absent) meshed
+the corpus's three ways must be certified (``ok`` or ``ok_with_exceptions``), and the
+union of the triangles must have the section's components and holes (shapely,
+independently of the certificate). The whole corpus runs in ``bench/cad_corpus.py``;
+the fuzz suite (tests/test_fuzz.py) draws from the rest of it.
+"""
+
+import io
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import shared_file
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+from _cad_corpus import FAST_SLICE, GENERATED_PARTS, case, generated_stl, mesh  # noqa: E402
+from _hostile import betti, mesh_union  # noqa: E402
+
+OPEN = {("featuretype.STL tilt-x", "graded auto")}
+"""Cases of the slice still not certified (issue 20 open): a graded coverage gap of 1.11 r
+beyond a chord of the tilted section's tessellated fillet."""
+
+
+@pytest.mark.parametrize("name, mode", [
+    pytest.param(*pair, marks=pytest.mark.xfail(strict=True, reason="issue 20: open"))
+    if pair in OPEN else pair for pair in FAST_SLICE])
+def test_sections_of_cad_exports_are_certified(name, mode):
+    shared_file(name.rsplit(" ", 1)[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")   # what the section repaired, what "auto" gave up
+        region = case(name).region()
+        result = mesh(region, mode)
+    cert = result.certificate()
+    assert cert.ok_with_exceptions, f"{name} / {mode}:\n{cert}"
+    assert betti(mesh_union(result.vertices, result.faces)) == betti(region.geometry)
+
+
+@pytest.mark.parametrize("part", [GENERATED_PARTS[0], GENERATED_PARTS[9]])
+def test_generated_exports_are_float32_watertight_and_placed_at_random(part):
+    import trimesh
+
+    solid = trimesh.load(io.BytesIO(generated_stl(part)), file_type="stl")
+    assert solid.is_watertight and solid.volume > 0
+    assert np.array_equal(solid.vertices, solid.vertices.astype(np.float32))
+    # rotated before the export: no face normal is along an axis
+    assert np.abs(solid.face_normals).max() < 1 - 1e-6
+    assert generated_stl.__wrapped__(part) == generated_stl(part)     # seeded: same bytes
+
+
+def test_the_corpus_script_counts_and_writes_what_it_measured(tmp_path):
+    import cad_corpus
+
+    shared_file("cylinder.stl")
+    out = tmp_path / "benchmarks.md"
+    out.write_text("# Benchmarks\n")
+    records = cad_corpus.main(["--only", "cylinder.stl z4/7", "--write", "--out", str(out)])
+    assert [(r["name"], r["mode"]) for r in records] == [
+        ("cylinder.stl z4/7", mode) for mode in cad_corpus.MODES]
+    text = out.read_text()
+    assert text.startswith("# Benchmarks\n") and "<!-- section: cad-corpus -->" in text
+    for mode in cad_corpus.MODES:
+        row = next(line for line in text.splitlines() if line.startswith(f"| **all** | {mode} |"))
+        cells = [c.strip() for c in row.split("|")[3:-2]]
+        assert cells == ["1"] + [str(sum(r["verdict"] == v for r in records if r["mode"] == mode))
+                                 for v in cad_corpus.VERDICTS]
+
+
+def test_failure_reasons_name_the_checks_that_fail():
+    import cad_corpus
+    import pds_plugin as pds
+    from shapely.geometry import Point
+
+    holed = Point(0, 0).buffer(1).difference(Point(0.3, 0).buffer(0.05))
+    coarse = pds.mesh_region(pds.Region.from_shapely(holed), 0.5, conforming=False)
+    assert "topology: hole filled" in cad_corpus.reasons(coarse.certificate())
+    fine = pds.mesh_region(pds.Region.from_shapely(holed), 0.02)
+    assert cad_corpus.reasons(fine.certificate()) == []
