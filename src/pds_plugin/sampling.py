@@ -283,7 +283,8 @@ def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
 
     The vertices turning by more than ``_STRAIGHT_TURN`` (and less than a sharp corner)
     define the bends; between two consecutive ones that turn opposite ways, with no sharp
-    corner between them, the inflection is the middle of the arc that joins them. One is
+    corner between them, the inflection is the middle of the arc that joins them, and a
+    vertex turning against both its neighbours (a kink) is one itself. One is
     kept only at least ``_INFLECTION_APART`` alpha along the ring from every sharp corner
     and every inflection kept before it: the pieces it bounds then hold a corner's
     clearance (at most √3 alpha) and parts of up to 1.5 alpha, the longest the curve
@@ -314,7 +315,13 @@ def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
     if len(corners):
         ahead = (corners[None, :] - at[:, None]) % length
         flips &= ~((ahead > 0) & (ahead < span[:, None])).any(axis=1)
-    candidates = np.sort((at[flips] + 0.5 * span[flips]) % length)
+    # a kink (one vertex turning against both its neighbours, as where a plane crosses a
+    # tessellation's seam) is sampled itself: the arcs on its two sides then bend one way,
+    # where the two inflections around it, closer than the rule below allows, would
+    # keep only one
+    kink = flips & np.roll(flips, 1)
+    single = flips & ~kink & ~np.roll(kink, -1)
+    candidates = np.sort(np.concatenate([at[kink], at[single] + 0.5 * span[single]]) % length)
     apart = _INFLECTION_APART * alpha
     if len(corners):                        # clear of the nearest corner, either way round
         after = np.searchsorted(corners, candidates) % len(corners)
