@@ -45,6 +45,7 @@ _PUBLIC = {
     "section_report": "pipeline",
     "section": "sources.solids",
     "sections": "sources.solids",
+    "mesh_tolerance": "sources.solids",
     "load_svg": "sources.svg",
     "load_dxf": "sources.dxf",
     "load_drawing": "sources.drawing",

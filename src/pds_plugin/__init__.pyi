@@ -20,7 +20,7 @@ from .pipeline import (
     section_report as section_report,
     suggest_alpha as suggest_alpha,
 )
-from .sources.solids import section as section, sections as sections
+from .sources.solids import mesh_tolerance as mesh_tolerance, section as section, sections as sections
 from .sources.svg import load_svg as load_svg
 from .sources.dxf import load_dxf as load_dxf
 from .sources.drawing import load_drawing as load_drawing
@@ -71,6 +71,7 @@ __all__ = [
     "load_svg",
     "mesh_batch",
     "mesh_region",
+    "mesh_tolerance",
     "meshlab_quality",
     "multiresolution",
     "poisson_disc",
