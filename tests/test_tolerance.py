@@ -181,3 +181,16 @@ def test_a_kink_in_a_curve_is_sampled_and_the_mesh_certified(seed):
     region = pds.Region.from_shapely(Polygon(ring))
     certificate = pds.mesh_region(region, 1.0, seed=seed).certificate()
     assert certificate.ok, certificate
+
+
+def test_the_command_line_takes_a_tolerance(tmp_path, capsys):
+    from pds_plugin.cli import main
+
+    path = shared_file("7_8ths_cube.stl")
+    common = [str(path), "--axis", "z", "--at", "-16.51", "--alpha", "auto", "--uniform"]
+    assert main([*common, "-o", str(tmp_path / "a.ply")]) == 0
+    assert "certificate ok" in capsys.readouterr().out
+    main([*common, "--tolerance", "0", "-o", str(tmp_path / "b.ply")])  # every vertex kept
+    assert "FAILED" in capsys.readouterr().out
+    assert main([*common, "--tolerance", "-1", "-o", str(tmp_path / "c.ply")]) != 0
+    assert "--tolerance: expected a number >= 0" in capsys.readouterr().err

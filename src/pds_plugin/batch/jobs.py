@@ -81,7 +81,7 @@ class Job:
 
 
 def plane_sections(solid, normal, *, plane_origin=None, at=None, slices=None,
-                   on_face=None) -> list:
+                   on_face=None, tolerance=None) -> list:
     """The sections of ``solid`` the command line's plane options ask for.
 
     ``slices`` planes across the solid; else the planes through ``plane_origin`` (the
@@ -98,6 +98,8 @@ def plane_sections(solid, normal, *, plane_origin=None, at=None, slices=None,
     on_face : {"above", "below"}, optional
         For planes given by ``at`` or ``plane_origin`` that lie on faces of the solid
         (refused by default); the automatic planes move off faces by themselves.
+    tolerance : float, optional
+        As in :func:`pds_plugin.section` (default: estimated from the mesh).
 
     Returns
     -------
@@ -118,11 +120,11 @@ def plane_sections(solid, normal, *, plane_origin=None, at=None, slices=None,
     [0.0]
     """
     if slices is not None:
-        return sections(solid, normal, count=slices)
+        return sections(solid, normal, count=slices, tolerance=tolerance)
     if at is None and plane_origin is None:
-        return sections(solid, normal, count=1)
+        return sections(solid, normal, count=1, tolerance=tolerance)
     return sections(solid, normal, offsets=at or [0.0], plane_origin=plane_origin,
-                    on_face=on_face)
+                    on_face=on_face, tolerance=tolerance)
 
 
 def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:

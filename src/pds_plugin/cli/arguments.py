@@ -11,6 +11,7 @@ from .._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .._version import __version__
 from ..batch.jobs import AXES
 from ..errors import ArgumentError
+from ..region import check_tolerance
 from ..sources.solids import MAX_SECTIONS
 
 __all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "wants_graded",
@@ -170,6 +171,12 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     where.add_argument("--slices", type=_section_count, metavar="N",
                        help=f"N evenly spaced sections across the solid (at most "
                             f"{MAX_SECTIONS:,})")
+    parser.add_argument("--tolerance", type=_tolerance, metavar="T",
+                        help="how far the region's boundary may move from the input's: for "
+                             "a mesh file, to absorb its float noise and tessellation "
+                             "zigzags (default: estimated from the mesh; 0 keeps every "
+                             "vertex of the cut); for a drawing, the chord tolerance of its "
+                             "curves (default 1e-4 of its diagonal)")
     parser.add_argument("--layer", action="append", metavar="NAME",
                         help="DXF drawings: read this layer (repeat for several; default: "
                              "every layer with outline curves or hatches)")
@@ -366,6 +373,13 @@ def _direction(text: str) -> tuple[float, float, float]:
         raise argparse.ArgumentTypeError(f"the normal {text!r} is the zero vector; give the "
                                          f"direction the plane faces, e.g. 0,0,1")
     return vector
+
+
+def _tolerance(text: str) -> float:
+    try:
+        return check_tolerance(float(text))
+    except ValueError:                    # float() refused the text, or the check the number
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
 
 
 def _positive_int(text: str) -> int:

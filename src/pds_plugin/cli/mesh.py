@@ -302,7 +302,7 @@ def _read_regions(args) -> list[Region]:
                                 f"planar: drop --{given[0].replace('_', '-')}")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            region = load_drawing(path, **_dxf_options(args))
+            region = load_drawing(path, **_drawing_options(args))
         for warning in caught:
             say("warning", warning.message)
         return [region]
@@ -314,12 +314,12 @@ def _read_regions(args) -> list[Region]:
         raise ArgumentError("--slices spreads the planes across the whole solid: drop "
                             "--plane-origin, or give --at offsets from it instead")
     return plane_sections(path, normal, plane_origin=args.plane_origin, at=args.at,
-                          slices=args.slices, on_face=args.on_face)
+                          slices=args.slices, on_face=args.on_face, tolerance=args.tolerance)
 
 
-def _dxf_options(args) -> dict:
-    """The keywords of load_dxf that --layer and --layout give."""
-    options = {"layers": args.layer, "layout": args.layout}
+def _drawing_options(args) -> dict:
+    """The keywords of the drawing readers that --tolerance, --layer and --layout give."""
+    options = {"tolerance": args.tolerance, "layers": args.layer, "layout": args.layout}
     return {key: value for key, value in options.items() if value is not None}
 
 
