@@ -194,3 +194,34 @@ def test_the_command_line_takes_a_tolerance(tmp_path, capsys):
     assert "FAILED" in capsys.readouterr().out
     assert main([*common, "--tolerance", "-1", "-o", str(tmp_path / "c.ply")]) != 0
     assert "--tolerance: expected a number >= 0" in capsys.readouterr().err
+
+
+def test_the_region_beyond_a_chord_over_a_kink_is_measured_from_the_end_that_sees_it():
+    """Samples every fifth vertex of a circle with a kink between two of them: the arc of
+    that chord bends both ways, but the sliver beyond the chord is star-shaped from its
+    ends, so the certificate measures its coverage from them (on main it gave up: "the
+    boundary bends both ways"). Brute force: the farthest of 20,000 points of the sliver
+    from the chord end it sees is within the measured gap."""
+    from pds_plugin.analysis.conformity import SampledBoundary
+
+    angle = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    ring = 10 * np.column_stack([np.cos(angle), np.sin(angle)])
+    ring[52] *= 1 - 0.001                                      # a kink between samples 50, 55
+    region = pds.Region.from_shapely(Polygon(ring))
+    at = ring[::5]
+    sampled = SampledBoundary(region, at, np.ones(len(at), bool), 2.0)
+    assert sampled.mixed.any() and not sampled.uncertain.any()
+    gap, _ = sampled.sliver_gap()
+    a, b = at[10], at[11]
+    sliver = Polygon(ring[50:56]).buffer(0)                    # the arc closed by the chord
+    rng = np.random.default_rng(0)
+    x0, y0, x1, y1 = sliver.bounds
+    points = rng.uniform((x0, y0), (x1, y1), (20000, 2))
+    points = points[shapely.contains_xy(sliver, points[:, 0], points[:, 1])]
+    lines = lambda end: shapely.linestrings(np.stack([points, np.broadcast_to(end, points.shape)], 1))
+    seen_a = shapely.covers(sliver.buffer(1e-9), lines(a))
+    seen_b = shapely.covers(sliver.buffer(1e-9), lines(b))
+    assert (seen_a | seen_b).all()
+    distance = np.minimum(np.where(seen_a, np.hypot(*(points - a).T), np.inf),
+                          np.where(seen_b, np.hypot(*(points - b).T), np.inf))
+    assert distance.max() <= gap * (1 + 1e-9)

@@ -238,10 +238,14 @@ class SampledBoundary:
     def _chord_pieces(self, k):
         """The arc of chord k cut where it crosses the chord's line: each piece beyond the
         line is a polygon from a crossing (or a chord end) along the arc to the next. A
-        convex piece is seen whole from the chord ends it holds: its farthest point from
-        them is one of its vertices, or with both ends where the chord's bisector crosses
-        its boundary. A piece holding no chord end, or not convex, is not certified. (A
-        Python loop, over the few chords whose arc bends both ways.)"""
+        piece star-shaped from a chord end it holds (the end on the inner side of every
+        edge's line: a convex piece, or one with a shallow kink) is seen whole from it;
+        the distance to an end is convex, so its farthest point from the ends it is
+        star-shaped from is one of its vertices, or with both ends where the chord's
+        bisector crosses its boundary (each side of the bisector is star-shaped from its
+        own end too: a segment from that end to a point of it stays on that side). A
+        piece star-shaped from no chord end is not certified. (A Python loop, over the few
+        chords whose arc bends both ways.)"""
         on = self.arc_chord == k
         a, b = self.points[self.a[k]], self.points[self.b[k]]
         xy = np.concatenate([[a], self.arc_xy[on], [b]])
@@ -262,12 +266,11 @@ class SampledBoundary:
                 current = None
         gap, where, area, seen = 0.0, a, 0.0, True
         for piece in pieces:
-            edges = np.roll(piece, -1, axis=0) - piece
-            turns = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
             area += abs(float((piece[:, 0] * np.roll(piece[:, 1], -1)
                                - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
-            ends = [e for e, at in ((a, piece[0]), (b, piece[-1])) if np.allclose(e, at, rtol=0, atol=tol)]
-            if not ends or (turns < -1e-12 * self.alpha ** 2).any():
+            ends = [e for e, at in ((a, piece[0]), (b, piece[-1]))
+                    if np.allclose(e, at, rtol=0, atol=tol) and _star_shaped_from(piece, e, tol)]
+            if not ends:
                 seen = False
                 continue
             candidates = list(piece)
@@ -580,6 +583,27 @@ def _farthest(curves, targets, step) -> float:
         dp, dq = np.concatenate([dp, dm]), np.concatenate([dm, dq])
         sp, sq = np.concatenate([sp, sm]), np.concatenate([sm, sq])
     return farthest
+
+
+def _star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
+    """Whether every point of the simple polygon ``piece`` (its vertices in order, either
+    orientation) sees ``point`` inside it: ``point`` lies on the inner side of every
+    edge's line (the polygon's kernel), up to ``tol``.
+
+    Examples
+    --------
+    >>> kinked = np.array([[0, 0], [4, 0], [4, 2], [2, 1.8], [0, 2]], float)
+    >>> [_star_shaped_from(kinked, kinked[k], 1e-12) for k in range(3)]   # (0, 2) hides behind the kink from (4, 2)
+    [True, True, False]
+    >>> notch = np.array([[0, 0], [4, 0], [4, 2], [2, 0.2], [0, 2]], float)
+    >>> _star_shaped_from(notch, notch[4], 1e-12)
+    False
+    """
+    edges = np.roll(piece, -1, axis=0) - piece
+    doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1) - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
+    to_point = point - piece
+    side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
+    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
 
 
 def say_located(problems: list, count: int, what: str, where) -> None:
