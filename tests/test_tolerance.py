@@ -225,3 +225,21 @@ def test_the_region_beyond_a_chord_over_a_kink_is_measured_from_the_end_that_see
     distance = np.minimum(np.where(seen_a, np.hypot(*(points - a).T), np.inf),
                           np.where(seen_b, np.hypot(*(points - b).T), np.inf))
     assert distance.max() <= gap * (1 + 1e-9)
+
+
+def test_curve_rescaling_never_leaves_a_chord_longer_than_two_alpha():
+    """A generated CAD export (bench/_cad_corpus.py) whose pocket wall curves back between
+    two inflections 2.04 alpha apart: the curve rescaling (parts of up to 1.5 alpha where
+    chords fall below alpha) left that piece unsplittable, one chord of 2.007 alpha that no
+    triangle of circumradius <= alpha can have as an edge, and the mesh unjoined there.
+    The rescaling now keeps every piece longer than √3 alpha splittable."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    from _cad_corpus import case, mesh
+
+    region = case("g12-pocketed-block p2").region()
+    result = mesh(region, "uniform auto")
+    certificate = result.certificate()
+    assert certificate.conforming and certificate.ok_with_exceptions, certificate

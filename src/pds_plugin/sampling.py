@@ -399,6 +399,13 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
         # leave room to split)
         todo = np.flatnonzero(ratio < 1)
         scale[todo] = np.minimum(scale[todo] / ratio[todo] ** 2 * (1 + 1e-9), _MAX_CURVE_SCALE)
+        # but a piece longer than √3 alpha must still split into parts (its first and
+        # last at least their scaled lower bounds): left whole, its chord could exceed
+        # 2 alpha, which no triangle of circumradius <= alpha has as an edge
+        fits = (hi - lo) / (np.maximum(guard, alpha) + np.maximum(np.roll(guard, -1), alpha))
+        splittable = hi - lo > longest
+        scale[splittable] = np.minimum(scale[splittable],
+                                       np.maximum(1.0, fits[splittable] * (1 - 1e-9)))
     if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
         at = np.sort((at[0] + length * np.arange(3) / 3) % length)
     while len(at) < 3:
