@@ -1,6 +1,7 @@
 """CAD solids cut by planes: :func:`section` and :func:`sections` turn a
 ``trimesh.Trimesh``, a ``manifold3d.Manifold`` or a mesh file (anything ``trimesh``
-reads: STL, OBJ, PLY, OFF, 3MF, GLB) into :class:`Region` objects.
+reads: STL, OBJ, PLY, OFF, 3MF, GLB) into :class:`Region` objects; B-rep solids (STEP,
+IGES, BREP files and OCP shapes) are cut exactly by :mod:`.step`, in the same 2D frame.
 
 A solid's backend module (:mod:`.trimesh`, :mod:`.manifold`) turns it into a float64
 ``trimesh.Trimesh``; everything else (the plane, its 2D frame, the checks and the exact
@@ -23,6 +24,7 @@ from .._checks import check_positive_int, check_vector
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
 from ..region import Region, lift
 from . import manifold as manifold_backend
+from . import step as step_backend
 from . import trimesh as trimesh_backend
 from .polygons import outline_geometry, snap
 
@@ -35,7 +37,7 @@ MAX_SECTIONS = 10_000
 _SOLIDS = (("trimesh", "Trimesh", trimesh_backend), ("manifold3d", "Manifold", manifold_backend))
 
 
-def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
+def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) -> Region:
     """Cut a solid with a plane and return the section as a :class:`Region`.
 
     The 2D coordinates are those of ``trimesh.geometry.plane_transform(origin, normal)``:
@@ -45,8 +47,10 @@ def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
 
     Parameters
     ----------
-    solid : trimesh.Trimesh, manifold3d.Manifold, str or os.PathLike
-        A closed (watertight) solid, or the path of a mesh file trimesh reads.
+    solid : trimesh.Trimesh, manifold3d.Manifold, str, os.PathLike or OCP shape
+        A closed (watertight) solid, or the path of a mesh file trimesh reads; or a
+        B-rep solid: a STEP, IGES or BREP file or an OCP ``TopoDS_Shape`` (the ``[step]``
+        extra, :mod:`.step`), whose curves stay exact until flattened.
     plane_origin : (3,) array_like
         A point of the plane.
     plane_normal : (3,) array_like
@@ -56,6 +60,9 @@ def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
         None refuses it (the section is ambiguous there); "above" / "below" cut just above
         / below those faces instead, 1e-6 of the solid's size along the normal, and
         ``region.frame`` holds the plane used.
+    tolerance : float, optional
+        B-rep solids only: the chord tolerance of the flattened curves (absolute); 1e-5
+        of the solid's diagonal by default.
 
     Returns
     -------
@@ -90,11 +97,11 @@ def section(solid, plane_origin, plane_normal, *, on_face=None) -> Region:
     1.0
     """
     origin, normal = _plane(plane_origin, plane_normal)
-    return _Solid(solid).cut(origin, normal, _on_face(on_face))
+    return _solid(solid, tolerance).cut(origin, normal, _on_face(on_face))
 
 
 def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None,
-             on_face=None) -> list[Region]:
+             on_face=None, tolerance=None) -> list[Region]:
     """Cut a solid with parallel planes and return one :class:`Region` per plane.
 
     Give either ``offsets`` (the planes' signed distances along the unit normal from
@@ -108,7 +115,7 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
 
     Parameters
     ----------
-    solid : trimesh.Trimesh, manifold3d.Manifold, str or os.PathLike
+    solid : trimesh.Trimesh, manifold3d.Manifold, str, os.PathLike or OCP shape
     plane_normal : (3,) array_like
     offsets : sequence of float, optional
     count : int, optional
@@ -116,6 +123,8 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
         The point offsets are measured from; the world origin by default.
     on_face : {None, "above", "below"}
         For planes at ``offsets`` that lie on faces, as in :func:`section`.
+    tolerance : float, optional
+        B-rep solids only, as in :func:`section`.
 
     Returns
     -------
@@ -141,10 +150,20 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     """
     origin, normal = _plane((0.0, 0.0, 0.0) if plane_origin is None else plane_origin,
                             plane_normal)
-    solid = _Solid(solid)
+    solid = _solid(solid, tolerance)
     heights = _offsets(offsets, count, solid.heights(origin, normal))
     on_face = "nearest" if count is not None else _on_face(on_face)
     return [solid.cut(origin + height * normal, normal, on_face) for height in heights]
+
+
+def _solid(solid, tolerance):
+    """The solid to cut: a B-rep one (:mod:`.step`) or a mesh one."""
+    if step_backend.accepts(solid):
+        return step_backend.StepSolid(solid, tolerance)
+    if tolerance is not None:
+        raise ArgumentError("tolerance is the chord tolerance of a B-rep solid's curves "
+                            "(STEP, IGES, BREP); a mesh is cut exactly: drop it")
+    return _Solid(solid)
 
 
 class _Solid:
@@ -375,7 +394,8 @@ def _source_of(solid):
         if module is not None and isinstance(solid, getattr(module, class_name)):
             return backend
     raise ArgumentTypeError(f"cannot cut a {type(solid).__name__}: give a trimesh.Trimesh, a "
-                            f"manifold3d.Manifold or the path of a mesh file")
+                            f"manifold3d.Manifold, an OCP TopoDS_Shape or the path of a mesh "
+                            f"or STEP file")
 
 
 def _plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
