@@ -194,9 +194,9 @@ def bezier_points(control, tolerance) -> np.ndarray:
 
     Examples
     --------
-    >>> points = bezier_points([(0, 0), (1, 2), (2, 0)], 0.01)    # y = 2x - x², |B''| = 4
+    >>> points = bezier_points([(0, 0), (1, 2), (2, 0)], 0.01)   # y = 2x - x², |B''| = 8
     >>> len(points), bool(np.allclose(points[:, 1], 2 * points[:, 0] - points[:, 0] ** 2))
-    (9, True)
+    (11, True)
     """
     control = np.asarray(control, dtype=float)
     degree = len(control) - 1

@@ -88,7 +88,7 @@ def accepts(solid) -> bool:
     """Whether ``solid`` is read here: a path with a B-rep suffix (:data:`SUFFIXES`), an
     OCP ``TopoDS_Shape``, or an object wrapping one (``.wrapped``).
 
-    OCP is not imported: an OCP object exists only if OCP was imported already.
+    OCP is not loaded here: an OCP object exists only if OCP was imported already.
 
     Examples
     --------
@@ -102,9 +102,14 @@ def accepts(solid) -> bool:
 
 def _shape_of(solid):
     """The ``TopoDS_Shape`` that ``solid`` is or wraps, else None."""
+    if sys.modules.get("OCP") is None:
+        return None
     topods = sys.modules.get("OCP.TopoDS")
     if topods is None:
-        return None
+        try:
+            from OCP import TopoDS as topods         # cheap: OCP is loaded already
+        except ImportError:
+            return None
     for candidate in (solid, getattr(solid, "wrapped", None)):
         if isinstance(candidate, topods.TopoDS_Shape):
             return candidate
@@ -219,9 +224,9 @@ class StepSolid:
     """
 
     def __init__(self, solid, tolerance=None):
+        shape = load(solid)                # first: it says which extra OCP comes with
         from OCP.TopoDS import TopoDS
 
-        shape = load(solid)
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
         self.solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
         if not self.solids:
