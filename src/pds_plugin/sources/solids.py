@@ -20,12 +20,15 @@ import numpy as np
 import shapely
 import shapely.affinity
 
-from .._checks import check_positive_int, check_vector
+from .._checks import check_positive_int
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
 from ..region import Region, lift
 from . import manifold as manifold_backend
 from . import step as step_backend
 from . import trimesh as trimesh_backend
+from .planes import checked_on_face as _on_face
+from .planes import checked_plane as _plane
+from .planes import plane_frames as _frames
 from .polygons import outline_geometry, snap
 
 __all__ = ["section", "sections", "MAX_SECTIONS"]
@@ -346,12 +349,6 @@ def _unit(heights) -> float:
     return 2.0 ** np.round(np.log2(extent)) if extent > 0 else 1.0
 
 
-def _on_face(on_face):
-    if on_face not in (None, "above", "below"):
-        raise ArgumentError(f"on_face must be None, 'above' or 'below', got {on_face!r}")
-    return on_face
-
-
 def _shells(faces, count) -> np.ndarray:
     """The connected component (shell) of each face, through shared vertices."""
     from scipy.sparse import coo_matrix
@@ -375,17 +372,6 @@ def _snap_by_shell(segments, shell_of_segment, local, shell, faces) -> np.ndarra
     return snapped
 
 
-def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
-    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0) and its exact inverse."""
-    from trimesh.geometry import plane_transform
-
-    to_2d = plane_transform(origin, normal)
-    to_3d = np.eye(4)
-    to_3d[:3, :3] = to_2d[:3, :3].T   # a rotation: its inverse is its transpose
-    to_3d[:3, 3] = origin             # (0, 0) is the plane origin
-    return to_2d, to_3d
-
-
 def _source_of(solid):
     if isinstance(solid, (str, os.PathLike)):
         return trimesh_backend
@@ -396,16 +382,6 @@ def _source_of(solid):
     raise ArgumentTypeError(f"cannot cut a {type(solid).__name__}: give a trimesh.Trimesh, a "
                             f"manifold3d.Manifold, an OCP TopoDS_Shape or the path of a mesh "
                             f"or STEP file")
-
-
-def _plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
-    """Validated plane origin and unit normal, as float64 (3,) arrays."""
-    origin, normal = check_vector(origin, "plane_origin"), check_vector(normal, "plane_normal")
-    length = np.linalg.norm(normal)
-    if not length > 0:
-        raise ArgumentError("plane_normal is the zero vector; give the direction the plane "
-                         "faces, e.g. (0, 0, 1)")
-    return origin, normal / length
 
 
 def _offsets(offsets, count, heights) -> np.ndarray:

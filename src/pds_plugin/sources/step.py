@@ -41,6 +41,7 @@ from ..errors import ArgumentError, SectionError, SourceError
 from ..region import Region, lift
 from ._sniff import misnamed
 from .curves import bezier_points, elliptic_points
+from .planes import checked_on_face, checked_plane, plane_frames
 from .polygons import outline_geometry
 
 __all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "SectionCurve", "accepts", "load",
@@ -266,10 +267,8 @@ class StepSolid:
         return [curve for solid in moved for curve in self._section_curves(solid)]
 
     def _geometry(self, origin, normal, on_face):
-        from .solids import _frames
-
         origin = self._off_faces(origin, normal, on_face)
-        to_2d, to_3d = _frames(origin, normal)
+        to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
         moved = self._moved(to_2d)
         self._check_plane(moved, offset)
@@ -383,9 +382,7 @@ class StepSolid:
 
 
 def _to_2d(origin, normal) -> np.ndarray:
-    from .solids import _frames
-
-    return _frames(origin, normal)[0]
+    return plane_frames(origin, normal)[0]
 
 
 def _box(solids) -> tuple[np.ndarray, np.ndarray]:
@@ -501,7 +498,5 @@ def section_curves(solid, plane_origin, plane_normal, *, on_face=None,
     ...
     FileNotFoundError: no such BREP file: 'absent.brep'
     """
-    from .solids import _on_face, _plane
-
-    origin, normal = _plane(plane_origin, plane_normal)
-    return StepSolid(solid, tolerance).curves(origin, normal, _on_face(on_face))
+    origin, normal = checked_plane(plane_origin, plane_normal)
+    return StepSolid(solid, tolerance).curves(origin, normal, checked_on_face(on_face))
