@@ -186,11 +186,12 @@ def test_auto_meshes_of_own_parts_are_certified(name, graded):
 
 
 @needs_ocp
-def test_step_iges_brep_and_the_shape_give_one_section(tmp_path):
+def test_step_iges_brep_the_shape_and_its_wrapper_give_one_section(tmp_path):
     shape = parts.filleted_block()
+    wrapper = type("Workpiece", (), {"wrapped": shape})()          # as cadquery, build123d
     regions = [pds.section(source, (0, 0, 10), (0, 0, 1)) for source in
-               (shape, *(parts.write(shape, tmp_path / f"block{s}") for s in
-                         (".step", ".STP", ".iges", ".brep")))]
+               (shape, wrapper, *(parts.write(shape, tmp_path / f"block{s}") for s in
+                                  (".step", ".STP", ".iges", ".brep")))]
     for region in regions[1:]:
         assert region.betti == regions[0].betti == (1, 2)
         assert region.area == pytest.approx(regions[0].area, rel=1e-9)
