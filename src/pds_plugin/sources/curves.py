@@ -203,9 +203,9 @@ def bezier_points(control, tolerance) -> np.ndarray:
     second = control[2:] - 2 * control[1:-1] + control[:-2]
     bound = degree * (degree - 1) * np.linalg.norm(second, axis=1).max() if degree > 1 else 0
     t = np.r_[0.0, steps(bound, tolerance)][:, None]
-    basis = np.hstack([math.comb(degree, i) * t**i * (1 - t) ** (degree - i)
-                       for i in range(degree + 1)])
-    return basis @ control
+    power = np.arange(degree + 1)
+    choose = np.array([math.comb(degree, i) for i in power], dtype=float)
+    return (choose * t**power * (1 - t) ** (degree - power)) @ control
 
 
 def outline(chains, tolerance, name, kind="curve"):

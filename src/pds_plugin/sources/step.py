@@ -247,6 +247,7 @@ class StepSolid:
             raise ArgumentError(f"tolerance must be a positive number (the curves' chord "
                                 f"tolerance, in the part's units), got {tolerance!r}")
         self.tolerance = float(tolerance)
+        self.planes = _planar_faces(self.solids)
 
     def heights(self, origin, normal) -> np.ndarray:
         """The solid's lowest and highest signed distance to the plane."""
@@ -255,25 +256,11 @@ class StepSolid:
 
     def cut(self, origin, normal, on_face=None) -> Region:
         """The section by the plane through ``origin`` (unit ``normal``) as a Region."""
-        geometry, to_3d = self._geometry(origin, normal, on_face)
-        return Region.from_shapely(geometry, frame=to_3d)
-
-    def curves(self, origin, normal, on_face=None) -> list[SectionCurve]:
-        """The section's edges as :class:`SectionCurve` objects (see
-        :func:`section_curves`)."""
-        origin = self._off_faces(origin, normal, on_face)
-        moved = self._moved(_to_2d(origin, normal))
-        self._check_plane(moved, float(origin @ normal))
-        return [curve for solid in moved for curve in self._section_curves(solid)]
-
-    def _geometry(self, origin, normal, on_face):
         origin = self._off_faces(origin, normal, on_face)
         to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
-        moved = self._moved(to_2d)
-        self._check_plane(moved, offset)
         parts = []
-        for solid in moved:
+        for solid in self._moved(to_2d):
             curves = self._section_curves(solid)
             if not curves:
                 continue
@@ -291,11 +278,18 @@ class StepSolid:
             parts.append(geometry)
         geometry = shapely.union_all(parts) if parts else shapely.Polygon()
         if geometry.is_empty or geometry.area == 0:
-            raise SectionError(
-                f"the plane at normal·x = {offset:.9g} crosses {self.name}'s extent but cuts "
-                f"no material (it only touches the solid, or passes through a gap between "
-                f"parts); move the plane")
-        return geometry, to_3d
+            self._refuse_empty(to_2d, offset)
+        return Region.from_shapely(geometry, frame=to_3d)
+
+    def curves(self, origin, normal, on_face=None) -> list[SectionCurve]:
+        """The section's edges as :class:`SectionCurve` objects (see
+        :func:`section_curves`)."""
+        origin = self._off_faces(origin, normal, on_face)
+        to_2d = _to_2d(origin, normal)
+        curves = [curve for solid in self._moved(to_2d) for curve in self._section_curves(solid)]
+        if not curves:
+            self._refuse_empty(to_2d, float(origin @ normal))
+        return curves
 
     def _moved(self, to_2d) -> list:
         """The solids moved so that the plane is z = 0 (a location: no copy)."""
@@ -322,38 +316,32 @@ class StepSolid:
         return [_curve(TopoDS.Edge(edge), self.tolerance)
                 for edge in _explore(cut.Shape(), "EDGE")]
 
-    def _faces_on(self, moved) -> int:
-        """How many planar faces of the (moved) solids lie on z = 0."""
-        from OCP.BRepAdaptor import BRepAdaptor_Surface
-        from OCP.GeomAbs import GeomAbs_SurfaceType
-        from OCP.TopoDS import TopoDS
-
-        count = 0
-        for solid in moved:
-            for face in _explore(solid, "FACE"):
-                surface = BRepAdaptor_Surface(TopoDS.Face(face))
-                if surface.GetType() != GeomAbs_SurfaceType.GeomAbs_Plane:
-                    continue
-                plane = surface.Plane()
-                direction, location = plane.Axis().Direction(), plane.Location()
-                if (abs(direction.Z()) >= 1 - 1e-12
-                        and abs(location.Z()) <= _ON_PLANE * self.scale):
-                    count += 1
-        return count
+    def _faces_on(self, origin, normal) -> int:
+        """How many planar faces of the solids lie on the plane."""
+        facing, offsets = self.planes
+        parallel = np.abs(facing @ normal) >= 1 - 1e-12
+        return int((parallel & (np.abs(offsets - facing @ origin)
+                                <= _ON_PLANE * self.scale)).sum())
 
     def _off_faces(self, origin, normal, on_face):
         """The plane origin, moved off the planar faces it lies on as ``on_face`` says
-        ("nearest": the automatic planes of :func:`pds_plugin.sections`, with a warning)."""
-        flat = self._faces_on(self._moved(_to_2d(origin, normal)))
-        if not flat or on_face is None:
-            return origin                 # refused, if on faces, by _check_plane
+        ("nearest": the automatic planes of :func:`pds_plugin.sections`, with a warning),
+        or refused when ``on_face`` is None."""
+        flat = self._faces_on(origin, normal)
         offset = float(origin @ normal)
+        if flat and on_face is None:
+            raise SectionError(
+                f"the plane lies on {flat} face(s) of {self.name} (normal·x = {offset:.9g}), "
+                f"so the section is ambiguous; pass on_face='above' or 'below' (CLI: "
+                f"--on-face above or below), or move the plane")
+        if not flat:
+            return origin
         step = _STEP_OFF * self.scale
         for shift in ([step, -step] if on_face == "nearest" else
                       [step if on_face == "above" else -step]):
             for _ in range(20):
                 moved = origin + shift * normal
-                if not self._faces_on(self._moved(_to_2d(moved, normal))):
+                if not self._faces_on(moved, normal):
                     if on_face == "nearest":
                         warnings.warn(
                             f"the plane at normal·x = {offset:.9g} lies on {flat} face(s) of "
@@ -364,21 +352,39 @@ class StepSolid:
                 shift *= 2
         return origin
 
-    def _check_plane(self, moved, offset) -> None:
-        """Refuse a plane on faces of the solid, or one that misses it."""
-        flat = self._faces_on(moved)
-        if flat:
-            raise SectionError(
-                f"the plane lies on {flat} face(s) of {self.name} (normal·x = {offset:.9g}), "
-                f"so the section is ambiguous; pass on_face='above' or 'below' (CLI: "
-                f"--on-face above or below), or move the plane")
-        low, high = _box(moved)
+    def _refuse_empty(self, to_2d, offset):
+        """The error for a plane that cuts no material: it misses the solid (the message
+        gives the solid's extent along the normal), or only touches it."""
+        low, high = _box(self._moved(to_2d))
         margin = _ON_PLANE * self.scale
         if low[2] > margin or high[2] < -margin:
             raise SectionError(
                 f"the plane misses {self.name}: it is at normal·x = {offset:.9g} but the "
                 f"solid spans normal·x in [{offset + low[2]:.9g}, {offset + high[2]:.9g}]; "
                 f"put the plane origin inside that range")
+        raise SectionError(
+            f"the plane at normal·x = {offset:.9g} cuts no material of {self.name}, which "
+            f"spans normal·x in [{offset + low[2]:.9g}, {offset + high[2]:.9g}] (it only "
+            f"touches the solid, or passes through a gap between parts); move the plane")
+
+
+def _planar_faces(solids) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the solids' planar faces."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+    from OCP.TopoDS import TopoDS
+
+    facing, offsets = [], []
+    for solid in solids:
+        for face in _explore(solid, "FACE"):
+            surface = BRepAdaptor_Surface(TopoDS.Face(face))
+            if surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Plane:
+                plane = surface.Plane()
+                direction, location = plane.Axis().Direction(), plane.Location()
+                normal = np.array([direction.X(), direction.Y(), direction.Z()])
+                facing.append(normal)
+                offsets.append(normal @ [location.X(), location.Y(), location.Z()])
+    return np.array(facing).reshape(-1, 3), np.array(offsets, dtype=float)
 
 
 def _to_2d(origin, normal) -> np.ndarray:
