@@ -10,7 +10,7 @@ Per part: the section's area by each route against OpenCASCADE's own exact secti
 between the two sections' boundaries, the vertices of each, and the certificate of a
 uniform and a graded ``alpha="auto"`` mesh of each. Then the times: OpenCASCADE's
 Boolean (``BRepAlgoAPI_Section`` on the loaded shape) against ``pds.section`` of the
-same loaded shape, and reading the file, best of 5.
+same loaded shape, and reading the file, best of 10.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ import _step_parts as parts  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 INCH = 25.4          # featuretype.STL is in inches, the STEP reader gives millimetres
-REPEATS = 5
+REPEATS = 10
 
 
 def exact_area(shape, origin, normal) -> float:
