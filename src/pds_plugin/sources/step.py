@@ -6,9 +6,11 @@ OCP (the ``[step]`` extra), with the section's curves kept exact until they are 
 ``TopoDS_Shape`` (or an object wrapping one as ``.wrapped``: a cadquery or build123d
 shape). OCP is imported when such a solid is read, never by ``import pds_plugin``.
 
-Each solid is cut by ``BRepAlgoAPI_Section`` in the plane's own frame (the shape is moved
-so the plane is z = 0, the same 2D frame as a mesh section), and each edge of the cut is
-read by ``BRepAdaptor_Curve`` as the exact curve it is:
+Each solid is cut in the plane's own frame (the shape is moved so the plane is z = 0, the
+same 2D frame as a mesh section) by OCCT's Boolean common with a square face of that plane
+(``BRepAlgoAPI_Common``: the same curves as ``BRepAlgoAPI_Section``, ten times faster on a
+threaded screw), and each edge of the cut is read by ``BRepAdaptor_Curve`` as the exact
+curve it is:
 
 - a **line** gives its two end points;
 - a **circle** or an **ellipse** gives ``center + u cos θ + v sin θ``, flattened by
@@ -237,6 +239,7 @@ class StepSolid:
                               f"sew its faces into one")
         low, high = _box(self.solids)
         self.scale = float(np.linalg.norm(high - low))
+        self.center = (low + high) / 2
         if not (np.isfinite(self.scale) and self.scale > 0):
             raise SourceError(f"{self.name} has no extent (an empty or degenerate solid)")
         if tolerance is None:
@@ -261,7 +264,7 @@ class StepSolid:
         offset = float(origin @ normal)
         parts = []
         for solid in self._moved(to_2d):
-            curves = self._section_curves(solid)
+            curves = self._section_curves(solid, self._reach(origin))
             if not curves:
                 continue
             join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
@@ -286,7 +289,8 @@ class StepSolid:
         :func:`section_curves`)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d = _to_2d(origin, normal)
-        curves = [curve for solid in self._moved(to_2d) for curve in self._section_curves(solid)]
+        curves = [curve for solid in self._moved(to_2d)
+                  for curve in self._section_curves(solid, self._reach(origin))]
         if not curves:
             self._refuse_empty(to_2d, float(origin @ normal))
         return curves
@@ -301,20 +305,27 @@ class StepSolid:
         location = TopLoc_Location(transform)
         return [solid.Moved(location) for solid in self.solids]
 
-    def _section_curves(self, solid) -> list[SectionCurve]:
-        """The edges of the cut of one (moved) solid by z = 0."""
-        from OCP.BRepAlgoAPI import BRepAlgoAPI_Section
-        from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
+    def _section_curves(self, solid, reach) -> list[SectionCurve]:
+        """The edges of the cut of one (moved) solid by z = 0: the boundary of its common
+        with the square [-reach, reach]² of that plane. (OCCT's Common gives the same
+        curves as its Section, and is faster on free-form faces: 0.85 s against 12-16 s
+        on the thread of M6-1x12-countersunk-screw.step.)"""
+        from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+        from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+        from OCP.gp import gp_Pln
         from OCP.TopoDS import TopoDS
 
-        cut = BRepAlgoAPI_Section(solid, gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), False)
-        cut.Approximation(True)            # free-form cuts as smooth B-splines
-        cut.Build()
-        if not cut.IsDone():
+        plane = BRepBuilderAPI_MakeFace(gp_Pln(), -reach, reach, -reach, reach).Face()
+        common = BRepAlgoAPI_Common(solid, plane)
+        if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
         return [_curve(TopoDS.Edge(edge), self.tolerance)
-                for edge in _explore(cut.Shape(), "EDGE")]
+                for edge in _explore(common.Shape(), "EDGE")]
+
+    def _reach(self, origin) -> float:
+        """A half-width of the plane's square about ``origin`` that holds every solid."""
+        return 2 * (float(np.linalg.norm(self.center - origin)) + self.scale)
 
     def _faces_on(self, origin, normal) -> int:
         """How many planar faces of the solids lie on the plane."""
