@@ -243,6 +243,13 @@ def test_planes_that_miss_say_where_the_solid_is():
 
 
 @needs_ocp
+def test_a_plane_that_only_touches_an_edge_cuts_no_material():
+    block = parts._box(0, 0, 0, 10, 10, 10)
+    with pytest.raises(SectionError, match=r"cuts no material .*in \[-7.07106781, 7.07106781\]"):
+        pds.section(block, (10, 0, 0), (1, 0, -1))              # through the edge x=10, z=0
+
+
+@needs_ocp
 def test_bad_inputs_get_clear_errors(tmp_path):
     with pytest.raises(FileNotFoundError, match="no such STEP file"):
         pds.section(tmp_path / "absent.stp", (0, 0, 0), (0, 0, 1))

@@ -320,8 +320,9 @@ class StepSolid:
         if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
-        return [_curve(TopoDS.Edge(edge), self.tolerance)
-                for edge in _explore(common.Shape(), "EDGE")]
+        return [_curve(TopoDS.Edge(edge), self.tolerance)        # the faces' edges: a plane
+                for face in _explore(common.Shape(), "FACE")       # touching an edge gives
+                for edge in _explore(face, "EDGE")]                # a line, not material
 
     def _reach(self, origin) -> float:
         """A half-width of the plane's square about ``origin`` that holds every solid."""
