@@ -211,7 +211,7 @@ def test_the_step_and_the_stl_route_share_the_frame_and_agree_to_the_tessellatio
 
 
 @needs_ocp
-def test_overlapping_and_separate_solids_give_their_union():
+def test_overlapping_and_separate_solids_give_their_union(tmp_path):
     shape = parts.overlapping_bodies()
     region = pds.section(shape, (0, 0, 5), (0, 0, 1))
     assert region.betti == (1, 0)                                 # one body, not two
@@ -219,6 +219,11 @@ def test_overlapping_and_separate_solids_give_their_union():
     assert region.area == pytest.approx(1600 + np.pi * 15 ** 2 - quarter, rel=1e-4)
     assert region.area == pytest.approx(occt_section_area(shape, (0, 0, 5), (0, 0, 1)),
                                         rel=1e-4)
+    assembly = parts.write(shape, tmp_path / "assembly.step")    # two solids in one file
+    assert pds.section(assembly, (0, 0, 5), (0, 0, 1)).area == pytest.approx(region.area,
+                                                                           rel=1e-9)
+    apart = parts._fuse(parts._box(0, 0, 0, 10, 10, 10), parts._box(20, 0, 0, 10, 10, 10))
+    assert pds.section(apart, (0, 0, 5), (0, 0, 1)).betti == (2, 0)
 
 
 @needs_ocp
@@ -267,8 +272,8 @@ def test_bad_inputs_get_clear_errors(tmp_path):
     face = BRepBuilderAPI_MakeFace(gp_Pln(), 0, 1, 0, 1).Face()
     with pytest.raises(SourceError, match="holds no solid"):
         pds.section(face, (0, 0, 0), (1, 0, 0))
-    for bad in (0, -1.0, float("nan"), "fine"):
-        with pytest.raises(ArgumentError, match="tolerance must be a positive number"):
+    for bad in (0, -1.0, float("nan"), "fine", True):
+        with pytest.raises(ArgumentError, match="tolerance must be a positive"):
             pds.section(parts.bolt(), (0, 0, 20), (0, 0, 1), tolerance=bad)
     import trimesh
 
