@@ -22,8 +22,8 @@ COMMANDS = ("mesh", "demo", "batch")
 _NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
 
 _DESCRIPTION = """\
-Certified triangle meshes of planar sections: cut a mesh file with planes
-(or read an SVG or DXF drawing), sample each section with a maximal Poisson disc
+Certified triangle meshes of planar sections: cut a mesh or STEP file with
+planes (or read an SVG or DXF drawing), sample each section with a maximal Poisson disc
 sampling of radius alpha, mesh it with the solid alpha-complex, and write
 it with its quality certificate.
 
@@ -44,6 +44,7 @@ examples:
   pds-mesh part.stl -o cut.ply --axis z --at 0.5 --alpha 0.05
   pds-mesh part.stl -o cut.ply --plane-origin 0,0,1 --plane-normal 0,1,1 --alpha auto
   pds-mesh part.stl -o slice.ply --axis z --slices 20 --alpha auto --jobs 2 --report r.json
+  pds-mesh part.step -o cut.ply --axis z --alpha auto   (STEP, IGES, BREP: pds_plugin[step])
   pds-mesh drawing.svg -o drawing.obj --alpha 2.5 --plot drawing.png --discs
   pds-mesh bracket.dxf -o bracket.ply --alpha auto --layer OUTLINE --layer HOLES
 
@@ -145,8 +146,8 @@ def parser() -> argparse.ArgumentParser:
 
 def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", metavar="INPUT",
-                        help="a mesh file (STL, OBJ, PLY, OFF, 3MF, GLB), or an SVG or "
-                             "DXF drawing")
+                        help="a mesh file (STL, OBJ, PLY, OFF, 3MF, GLB), a B-rep solid "
+                             "(STEP, IGES, BREP; the [step] extra), or an SVG or DXF drawing")
     parser.add_argument("-o", "--output", metavar="OUT", required=True, type=Path,
                         help="the mesh file to write: .ply (binary, face quality = aspect "
                              "ratio, vertex quality = 1 on the boundary) or .obj")

@@ -308,7 +308,7 @@ def _read_regions(args) -> list[Region]:
         return [region]
     if normal is None:
         raise ArgumentError(f"{path} is not a drawing ({', '.join(READERS)}), so it is cut "
-                            f"as a solid (a mesh file): say where with --axis or "
+                            f"as a solid (a mesh or STEP file): say where with --axis or "
                             f"--plane-normal (and --at, --plane-origin or --slices)")
     if args.slices is not None and args.plane_origin is not None:
         raise ArgumentError("--slices spreads the planes across the whole solid: drop "

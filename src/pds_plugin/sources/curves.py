@@ -5,6 +5,7 @@ outline drawing with its report of open ends.
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 
@@ -16,7 +17,7 @@ from ..region import SCALE_LIMITS
 from .polygons import ROUNDING, outline_geometry
 
 __all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
-           "elliptic_points", "outline"]
+           "elliptic_points", "bezier_points", "outline"]
 
 RELATIVE_TOLERANCE = 1e-4
 """Default tolerance of the drawing readers, as a fraction of the drawing's diagonal."""
@@ -172,6 +173,39 @@ def elliptic_points(center, radii, start, sweep, tolerance) -> np.ndarray:
     theta = start + sweep * np.r_[0.0, steps(np.linalg.norm(radii, 2) * sweep**2, tolerance)]
     return np.asarray(center, dtype=float) + np.column_stack(
         [np.cos(theta), np.sin(theta)]) @ radii.T
+
+
+def bezier_points(control, tolerance) -> np.ndarray:
+    """Points of a Bézier curve within ``tolerance`` of it; the first and last are its ends.
+
+    For degree d, max|B''| <= d (d - 1) max|P[i+2] - 2 P[i+1] + P[i]|, and :func:`steps`
+    gives uniform parameters for that bound.
+
+    Parameters
+    ----------
+    control : (d + 1, 2) array_like
+        The control points.
+    tolerance : float
+        The largest distance allowed between a chord and the curve.
+
+    Returns
+    -------
+    (m, 2) ndarray
+
+    Examples
+    --------
+    >>> points = bezier_points([(0, 0), (1, 2), (2, 0)], 0.01)   # y = 2x - x², |B''| = 8
+    >>> len(points), bool(np.allclose(points[:, 1], 2 * points[:, 0] - points[:, 0] ** 2))
+    (11, True)
+    """
+    control = np.asarray(control, dtype=float)
+    degree = len(control) - 1
+    second = control[2:] - 2 * control[1:-1] + control[:-2]
+    bound = degree * (degree - 1) * np.linalg.norm(second, axis=1).max() if degree > 1 else 0
+    t = np.r_[0.0, steps(bound, tolerance)][:, None]
+    power = np.arange(degree + 1)
+    choose = np.array([math.comb(degree, i) for i in power], dtype=float)
+    return (choose * t**power * (1 - t) ** (degree - power)) @ control
 
 
 def outline(chains, tolerance, name, kind="curve"):

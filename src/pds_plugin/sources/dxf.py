@@ -33,7 +33,7 @@ from ..region import Region
 from ._sniff import misnamed
 from ._dxf_limits import MAX_BYTES, MAX_ENTITIES, MAX_SEGMENTS, check_dxf_limits
 from ._dxf_sheet import paper_sizes, sheet_border, sheet_format_name
-from .curves import checked_file, default_tolerance, elliptic_points, outline, steps
+from .curves import bezier_points, checked_file, default_tolerance, elliptic_points, outline
 from .polygons import fill_geometry
 
 __all__ = ["load_dxf"]
@@ -488,13 +488,7 @@ class _Bezier:
         return self.control
 
     def flatten(self, tolerance):
-        control, degree = self.control, len(self.control) - 1
-        second = control[2:] - 2 * control[1:-1] + control[:-2]
-        bound = degree * (degree - 1) * np.linalg.norm(second, axis=1).max() if degree > 1 else 0
-        t = np.r_[0.0, steps(bound, tolerance)][:, None]
-        basis = np.hstack([math.comb(degree, i) * t**i * (1 - t) ** (degree - i)
-                           for i in range(degree + 1)])
-        return basis @ control
+        return bezier_points(self.control, tolerance)
 
 
 class _Adaptive:

@@ -1,6 +1,7 @@
 """CAD solids cut by planes: :func:`section` and :func:`sections` turn a
 ``trimesh.Trimesh``, a ``manifold3d.Manifold`` or a mesh file (anything ``trimesh``
-reads: STL, OBJ, PLY, OFF, 3MF, GLB) into :class:`Region` objects.
+reads: STL, OBJ, PLY, OFF, 3MF, GLB) into :class:`Region` objects; B-rep solids (STEP,
+IGES, BREP files and OCP shapes) are cut exactly by :mod:`.step`, in the same 2D frame.
 
 A solid's backend module (:mod:`.trimesh`, :mod:`.manifold`) turns it into a float64
 ``trimesh.Trimesh``; everything else (the plane, its 2D frame, the checks and the exact
@@ -19,11 +20,15 @@ import numpy as np
 import shapely
 import shapely.affinity
 
-from .._checks import check_positive_int, check_vector
+from .._checks import check_positive_int
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
 from ..region import Region, check_tolerance, lift
 from . import manifold as manifold_backend
+from . import step as step_backend
 from . import trimesh as trimesh_backend
+from .planes import checked_on_face as _on_face
+from .planes import checked_plane as _plane
+from .planes import plane_frames as _frames
 from .polygons import outline_geometry, snap
 
 __all__ = ["section", "sections", "mesh_tolerance", "MAX_SECTIONS"]
@@ -45,8 +50,10 @@ def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) 
 
     Parameters
     ----------
-    solid : trimesh.Trimesh, manifold3d.Manifold, str or os.PathLike
-        A closed (watertight) solid, or the path of a mesh file trimesh reads.
+    solid : trimesh.Trimesh, manifold3d.Manifold, str, os.PathLike or OCP shape
+        A closed (watertight) solid, or the path of a mesh file trimesh reads; or a
+        B-rep solid: a STEP, IGES or BREP file or an OCP ``TopoDS_Shape`` (the ``[step]``
+        extra, :mod:`.step`), whose curves stay exact until flattened.
     plane_origin : (3,) array_like
         A point of the plane.
     plane_normal : (3,) array_like
@@ -57,10 +64,11 @@ def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) 
         / below those faces instead, 1e-6 of the solid's size along the normal, and
         ``region.frame`` holds the plane used.
     tolerance : float, optional
-        How far the section's boundary may be moved to absorb the noise of the mesh
-        (:attr:`Region.tolerance`). By default :func:`mesh_tolerance`: the mesh's
-        float precision, or the chord error of its tessellated curves if larger. 0
-        keeps every vertex of the cut.
+        How far the section's boundary may lie from the solid's. For a mesh, to absorb
+        its noise (:attr:`Region.tolerance`): by default :func:`mesh_tolerance`, the
+        mesh's float precision, or the chord error of its tessellated curves if larger;
+        0 keeps every vertex of the cut. For a B-rep solid, the chord tolerance of its
+        flattened curves: 1e-5 of the solid's diagonal by default.
 
     Returns
     -------
@@ -95,7 +103,7 @@ def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) 
     1.0
     """
     origin, normal = _plane(plane_origin, plane_normal)
-    return _Solid(solid, tolerance).cut(origin, normal, _on_face(on_face))
+    return _solid(solid, tolerance).cut(origin, normal, _on_face(on_face))
 
 
 def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None,
@@ -113,7 +121,7 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
 
     Parameters
     ----------
-    solid : trimesh.Trimesh, manifold3d.Manifold, str or os.PathLike
+    solid : trimesh.Trimesh, manifold3d.Manifold, str, os.PathLike or OCP shape
     plane_normal : (3,) array_like
     offsets : sequence of float, optional
     count : int, optional
@@ -148,10 +156,17 @@ def sections(solid, plane_normal, offsets=None, *, count=None, plane_origin=None
     """
     origin, normal = _plane((0.0, 0.0, 0.0) if plane_origin is None else plane_origin,
                             plane_normal)
-    solid = _Solid(solid, tolerance)
+    solid = _solid(solid, tolerance)
     heights = _offsets(offsets, count, solid.heights(origin, normal))
     on_face = "nearest" if count is not None else _on_face(on_face)
     return [solid.cut(origin + height * normal, normal, on_face) for height in heights]
+
+
+def _solid(solid, tolerance):
+    """The solid to cut: a B-rep one (:mod:`.step`) or a mesh one."""
+    if step_backend.accepts(solid):
+        return step_backend.StepSolid(solid, tolerance)
+    return _Solid(solid, tolerance)
 
 
 class _Solid:
@@ -395,12 +410,6 @@ def _unit(heights) -> float:
     return 2.0 ** np.round(np.log2(extent)) if extent > 0 else 1.0
 
 
-def _on_face(on_face):
-    if on_face not in (None, "above", "below"):
-        raise ArgumentError(f"on_face must be None, 'above' or 'below', got {on_face!r}")
-    return on_face
-
-
 def _shells(faces, count) -> np.ndarray:
     """The connected component (shell) of each face, through shared vertices."""
     from scipy.sparse import coo_matrix
@@ -424,17 +433,6 @@ def _snap_by_shell(segments, shell_of_segment, local, shell, faces) -> np.ndarra
     return snapped
 
 
-def _frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
-    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0) and its exact inverse."""
-    from trimesh.geometry import plane_transform
-
-    to_2d = plane_transform(origin, normal)
-    to_3d = np.eye(4)
-    to_3d[:3, :3] = to_2d[:3, :3].T   # a rotation: its inverse is its transpose
-    to_3d[:3, 3] = origin             # (0, 0) is the plane origin
-    return to_2d, to_3d
-
-
 def _source_of(solid):
     if isinstance(solid, (str, os.PathLike)):
         return trimesh_backend
@@ -443,17 +441,8 @@ def _source_of(solid):
         if module is not None and isinstance(solid, getattr(module, class_name)):
             return backend
     raise ArgumentTypeError(f"cannot cut a {type(solid).__name__}: give a trimesh.Trimesh, a "
-                            f"manifold3d.Manifold or the path of a mesh file")
-
-
-def _plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
-    """Validated plane origin and unit normal, as float64 (3,) arrays."""
-    origin, normal = check_vector(origin, "plane_origin"), check_vector(normal, "plane_normal")
-    length = np.linalg.norm(normal)
-    if not length > 0:
-        raise ArgumentError("plane_normal is the zero vector; give the direction the plane "
-                         "faces, e.g. (0, 0, 1)")
-    return origin, normal / length
+                            f"manifold3d.Manifold, an OCP TopoDS_Shape or the path of a mesh "
+                            f"or STEP file")
 
 
 def _offsets(offsets, count, heights) -> np.ndarray:

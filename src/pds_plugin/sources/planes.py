@@ -1,0 +1,61 @@
+"""The cutting plane, shared by the mesh (:mod:`.solids`) and B-rep (:mod:`.step`)
+sections: its checks, and the 2D frame of a plane that both give their regions, so one
+plane gives the same 2D coordinates whatever the solid comes from."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._checks import check_vector
+from ..errors import ArgumentError
+
+__all__ = ["checked_plane", "plane_frames", "checked_on_face"]
+
+
+def checked_plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
+    """Validated plane origin and unit normal, as float64 (3,) arrays.
+
+    Examples
+    --------
+    >>> checked_plane((0, 0, 1), (0, 0, 2))[1].tolist()
+    [0.0, 0.0, 1.0]
+    """
+    origin, normal = check_vector(origin, "plane_origin"), check_vector(normal, "plane_normal")
+    length = np.linalg.norm(normal)
+    if not length > 0:
+        raise ArgumentError("plane_normal is the zero vector; give the direction the plane "
+                         "faces, e.g. (0, 0, 1)")
+    return origin, normal / length
+
+
+def plane_frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
+    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0) and its exact inverse.
+
+    Examples
+    --------
+    >>> to_2d, to_3d = plane_frames(np.array([0.0, 0.0, 5.0]), np.array([0.0, 0.0, 1.0]))
+    >>> bool(np.allclose(to_3d @ to_2d, np.eye(4)))
+    True
+    """
+    from trimesh.geometry import plane_transform
+
+    to_2d = plane_transform(origin, normal)
+    to_3d = np.eye(4)
+    to_3d[:3, :3] = to_2d[:3, :3].T   # a rotation: its inverse is its transpose
+    to_3d[:3, 3] = origin             # (0, 0) is the plane origin
+    return to_2d, to_3d
+
+
+def checked_on_face(on_face):
+    """``on_face`` itself if it is None, "above" or "below".
+
+    Examples
+    --------
+    >>> checked_on_face("beside")
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.ArgumentError: on_face must be None, 'above' or 'below', got 'beside'
+    """
+    if on_face not in (None, "above", "below"):
+        raise ArgumentError(f"on_face must be None, 'above' or 'below', got {on_face!r}")
+    return on_face
