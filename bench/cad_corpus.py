@@ -127,6 +127,7 @@ def run_case(name: str, modes=MODES, verbose=False) -> list[dict]:
     except Exception as error:
         outcome = _error("section", error, refused=isinstance(error, SectionError))
         return [{**base, "mode": mode, **outcome} for mode in modes]
+    base["tolerance_s"] = _tolerance_pass_seconds(region)
     records = []
     for mode in modes:
         try:
@@ -150,6 +151,23 @@ def run_case(name: str, modes=MODES, verbose=False) -> list[dict]:
                         "separation": float(cert.min_separation), "warnings": said,
                         **({"certificate": str(cert)} if verbose and verdict == "FAILED" else {})})
     return records
+
+
+def _tolerance_pass_seconds(region) -> float:
+    """What the tolerance pass adds to making the region (the simplification, the pinches
+    opened, the deviation measured): ``Region.from_shapely`` of the cut with the region's
+    tolerance less the same without one, the fastest of three each."""
+    from pds_plugin import Region
+
+    def fastest(tolerance):
+        times = []
+        for _ in range(3):
+            start = time.perf_counter()
+            Region.from_shapely(region.source, region.frame, tolerance=tolerance).source_deviation
+            times.append(time.perf_counter() - start)
+        return min(times)
+
+    return max(0.0, fastest(region.tolerance) - fastest(0.0)) if region.tolerance else 0.0
 
 
 _WARNINGS = (("over the budget", "alpha kept above a feature by the sample budget"),)
@@ -280,6 +298,13 @@ def time_table(records) -> list[str]:
         lines.append(f"| {mode} | {len(timed)} | {sum(m):.1f} | {statistics.median(m):.3f} | "
                      f"{max(m):.2f} | {sum(c):.1f} | {statistics.median(c):.3f} | {max(c):.2f} "
                      f"| {sum(c) / sum(m):.2f} |")
+    passes = {r["name"]: r["tolerance_s"] for r in records if "tolerance_s" in r}
+    meshing = sum(r["mesh_s"] for r in records if "mesh_s" in r)
+    if passes and meshing:
+        lines.append(f"\nTolerance pass: {sum(passes.values()):.2f} s over {len(passes)} sections, "
+                     f"{100 * sum(passes.values()) / meshing:.1f} % of the meshing time of the "
+                     f"three modes (issue 20's target: at most 10 %); at most "
+                     f"{max(passes.values()) * 1e3:.1f} ms for one section.")
     slow = max((r for r in records if "mesh_s" in r), key=lambda r: r["mesh_s"] + r["cert_s"],
                default=None)
     if slow:
