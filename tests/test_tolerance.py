@@ -243,3 +243,14 @@ def test_curve_rescaling_never_leaves_a_chord_longer_than_two_alpha():
     result = mesh(region, "uniform auto")
     certificate = result.certificate()
     assert certificate.conforming and certificate.ok_with_exceptions, certificate
+
+
+def test_a_drawing_at_a_fixed_alpha_keeps_its_consecutive_samples_joined():
+    """wrench.dxf at extent / 75: two chords too long to split meet at a corner, and
+    their guards on the chords' bisectors (every height) were less than alpha apart, so
+    one chord stayed unjoined on main; one guard on the corner's bisector serves both."""
+    path = shared_file("wrench.dxf")
+    region = pds.load_dxf(path)
+    xmin, ymin, xmax, ymax = region.bounds
+    certificate = pds.mesh_region(region, max(xmax - xmin, ymax - ymin) / 75, seed=0).certificate()
+    assert certificate.conforming and certificate.ok_with_exceptions, certificate

@@ -621,15 +621,19 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
     heights alpha ± f·t_c (f in ``_GUARD_SPREAD``, t_c = sqrt(alpha² - g²/4)), all of
     which keep the circumradius <= alpha and the chord an edge (docs/conforming.md,
     "Why consecutive boundary samples are mesh edges"). The candidates of one chord are
-    less than alpha apart, so at most one becomes a sample. ``alpha`` may be a radius
-    field (a callable on points), taken at the chord's middle (graded samplings).
+    less than alpha apart, so at most one becomes a sample. Before them all come the
+    corner guards of :func:`_corner_guards`. ``alpha`` may be a radius field (a callable
+    on points), taken at the chord's middle (graded samplings).
 
     Examples
     --------
-    >>> square = np.array([[0, 0], [1.9, 0], [1.9, 1.9], [0, 1.9]])
-    >>> guards = _guards(square, [np.arange(4)], 1.0)
-    >>> len(guards) == 4 * (1 + len(_GUARD_SPREAD)), guards[0].round(3).tolist()
+    >>> plate = np.array([[0, 0], [1.9, 0], [1.9, 1.6], [1.9, 3.2], [0, 3.2], [0, 1.6]])
+    >>> guards = _guards(plate, [np.arange(6)], 1.0)       # the chords of 1.9 are too long
+    >>> len(guards) == 2 * (1 + len(_GUARD_SPREAD)), guards[0].round(3).tolist()
     (True, [0.95, 1.0])
+    >>> square = np.array([[0, 0], [1.9, 0], [1.9, 1.9], [0, 1.9]])
+    >>> _guards(square, [np.arange(4)], 1.0)[0].round(3).tolist()   # a corner guard first
+    [1.193, 0.707]
     """
     a = np.concatenate([ring for ring in rings])
     b = np.concatenate([np.roll(ring, -1) for ring in rings])
@@ -638,9 +642,46 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
     g = np.hypot(chord[:, 0], chord[:, 1])
     alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
     long = g > math.sqrt(3) * alpha
-    g, alpha = g[long], alpha[long]
-    inward = np.column_stack([-chord[long, 1], chord[long, 0]]) / g[:, None]
+    inward = np.column_stack([-chord[:, 1], chord[:, 0]]) / np.maximum(g, 1e-300)[:, None]
+    first = boundary[a] + 0.5 * chord + alpha[:, None] * inward        # height alpha
+    corner = _corner_guards(boundary, rings, a, b, long, first, inward, alpha)
+    g, alpha, inward = g[long], alpha[long], inward[long]
     spread = np.sqrt(np.maximum(alpha ** 2 - g ** 2 / 4, 0.0)) * (1 - _GUARD_MARGIN)
     height = alpha + np.multiply.outer((0.0, *_GUARD_SPREAD), spread)    # (levels, chords)
     middle = 0.5 * (p[long] + q[long])
-    return np.ascontiguousarray((middle + height[..., None] * inward).reshape(-1, 2))
+    return np.ascontiguousarray(np.concatenate(
+        [corner, (middle + height[..., None] * inward).reshape(-1, 2)]))
+
+
+def _corner_guards(boundary, rings, a, b, long, first, inward, alpha) -> np.ndarray:
+    """One guard for two long chords p -> q -> r that meet at a corner q where their
+    guards at height alpha would be less than alpha apart (one would block the other, and
+    no height on the blocked chord's bisector is free of it): the point at alpha from q
+    on the bisector of the corner, wherever it makes triangles of circumradius <= alpha
+    with both chords and lies at least alpha from p and r. Checked on the mesh like every
+    guard: the certificate says whether each chord became an edge."""
+    following = np.arange(len(a)) + 1
+    ends = np.cumsum([len(ring) for ring in rings])
+    following[ends - 1] = ends - np.array([len(ring) for ring in rings])
+    k = np.flatnonzero(long & long[following])
+    n = following[k]
+    radius = np.minimum(alpha[k], alpha[n])
+    k, n, radius = (v[np.hypot(*(first[k] - first[n]).T) < radius] for v in (k, n, radius))
+    bisector = inward[k] + inward[n]
+    size = np.hypot(*bisector.T)
+    k, n, radius, bisector, size = (v[size > 1e-9] for v in (k, n, radius, bisector, size))
+    pivot, before, after = boundary[b[k]], boundary[a[k]], boundary[b[n]]
+    guard = pivot + radius[:, None] * bisector / size[:, None]
+    fits = ((_circumradius(before, pivot, guard) <= radius * (1 - _GUARD_MARGIN))
+            & (_circumradius(pivot, after, guard) <= radius * (1 - _GUARD_MARGIN))
+            & (np.hypot(*(guard - before).T) >= radius)
+            & (np.hypot(*(guard - after).T) >= radius))
+    return guard[fits].reshape(-1, 2)
+
+
+def _circumradius(u, v, w) -> np.ndarray:
+    """Circumradius of each triangle (u, v, w) of (n, 2) points (infinite if flat)."""
+    uv, vw, wu = (np.hypot(*(y - x).T) for x, y in ((u, v), (v, w), (w, u)))
+    twice_area = np.abs((v - u)[:, 0] * (w - u)[:, 1] - (v - u)[:, 1] * (w - u)[:, 0])
+    with np.errstate(divide="ignore"):
+        return uv * vw * wu / (2 * twice_area)
