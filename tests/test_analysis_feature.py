@@ -189,10 +189,28 @@ def brute_force(reg, walls_only=False):
         a = shapely.LineString([ring[i], ring[(i + 1) % n]])
         other = rings[r2][0]
         b = shapely.LineString([other[j], other[(j + 1) % len(other)]])
-        if walls_only and not reg.geometry.buffer(1e-9).covers(shapely.shortest_line(a, b)):
+        if walls_only and not all(reg.geometry.buffer(1e-9).covers(line)
+                                  for line in _closest_lines(a, b)):
             continue
         best = min(best, a.distance(b))
     return best
+
+
+def _closest_lines(a, b):
+    """Shapely's shortest line between segments a and b, and, when they are parallel and
+    face each other, also the one across the middle of their overlap: the closest points
+    of parallel segments are not unique, and a shortest line along the boundary (from the
+    end of one to the other) says nothing of what lies between them (a notch's sides
+    are a gap, though the line along its end runs on the boundary)."""
+    lines = [shapely.shortest_line(a, b)]
+    (p0, p1), (q0, q1) = np.asarray(a.coords), np.asarray(b.coords)
+    u, v = p1 - p0, q1 - q0
+    if abs(u[0] * v[1] - u[1] * v[0]) <= 1e-12 * np.linalg.norm(u) * np.linalg.norm(v):
+        t = sorted(np.clip([(q0 - p0) @ u / (u @ u), (q1 - p0) @ u / (u @ u)], 0, 1))
+        if t[1] > t[0]:
+            middle = p0 + (t[0] + t[1]) / 2 * u
+            lines.append(shapely.shortest_line(shapely.Point(middle), b))
+    return lines
 
 
 @st.composite
