@@ -245,6 +245,21 @@ def test_curve_rescaling_never_leaves_a_chord_longer_than_two_alpha():
     assert certificate.conforming and certificate.ok_with_exceptions, certificate
 
 
+def test_a_corner_guard_serves_two_long_chords_of_a_small_hole():
+    """A generated export whose small polygonal hole has two sides of 1.78 and 1.88 alpha
+    meeting at a corner: their bisector guards were 0.79 alpha apart, and a guard on the
+    corner's bisector at alpha left the open cap of one chord uncovered (an interior sample
+    fell there, the chord unjoined); the corner guard now covers both caps."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    from _cad_corpus import case, mesh
+
+    certificate = mesh(case("g09-tube-with-bosses p0").region(), "uniform auto").certificate()
+    assert certificate.conforming and certificate.ok_with_exceptions, certificate
+
+
 def test_a_drawing_at_a_fixed_alpha_keeps_its_consecutive_samples_joined():
     """wrench.dxf at extent / 75: two chords too long to split meet at a corner, and
     their guards on the chords' bisectors (every height) were less than alpha apart, so

@@ -63,6 +63,7 @@ _STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
 _GUARD_SPREAD = (0.5, -0.5, 1.0, -1.0, 0.25, -0.25, 0.75, -0.75)  # other guard heights, / t_c
 _GUARD_MARGIN = 1e-9     # guards stay this much (/ t_c) inside the heights of circumradius alpha
+_CAP_SLACK = 0.03        # a corner guard's disc holds the open cap's sampled arcs by this much (/ alpha)
 
 
 @dataclass(frozen=True)
@@ -656,27 +657,80 @@ def _guards(boundary, rings, alpha) -> np.ndarray:
 def _corner_guards(boundary, rings, a, b, long, first, inward, alpha) -> np.ndarray:
     """One guard for two long chords p -> q -> r that meet at a corner q where their
     guards at height alpha would be less than alpha apart (one would block the other, and
-    no height on the blocked chord's bisector is free of it): the point at alpha from q
-    on the bisector of the corner, wherever it makes triangles of circumradius <= alpha
-    with both chords and lies at least alpha from p and r. Checked on the mesh like every
-    guard: the certificate says whether each chord became an edge."""
+    no height on the blocked chord's bisector is free of it).
+
+    The guard G is the first point, near the corner's bisector at alpha to 1.5 alpha from
+    q, that makes triangles of circumradius <= alpha with both chords, lies at least alpha
+    from p, q and r, and covers with its disc, for each chord, the part of the cap of the
+    lower circle of circumradius alpha that the discs of the chord's ends leave open
+    (:func:`_open_cap`): the conditions under which a chord with a guard is a mesh edge
+    (docs/conforming.md, "Why consecutive boundary samples are mesh edges")."""
     following = np.arange(len(a)) + 1
     ends = np.cumsum([len(ring) for ring in rings])
     following[ends - 1] = ends - np.array([len(ring) for ring in rings])
     k = np.flatnonzero(long & long[following])
     n = following[k]
     radius = np.minimum(alpha[k], alpha[n])
-    k, n, radius = (v[np.hypot(*(first[k] - first[n]).T) < radius] for v in (k, n, radius))
-    bisector = inward[k] + inward[n]
-    size = np.hypot(*bisector.T)
-    k, n, radius, bisector, size = (v[size > 1e-9] for v in (k, n, radius, bisector, size))
-    pivot, before, after = boundary[b[k]], boundary[a[k]], boundary[b[n]]
-    guard = pivot + radius[:, None] * bisector / size[:, None]
-    fits = ((_circumradius(before, pivot, guard) <= radius * (1 - _GUARD_MARGIN))
-            & (_circumradius(pivot, after, guard) <= radius * (1 - _GUARD_MARGIN))
-            & (np.hypot(*(guard - before).T) >= radius)
-            & (np.hypot(*(guard - after).T) >= radius))
-    return guard[fits].reshape(-1, 2)
+    close = np.hypot(*(first[k] - first[n]).T) < radius
+    guards = []
+    for before, pivot, after, h, (u, v) in zip(boundary[a[k[close]]], boundary[b[k[close]]],
+                                                boundary[b[n[close]]], radius[close],
+                                                zip(inward[k[close]], inward[n[close]])):
+        bisector = u + v
+        if np.hypot(*bisector) < 1e-9:
+            continue
+        heading = math.atan2(bisector[1], bisector[0])
+        turn = np.radians([0, 10, -10, 20, -20, 30, -30])
+        reach = h * np.array([1.0, 1.1, 1.2, 1.3, 1.4, 1.5]) * (1 + _GUARD_MARGIN)
+        angles, distances = (x.ravel() for x in np.meshgrid(heading + turn, reach))
+        candidates = pivot + distances[:, None] * np.column_stack([np.cos(angles), np.sin(angles)])
+        count = len(candidates)
+        fits = ((_circumradius(np.broadcast_to(before, (count, 2)), np.broadcast_to(pivot, (count, 2)),
+                               candidates) <= h * (1 - _GUARD_MARGIN))
+                & (_circumradius(np.broadcast_to(pivot, (count, 2)), np.broadcast_to(after, (count, 2)),
+                                 candidates) <= h * (1 - _GUARD_MARGIN))
+                & (np.hypot(*(candidates - before).T) >= h)
+                & (np.hypot(*(candidates - after).T) >= h))
+        cap = np.concatenate([_open_cap(before, pivot, h), _open_cap(pivot, after, h)])
+        fits &= (np.hypot(candidates[:, None, 0] - cap[None, :, 0],
+                          candidates[:, None, 1] - cap[None, :, 1]) <= h * (1 - _CAP_SLACK)).all(axis=1)
+        if fits.any():
+            guards.append(candidates[np.argmax(fits)])
+    return np.array(guards).reshape(-1, 2)
+
+
+def _open_cap(p, q, alpha, count=16) -> np.ndarray:
+    """Points along the boundary of the part of the inner cap of the circle of radius
+    alpha through p and q with its centre t_c = sqrt(alpha² - g²/4) outside the chord
+    that B(p, alpha) ∪ B(q, alpha) leaves open: arcs of the circles about p, about that
+    centre and about q, from (0, t_c) over the cap's top and back (chord coordinates,
+    the region to the left of p -> q). A guard whose disc holds it keeps the chord an
+    edge; ``count`` points per arc, their spacing under alpha / 40 for g in (√3α, 2α).
+
+    Examples
+    --------
+    >>> points = _open_cap(np.array([0.0, 0.0]), np.array([1.9, 0.0]), 1.0)
+    >>> bool(np.all(points[:, 1] > 0)), round(float(points[:, 1].max()), 3)   # top: 1 - t_c
+    (True, 0.688)
+    """
+    chord = q - p
+    g = math.hypot(*chord)
+    along, inward = chord / g, np.array([-chord[1], chord[0]]) / g
+    t = math.sqrt(max(alpha ** 2 - g ** 2 / 4, 0.0))
+    low = np.array([0.0, -t])
+    ends = {"p": np.array([-g / 2, 0.0]), "q": np.array([g / 2, 0.0])}
+    top = np.array([0.0, t])                                   # where the end circles meet
+    corner = np.array([-g / 4 + math.sqrt(3) / 2 * t, -t / 2 + math.sqrt(3) / 4 * g])
+
+    def arc(centre, start, stop):
+        first, last = (math.atan2(*(point - centre)[::-1]) for point in (start, stop))
+        angle = np.linspace(first, last, count)
+        return centre + alpha * np.column_stack([np.cos(angle), np.sin(angle)])
+
+    mirror = corner * np.array([-1.0, 1.0])
+    local = np.concatenate([arc(ends["p"], top, corner), arc(low, corner, mirror),
+                            arc(ends["q"], mirror, top)])
+    return (p + q) / 2 + local[:, :1] * along + local[:, 1:] * inward
 
 
 def _circumradius(u, v, w) -> np.ndarray:
