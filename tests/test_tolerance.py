@@ -269,3 +269,42 @@ def test_a_drawing_at_a_fixed_alpha_keeps_its_consecutive_samples_joined():
     xmin, ymin, xmax, ymax = region.bounds
     certificate = pds.mesh_region(region, max(xmax - xmin, ymax - ymin) / 75, seed=0).certificate()
     assert certificate.conforming and certificate.ok_with_exceptions, certificate
+
+
+# --- the tolerance pass on random noisy regions ---
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), noise=st.floats(1e-9, 1e-2), ratio=st.floats(0.1, 10))
+def test_the_tolerance_pass_keeps_topology_and_stays_within_the_tolerance(seed, noise, ratio):
+    """Noisy plates with holes (vertices every 0.05 along straight and circular edges,
+    moved at random by up to ``noise``), simplified at ``ratio`` times the noise: the
+    region keeps its components and holes, is valid, and its boundary lies within the
+    tolerance of the input's, as shapely's densified Hausdorff distance confirms."""
+    rng = np.random.default_rng(seed)
+
+    def noisy(ring):
+        closed = np.vstack([ring, ring[:1]])
+        steps = np.maximum(np.ceil(np.hypot(*np.diff(closed, axis=0).T) / 0.05), 1).astype(int)
+        dense = np.concatenate([np.linspace(closed[k], closed[k + 1], s, endpoint=False)
+                                for k, s in enumerate(steps)])
+        return dense + rng.uniform(-noise, noise, dense.shape)
+
+    holes = [noisy(np.column_stack([x + r * np.cos(t), 2 + r * np.sin(t)]))
+             for x, r in ((2, 0.8), (5, 1.2)) for t in [np.linspace(0, -2 * np.pi, 60, endpoint=False)]]
+    plate = Polygon(noisy(np.array([[0, 0], [8, 0], [8, 4], [0, 4]], float)), holes)
+    other = Polygon(noisy(np.array([[9, 0], [10, 0], [10, 1], [9, 1]], float)))
+    source = MultiPolygon([plate, other])
+    if not source.is_valid:
+        return
+    tolerance = ratio * noise
+    region = pds.Region.from_shapely(source, tolerance=tolerance)
+    assert region.geometry.is_valid and region.betti == (2, 2)
+    assert region.source_deviation <= tolerance
+    if ratio >= 2:                           # the noise on the straight edges is absorbed
+        assert len(shapely.get_coordinates(region.geometry)) < len(shapely.get_coordinates(source)) / 2
+    measured = shapely.hausdorff_distance(region.geometry.boundary, region.source.boundary,
+                                          densify=0.05)
+    assert measured <= region.source_deviation + 1e-12
