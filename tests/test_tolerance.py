@@ -70,7 +70,7 @@ def test_a_region_further_from_its_source_than_its_tolerance_is_not_ok():
     assert not certificate.ok_with_exceptions and "FAILED" in str(certificate)
 
 
-@pytest.mark.parametrize("tolerance", [-1.0, math.nan, math.inf])
+@pytest.mark.parametrize("tolerance", [-1.0, math.nan, math.inf, True, "0.1", None])
 def test_a_bad_tolerance_is_refused(tolerance):
     with pytest.raises(pds.PdsError, match="tolerance"):
         pds.Region.from_shapely(box(0, 0, 1, 1), tolerance=tolerance)

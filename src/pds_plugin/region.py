@@ -296,6 +296,8 @@ def check_tolerance(tolerance) -> float:
     pds_plugin.errors.ArgumentError: tolerance must be a finite number >= 0 (0: exact), got -1
     """
     try:
+        if isinstance(tolerance, (bool, str)):
+            raise TypeError
         value = float(tolerance)
     except (TypeError, ValueError):
         raise ArgumentTypeError(f"tolerance must be a number, got {tolerance!r}") from None
