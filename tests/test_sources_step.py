@@ -26,6 +26,7 @@ needs_ocp = pytest.mark.skipif(importlib.util.find_spec("OCP") is None,
                                reason="OCP (the [step] extra) is not installed")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 import _step_parts as parts  # noqa: E402
+from step_vs_stl import exact_area as occt_section_area  # noqa: E402  (GProp, the reference)
 
 MID_HEIGHT = 34.925 / 2        # featuretype.STEP spans z in [0, 34.925] (mm)
 
@@ -49,26 +50,6 @@ def test_import_pds_plugin_and_mesh_sections_never_load_ocp():
 
 
 # --- OpenCASCADE's own exact section, the reference --------------------------------------
-
-def occt_section_area(shape, origin, normal):
-    """GProp area of the common of the solid(s) and a large planar face (solids fused
-    first, so overlaps count once)."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Fuse
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-    from OCP.BRepGProp import BRepGProp
-    from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
-    from OCP.GProp import GProp_GProps
-
-    solids = step._explore(shape, "SOLID")
-    body = solids[0]
-    for other in solids[1:]:
-        body = BRepAlgoAPI_Fuse(body, other).Shape()
-    face = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(*origin), gp_Dir(*normal)),
-                                   -1e4, 1e4, -1e4, 1e4).Face()
-    properties = GProp_GProps()
-    BRepGProp.SurfaceProperties_s(BRepAlgoAPI_Common(body, face).Shape(), properties, 1e-10)
-    return properties.Mass()
-
 
 def flattening_bound(curves, tolerance):
     """A bound on |area of the flattened section - exact area|: every point of a

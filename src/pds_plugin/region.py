@@ -355,41 +355,33 @@ def _pinches_opened(geometry: MultiPolygon, tolerance: float):
     >>> step, opened.is_valid, opened.geoms[0].touches(opened.geoms[1])
     (2e-07, True, False)
     """
-    polygons = list(geometry.geoms)
+    polygons = np.array(geometry.geoms)
     if len(polygons) < 2:
         return geometry, 0.0
     first, second = shapely.STRtree(polygons).query(polygons, predicate="touches")
-    pairs = first < second
-    if not pairs.any():
+    i, j = first[first < second], second[first < second]
+    if not len(i):
         return geometry, 0.0
     xmin, ymin, xmax, ymax = geometry.bounds
     step = max(tolerance / 2, PINCH_STEP * max(xmax - xmin, ymax - ymin))
-    contacts = shapely.get_coordinates(shapely.intersection(
-        shapely.boundary(np.array(polygons)[first[pairs]]),
-        shapely.boundary(np.array(polygons)[second[pairs]])))
-    moved = [Polygon(*(_moved_ring(ring, contacts, step) for ring in _rings_of(polygon)))
-             if polygon in set(np.array(polygons)[np.concatenate([first[pairs], second[pairs]])])
-             else polygon for polygon in polygons]
-    opened = MultiPolygon(moved)
-    if not opened.is_valid or len(opened.geoms) != len(polygons) or any(
-            a.intersects(b) for a, b in zip(np.array(moved)[first[pairs]], np.array(moved)[second[pairs]])):
+    contacts = shapely.get_coordinates(shapely.intersection(shapely.boundary(polygons[i]),
+                                                            shapely.boundary(polygons[j])))
+    moved = polygons.copy()
+    for k in np.unique(np.concatenate([i, j])):
+        moved[k] = Polygon(_moved_ring(polygons[k].exterior, contacts, step),
+                           [_moved_ring(hole, contacts, step) for hole in polygons[k].interiors])
+    opened = MultiPolygon(list(moved))
+    if (not opened.is_valid or len(opened.geoms) != len(polygons)
+            or shapely.intersects(moved[i], moved[j]).any()):
         return geometry, 0.0
     return opened, step
 
 
-def _rings_of(polygon):
-    """The exterior and the list of interiors' coordinates of a polygon (closed rings)."""
-    return (shapely.get_coordinates(polygon.exterior),
-            [shapely.get_coordinates(hole) for hole in polygon.interiors])
-
-
-def _moved_ring(ring, contacts, step):
-    """A closed ring (region on its left) whose vertices at ``contacts`` moved by ``step``
-    along their corner's inward bisector; the list of holes passes through unchanged
-    (see :func:`_pinches_opened`)."""
-    if isinstance(ring, list):
-        return [_moved_ring(hole, contacts, step) for hole in ring]
-    xy = ring[:-1].copy()
+def _moved_ring(ring, contacts, step) -> np.ndarray:
+    """The closed coordinates of ``ring`` (the region on its left) with its vertices at
+    ``contacts`` moved by ``step`` along their corner's inward bisector (see
+    :func:`_pinches_opened`)."""
+    xy = shapely.get_coordinates(ring)[:-1]
     at = np.flatnonzero((xy[:, None, :] == contacts[None, :, :]).all(axis=2).any(axis=1))
     if len(at):
         into = xy[at] - xy[at - 1]

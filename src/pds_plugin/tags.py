@@ -145,7 +145,7 @@ def boundary_tags(mesh, by: str = "ring") -> Tags:
     ------
     ArgumentError
         If ``by`` is neither, or is ``"source"`` for a region that kept no drawing
-        curves (only :func:`pds_plugin.load_svg` keeps them).
+        curves (the drawing readers, :func:`pds_plugin.load_svg` and :func:`pds_plugin.load_dxf`, keep them).
 
     Examples
     --------

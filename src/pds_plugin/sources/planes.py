@@ -8,8 +8,9 @@ import numpy as np
 
 from .._checks import check_vector
 from ..errors import ArgumentError
+from ..region import lift
 
-__all__ = ["checked_plane", "plane_frames", "checked_on_face"]
+__all__ = ["checked_plane", "plane_frames", "checked_on_face", "places_in_3d"]
 
 
 def checked_plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
@@ -59,3 +60,16 @@ def checked_on_face(on_face):
     if on_face not in (None, "above", "below"):
         raise ArgumentError(f"on_face must be None, 'above' or 'below', got {on_face!r}")
     return on_face
+
+
+def places_in_3d(points, to_3d, most: int = 5) -> str:
+    """The first ``most`` plane points, lifted into 3D, for a message (open ends of a cut).
+
+    Examples
+    --------
+    >>> places_in_3d([[1, 2], [3, 4]], np.eye(4), most=1)
+    '(1, 2, 0), ...'
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in lift(points[:most], to_3d))
+    return where + (", ..." if len(points) > most else "")

@@ -22,13 +22,14 @@ import shapely.affinity
 
 from .._checks import check_positive_int
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
-from ..region import Region, check_tolerance, lift
+from ..region import Region, check_tolerance
 from . import manifold as manifold_backend
 from . import step as step_backend
 from . import trimesh as trimesh_backend
 from .planes import checked_on_face as _on_face
 from .planes import checked_plane as _plane
 from .planes import plane_frames as _frames
+from .planes import places_in_3d
 from .polygons import outline_geometry, snap
 
 __all__ = ["section", "sections", "mesh_tolerance", "MAX_SECTIONS"]
@@ -205,12 +206,10 @@ class _Solid:
         self._check_compact(local)
         geometry, open_ends = self._section_geometry(local)
         if len(open_ends):
-            where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
-                              lift(open_ends[:5], to_3d))
             raise SectionError(
                 f"the section at normal·x = {offset:.9g} is open: the mesh is not watertight "
-                f"where the plane cuts it ({len(open_ends)} open end(s), at {where}"
-                f"{', ...' if len(open_ends) > 5 else ''}); repair the mesh "
+                f"where the plane cuts it ({len(open_ends)} open end(s), at "
+                f"{places_in_3d(open_ends, to_3d)}); repair the mesh "
                 f"(e.g. trimesh.repair.fill_holes) or move the plane")
         if geometry.is_empty:
             raise SectionError(

@@ -40,10 +40,10 @@ import shapely
 
 from .._checks import check_path, check_positive, import_optional
 from ..errors import SectionError, SourceError
-from ..region import Region, lift
+from ..region import Region
 from ._sniff import misnamed
 from .curves import bezier_points, elliptic_points
-from .planes import checked_on_face, checked_plane, plane_frames
+from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
 __all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "SectionCurve", "accepts", "load",
@@ -264,14 +264,11 @@ class StepSolid:
             join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
             geometry, open_ends = outline_geometry([c.points for c in curves], join)
             if len(open_ends):
-                where = ", ".join(f"({x:.6g}, {y:.6g}, {z:.6g})" for x, y, z in
-                                  lift(open_ends[:5], to_3d))
                 raise SectionError(
                     f"the section of {self.name} at normal·x = {offset:.9g} is open "
-                    f"({len(open_ends)} open end(s), at {where}"
-                    f"{', ...' if len(open_ends) > 5 else ''}): the solid is not closed "
-                    f"where the plane cuts it; repair it in CAD (sew its faces) or move "
-                    f"the plane")
+                    f"({len(open_ends)} open end(s), at {places_in_3d(open_ends, to_3d)}): "
+                    f"the solid is not closed where the plane cuts it; repair it in CAD "
+                    f"(sew its faces) or move the plane")
             parts.append(geometry)
         geometry = shapely.union_all(parts) if parts else shapely.Polygon()
         if geometry.is_empty or geometry.area == 0:
