@@ -477,6 +477,8 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
                                              (c + sign * np.append(split, last)) % length]))
                 offset = (sign * (at - c)) % length
         mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
+        if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < _RESOLUTION * alpha:
+            continue                            # a needle: its sides are one line
         if sides[short] <= reach[i] and beyond >= alpha:
             # the short side ends inside the spike: its last rung is the corner there
             mirrored = np.append(mirrored, sides[short])
