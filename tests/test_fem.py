@@ -234,6 +234,61 @@ def test_quadratic_check_reports_an_inverted_triangle(plate):
     assert len(dataclasses.replace(q, min_jacobian=_min_jacobian(points[q.triangles])).inverted)
 
 
+def test_the_quadratic_certificate_fails_a_nearly_folded_curved_triangle(tmp_path):
+    """The triangle of the test above with its third vertex at 1.3 and 1.5 times the hole's
+    radius: the arc's node is kept both times (its triangle is not inverted), but at 1.3 the
+    map shrinks some area element about thirty-fold."""
+    region = pds.load_svg(_svg(tmp_path, '<path fill-rule="evenodd" d="M-2 -2H2V2H-2Z '
+                               'M1 0A1 1 0 0 1 -1 0A1 1 0 0 1 1 0Z"/>', view="-2 -2 4 4"))
+    hole = region.rings[1]
+    angle = np.arctan2(hole[:, 1], hole[:, 0])
+    a, b = hole[np.argmin(np.abs(angle))], hole[np.argmin(np.abs(angle - np.pi / 2))]
+    for radius, passes in ((1.3, False), (1.5, True)):
+        c = radius * (a + b) / np.linalg.norm(a + b)
+        turn = (b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]
+        faces = [[0, 1, 2]] if turn > 0 else [[0, 2, 1]]
+        q = pds.PlanarMesh([a, b, c], faces, [True, True, False], region, 1.0).quadratic()
+        report = q.certificate().quadratic
+        assert len(q.straightened) == 0 and len(q.inverted) == 0
+        assert report.min_jacobian == q.min_jacobian.min() > 0
+        assert report.ok is passes and report.below_bound == (0 if passes else 1)
+        assert ("FAILED" in str(report)) is not passes
+
+
+def test_the_quadratic_certificate_is_the_linear_one_and_its_jacobians(tmp_path):
+    import dataclasses
+    import json
+    disc = pds.load_svg(_svg(tmp_path, '<circle r="1"/>'))
+    mesh = pds.mesh_region(disc, 0.2)
+    q = mesh.quadratic()
+    cert = q.certificate()
+    assert mesh.certificate().ok and cert.ok and mesh.certificate().quadratic is None
+    assert cert.quadratic.min_jacobian == q.min_jacobian.min() > 0.5
+    assert json.loads(json.dumps(cert.as_dict()))["quadratic"]["ok"] is True
+    assert "quadratic    min Jacobian" in str(cert)
+    # the check is exact: the Jacobian sampled densely over every triangle stays above it
+    u, v = np.meshgrid(np.linspace(0, 1, 21), np.linspace(0, 1, 21))
+    keep = u + v <= 1
+    u, v = u[keep], v[keep]
+    gradients = np.stack([                       # d(shape functions)/du and /dv at (u, v)
+        [4 * u + 4 * v - 3, 4 * u - 1, 0 * u, 4 - 8 * u - 4 * v, 4 * v, -4 * v],
+        [4 * u + 4 * v - 3, 0 * u, 4 * v - 1, -4 * u, 4 * u, 4 - 4 * u - 8 * v]])
+    nodes = q.points[q.triangles]                               # (M, 6, 2)
+    jac = np.einsum("dkp,mkc->mpdc", gradients, nodes)          # (M, P, 2, 2)
+    det = jac[..., 0, 0] * jac[..., 1, 1] - jac[..., 0, 1] * jac[..., 1, 0]
+    corners = mesh.vertices[mesh.faces]          # relative to the linear mesh's triangle
+    straight = np.abs(np.linalg.det(np.stack([corners[:, 1] - corners[:, 0],
+                                              corners[:, 2] - corners[:, 0]], axis=1)))
+    sampled = (det / straight[:, None]).min(axis=1)
+    assert (sampled >= q.min_jacobian - 1e-12).all()
+    assert (sampled - q.min_jacobian).min() < 0.05   # and it is reached (to the grid's step)
+    # one curved triangle below the bound, and the certificate is no longer ok
+    low = q.min_jacobian.copy()
+    low[int(np.argmin(low))] = 0.05
+    worse = dataclasses.replace(q, min_jacobian=low).certificate()
+    assert not worse.ok and not worse.ok_with_exceptions and worse.quadratic.below_bound == 1
+
+
 # --- convergence (the issue's target) ----------------------------------------------
 
 def _l2_error(m, element, intorder):

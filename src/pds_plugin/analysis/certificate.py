@@ -123,6 +123,11 @@ class Certificate:
     source_deviation : float
         The Hausdorff distance between the region's boundary and the input's, measured
         exactly (absolute; at most ``tolerance``, or ``ok`` is false).
+    quadratic : JacobianReport or None
+        The certificate of a quadratic mesh (``mesh.quadratic().certificate()``): its
+        curved triangles' Jacobians (:class:`pds_plugin.quadratic.JacobianReport`);
+        ``ok`` is false when one is not positive or below its bound. None for the
+        linear mesh.
     conforming : bool
         Consecutive boundary samples are joined by mesh edges, and no edge of the mesh's
         boundary ends at an interior sample.
@@ -191,6 +196,7 @@ class Certificate:
     unexplained: tuple[str, ...] = ()
     tolerance: float = 0.0
     source_deviation: float = 0.0
+    quadratic: object = None
 
     aspect_bound = ASPECT_BOUND
     angle_range = (30.0, 120.0)
@@ -272,6 +278,7 @@ class Certificate:
     @property
     def _rest_ok(self) -> bool:
         return (self.topology_ok and self.tolerance_ok and self.isolated_samples == 0
+                and (self.quadratic is None or self.quadratic.ok)
                 and self.nonmanifold_vertices == 0
                 and (self.boundary_ok or not self.claims_conforming))
 
@@ -300,6 +307,7 @@ class Certificate:
         values["topology"] = self.topology.as_dict()
         values["exceptions"] = [e.as_dict() for e in self.exceptions]
         values["unexplained"] = list(self.unexplained)
+        values["quadratic"] = None if self.quadratic is None else self.quadratic.as_dict()
         values.update(aspect_bound=self.aspect_bound, betti_mesh=self.betti_mesh,
                       betti_region=self.betti_region, sampling_ok=self.sampling_ok,
                       quality_ok=self.quality_ok, topology_ok=self.topology_ok,
@@ -348,6 +356,7 @@ class Certificate:
             "region's area",
             *self._tolerance_lines(),
             *[f"    - {p}" for p in self.boundary_problems],
+            *([] if self.quadratic is None else [f"  {self.quadratic}"]),
             *self._exception_lines(),
             "  " + str(self.topology).replace("\n", "\n  "),
         ])
