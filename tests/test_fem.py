@@ -399,3 +399,21 @@ def test_a_real_drawing_goes_out_quadratic_with_its_elements_named():
     sources = boundary_tags(mesh, by="source")
     assert (sources.values > 0).all() and set(sources.names) == set(region.curves.labels)
     assert (mesh.boundary_tags.values > 0).all()
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_dolfinx_files_hold_one_grid_each_with_its_tags(plate, tmp_path, order):
+    import xml.etree.ElementTree as ElementTree
+    from pds_plugin.sinks.fem import write_dolfinx
+    domain, facets = write_dolfinx(plate, tmp_path / "plate.xdmf", order=order)
+    m = plate.to_meshio(order)
+    for path, block, name in ((domain, 0, "region"), (facets, 1, "boundary")):
+        grids = ElementTree.parse(path).getroot().findall(".//Grid")
+        assert [g.get("Name") for g in grids] == ["Grid"]          # dolfinx's name="Grid"
+        back = meshio.read(path)
+        assert len(back.cells) == 1 and back.cells[0].type == m.cells[block].type
+        np.testing.assert_array_equal(back.points, m.points)
+        np.testing.assert_array_equal(back.cells[0].data, m.cells[block].data)
+        np.testing.assert_array_equal(back.cell_data[name][0], m.cell_data[name][block])
+    with pytest.raises(ArgumentError, match=r"\.xdmf"):
+        write_dolfinx(plate, tmp_path / "plate.msh")

@@ -21,6 +21,7 @@ from pds_plugin.cli import main
 from pds_plugin.errors import (ArgumentError, MissingDependencyError, SectionError,
                                SourceError)
 from pds_plugin.sources import step
+from pds_plugin.tags import boundary_tags
 
 needs_ocp = pytest.mark.skipif(importlib.util.find_spec("OCP") is None,
                                reason="OCP (the [step] extra) is not installed")
@@ -286,3 +287,49 @@ def test_the_cli_and_a_batch_manifest_mesh_step_parts(tmp_path):
     assert row["status"] == "ok" and row["certificate_ok"] is True
     record = json.loads(parse_job(jobs[0], 0, tmp_path / "out", tmp_path).record.read_text())
     assert record["sections"][0]["certificate"]["betti_region"] == [1, 5]
+
+
+@needs_ocp
+def test_each_section_edge_is_labelled_by_the_face_it_was_cut_from():
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+    from OCP.TopoDS import TopoDS
+    shape = parts.plate_with_holes()
+    origin, normal = (0, 0, 5), (0, 0, 1)
+    faces = step._explore(step.StepSolid(shape).solids[0], "FACE")
+    curves = step.section_curves(shape, origin, normal)
+    assert all(c.face.startswith("face ") for c in curves)
+    for curve in curves:                      # a circle from its bore, a line from a side
+        surface = BRepAdaptor_Surface(TopoDS.Face(faces[int(curve.face.split()[1])]))
+        if curve.kind == "circle":
+            assert surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Cylinder
+            assert surface.Cylinder().Radius() == pytest.approx(np.linalg.norm(curve.radii[:, 0]))
+        else:
+            assert surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Plane
+    region = pds.section(shape, origin, normal)
+    assert sorted(region.curves.labels) == sorted(c.face for c in curves)    # one face each
+    mesh = pds.mesh_region(region, 2.0)
+    tags = boundary_tags(mesh, by="source")
+    assert (tags.values > 0).all()
+    for ring in range(1, 6):                  # each hole's edges: its bore's face alone
+        on_ring = mesh.boundary_tags.values == ring + 1
+        assert len(np.unique(tags.values[on_ring])) == 1
+    two = step.section_curves(parts.overlapping_bodies(), origin, normal)
+    assert {c.face.split(" face ")[0] for c in two} == {"solid 0", "solid 1"}
+
+
+@needs_ocp
+def test_quadratic_nodes_of_a_step_section_lie_on_its_circles():
+    shape = parts.plate_with_holes()
+    origin, normal = (0, 0, 5), (0, 0, 1)
+    circles = [c for c in step.section_curves(shape, origin, normal) if c.kind == "circle"]
+    mesh = pds.mesh_region(pds.section(shape, origin, normal), 1.0)
+    q = mesh.quadratic()
+    assert len(q.straightened) == 0
+    nodes = q.points[np.unique(q.boundary_lines)]
+    off = np.min([np.abs(np.linalg.norm(nodes - c.center, axis=1)
+                         - np.linalg.norm(c.radii[:, 0])) for c in circles], axis=0)
+    round_ = off < 0.5                         # the nodes on the holes (the rest on lines)
+    assert round_.sum() > 50 and off[round_].max() <= 1e-12 * 12
+    cert = q.certificate()
+    assert cert.ok and cert.quadratic.ok
