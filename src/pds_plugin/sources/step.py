@@ -481,15 +481,20 @@ def _face_polygons(faces, curves, join):
 
 def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     """The section's exact pieces for :attr:`Region.curves`: lines, and circles and
-    ellipses as elliptic arcs; B-splines and other curves as their flattening (straight
-    pieces within the tolerance of the curve). Each is labelled by its face."""
+    ellipses as elliptic arcs (in two halves past half a turn, so that the seam of a
+    whole circle is a junction of two pieces, as in the drawing readers); B-splines and
+    other curves as their flattening (straight pieces within the tolerance of the
+    curve). Each is labelled by its face."""
     build = curves_builder(tolerance)
     for curve in curves:
         label = curve.face or "section"
         if curve.kind == "line":
             build.line(curve.points[0], curve.points[-1], label)
-        elif curve.kind in ("circle", "ellipse"):
-            build.arc(curve.center, curve.radii, curve.start, curve.sweep, label)
+        elif curve.kind in ("circle", "ellipse"):        # halves past a half turn: a
+            halves = 2 if abs(curve.sweep) > np.pi else 1    # whole one has a seam that an
+            for half in range(halves):                       # edge across it must see
+                build.arc(curve.center, curve.radii, curve.start + half * curve.sweep / halves,
+                          curve.sweep / halves, label)
         else:
             build.polyline(curve.points, label)
     return build.done()
