@@ -417,3 +417,38 @@ def test_dolfinx_files_hold_one_grid_each_with_its_tags(plate, tmp_path, order):
         np.testing.assert_array_equal(back.cell_data[name][0], m.cell_data[name][block])
     with pytest.raises(ArgumentError, match=r"\.xdmf"):
         write_dolfinx(plate, tmp_path / "plate.msh")
+
+
+@pytest.mark.parametrize("graded", [False, True])
+def test_boundary_samples_of_a_drawn_circle_are_on_the_circle(tmp_path, graded):
+    disc = pds.load_svg(_svg(tmp_path, '<circle r="1"/>'))
+    mesh = pds.mesh_region(disc, 0.2, graded=graded)
+    assert mesh.certificate().ok
+    radius = np.linalg.norm(mesh.vertices[mesh.on_boundary], axis=1)
+    assert np.abs(radius - 1).max() <= 4e-16
+    assert np.abs(np.linalg.norm(np.concatenate(disc.rings), axis=1) - 1).max() <= 4e-16
+    assert mesh.quadratic().moved == 0                  # nothing left to move
+    again = pds.mesh_region(disc, 0.2, graded=graded)   # bit for bit
+    np.testing.assert_array_equal(again.vertices, mesh.vertices)
+
+
+def test_a_move_onto_the_curve_past_the_samplings_bounds_is_undone():
+    from pds_plugin.boundary_curves import curves_builder, samples_onto_curves
+    build = curves_builder(0.01)
+    build.arc((0, 0), np.eye(2), 0.0, np.pi, "upper")
+    build.arc((0, 0), np.eye(2), np.pi, np.pi, "lower")
+    curves = build.done()
+    theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    ring = np.column_stack([np.cos(theta), np.sin(theta)])           # sagitta 0.0085
+    samples = (ring + np.roll(ring, -1, axis=0))[::3] / 2            # chord middles
+    chord = np.hypot(*(np.roll(samples, -1, axis=0) - samples).T)
+    [moved], geometry = samples_onto_curves(curves, [ring], [(0, None)], [samples], 0.1, np.inf)
+    assert np.allclose(np.hypot(*moved.T), 1, rtol=0, atol=1e-15)   # all onto the circle
+    assert geometry.is_valid and len(geometry.geoms[0].exterior.coords) == 24 + 8 + 1
+    grown = np.hypot(*(np.roll(moved, -1, axis=0) - moved).T)
+    assert (grown > chord).all()                     # moving out lengthens every chord
+    # with the longest chord allowed between the two: every move is undone
+    [kept], none = samples_onto_curves(curves, [ring], [(0, None)], [samples], 0.1,
+                                       0.5 * (chord.max() + grown.min()))
+    np.testing.assert_array_equal(kept, samples)
+    assert none is None

@@ -92,6 +92,10 @@ def test_featuretype_step_mid_height_area_is_occts_to_1e_6():
     region = pds.section(path, origin, normal, tolerance=2e-5)         # 1.4e-7 of its size
     assert region.betti == (2, 8)
     assert region.area == pytest.approx(exact, rel=1e-6)
+    low = (0.0, 0.0, 5.0)                        # lines and circles: 1e-6 at the default
+    assert {c.kind for c in step.section_curves(path, low, normal)} == {"line", "circle"}
+    assert pds.section(path, low, normal).area == pytest.approx(
+        occt_section_area(step.load(path), low, normal), rel=1e-6)
 
 
 @needs_ocp
@@ -115,16 +119,39 @@ def test_region_vertices_on_circles_lie_on_them_and_chords_keep_the_tolerance():
 
 
 @needs_ocp
-def test_boundary_samples_on_circles_lie_on_the_circle_to_1e_9_of_the_radius():
-    origin, normal = (0, 0, 20), (0, 0, 1)              # the bolt's shank: a disc of radius 5
-    region = pds.section(parts.bolt(), origin, normal, tolerance=1e-9 * 5)
-    [circle] = step.section_curves(parts.bolt(), origin, normal)
-    mesh = pds.mesh_region(region, 0.5, seed=0)
+@pytest.mark.parametrize("graded", [False, True])
+def test_boundary_samples_on_circles_lie_on_the_circle_to_1e_9_of_the_radius(graded):
+    """At the default tolerance: the samples the sampler places on chords of a flattened
+    circle are moved onto the circle, and the mesh's region runs through them."""
+    shape = parts.plate_with_holes()                # bores of radius 5 and 12
+    origin, normal = (0, 0, 5), (0, 0, 1)
+    region = pds.section(shape, origin, normal)
+    circles = [c for c in step.section_curves(shape, origin, normal) if c.kind == "circle"]
+    mesh = pds.mesh_region(region, 1.0, graded=graded)
     assert mesh.certificate().ok
     boundary = mesh.vertices[mesh.on_boundary]
-    assert len(boundary) >= 50
-    off = np.abs(np.linalg.norm(boundary - circle.center, axis=1) - 5.0)
-    assert off.max() <= 1e-9 * 5.0
+    radius = [np.linalg.norm(c.radii[:, 0]) for c in circles]
+    off = np.min([np.abs(np.linalg.norm(boundary - c.center, axis=1) - r) / r
+                  for c, r in zip(circles, radius)], axis=0)
+    on_holes = off < 0.1
+    assert on_holes.sum() >= 60
+    assert off[on_holes].max() <= 1e-12                 # 1e-9 r asked; rounding here
+    assert mesh.region is not region and mesh.region.curves is region.curves   # through them
+    ring_points = np.concatenate(mesh.region.rings)
+    for sample in boundary[on_holes][:20]:              # each sample is a vertex of a ring
+        assert (np.abs(ring_points - sample).max(axis=1) == 0).any()
+    assert abs(mesh.region.area - region.area) <= 1e-6 * region.area
+
+
+@needs_ocp
+@pytest.mark.parametrize("name, height", [("plate_with_holes", 5.0), ("pocketed_plate", 14.0),
+                                          ("overlapping_bodies", 5.0)])
+def test_sections_of_lines_and_arcs_have_occts_area_to_1e_6_at_the_default(name, height):
+    shape = parts.PARTS[name][0]()
+    origin, normal = (0.0, 0.0, height), (0.0, 0.0, 1.0)
+    region = pds.section(shape, origin, normal)
+    assert {c.kind for c in step.section_curves(shape, origin, normal)} <= {"line", "circle"}
+    assert region.area == pytest.approx(occt_section_area(shape, origin, normal), rel=1e-6)
 
 
 @needs_ocp

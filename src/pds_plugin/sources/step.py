@@ -47,13 +47,18 @@ from .curves import bezier_points, elliptic_points
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
-__all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "SectionCurve", "accepts", "load",
-           "section_curves", "StepSolid"]
+__all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "AREA_ERROR", "ARC_REFINEMENT", "SectionCurve",
+           "accepts", "load", "section_curves", "StepSolid"]
 
 SUFFIXES = frozenset({".step", ".stp", ".iges", ".igs", ".brep", ".brp"})
 """File suffixes read through OpenCASCADE (case-insensitive)."""
 RELATIVE_TOLERANCE = 1e-5
 """Default chord tolerance, as a fraction of the solid's diagonal."""
+AREA_ERROR = 0.5e-6
+"""By default circles and ellipses are flattened finer, so that their chords miss at most
+this fraction of the section's area (see :data:`ARC_REFINEMENT`)."""
+ARC_REFINEMENT = 100
+"""At most this many times finer than the default tolerance (10 times the vertices)."""
 _ON_PLANE = 1e-9        # a planar face within this fraction of the solid's size is on the plane
 _STEP_OFF = 1e-6        # on_face moves the plane by this fraction of the solid's size
 
@@ -255,6 +260,7 @@ class StepSolid:
             raise SourceError(f"{self.name} has no extent (an empty or degenerate solid)")
         self.tolerance = (RELATIVE_TOLERANCE * self.scale if tolerance is None
                           else check_positive(tolerance, "tolerance"))
+        self.adaptive = tolerance is None       # arcs finer, for the area (_arc_tolerance)
         self.planes = _planar_faces(self.solids)
 
     def heights(self, origin, normal) -> np.ndarray:
@@ -268,12 +274,27 @@ class StepSolid:
         origin = self._off_faces(origin, normal, on_face)
         to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
-        parts, pieces = [], []
+        cuts = []                                   # each solid's faces and curves
         for number, solid in enumerate(self._moved(to_2d)):
             faces, curves = self._cut_curves(solid, number, origin)
-            if not curves:
-                continue
-            pieces += curves
+            if curves:
+                cuts.append((faces, curves))
+        geometry = self._polygons(cuts, offset, to_3d)
+        if geometry.is_empty or geometry.area == 0:
+            self._refuse_empty(to_2d, offset)
+        arcs = self._arc_tolerance(geometry.area, [c for _, curves in cuts for c in curves])
+        if arcs < self.tolerance:                   # the arcs again, finer
+            cuts = [(faces, [_finer(c, arcs) for c in curves]) for faces, curves in cuts]
+            geometry = self._polygons(cuts, offset, to_3d)
+        pieces = [c for _, curves in cuts for c in curves]
+        return Region.from_shapely(geometry, frame=to_3d,
+                                   curves=_boundary_curves(pieces, self.tolerance))
+
+    def _polygons(self, cuts, offset, to_3d):
+        """The union of the solids' sections, each from its faces' wires (or its curves
+        by even-odd nesting, which reports open ends)."""
+        parts = []
+        for faces, curves in cuts:
             join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
             geometry = _face_polygons(faces, curves, join)
             if geometry is None:           # the faces' wires do not close: say where
@@ -285,12 +306,22 @@ class StepSolid:
                         f"the solid is not closed where the plane cuts it; repair it in CAD "
                         f"(sew its faces) or move the plane")
             parts.append(geometry)
-        geometry = (parts[0] if len(parts) == 1 else shapely.union_all(parts)) if parts \
-            else shapely.Polygon()
-        if geometry.is_empty or geometry.area == 0:
-            self._refuse_empty(to_2d, offset)
-        return Region.from_shapely(geometry, frame=to_3d,
-                                   curves=_boundary_curves(pieces, self.tolerance))
+        if not parts:
+            return shapely.Polygon()
+        return parts[0] if len(parts) == 1 else shapely.union_all(parts)
+
+    def _arc_tolerance(self, area, curves) -> float:
+        """The chord tolerance of circles and ellipses: by default the one that keeps their
+        flattening's area error within :data:`AREA_ERROR` of the section's ``area`` (an
+        inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its arc's
+        segment), between :data:`ARC_REFINEMENT` times finer than :attr:`tolerance` and
+        :attr:`tolerance` itself; a ``tolerance`` given is kept as it is."""
+        length = sum(float(np.hypot(*np.diff(c.points, axis=0).T).sum())
+                     for c in curves if c.kind in ("circle", "ellipse"))
+        if not self.adaptive or length == 0:
+            return self.tolerance
+        return min(self.tolerance, max(self.tolerance / ARC_REFINEMENT,
+                                       1.5 * AREA_ERROR * area / length))
 
     def curves(self, origin, normal, on_face=None) -> list[SectionCurve]:
         """The section's edges as :class:`SectionCurve` objects (see
@@ -546,6 +577,18 @@ def _curve(edge, tolerance, reversed_=False, face="") -> SectionCurve:
     other way if ``reversed_`` (the edge's orientation in its wire)."""
     curve = _flattened(edge, tolerance)
     return replace(curve, points=curve.points[::-1] if reversed_ else curve.points, face=face)
+
+
+def _finer(curve, tolerance) -> SectionCurve:
+    """A circle or ellipse flattened again within ``tolerance``, the same way round and
+    closed if it was; other curves as they are."""
+    if curve.kind not in ("circle", "ellipse"):
+        return curve
+    points = elliptic_points(curve.center, curve.radii, curve.start, curve.sweep, tolerance)
+    if np.array_equal(curve.points[0], curve.points[-1]):
+        points[-1] = points[0]
+    forward = np.hypot(*(curve.points[1] - points[1])) <= np.hypot(*(curve.points[1] - points[-2]))
+    return replace(curve, points=points if forward else points[::-1])
 
 
 def _flattened(edge, tolerance) -> SectionCurve:
