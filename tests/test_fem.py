@@ -452,3 +452,16 @@ def test_a_move_onto_the_curve_past_the_samplings_bounds_is_undone():
                                        0.5 * (chord.max() + grown.min()))
     np.testing.assert_array_equal(kept, samples)
     assert none is None
+
+
+def test_the_certificate_measures_the_mesh_against_the_exact_curves(tmp_path, plate):
+    disc = pds.load_svg(_svg(tmp_path, '<circle r="1"/>'))
+    mesh = pds.mesh_region(disc, 0.2)
+    boundary = mesh.vertices[mesh.boundary_edges]                  # chords of the circle
+    half = np.arcsin(np.clip(np.hypot(*(boundary[:, 1] - boundary[:, 0]).T) / 2, 0, 1))
+    sagitta = (1 - np.cos(half)).max()                             # exact: samples on it
+    cert = mesh.certificate()
+    assert cert.ok                                   # probes alpha/50 apart: the middle
+    assert 0 <= sagitta - cert.curve_deviation * mesh.alpha <= (mesh.alpha / 100) ** 2
+    assert cert.curve_deviation >= cert.boundary_deviation - 1e-12   # the polygon is inside
+    assert "exact curves within" in str(cert) and plate.certificate().curve_deviation is None

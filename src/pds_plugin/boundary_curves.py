@@ -231,6 +231,68 @@ class BoundaryCurves:
         points[on_arc] = self.point(piece[on_arc], t[on_arc])
         return points, on_arc
 
+    def deviation(self, segments, boundary, step) -> float:
+        """How far the curves that bound a region get from ``segments`` (a mesh's
+        boundary edges): the largest distance from a point of a piece, probed every
+        ``step`` along it, to the nearest segment, over the probes within the tolerance
+        of ``boundary`` (the region's boundary segments: parts of pieces inside the
+        region, such as the walls of overlapping bodies in their union, are not its
+        boundary).
+
+        Parameters
+        ----------
+        segments, boundary : (m, 2, 2) array_like
+        step : float
+            The probes' spacing along each piece (arc length).
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> build = curves_builder(1e-3)
+        >>> build.arc((0, 0), [[1, 0], [0, 1]], 0.0, np.pi / 2, "quarter")
+        >>> theta = np.linspace(0, np.pi / 2, 40)                 # within 1e-3 of the arc
+        >>> ring = np.column_stack([np.cos(theta), np.sin(theta)])
+        >>> boundary = np.stack([ring[:-1], ring[1:]], axis=1)
+        >>> chord = [[[1, 0], [0, 1]]]                            # sagitta 1 - cos(pi/4)
+        >>> found = build.done().deviation(chord, boundary, 1e-3)
+        >>> bool(abs(found - (1 - np.sqrt(0.5))) < 1e-9)
+        True
+        """
+        segments = np.asarray(segments, dtype=float).reshape(-1, 2, 2)
+        boundary = np.asarray(boundary, dtype=float).reshape(-1, 2, 2)
+        if not (len(segments) and len(boundary)):
+            return 0.0
+        piece = np.flatnonzero(self._bent)            # straight pieces: the mesh's own
+        if not len(piece):                               # deviation measures them
+            return 0.0
+        counts = np.ceil(self.length(piece, np.zeros(len(piece)), np.ones(len(piece))) / step)
+        counts = counts.astype(np.int64) + 2
+        owner = np.repeat(piece, counts)
+        t = (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)) \
+            / np.repeat(counts - 1, counts)
+        probes = shapely.points(self.point(owner, t))
+        near = shapely.STRtree(shapely.linestrings(boundary)).query(
+            probes, predicate="dwithin", distance=self.tolerance * (1 + 1e-9))[0]
+        if not len(near):
+            return 0.0
+        _, distance = shapely.STRtree(shapely.linestrings(segments)).query_nearest(
+            probes[np.unique(near)], all_matches=False, return_distance=True)
+        return float(distance.max())
+
+    @property
+    def _bent(self) -> np.ndarray:
+        """The pieces that are not straight: arcs, and cubics whose inner control points
+        are off the line of their ends (lines are cubics with them at its thirds)."""
+        p = self.control
+        chord = p[:, 3] - p[:, 0]
+        off = np.abs(chord[:, None, 0] * (p[:, 1:3, 1] - p[:, :1, 1])
+                     - chord[:, None, 1] * (p[:, 1:3, 0] - p[:, :1, 0])).max(axis=1)
+        scale = np.abs(p).max(axis=(1, 2)) * np.hypot(*chord.T)
+        return self.elliptic | (off > 1e-12 * scale)
+
     # --- evaluation ----------------------------------------------------------------
 
     def _derivatives(self, piece, t, order: int) -> np.ndarray:

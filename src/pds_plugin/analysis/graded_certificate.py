@@ -34,6 +34,7 @@ from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
 from .certificate import (QUALITY_TOL, SEPARATION_TOL, Certificate, _nonmanifold_vertices,
+                          curve_deviation,
                           _sees, _visibility_route_fails)
 from .conformity import SampledBoundary, boundary_report
 from .small_features import small_feature_exceptions
@@ -169,6 +170,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
         boundary_problems=tuple(problems), topology=topology_report(mesh),
         exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
         tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
+        curve_deviation=curve_deviation(mesh),
         grading=field.grading, proven_angle=proven,
         below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
                           for k in low[:_MAX_LOCATED]),
