@@ -279,13 +279,16 @@ class StepSolid:
             faces, curves = self._cut_curves(solid, number, origin)
             if curves:
                 cuts.append((faces, curves))
+        # the area the arcs' tolerance is chosen for: one solid's from its wires, or the
+        # union's (the faces of several solids may overlap)
+        area = (_wire_area(*cuts[0]) if len(cuts) == 1
+                else self._polygons(cuts, offset, to_3d).area)
+        arcs = self._arc_tolerance(area, [c for _, curves in cuts for c in curves])
+        if arcs < self.tolerance:                   # the arcs again, finer
+            cuts = [(faces, [_finer(c, arcs) for c in curves]) for faces, curves in cuts]
         geometry = self._polygons(cuts, offset, to_3d)
         if geometry.is_empty or geometry.area == 0:
             self._refuse_empty(to_2d, offset)
-        arcs = self._arc_tolerance(geometry.area, [c for _, curves in cuts for c in curves])
-        if arcs < self.tolerance:                   # the arcs again, finer
-            cuts = [(faces, [_finer(c, arcs) for c in curves]) for faces, curves in cuts]
-            geometry = self._polygons(cuts, offset, to_3d)
         pieces = [c for _, curves in cuts for c in curves]
         return Region.from_shapely(geometry, frame=to_3d,
                                    curves=_boundary_curves(pieces, self.tolerance))
@@ -484,6 +487,20 @@ def _listed(shapes) -> list:
     if size <= 2:
         return [shapes.First(), shapes.Last()][2 - size:] if size else []
     return list(shapes)
+
+
+def _wire_area(faces, curves) -> float:
+    """The area of a cut's faces from their wires' points (shoelace; outer wire less
+    the others), before any polygon is built."""
+    area, at = 0.0, 0
+    for face in faces:
+        for number, wire in enumerate(face):
+            xy = np.concatenate([c.points for c in curves[at:at + len(wire)]])
+            at += len(wire)
+            ring = abs(float(np.dot(xy[:, 0], np.roll(xy[:, 1], -1))
+                             - np.dot(xy[:, 1], np.roll(xy[:, 0], -1)))) / 2
+            area += ring if number == 0 else -ring
+    return area
 
 
 def _face_polygons(faces, curves, join):
