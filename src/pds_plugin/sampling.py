@@ -41,8 +41,8 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .errors import BudgetError, RegionError
 from .boundary_curves import samples_onto_curves
+from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
 __all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_rings_apart",

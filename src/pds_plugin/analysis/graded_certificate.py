@@ -34,8 +34,7 @@ from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
 from .certificate import (QUALITY_TOL, SEPARATION_TOL, Certificate, _nonmanifold_vertices,
-                          curve_deviation,
-                          _sees, _visibility_route_fails)
+                          _sees, _visibility_route_fails, curve_deviation)
 from .conformity import SampledBoundary, boundary_report
 from .small_features import small_feature_exceptions
 from .topology import topology_report
