@@ -41,6 +41,7 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
+from .boundary_curves import samples_onto_curves
 from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
@@ -86,6 +87,10 @@ class Samples:
     radius : (N,) float ndarray or None
         Graded samplings (:func:`pds_plugin.graded_sampling.graded_poisson_disc`): the
         radius r of the field at each sample; None for uniform ones.
+    region : Region or None
+        Conforming samplings of a region with exact curves (``region.curves``): the
+        region refined through the boundary samples, which were moved onto its arcs
+        (:func:`pds_plugin.boundary_curves.samples_onto_curves`); None otherwise.
 
     Examples
     --------
@@ -100,6 +105,7 @@ class Samples:
     alpha: float
     rings: tuple = ()
     radius: np.ndarray | None = None
+    region: Region | None = None
 
     def __len__(self) -> int:
         return len(self.points)
@@ -224,7 +230,7 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
-    return Samples(points, on_boundary, alpha, sampler.rings)
+    return Samples(points, on_boundary, alpha, sampler.rings, region=sampler.sampled_region)
 
 
 def check_rings_apart(region: Region):
@@ -531,6 +537,7 @@ class _Sampler:
         self.vis = vis_kern.no_chords(capacity)
         self.one_per_cell = not conforming
         self.rings = ()
+        self.sampled_region = None          # the region through samples moved onto its arcs
         self.count = 0
         # the chords whose region darts and refinement boxes must be in: the region's
         # own rings, or (conforming) the chords between the boundary samples
@@ -585,6 +592,8 @@ class _Sampler:
         for ring in self.region.rings:
             ring_xy.append(_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
                                                    alpha, rng, apart)))
+        ring_xy, self.sampled_region = _onto_curves(        # chords stay in [1, √3) alpha
+            self.region, ring_xy, alpha, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
         boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
@@ -691,6 +700,23 @@ def _along(at, cum, closed) -> np.ndarray:
     """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
     are at positions ``cum`` (arc length, or any increasing measure along it)."""
     return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
+
+
+def _onto_curves(region: Region, ring_xy, lower, upper):
+    """The boundary samples moved onto the region's exact arcs, and the region through
+    them (:func:`pds_plugin.boundary_curves.samples_onto_curves`); the samples as they
+    are and None for a region without curves, with a tolerance pass (its boundary is not
+    the curves'), or where the refined region would not be valid."""
+    if region.curves is None or region.tolerance != 0:
+        return ring_xy, None
+    moved, geometry = samples_onto_curves(region.curves, region.rings, region.ring_owners,
+                                          ring_xy, lower, upper)
+    if geometry is None:
+        return ring_xy, None
+    try:
+        return moved, Region.from_shapely(geometry, region.frame, curves=region.curves)
+    except RegionError:
+        return ring_xy, None
 
 
 def _joined(ring_xy):
