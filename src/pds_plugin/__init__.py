@@ -43,6 +43,8 @@ _PUBLIC = {
     "multiresolution": "pipeline",
     "Resolution": "pipeline",
     "section_report": "pipeline",
+    "mesh_regions": "partition",
+    "CompositeMesh": "partition",
     "section": "sources.solids",
     "sections": "sources.solids",
     "mesh_tolerance": "sources.solids",
