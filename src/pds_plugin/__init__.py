@@ -45,6 +45,8 @@ _PUBLIC = {
     "section_report": "pipeline",
     "mesh_regions": "partition",
     "CompositeMesh": "partition",
+    "remesh": "remeshing",
+    "RemeshResult": "remeshing",
     "section": "sources.solids",
     "sections": "sources.solids",
     "mesh_tolerance": "sources.solids",

@@ -21,6 +21,7 @@ from .pipeline import (
     suggest_alpha as suggest_alpha,
 )
 from .partition import CompositeMesh as CompositeMesh, mesh_regions as mesh_regions
+from .remeshing import RemeshResult as RemeshResult, remesh as remesh
 from .sources.solids import mesh_tolerance as mesh_tolerance, section as section, sections as sections
 from .sources.svg import load_svg as load_svg
 from .sources.dxf import load_dxf as load_dxf
@@ -57,6 +58,7 @@ __all__ = [
     "Quality",
     "Region",
     "RegionError",
+    "RemeshResult",
     "Resolution",
     "Samples",
     "SectionError",
@@ -78,6 +80,7 @@ __all__ = [
     "meshlab_quality",
     "multiresolution",
     "poisson_disc",
+    "remesh",
     "section",
     "section_report",
     "sections",

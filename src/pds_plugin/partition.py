@@ -25,7 +25,7 @@ solid unrolled into their planes) are meshed so that the meshes join with no T-j
    :func:`interface_report` checks it on the result.
 
 :func:`mesh_regions` is the public entry (composite sections, issue 23);
-:mod:`pds_plugin.remesh` uses :func:`sample_chains` with its patches in their own planes.
+:mod:`pds_plugin.remeshing` (``pds.remesh``) uses :func:`sample_chains` with its patches in their own planes.
 """
 
 from __future__ import annotations
