@@ -169,7 +169,6 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     owner, angle = _edge_owners(rings, frames)
     junction = _junctions(rings, owner, pinned)
     chains = _chains(rings, owner, junction)
-    rng = np.random.default_rng(seed)
     sample_u, sample_v, sample_t = [], [], []
     index = {}                             # junction vertex -> its sample number
 
@@ -181,7 +180,7 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
             sample_t.append(0.0)
         return index[vertex]
 
-    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, rng,
+    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
                                  junction)
     chain_samples = []
     for (vertices, closed), (segment, t) in zip(chains, positions):
@@ -279,17 +278,20 @@ def _chains(rings, owner, junction):
     return chains
 
 
-def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, rng, junction):
+def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, junction):
     """Per chain, its samples as (segment, fraction) pairs along it, read in the frame of
     the first region that runs it (an open chain's last end excluded).
 
-    Straight open chains (the faces of a solid meet in straight lines) are cut together
-    by one ``split_gaps`` call; the others go through the conforming sampler's own ring
-    rule (``_ring_positions``, :func:`_bent_chain`)."""
-    out = [None] * len(chains)
-    straight = []
+    Each chain draws from its own random generator, seeded by ``seed`` and its end
+    vertices, so that its samples do not depend on the other chains (a patch dropped
+    by :func:`pds_plugin.remesh` leaves the others' samples as they were). Straight open
+    chains (the faces of a solid meet in straight lines) are cut by ``split_gaps``
+    directly; the others go through the conforming sampler's own ring rule
+    (``_ring_positions``, :func:`_bent_chain`)."""
+    out = []
     cap = float(corner_clearance(0.0, alpha))
-    for c, (vertices, closed) in enumerate(chains):
+    for vertices, closed in chains:
+        rng = np.random.default_rng([seed, int(vertices[0]), int(vertices[1]), int(vertices[-1])])
         xy = frames[owner[_key(vertices[0], vertices[1])][0][0]][vertices]
         if closed:
             # a ring without junction, or a loop that leaves a junction and comes back
@@ -299,24 +301,15 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, rng, ju
         else:
             ends = [_end_clearance(vertices[0], vertices[1], angle),
                     _end_clearance(vertices[-1], vertices[-2], angle)]
-        if not closed and _is_straight(xy):
-            straight.append((c, xy, ends))
+        if closed or not _is_straight(xy):
+            out.append(_bent_chain(xy, closed, ends, alpha, feature_angle, rng))
             continue
-        out[c] = _bent_chain(xy, closed, ends, alpha, feature_angle, rng)
-    if straight:
-        cum = [np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
-               for _, xy, _ in straight]
-        length = np.array([c[-1] for c in cum])
-        first, last = (np.array([min(max(ends[i] * alpha, alpha), cap) for _, _, ends in straight])
-                       for i in (0, 1))
-        u = rng.random(int(np.sum(length // alpha)) + len(straight))
-        inner, owner_of = kern.split_gaps(np.zeros(len(straight)), length, first, last,
-                                          np.full(len(straight), alpha), math.sqrt(3) * alpha, u)
-        order = np.lexsort((inner, owner_of))
-        inner, owner_of = inner[order], owner_of[order]
-        bounds = np.searchsorted(owner_of, np.arange(len(straight) + 1))
-        for j, (c, _, _) in enumerate(straight):
-            out[c] = _segments_of(np.concatenate([[0.0], inner[bounds[j]:bounds[j + 1]]]), cum[j])
+        cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+        first, last = (min(max(end * alpha, alpha), cap) for end in ends)
+        u = rng.random(int(cum[-1] // alpha) + 1)
+        inner, _ = kern.split_gaps(np.zeros(1), cum[-1:], [first], [last], [alpha],
+                                   math.sqrt(3) * alpha, u)
+        out.append(_segments_of(np.concatenate([[0.0], np.sort(inner)]), cum))
     return out
 
 

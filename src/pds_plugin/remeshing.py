@@ -46,6 +46,10 @@ defaults to about 1 % of it as well)."""
 
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
 
+KEEP_NARROWER = 1.0
+"""A patch narrower than this many alpha (twice its area over its perimeter: a strip's
+width) is kept as it is; measured in docs/remesh.md ("Strips: kept or remeshed")."""
+
 
 @dataclass(frozen=True, eq=False)
 class RemeshResult:
@@ -219,17 +223,54 @@ def remesh(mesh, alpha="auto", *, seed: int = 0, feature_angle: float = 30.0,
     areas = np.asarray(source.area_faces, dtype=np.float64)
     label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
     patches = _usable_patches(vertices, faces, normals, areas, label, alpha)
-    remeshed = [p for p in patches if p is not None]
-    kept = np.ones(len(faces), bool)
-    for patch in remeshed:
-        kept[patch.faces] = False
-    on_kept = np.zeros(len(vertices), bool)
-    on_kept[faces[kept].ravel()] = True
-    chains = sample_chains([p.rings for p in remeshed], [p.frame for p in remeshed], alpha,
-                           feature_angle=feature_angle, seed=seed,
-                           pinned=np.flatnonzero(on_kept).tolist())
-    return _assemble(source, vertices, faces, kept, remeshed, chains, alpha, seed,
-                     feature_angle, max_samples, tolerance, len(patches))
+    remeshed = _manifold_patches([p for p in patches if p is not None])
+    options = {"feature_angle": feature_angle}
+    if max_samples is not None:
+        options["max_samples"] = max_samples
+    cache = {}
+    while True:
+        kept = np.ones(len(faces), bool)
+        for patch in remeshed:
+            kept[patch.faces] = False
+        on_kept = np.zeros(len(vertices), bool)
+        on_kept[faces[kept].ravel()] = True
+        chains = sample_chains([p.rings for p in remeshed], [p.frame for p in remeshed], alpha,
+                               feature_angle=feature_angle, seed=seed,
+                               pinned=np.flatnonzero(on_kept).tolist())
+        meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache)
+                  for k, patch in enumerate(remeshed)]
+        # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
+        # where no guard fits) is kept instead, and the chains sampled again without it
+        joined = [mesh is not None for mesh in meshes]
+        if all(joined):
+            break
+        remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
+    return _assemble(source, vertices, faces, kept, remeshed, meshes, chains, tolerance,
+                     len(patches), alpha)
+
+
+def _patch_mesh(patch, chains, k, alpha, seed, options, cache):
+    """The mesh of patch ``k`` with its chains' samples, or None if its boundary edges
+    are not exactly the chords between them (it would not join its neighbours).
+    ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
+    change when another was dropped is not meshed again (the same mesh, bit for bit)."""
+    from .pipeline import mesh_region
+
+    ring_ids = chains.rings[k]
+    given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
+             * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
+    key = (id(patch), b"".join(ring.tobytes() for ring in given))
+    if key in cache:
+        return cache[key]
+    mesh = mesh_region(patch.region, alpha, seed=seed, boundary_samples=given, **options)
+    local = np.cumsum([0] + [len(ids) for ids in ring_ids])
+    chords = np.concatenate([np.column_stack([np.arange(a, b), np.roll(np.arange(a, b), -1)])
+                             for a, b in zip(local[:-1], local[1:])])
+    boundary = mesh.boundary_edges
+    same = (len(boundary) == len(chords)
+            and np.array_equal(np.unique(boundary, axis=0), np.unique(chords, axis=0)))
+    cache[key] = mesh if same else None
+    return cache[key]
 
 
 def _as_trimesh(mesh) -> "trimesh.Trimesh":
@@ -313,7 +354,7 @@ def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
     length = np.linalg.norm(vertices[directed[:, 1]] - vertices[directed[:, 0]], axis=1)
     perimeter = np.bincount(owner[rim], length[rim], minlength=count)
     area = np.bincount(label, areas, minlength=count)
-    wide = area >= 0.5 * alpha * np.maximum(perimeter, 1e-300)
+    wide = 2 * area >= KEEP_NARROWER * alpha * np.maximum(perimeter, 1e-300)
     order = np.argsort(label, kind="stable")
     starts = np.searchsorted(label[order], np.arange(count + 1))
     rim_order = np.flatnonzero(rim)
@@ -376,27 +417,35 @@ def _patch(vertices, faces, normals, areas, members, edges, Region):
     return _Patch(members, ring_ids, frame, region, basis)
 
 
-def _assemble(source, vertices, faces, kept, patches, chains, alpha, seed, feature_angle,
-              max_samples, tolerance, patch_count) -> RemeshResult:
-    """Mesh every patch with its chains' samples, split the kept faces where samples
-    fall on their edges, and join everything into one mesh, checked."""
+def _manifold_patches(patches) -> list:
+    """The patches whose boundary edges no other patch runs the same way, nor two others
+    (non-manifold input: two bodies sharing a face); the rest are kept."""
+    runs = {}
+    for k, patch in enumerate(patches):
+        for ring in patch.rings:
+            for a, b in zip(ring.tolist(), np.roll(ring, -1).tolist()):
+                runs.setdefault((a, b), []).append(k)
+                runs.setdefault((min(a, b), max(a, b), None), []).append(k)
+    bad = set()
+    for key, owners in runs.items():
+        if len(owners) > (2 if len(key) == 3 else 1):
+            bad.update(owners)
+    return [patch for k, patch in enumerate(patches) if k not in bad]
+
+
+def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
+              patch_count, alpha) -> RemeshResult:
+    """Join the patches' meshes and the kept faces (split where samples fall on their
+    edges) into one mesh, checked."""
     import trimesh
 
-    from .pipeline import mesh_region
-
-    options = {"feature_angle": feature_angle}
-    if max_samples is not None:
-        options["max_samples"] = max_samples
     junction = (chains.u == chains.v) & (chains.t == 0)
     number = np.where(junction, chains.u, len(vertices) + np.cumsum(~junction) - 1)
     points = [vertices, chains.points(vertices)[~junction]]
     count = len(vertices) + int(np.count_nonzero(~junction))
     new_faces, patch_of, certificates, distance = [], [], [], 0.0
-    for k, patch in enumerate(patches):
+    for k, (patch, mesh) in enumerate(zip(patches, meshes)):
         ring_ids = chains.rings[k]
-        given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
-                 * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
-        mesh = mesh_region(patch.region, alpha, seed=seed, boundary_samples=given, **options)
         certificates.append(mesh.certificate())
         n_given = sum(len(ids) for ids in ring_ids)
         inner, gap = _on_input(mesh.vertices[n_given:], patch, vertices, faces)

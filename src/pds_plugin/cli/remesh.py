@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 
-from .. import __version__
+from .._version import __version__
 from .._atomic import atomic_path
 from ..remeshing import remesh
 from .output import say
