@@ -474,7 +474,7 @@ def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
     >>> mesh = pds.mesh_regions({"steel": core, "concrete": shell}, 0.2)
     >>> mesh.certificate().ok, sorted(mesh.region_tags.names)
     (True, ['concrete', 'steel'])
-    >>> float(mesh.quality().area[mesh.region_tags.where("steel")].sum())
+    >>> round(float(mesh.quality().area[mesh.region_tags.where("steel")].sum()), 12)
     1.0
     """
     names, geometries, frame = _named_geometries(regions)
