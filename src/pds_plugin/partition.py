@@ -291,7 +291,6 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
     out = []
     cap = float(corner_clearance(0.0, alpha))
     for vertices, closed in chains:
-        rng = np.random.default_rng([seed, int(vertices[0]), int(vertices[1]), int(vertices[-1])])
         xy = frames[owner[_key(vertices[0], vertices[1])][0][0]][vertices]
         if closed:
             # a ring without junction, or a loop that leaves a junction and comes back
@@ -302,15 +301,24 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
             ends = [_end_clearance(vertices[0], vertices[1], angle),
                     _end_clearance(vertices[-1], vertices[-2], angle)]
         if closed or not _is_straight(xy):
-            out.append(_bent_chain(xy, closed, ends, alpha, feature_angle, rng))
+            out.append(_bent_chain(xy, closed, ends, alpha, feature_angle, _chain_rng(seed, vertices)))
             continue
         cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+        if cum[-1] < 2 * alpha:          # no room for two parts: one piece, nothing drawn
+            out.append((np.zeros(1, np.int64), np.zeros(1)))
+            continue
+        rng = _chain_rng(seed, vertices)
         first, last = (min(max(end * alpha, alpha), cap) for end in ends)
         u = rng.random(int(cum[-1] // alpha) + 1)
         inner, _ = kern.split_gaps(np.zeros(1), cum[-1:], [first], [last], [alpha],
                                    math.sqrt(3) * alpha, u)
         out.append(_segments_of(np.concatenate([[0.0], np.sort(inner)]), cum))
     return out
+
+
+def _chain_rng(seed, vertices):
+    """The random generator of one chain: seeded by ``seed`` and the chain's ends."""
+    return np.random.default_rng([seed, int(vertices[0]), int(vertices[1]), int(vertices[-1])])
 
 
 def _end_clearance(vertex, neighbour, angle) -> float:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -62,8 +63,11 @@ class RemeshResult:
         The remeshed surface.
     patch : (M,) int64 ndarray
         Per face of ``mesh``: the planar patch it was meshed in, -1 for kept faces.
+    patch_meshes : tuple of PlanarMesh
+        The remeshed patches' meshes, each in its plane (its region's 2D coordinates).
     certificates : tuple of Certificate
-        One per remeshed patch (its 2D certificate, in its plane).
+        One per remeshed patch (its 2D certificate, in its plane), measured when first
+        asked for (``ok`` asks).
     interfaces : InterfaceReport
         How the patches and the kept faces join (no T-junction, fold or duplicate).
     alpha : float
@@ -84,7 +88,7 @@ class RemeshResult:
 
     mesh: "trimesh.Trimesh"
     patch: np.ndarray
-    certificates: tuple
+    patch_meshes: tuple
     interfaces: InterfaceReport
     alpha: float
     patches: int
@@ -94,6 +98,11 @@ class RemeshResult:
     volume_error: float
     surface_distance: float
     tolerance: float
+
+    @cached_property
+    def certificates(self) -> tuple:
+        """The patches' certificates (:meth:`PlanarMesh.certificate`)."""
+        return tuple(mesh.certificate() for mesh in self.patch_meshes)
 
     @property
     def solid_ok(self) -> bool:
@@ -448,10 +457,9 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     number = np.where(junction, chains.u, len(vertices) + np.cumsum(~junction) - 1)
     points = [vertices, chains.points(vertices)[~junction]]
     count = len(vertices) + int(np.count_nonzero(~junction))
-    new_faces, patch_of, certificates, distance = [], [], [], 0.0
+    new_faces, patch_of, distance = [], [], 0.0
     for k, (patch, mesh) in enumerate(zip(patches, meshes)):
         ring_ids = chains.rings[k]
-        certificates.append(mesh.certificate())
         n_given = sum(len(ids) for ids in ring_ids)
         inner, gap = _on_input(mesh.vertices[n_given:], patch, vertices, faces)
         distance = max(distance, gap)
@@ -486,7 +494,7 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     volume_in = float(source.volume) if source.is_watertight else float("nan")
     volume_error = (abs(float(out.volume) - volume_in) / abs(volume_in)
                     if source.is_watertight and volume_in else float("nan"))
-    return RemeshResult(out, np.concatenate(patch_of).astype(np.int64), tuple(certificates),
+    return RemeshResult(out, np.concatenate(patch_of).astype(np.int64), tuple(meshes),
                         report, alpha, patch_count, patch_count - len(patches),
                         (bool(source.is_watertight), bool(out.is_watertight)),
                         (int(source.euler_number), int(out.euler_number)), volume_error,
