@@ -86,3 +86,23 @@ def test_bad_input_gets_a_clear_error():
         pds.remesh(trimesh.creation.box(), "fine")
     with pytest.raises(FileNotFoundError):
         pds.remesh("no-such-file.stl", 0.1)
+
+
+def test_an_open_surface_keeps_its_rim():
+    box = trimesh.creation.box((1.0, 1.0, 1.0))
+    open_box = trimesh.Trimesh(box.vertices, box.faces[2:], process=True)   # one side off
+    result = pds.remesh(open_box, 0.2)
+    assert result.ok, str(result)
+    assert result.watertight == (False, False) and result.euler_number == (1, 1)
+    outline = result.mesh.outline()           # the same square rim, sampled
+    assert outline.length == pytest.approx(open_box.outline().length, rel=1e-12)
+    assert len(outline.entities) == 1 and len(outline.entities[0].points) > 5
+
+
+def test_a_curved_solid_without_planar_faces_is_kept_as_it_is():
+    sphere = trimesh.creation.icosphere(2)
+    result = pds.remesh(sphere, 0.3)
+    assert result.solid_ok and len(result.certificates) == 0
+    assert (result.patch == -1).all()
+    assert len(result.mesh.faces) == len(sphere.faces)
+    assert result.mesh.volume == pytest.approx(sphere.volume, rel=1e-12)

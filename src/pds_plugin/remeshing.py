@@ -478,18 +478,20 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     used[all_faces.ravel()] = True
     renumber = np.cumsum(used) - 1
     out = trimesh.Trimesh(all_points[used], renumber[all_faces], process=False)
-    chords = np.concatenate([chains.chords(c) for c in range(len(chains.chains))] or
+    rim = source.edges[trimesh.grouping.group_rows(source.edges_sorted, require_count=1)]
+    rim_keys = {(int(a), int(b)) for a, b in np.sort(rim, axis=1).tolist()}
+    # every chain is an interface (two patches, or a patch and kept faces) but those on
+    # the input's own open boundary
+    interfaces = [c for c, vertices in enumerate(chains.chains)
+                  if tuple(sorted((int(vertices[0]), int(vertices[1])))) not in rim_keys]
+    chords = np.concatenate([chains.chords(c) for c in interfaces] or
                             [np.zeros((0, 2), np.int64)])
-    outer = np.zeros(len(out.vertices), bool)
-    if not source.is_watertight:
-        rim = source.edges[trimesh.grouping.group_rows(source.edges_sorted, require_count=1)]
-        on_rim = np.zeros(len(vertices), bool)
-        on_rim[rim.ravel()] = True
-        sample_on_rim = on_rim[chains.u] & on_rim[chains.v]
-        flags = np.zeros(len(all_points), bool)
-        flags[:len(vertices)] = on_rim
-        flags[number[sample_on_rim]] = True
-        outer = flags[used]
+    on_rim = np.zeros(len(vertices), bool)
+    on_rim[rim.ravel()] = True
+    flags = np.zeros(len(all_points), bool)
+    flags[:len(vertices)] = on_rim
+    flags[number[on_rim[chains.u] & on_rim[chains.v]]] = True
+    outer = flags[used]
     report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer)
     volume_in = float(source.volume) if source.is_watertight else float("nan")
     volume_error = (abs(float(out.volume) - volume_in) / abs(volume_in)
