@@ -139,3 +139,19 @@ def test_auto_alpha_and_tags_for_finite_elements():
     assert mesh.alpha <= min(pds.suggest_alpha(pds.Region.from_shapely(g)) for g in regions.values())
     assert sorted(mesh.region_tags.names) == ["core", "shell"]
     assert mesh.interface_tags.names == {"core|shell": 1}
+
+
+def test_voronoi_cells_with_a_round_inclusion():
+    """Junctions of three cells, cells meeting the outline at sharp angles, a curved
+    interface cutting through several cells: every part certified (small features
+    itemised) and the interfaces joined."""
+    rng = np.random.default_rng(0)
+    points = shapely.MultiPoint(rng.random((8, 2)) * 4)
+    square, disc = box(0, 0, 4, 4), Point(2, 2).buffer(0.5, 32)
+    cells = [cell.intersection(square).difference(disc) for cell in
+             shapely.get_parts(shapely.voronoi_polygons(points, extend_to=box(-1, -1, 5, 5)))]
+    mesh = pds.mesh_regions([cell for cell in cells if cell.area > 0] + [disc], 0.08, seed=0)
+    certificate = mesh.certificate()
+    assert certificate.ok_with_exceptions and certificate.interfaces.ok, str(certificate)
+    assert mesh.quality().area.sum() == pytest.approx(16.0, rel=1e-12)   # the square, exactly
+    assert len(set(mesh.interface_tags.names)) >= 10

@@ -46,7 +46,7 @@ from .sampling import _ring_positions, _STRAIGHT_TURN, corner_clearance
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
-           "ChainSamples", "interface_report", "InterfaceReport"]
+           "ChainSamples", "mesh_part", "interface_report", "InterfaceReport"]
 
 _ON_SEGMENT = 1e-12
 """How close (relative to the extent) a vertex of one ring must be to a segment of
@@ -598,15 +598,13 @@ def _ids_of(ring, lookup, name):
 def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, max_samples,
                  frame):
     """Mesh every part with its chains' samples, and join the meshes by sample number."""
-    from .pipeline import mesh_region
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
         options["max_samples"] = max_samples
     points, faces, part_of_face, maps, meshes = [boundary_xy], [], [], [], []
     count = len(boundary_xy)
     for r, (part, ring_ids) in enumerate(zip(parts, chains.rings)):
-        mesh = mesh_region(part, alpha, seed=seed,
-                           boundary_samples=[boundary_xy[ids] for ids in ring_ids], **options)
+        mesh, _ = mesh_part(part, alpha, [boundary_xy[ids] for ids in ring_ids], seed, **options)
         given = np.concatenate(ring_ids)
         extra = len(mesh.vertices) - len(given)
         to_global = np.concatenate([given, count + np.arange(extra)])
@@ -625,6 +623,49 @@ def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, 
                          parts=tuple(meshes), names=tuple(names),
                          part_of_face=np.concatenate(part_of_face), vertex_maps=tuple(maps),
                          chains=chains)
+
+
+ATTEMPTS = 3
+"""Interiors drawn for a part (seeds ``seed``, ``seed + 1``, ...) until its boundary edges
+are exactly the chords between its given samples."""
+
+
+def mesh_part(region: Region, alpha: float, given, seed: int, **options):
+    """Mesh one part of a partition with its ``given`` ring samples, drawing its interior
+    again from the next seeds (up to :data:`ATTEMPTS`) while a chord is not a mesh edge.
+
+    The chords' proof (docs/conforming.md, "Why consecutive boundary samples are mesh
+    edges") assumes no small feature near the chord; beside a short piece a chord may be
+    left unjoined, depending on the interior samples. The boundary samples stay as given,
+    so the part still joins its neighbours when a later draw succeeds.
+
+    Returns
+    -------
+    mesh : PlanarMesh
+        The first mesh whose boundary edges are exactly the chords, else the last one.
+    joined : bool
+        Whether it is.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> ring = [[0, 0], [0.5, 0], [1, 0], [1, 0.5], [1, 1], [0.5, 1], [0, 1], [0, 0.5]]
+    >>> mesh, joined = mesh_part(square, 0.3, [ring], seed=0)
+    >>> joined, len(mesh.boundary_edges)
+    (True, 8)
+    """
+    from .pipeline import mesh_region
+
+    local = np.cumsum([0] + [len(ring) for ring in given])
+    chords = np.unique(np.concatenate([np.column_stack([np.arange(a, b), np.roll(np.arange(a, b), -1)])
+                                       for a, b in zip(local[:-1], local[1:])]), axis=0)
+    for attempt in range(ATTEMPTS):
+        mesh = mesh_region(region, alpha, seed=seed + attempt, boundary_samples=given, **options)
+        boundary = mesh.boundary_edges
+        if len(boundary) == len(chords) and np.array_equal(np.unique(boundary, axis=0), chords):
+            return mesh, True
+    return mesh, False
 
 
 class CompositeMesh(PlanarMesh):

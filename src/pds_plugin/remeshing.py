@@ -33,7 +33,7 @@ from shapely.geometry import Polygon
 
 from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
-from .partition import Frame, InterfaceReport, interface_report, sample_chains
+from .partition import Frame, InterfaceReport, interface_report, mesh_part, sample_chains
 
 if TYPE_CHECKING:
     import pymeshlab
@@ -46,7 +46,6 @@ AUTO_DIVISIONS = 100
 defaults to about 1 % of it as well)."""
 
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
-_ATTEMPTS = 3           # interiors drawn for a patch before it is kept (a chord not joined)
 
 KEEP_NARROWER = 1.0
 """A patch narrower than this many alpha (twice its area over its perimeter: a strip's
@@ -261,29 +260,18 @@ def remesh(mesh, alpha="auto", *, seed: int = 0, feature_angle: float = 30.0,
 
 def _patch_mesh(patch, chains, k, alpha, seed, options, cache):
     """The mesh of patch ``k`` with its chains' samples, or None if its boundary edges
-    are not exactly the chords between them (it would not join its neighbours) with the
-    interior drawn from ``seed`` and the next ``_ATTEMPTS - 1`` seeds.
+    are not exactly the chords between them (it would not join its neighbours) with any
+    of the interiors :func:`pds_plugin.partition.mesh_part` draws.
     ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
     change when another was dropped is not meshed again (the same mesh, bit for bit)."""
-    from .pipeline import mesh_region
-
     ring_ids = chains.rings[k]
     given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
              * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
     key = (id(patch), b"".join(ring.tobytes() for ring in given))
     if key in cache:
         return cache[key]
-    local = np.cumsum([0] + [len(ids) for ids in ring_ids])
-    chords = np.unique(np.concatenate([np.column_stack([np.arange(a, b), np.roll(np.arange(a, b), -1)])
-                                       for a, b in zip(local[:-1], local[1:])]), axis=0)
-    cache[key] = None
-    for attempt in range(_ATTEMPTS):
-        mesh = mesh_region(patch.region, alpha, seed=seed + attempt, boundary_samples=given,
-                           **options)
-        boundary = mesh.boundary_edges
-        if len(boundary) == len(chords) and np.array_equal(np.unique(boundary, axis=0), chords):
-            cache[key] = mesh
-            break
+    mesh, joined = mesh_part(patch.region, alpha, given, seed, **options)
+    cache[key] = mesh if joined else None
     return cache[key]
 
 
