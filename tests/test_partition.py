@@ -155,3 +155,13 @@ def test_voronoi_cells_with_a_round_inclusion():
     assert certificate.ok_with_exceptions and certificate.interfaces.ok, str(certificate)
     assert mesh.quality().area.sum() == pytest.approx(16.0, rel=1e-12)   # the square, exactly
     assert len(set(mesh.interface_tags.names)) >= 10
+
+
+def test_materials_reach_the_finite_element_codes():
+    skfem = pytest.importorskip("skfem")
+    regions, alpha = CASES["concentric annuli"]
+    mesh = pds.mesh_regions(regions, 0.3)
+    fem = mesh.to_skfem()
+    assert isinstance(fem, skfem.MeshTri) and set(fem.subdomains) == set(regions)
+    for name in regions:      # each material's elements are its triangles
+        assert np.array_equal(np.sort(fem.subdomains[name]), mesh.region_tags.where(name))
