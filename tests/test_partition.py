@@ -165,3 +165,8 @@ def test_materials_reach_the_finite_element_codes():
     assert isinstance(fem, skfem.MeshTri) and set(fem.subdomains) == set(regions)
     for name in regions:      # each material's elements are its triangles
         assert np.array_equal(np.sort(fem.subdomains[name]), mesh.region_tags.where(name))
+
+
+def test_boundaries_that_nearly_touch_are_refused():
+    with pytest.raises(pds.RegionError, match="nearly touch at .* without sharing"):
+        pds.mesh_regions({"a": box(0, 0, 1, 1), "b": box(1 + 1e-11, 0.2, 2, 0.8)}, 0.1)

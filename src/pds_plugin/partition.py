@@ -489,6 +489,7 @@ def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
     check_seed(seed)
     _check_no_overlap(names, geometries)
     noded, xy = _noded(geometries)
+    _check_near_misses(names, noded)
     parts = []
     for name, geometry in zip(names, noded):
         parts.append(Region.from_shapely(geometry, frame))
@@ -550,6 +551,32 @@ def _check_no_overlap(names, geometries):
                               f"{overlap.area:.6g} around ({x:.6g}, {y:.6g}); composite "
                               "regions may share boundaries but not area: subtract one from "
                               "the other (shapely's difference)")
+
+
+_NEAR_MISS = 1e-9
+"""Boundaries of two regions closer than this (relative to the extent) must share their
+vertices: closer but apart, they leave a sliver that no alpha can mesh."""
+
+
+def _check_near_misses(names, geometries):
+    """Refuse a vertex of one region that lies within ``_NEAR_MISS`` of another region's
+    boundary without lying on it (a boundary meant to be shared, drawn twice)."""
+    extent = max(float(np.ptp(shapely.get_coordinates(g), axis=0).max()) for g in geometries) or 1.0
+    boundaries = shapely.boundary(np.array(geometries, dtype=object))
+    tree = shapely.STRtree(boundaries)
+    for i, geometry in enumerate(geometries):
+        points = shapely.points(np.unique(shapely.get_coordinates(geometry), axis=0))
+        point, other = tree.query(points, predicate="dwithin", distance=_NEAR_MISS * extent)
+        keep = other != i
+        distance = shapely.distance(points[point[keep]], boundaries[other[keep]])
+        near = distance > _ON_SEGMENT * extent
+        if near.any():
+            k = int(np.flatnonzero(near)[0])
+            x, y = shapely.get_coordinates(points[point[keep][k]])[0]
+            raise RegionError(f"regions {names[i]!r} and {names[other[keep][k]]!r} nearly touch at "
+                              f"({x:.6g}, {y:.6g}), {distance[k]:.3g} apart, without sharing "
+                              "their boundary there; snap them to one boundary (e.g. "
+                              "shapely.set_precision) or move them apart")
 
 
 def _noded(geometries):
