@@ -167,7 +167,7 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     alpha = check_alpha(alpha)
     rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
     owner, angle = _edge_owners(rings, frames)
-    junction = _junctions(rings, owner, pinned)
+    junction = _junctions(owner, pinned)
     chains = _chains(rings, owner, junction)
     sample_u, sample_v, sample_t = [], [], []
     index = {}                             # junction vertex -> its sample number
@@ -200,7 +200,7 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     return ChainSamples(np.array(sample_u, np.int64), np.array(sample_v, np.int64),
                         np.array(sample_t, float), ring_samples, [c[0] for c in chains],
                         [bool(c[1]) for c in chains],
-                        [tuple(sorted(set(owner[_key(c[0][0], c[0][1])][0])))
+                        [tuple(sorted(set(owner[_key(c[0][0], c[0][1])])))
                          for c in chains], chain_samples)
 
 
@@ -209,8 +209,8 @@ def _key(a, b):
 
 
 def _edge_owners(rings, frames):
-    """Per undirected edge: the regions that run it, and the directions; per directed
-    edge: the interior angles of its region at its start and its end."""
+    """Per undirected edge: the regions that run it; per directed edge: its region and
+    that region's interior angles at the edge's start and end."""
     owner, angle = {}, {}
     for r, region in enumerate(rings):
         for ring in region:
@@ -222,16 +222,15 @@ def _edge_owners(rings, frames):
                     raise RegionError(f"regions {angle[(a, b)][0]} and {r} overlap along the "
                                       f"edge of vertices {a} and {b} (both run it the same way)")
                 angle[(a, b)] = (r, inner[k], inner[(k + 1) % len(ring)])
-                sides = owner.setdefault(_key(a, b), ([], []))
-                sides[0].append(r)
-                sides[1].append((a, b))
-                if len(sides[0]) > 2:
+                sides = owner.setdefault(_key(a, b), [])
+                sides.append(r)
+                if len(sides) > 2:
                     raise RegionError(f"the edge of vertices {a} and {b} bounds regions "
-                                      f"{sides[0]}; an edge bounds two regions at most")
+                                      f"{sides}; an edge bounds two regions at most")
     return owner, angle
 
 
-def _junctions(rings, owner, pinned) -> set:
+def _junctions(owner, pinned) -> set:
     """Vertices that end chains: pinned ones, those with other than two edges, and those
     where the owners of the edges change."""
     edges_at = {}
@@ -240,7 +239,7 @@ def _junctions(rings, owner, pinned) -> set:
             edges_at.setdefault(vertex, []).append(key)
     junction = {int(v) for v in pinned}
     for vertex, keys in edges_at.items():
-        if len(keys) != 2 or sorted(owner[keys[0]][0]) != sorted(owner[keys[1]][0]):
+        if len(keys) != 2 or sorted(owner[keys[0]]) != sorted(owner[keys[1]]):
             junction.add(vertex)
     return junction
 
@@ -291,7 +290,7 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
     out = []
     cap = float(corner_clearance(0.0, alpha))
     for vertices, closed in chains:
-        xy = frames[owner[_key(vertices[0], vertices[1])][0][0]][vertices]
+        xy = frames[owner[_key(vertices[0], vertices[1])][0]][vertices]
         if closed:
             # a ring without junction, or a loop that leaves a junction and comes back
             ends = None if int(vertices[0]) not in junction else [max(
