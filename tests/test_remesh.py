@@ -106,3 +106,19 @@ def test_a_curved_solid_without_planar_faces_is_kept_as_it_is():
     assert (result.patch == -1).all()
     assert len(result.mesh.faces) == len(sphere.faces)
     assert result.mesh.volume == pytest.approx(sphere.volume, rel=1e-12)
+
+
+def test_a_spike_face_is_remeshed_with_mirror_pairs():
+    """A 5° prism: its triangular faces are spikes whose tips are junctions of three
+    patches; their two sides are chains of their own, sampled in mirror pairs so that
+    every chord joins (without them the faces were left as they were)."""
+    manifold3d = pytest.importorskip("manifold3d")
+    tip = np.radians(5.0)
+    outline = manifold3d.CrossSection([[(0, 0), (3, 0), (3 * np.cos(tip), 3 * np.sin(tip))]])
+    solid = manifold3d.Manifold.extrude(outline, 1.0).to_mesh()
+    prism = trimesh.Trimesh(solid.vert_properties[:, :3], solid.tri_verts)
+    result = pds.remesh(prism, 0.1, seed=0)
+    assert result.ok_with_exceptions and result.kept_patches == 0, str(result)
+    assert result.angles().min() >= 5.0 - 1e-6            # the tip's own angle
+    for certificate in result.certificates:
+        assert all(e.meets_bound for e in certificate.exceptions)

@@ -42,7 +42,7 @@ from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
 from .region import Region, turning_angles
-from .sampling import _ring_positions, _STRAIGHT_TURN, corner_clearance
+from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_clearance
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
@@ -181,7 +181,7 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
         return index[vertex]
 
     positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
-                                 junction)
+                                 junction, _spikes(rings, frames, junction))
     chain_samples = []
     for (vertices, closed), (segment, t) in zip(chains, positions):
         ids = []
@@ -277,7 +277,8 @@ def _chains(rings, owner, junction):
     return chains
 
 
-def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, junction):
+def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, junction,
+                     spikes=()):
     """Per chain, its samples as (segment, fraction) pairs along it, read in the frame of
     the first region that runs it (an open chain's last end excluded).
 
@@ -285,11 +286,13 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
     vertices, so that its samples do not depend on the other chains (a patch dropped
     by :func:`pds_plugin.remesh` leaves the others' samples as they were). Straight open
     chains (the faces of a solid meet in straight lines) are cut by ``split_gaps``
-    directly; the others go through the conforming sampler's own ring rule
-    (``_ring_positions``, :func:`_bent_chain`)."""
-    out = []
+    directly, then the two straight chains of each spike at a junction (``spikes``) are
+    sampled in mirror pairs (:func:`_junction_ladder`); the others go through the
+    conforming sampler's own ring rule (``_ring_positions``, :func:`_bent_chain`), which
+    makes the ladders of their own spikes."""
+    out, straight = [], {}
     cap = float(corner_clearance(0.0, alpha))
-    for vertices, closed in chains:
+    for c, (vertices, closed) in enumerate(chains):
         xy = frames[owner[_key(vertices[0], vertices[1])][0]][vertices]
         if closed:
             # a ring without junction, or a loop that leaves a junction and comes back
@@ -303,15 +306,90 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
             out.append(_bent_chain(xy, closed, ends, alpha, feature_angle, _chain_rng(seed, vertices)))
             continue
         cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
-        if cum[-1] < 2 * alpha:          # no room for two parts: one piece, nothing drawn
-            out.append((np.zeros(1, np.int64), np.zeros(1)))
-            continue
-        rng = _chain_rng(seed, vertices)
-        first, last = (min(max(end * alpha, alpha), cap) for end in ends)
-        u = rng.random(int(cum[-1] // alpha) + 1)
-        inner, _ = kern.split_gaps(np.zeros(1), cum[-1:], [first], [last], [alpha],
-                                   math.sqrt(3) * alpha, u)
-        out.append(_segments_of(np.concatenate([[0.0], np.sort(inner)]), cum))
+        at = np.zeros(1)
+        if cum[-1] >= 2 * alpha:          # else no room for two parts: nothing drawn
+            first, last = (min(max(end * alpha, alpha), cap) for end in ends)
+            u = _chain_rng(seed, vertices).random(int(cum[-1] // alpha) + 1)
+            inner, _ = kern.split_gaps(np.zeros(1), cum[-1:], [first], [last], [alpha],
+                                       math.sqrt(3) * alpha, u)
+            at = np.concatenate([[0.0], np.sort(inner)])
+        straight[c] = [at, cum, [min(max(end * alpha, alpha), cap) for end in ends]]
+        out.append(None)
+    along = _along_chains(chains)
+    for spike in spikes:
+        _junction_ladder(spike, along, chains, straight, alpha, seed)
+    for c, (at, cum, _) in straight.items():
+        out[c] = _segments_of(at, cum)
+    return out
+
+
+def _junction_ladder(spike, along, chains, straight, alpha, seed):
+    """Sample the two straight chains of a spike whose tip is a junction in mirror pairs
+    (the conforming sampler's ladders, ``sampling._ladders``): the shorter side's samples
+    within the spike's reach alpha / (2 sin(θ/2)) (and its far end, if the spike is still
+    thinner than alpha there, the end at least the tip's clearance from it, and the longer
+    side goes on for alpha or more) are copied to
+    the longer side at the same distance from the tip, and the longer side is cut again
+    beyond the last copy. Mirrored samples are a part's length apart like the ones they
+    copy, so every region running the longer chain keeps its parts in [alpha, √3 alpha]."""
+    vertex, before, after, theta = spike
+    sides = []
+    for neighbour in (after, before):
+        c, forward = along[(vertex, neighbour)]
+        if c not in straight:
+            return                                   # a bent side: no ladder
+        at, cum, _ = straight[c]
+        length = cum[-1]
+        offsets = at[1:] if forward else np.sort(length - at[1:])
+        sides.append((c, forward, length, offsets))
+    if sides[0][0] == sides[1][0]:
+        return
+    short, long = sorted(sides, key=lambda side: side[2])
+    reach = alpha / (2 * math.sin(max(theta, 1e-300) / 2))
+    mirrored = short[3][short[3] < min(reach, short[2])]
+    # the short side's far corner is mirrored too when at least the tip's clearance
+    # from it (a copy closer to the tip would be a pair no small feature explains)
+    if (float(corner_clearance(theta, alpha)) <= short[2] <= reach
+            and long[2] - short[2] >= alpha):
+        mirrored = np.append(mirrored, short[2])
+    while len(mirrored) and long[2] - mirrored[-1] < alpha:
+        mirrored = mirrored[:-1]                    # leave the long side a last part
+    if not len(mirrored):
+        return
+    c, forward, length, _ = long
+    far = straight[c][2][1 if forward else 0]
+    vertices = chains[c][0]
+    u = _chain_rng(seed + 1, vertices).random(int((length - mirrored[-1]) // alpha) + 1)
+    split, _ = kern.split_gaps([mirrored[-1]], [length], [alpha], [far], [alpha],
+                               math.sqrt(3) * alpha, u)
+    offsets = np.sort(np.concatenate([mirrored, split]))
+    inner = offsets if forward else np.sort(length - offsets)
+    straight[c][0] = np.concatenate([[0.0], inner])
+
+
+def _along_chains(chains) -> dict:
+    """Per directed edge of the chains: (chain, whether the chain runs it that way)."""
+    along = {}
+    for c, (vertices, closed) in enumerate(chains):
+        n = len(vertices)
+        for k in range(n if closed else n - 1):
+            a, b = int(vertices[k]), int(vertices[(k + 1) % n])
+            along[(a, b)] = (c, True)
+            along[(b, a)] = (c, False)
+    return along
+
+
+def _spikes(rings, frames, junction) -> list:
+    """(tip, vertex before, vertex after, angle) of every corner of a region sharper than
+    the sampler's ladder angle (33.56°) whose tip is a junction."""
+    out = []
+    for r, region in enumerate(rings):
+        for ring in region:
+            inner = np.pi - turning_angles(frames[r][ring])
+            for k in np.flatnonzero(inner < _LADDER_ANGLE).tolist():
+                if int(ring[k]) in junction:
+                    out.append((int(ring[k]), int(ring[k - 1]), int(ring[(k + 1) % len(ring)]),
+                                float(inner[k])))
     return out
 
 
@@ -395,13 +473,7 @@ def _angle_of_clearance(clearance, floor) -> float:
 def _ring_samples(rings, chains, chain_samples):
     """Per region, per ring, the sample numbers along it, from the chains it runs (in
     the ring's direction; a closed chain is the whole ring, in cyclic order)."""
-    along = {}                # directed edge -> (chain, forward)
-    for c, (vertices, closed) in enumerate(chains):
-        n = len(vertices)
-        for k in range(n if closed else n - 1):
-            a, b = int(vertices[k]), int(vertices[(k + 1) % n])
-            along[(a, b)] = (c, True)
-            along[(b, a)] = (c, False)
+    along = _along_chains(chains)
     out = []
     for region in rings:
         ring_ids = []
