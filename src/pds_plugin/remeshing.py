@@ -34,6 +34,8 @@ from shapely.geometry import Polygon
 from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import Frame, InterfaceReport, interface_report, mesh_part, sample_chains
+from .region import check_tolerance
+from .sources.solids import NOISE_ULPS
 
 if TYPE_CHECKING:
     import pymeshlab
@@ -227,7 +229,8 @@ def remesh(mesh, alpha="auto", *, seed: int = 0, feature_angle: float = 30.0,
     if tolerance is None:
         single = np.array_equal(vertices.astype(np.float32), vertices)
         largest = (np.float32 if single else np.float64)(np.abs(vertices).max(initial=0.0))
-        tolerance = 16 * float(np.spacing(largest))
+        tolerance = NOISE_ULPS * float(np.spacing(largest))
+    tolerance = check_tolerance(tolerance)
     normals = np.asarray(source.face_normals, dtype=np.float64)
     areas = np.asarray(source.area_faces, dtype=np.float64)
     label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
