@@ -161,9 +161,6 @@ def _remesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--alpha", type=_alpha, default="auto",
                         help="disc radius in the input's units, or 'auto' (default): the "
                              "bounding box's diagonal / 100")
-    parser.add_argument("--uniform", action="store_true",
-                        help="one alpha everywhere: the only remeshing so far (graded "
-                             "remeshing is not implemented)")
     parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
     parser.add_argument("--report", metavar="JSON", type=Path,
                         help="write every patch certificate and the solid's checks here")
