@@ -478,6 +478,54 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
     if len(corners) < 2:
         return at
     reach = alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2))
+    for i in np.flatnonzero(angle < _LADDER_ANGLE):
+        c = corners[i]
+        before, after = corners[i - 1], corners[(i + 1) % len(corners)]
+        sides = ((after - c) % length or length, (c - before) % length or length)
+        short = int(sides[1] < sides[0])              # 0: the side after the corner
+        sign = (1.0, -1.0)[short]                     # along the short side
+        offset = (sign * (at - c)) % length           # from c along the short side
+        beyond = sides[1 - short] - sides[short]       # how far the long side goes on
+        if sides[short] <= reach[i] and 0 < beyond < alpha:
+            # the short side ends inside the spike and the long side soon after: its last
+            # part ends where the long side's last one, from the mirror image, stays at
+            # most √3 alpha (a chord that long has a triangle in the spike)
+            lo = max(sides[short] + beyond - math.sqrt(3) * alpha, guard[i] + alpha)
+            hi = sides[short] - alpha
+            if lo <= hi:
+                last = lo + rng.random() * (hi - lo)
+                inner = np.append(_split(0.0, last, guard[i], alpha, alpha, rng), last)
+                on_short = (offset > 0) & (offset < sides[short])
+                at = np.sort(np.concatenate([at[~on_short], (c + sign * inner) % length]))
+                offset = (sign * (at - c)) % length
+        mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
+        if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < _RESOLUTION * alpha:
+            continue                            # a needle: its sides are one line
+        if guard[i] <= sides[short] <= reach[i] and beyond >= alpha:
+            # the short side ends inside the spike: its last rung is the corner there (not
+            # nearer the tip than its clearance, which keeps the first rung apart)
+            mirrored = np.append(mirrored, sides[short])
+        if not len(mirrored):
+            continue
+        # the long side: the mirror images, then parts in [alpha, √3 alpha] to its far end
+        far = i - 1 if short == 0 else (i + 1) % len(corners)
+        rest = _split(mirrored.max(), sides[1 - short], alpha, max(guard[far], alpha), alpha, rng)
+        along_long = (sign * (c - at)) % length
+        on_long = (along_long > 0) & (along_long < sides[1 - short])
+        at = np.sort(np.concatenate([at[~on_long],
+                                     (c - sign * np.concatenate([mirrored, rest])) % length]))
+    return at
+
+
+def _split(lo, hi, first, last, alpha, rng) -> np.ndarray:
+    """Random inner points splitting [lo, hi] into parts of length in [alpha, √3 alpha],
+    the first at least ``first`` long and the last at least ``last`` (each capped just
+    below √3 alpha), where the length allows it (``split_gaps``)."""
+    cap = corner_clearance(0.0, alpha)
+    u = rng.random(int((hi - lo) // alpha) + 1)
+    return kern.split_gaps([lo], [hi], [min(first, cap)], [min(last, cap)], [alpha],
+                           math.sqrt(3) * alpha, u)[0]
+    reach = alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2))
     cap = corner_clearance(0.0, alpha)
     for i in np.flatnonzero(angle < _LADDER_ANGLE):
         c = corners[i]
