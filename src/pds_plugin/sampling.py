@@ -525,56 +525,6 @@ def _split(lo, hi, first, last, alpha, rng) -> np.ndarray:
     u = rng.random(int((hi - lo) // alpha) + 1)
     return kern.split_gaps([lo], [hi], [min(first, cap)], [min(last, cap)], [alpha],
                            math.sqrt(3) * alpha, u)[0]
-    reach = alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2))
-    cap = corner_clearance(0.0, alpha)
-    for i in np.flatnonzero(angle < _LADDER_ANGLE):
-        c = corners[i]
-        before, after = corners[i - 1], corners[(i + 1) % len(corners)]
-        sides = ((after - c) % length or length, (c - before) % length or length)
-        short = int(sides[1] < sides[0])              # 0: the side after the corner
-        sign = (1.0, -1.0)[short]
-        offset = (sign * (at - c)) % length           # along the short side, from c
-        on_short = (offset > 0) & (offset < sides[short])
-        beyond = sides[1 - short] - sides[short]       # how far the long side goes on
-        if sides[short] <= reach[i] and 0 < beyond < alpha:
-            # the short side ends inside the spike and the long side soon after: its last
-            # part ends where the long side's last one, from the mirror image, stays at
-            # most √3 alpha (a chord that long has a triangle in the spike)
-            lo, hi = max(sides[short] + beyond - math.sqrt(3) * alpha, guard[i] + alpha), \
-                sides[short] - alpha
-            if lo <= hi:
-                last = lo + rng.random() * (hi - lo)
-                u = rng.random(int(last // alpha) + 1)
-                split, _ = kern.split_gaps([0.0], [last], [min(guard[i], cap)], [alpha],
-                                           [alpha], math.sqrt(3) * alpha, u)
-                at = np.sort(np.concatenate([at[~on_short],
-                                             (c + sign * np.append(split, last)) % length]))
-                offset = (sign * (at - c)) % length
-        mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
-        if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < _RESOLUTION * alpha:
-            continue                            # a needle: its sides are one line
-        if guard[i] <= sides[short] <= reach[i] and beyond >= alpha:
-            # the short side ends inside the spike: its last rung is the corner there (not
-            # nearer the tip than its clearance, which keeps the first rung apart)
-            mirrored = np.append(mirrored, sides[short])
-        if not len(mirrored):
-            continue
-        # the long side: the mirror images, then parts in [alpha, √3 alpha] to its far end
-        last_mirrored = c - sign * mirrored.max()
-        if short == 0:
-            gap, bounds = (before, last_mirrored), (max(guard[i - 1], alpha), alpha)
-        else:
-            gap = (last_mirrored, after)
-            bounds = (alpha, max(guard[(i + 1) % len(corners)], alpha))
-        gap_lo = gap[0]
-        gap_hi = gap_lo + (gap[1] - gap_lo) % length
-        u = rng.random(int((gap_hi - gap_lo) // alpha) + 1)
-        split, _ = kern.split_gaps([gap_lo], [gap_hi], [min(bounds[0], cap)],
-                                   [min(bounds[1], cap)], [alpha], math.sqrt(3) * alpha, u)
-        on_long = ((-sign * (at - c)) % length > 0) & ((-sign * (at - c)) % length < sides[1 - short])
-        at = np.sort(np.concatenate([at[~on_long], (c - sign * mirrored) % length,
-                                     split % length]))
-    return at
 
 
 class _Sampler:
