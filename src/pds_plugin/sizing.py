@@ -22,7 +22,8 @@ from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, turning_angles
 
-__all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "DEFAULT_GRADING"]
+__all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "curve_factor",
+           "DEFAULT_GRADING"]
 
 DEFAULT_GRADING = 0.2
 """Default Lipschitz constant L: proven angles >= arcsin(0.4) = 23.6° (docs/graded.md)."""
@@ -32,7 +33,6 @@ _CORNER = 0.4        # corner disc: 0.4 x distance to the nearest non-incident b
 _RING = 1 / 6        # r <= perimeter / 6 of the ring
 _PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length is >= 2.5,
                      # so it splits into two or more chords (graded_sampling._positions)
-_CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
 _FLAT_BELOW = math.pi / 3   # convex corners sharper than this keep their size along
 _FLAT_REACH = 2             # their sides up to this many times it
@@ -188,7 +188,7 @@ def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | 
                                 f"{type(sizing).__name__}")
     if cap is None:
         cap = inradius(region)
-    points, sizes = _features(region, cap, feature_angle)
+    points, sizes = _features(region, cap, feature_angle, curve_factor(grading, feature_angle))
     return RadiusField(points, sizes, grading, cap, sizing)
 
 
@@ -205,7 +205,39 @@ def inradius(region: Region) -> float:
                for polygon in region.geometry.geoms)
 
 
-def _features(region: Region, cap: float, feature_angle: float):
+def curve_factor(grading: float, feature_angle: float = 30.0) -> float:
+    """The curvature rule's factor κ: r <= κ R on an arc of radius R (docs/graded.md,
+    section 3, *curvature*).
+
+    The sampler splits a closed arc into k equal parts of normalized length at least
+    ``a = 1.02 / (1 - L/2)`` (graded_sampling._positions), so with r = κ R on it
+    ``k = floor(2π / (a κ))`` chords turning by 2π / k each. κ is the largest value
+    giving more than ``2π / feature_angle`` chords, so that they turn by less than the
+    feature angle (the sampler's own threshold for a corner), and their sagitta is at
+    most ``R (1 - cos(feature_angle / 2))``: 3.4 % of R at 30°.
+
+    Parameters
+    ----------
+    grading : float
+        The Lipschitz constant L.
+    feature_angle : float
+        Degrees; vertices turning by more are sharp corners.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(curve_factor(0.2), 4)          # 13 chords on a circle, 27.7° each
+    0.4266
+    """
+    a = 1.02 / (1.0 - 0.5 * grading)
+    chords = math.floor(360.0 / feature_angle + 1e-9) + 1
+    return 2.0 * math.pi / (chords * a) * (1.0 - 1e-9)
+
+
+def _features(region: Region, cap: float, feature_angle: float, curve: float):
     """Feature points and sizes: the boundary densified until every edge is split into
     parts at most a quarter of the smallest size found on it.
 
@@ -214,7 +246,7 @@ def _features(region: Region, cap: float, feature_angle: float):
     Otherwise each round would find the two sides closer near the corner, densify them
     finer and find them closer again (an STL section's 46° corner reached 1e-7)."""
     rings = region.rings
-    from_ring = [_ring_sizes(ring, cap, math.radians(feature_angle)) for ring in rings]
+    from_ring = [_ring_sizes(ring, cap, math.radians(feature_angle), curve) for ring in rings]
     ring_size = [f[0] for f in from_ring]
     vertex_size = np.concatenate([f[1] for f in from_ring])
     piece = [f[2] for f in from_ring]
@@ -245,7 +277,7 @@ def _features(region: Region, cap: float, feature_angle: float):
             np.concatenate([size, corner_s, vertex_size]))
 
 
-def _ring_sizes(ring, cap, sharp_turn):
+def _ring_sizes(ring, cap, sharp_turn, curve):
     """Sizes from the ring alone: per edge (piece length, perimeter) and per vertex
     (also the curvature), the piece index of each edge, and which vertices are sharp
     corners."""
@@ -259,7 +291,7 @@ def _ring_sizes(ring, cap, sharp_turn):
     size = np.minimum(edge_size, np.roll(edge_size, 1))        # per vertex: both edges
     mean_edge = 0.5 * (length + np.roll(length, 1))
     curved = ~sharp & (turn > 1e-12)
-    size[curved] = np.minimum(size[curved], _CURVE * mean_edge[curved] / turn[curved])
+    size[curved] = np.minimum(size[curved], curve * mean_edge[curved] / turn[curved])
     return edge_size, size, piece, sharp
 
 
