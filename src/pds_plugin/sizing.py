@@ -17,10 +17,9 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import _sizing_kernels as kern
-from ._parallel import get_threads
 from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
-from .region import Region, turning_angles
+from .region import Region
 
 __all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "curve_factor",
            "DEFAULT_GRADING"]
@@ -244,55 +243,66 @@ def _features(region: Region, cap: float, feature_angle: float, curve: float):
     Inside the disc of a sharp corner the two pieces meeting there are not walls of each
     other (their distance goes to 0 at the corner): the corner's own size holds there.
     Otherwise each round would find the two sides closer near the corner, densify them
-    finer and find them closer again (an STL section's 46° corner reached 1e-7)."""
+    finer and find them closer again (an STL section's 46° corner reached 1e-7).
+
+    Every ring is handled at once (flat arrays over all edges), so the cost grows with
+    the boundary, not with the number of holes times a per-ring overhead."""
     rings = region.rings
-    from_ring = [_ring_sizes(ring, cap, math.radians(feature_angle), curve) for ring in rings]
-    ring_size = [f[0] for f in from_ring]
-    vertex_size = np.concatenate([f[1] for f in from_ring])
-    piece = [f[2] for f in from_ring]
-    corners = [f[3] for f in from_ring]
     edges = _edges(rings)
+    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(edges, cap,
+                                                             math.radians(feature_angle), curve)
     dense = _densify(edges, ring_size, ring_size, piece)
-    corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
-    edge_size = [size.copy() for size in ring_size]
+    corner_xy, corner_s = _corner_discs(region, rings, edges, sharp, turn, piece, dense)
+    edge_size = ring_size.copy()
+    flat_edge = edges[4][dense["ring"]] + dense["edge"]
     for round_ in range(_ROUNDS):
         if round_:
-            parts = int(np.sum(np.ceil(4 * edges[2] / np.concatenate(edge_size))))
+            parts = int(np.sum(np.ceil(4 * edges[2] / edge_size)))
             if parts > _MAX_DENSE:
                 break                   # keep the last densification: memory stays bounded
             dense = _densify(edges, edge_size, ring_size, piece)
+            flat_edge = edges[4][dense["ring"]] + dense["edge"]
         size = _wall_sizes(region, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
-        changed = False
-        for k in range(len(rings)):
-            on = dense["ring"] == k
-            smallest = np.full(len(rings[k]), np.inf)
-            np.minimum.at(smallest, dense["edge"][on], size[on])
-            new = np.minimum(edge_size[k], smallest)
-            changed |= bool(np.any(new < 0.7 * edge_size[k]))
-            edge_size[k] = new
+        smallest = np.full(len(edge_size), np.inf)
+        np.minimum.at(smallest, flat_edge, size)
+        new = np.minimum(edge_size, smallest)
+        changed = bool(np.any(new < 0.7 * edge_size))
+        edge_size = new
         if not changed:
             break
-    return (np.concatenate([dense["xy"], corner_xy, np.concatenate(rings)]),
+    return (np.concatenate([dense["xy"], corner_xy, edges[0]]),
             np.concatenate([size, corner_s, vertex_size]))
 
 
-def _ring_sizes(ring, cap, sharp_turn, curve):
-    """Sizes from the ring alone: per edge (piece length, perimeter) and per vertex
-    (also the curvature), the piece index of each edge, and which vertices are sharp
-    corners."""
-    length = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
-    turn = np.abs(turning_angles(ring))
+def _ring_sizes(edges, cap, sharp_turn, curve):
+    """Sizes from each ring alone, all rings at once (``edges`` from :func:`_edges`): per
+    edge (piece length, perimeter) and per vertex (also the curvature), the piece index
+    of each edge within its ring, which vertices are sharp corners, and the signed
+    turning angle at each vertex (as :func:`pds_plugin.region.turning_angles`)."""
+    start, d, length, ring_of, first = edges
+    following = np.append(first[1:], len(start))                # one past each ring's end
+    previous = np.arange(-1, len(start) - 1)
+    previous[first] = following - 1
+    into = d[previous]
+    signed = np.arctan2(into[:, 0] * d[:, 1] - into[:, 1] * d[:, 0],
+                        (into * d).sum(axis=1))
+    turn = np.abs(signed)
     sharp = turn >= sharp_turn
-    piece = np.cumsum(sharp) % max(int(sharp.sum()), 1)     # edge k belongs to piece[k]
-    piece_length = np.bincount(piece, weights=length)
-    size = np.minimum(cap, _RING * length.sum())
-    edge_size = np.minimum(size, _PIECE * piece_length[piece])
-    size = np.minimum(edge_size, np.roll(edge_size, 1))        # per vertex: both edges
-    mean_edge = 0.5 * (length + np.roll(length, 1))
+    counts = np.bincount(ring_of, weights=sharp, minlength=len(first)).astype(np.int64)
+    running = np.cumsum(sharp)
+    before = np.where(first > 0, running[first - 1], 0)
+    piece = (running - before[ring_of]) % np.maximum(counts, 1)[ring_of]   # within its ring
+    offset = np.cumsum(np.maximum(counts, 1)) - np.maximum(counts, 1)
+    piece_length = np.bincount(offset[ring_of] + piece, weights=length)
+    perimeter = np.array([length[lo:hi].sum() for lo, hi in zip(first, following)])
+    size = np.minimum(cap, _RING * perimeter)[ring_of]
+    edge_size = np.minimum(size, _PIECE * piece_length[offset[ring_of] + piece])
+    size = np.minimum(edge_size, edge_size[previous])           # per vertex: both edges
+    mean_edge = 0.5 * (length + length[previous])
     curved = ~sharp & (turn > 1e-12)
     size[curved] = np.minimum(size[curved], curve * mean_edge[curved] / turn[curved])
-    return edge_size, size, piece, sharp
+    return edge_size, size, piece, sharp, signed
 
 
 def _edges(rings):
@@ -312,14 +322,14 @@ def _densify(edges, edge_size, ring_size, piece):
     its size, with the edge's inward unit normal, ring, edge and piece index, and its
     size from the ring alone; all rings at once."""
     start, d, length, ring_of, first = edges
-    parts = np.maximum(np.ceil(4 * length / np.concatenate(edge_size)), 1).astype(np.int64)
+    parts = np.maximum(np.ceil(4 * length / edge_size), 1).astype(np.int64)
     edge = np.repeat(np.arange(len(start)), parts)
     begin = np.cumsum(parts) - parts
     t = (np.arange(parts.sum()) - begin[edge] + 0.5) / parts[edge]
     return {"xy": start[edge] + t[:, None] * d[edge],
             "normal": np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None],
             "ring": ring_of[edge], "edge": edge - first[ring_of[edge]],
-            "piece": np.concatenate(piece)[edge], "base": np.concatenate(ring_size)[edge]}
+            "piece": piece[edge], "base": ring_size[edge]}
 
 
 def _wall_sizes(region, dense, cap):
@@ -349,7 +359,7 @@ def _wall_sizes(region, dense, cap):
     return np.minimum(dense["base"], _WALL * wall)
 
 
-def _corner_discs(region, rings, corners, piece, dense):
+def _corner_discs(region, rings, edges, sharp, turn, piece, dense):
     """Sharp corners and their disc radius: _CORNER x the distance to the nearest
     boundary point that is not on the two pieces incident to the corner and is seen
     through material (the midpoint in the region: a notch or gap does not count), at
@@ -363,13 +373,17 @@ def _corner_discs(region, rings, corners, piece, dense):
     33.56°, stays within what the complex keeps, min r / (1 - L). Where the field grew
     at the rate L from the corner instead, r(p) reached (1 + 1.6 L) r(c) at 37° and the
     triangle was dropped: a tooth's tip came off at L = 0.3."""
-    turns = [turning_angles(ring) for ring in rings]
+    ring_of, first = edges[3], edges[4]
+    if not sharp.any():
+        return np.empty((0, 2)), np.empty(0)
     tree = cKDTree(dense["xy"])
     xy, s = [], []
-    for k, ring in enumerate(rings):
+    for k in np.unique(ring_of[sharp]):
+        ring = rings[k]
         own = dense["ring"] == k
-        for v in np.flatnonzero(corners[k]):
-            incident = (piece[k][v], piece[k][v - 1])
+        ring_piece = piece[first[k]:first[k] + len(ring)]
+        for v in np.flatnonzero(sharp[first[k]:first[k] + len(ring)]):
+            incident = (ring_piece[v], ring_piece[v - 1])
             for count in (4 * _K, len(dense["xy"])):
                 d, idx = tree.query(ring[v], k=min(count, len(dense["xy"])))
                 d, idx = np.atleast_1d(d), np.atleast_1d(idx)
@@ -383,7 +397,7 @@ def _corner_discs(region, rings, corners, piece, dense):
             size = min(_CORNER * far, dense["base"][on_pieces].min())
             xy.append(ring[v][None])
             s.append([size])
-            if turns[k][v] > math.pi - _FLAT_BELOW:
+            if turn[first[k] + v] > math.pi - _FLAT_BELOW:
                 shoulders = _shoulders(ring, v, size)
                 xy.append(shoulders)
                 s.append(np.full(len(shoulders), size))
