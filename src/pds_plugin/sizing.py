@@ -229,7 +229,7 @@ def curve_factor(grading: float, feature_angle: float = 30.0) -> float:
     Examples
     --------
     >>> round(curve_factor(0.2), 4)          # 13 chords on a circle, 27.7° each
-    0.4266
+    0.4265
     """
     a = 1.02 / (1.0 - 0.5 * grading)
     chords = math.floor(360.0 / feature_angle + 1e-9) + 1
