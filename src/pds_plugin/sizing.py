@@ -373,36 +373,48 @@ def _corner_discs(region, rings, edges, sharp, turn, piece, dense):
     33.56°, stays within what the complex keeps, min r / (1 - L). Where the field grew
     at the rate L from the corner instead, r(p) reached (1 + 1.6 L) r(c) at 37° and the
     triangle was dropped: a tooth's tip came off at L = 0.3."""
-    ring_of, first = edges[3], edges[4]
-    if not sharp.any():
+    ring_of = edges[3]
+    corner = np.flatnonzero(sharp)
+    if not len(corner):
         return np.empty((0, 2)), np.empty(0)
+    at, k = edges[0][corner], ring_of[corner]
+    previous = np.arange(-1, len(sharp) - 1)
+    previous[edges[4]] = np.append(edges[4][1:], len(sharp)) - 1
+    incident = np.column_stack([piece[corner], piece[previous[corner]]])
+    # the smallest ring size on each (ring, piece): the corner's size is at most that
+    width = int(dense["piece"].max()) + 1
+    keys, where = np.unique(dense["ring"] * width + dense["piece"], return_inverse=True)
+    base = np.full(len(keys), np.inf)
+    np.minimum.at(base, where, dense["base"])
+    on_pieces = np.minimum(base[np.searchsorted(keys, k * width + incident[:, 0])],
+                           base[np.searchsorted(keys, k * width + incident[:, 1])])
+    n = len(dense["xy"])
     tree = cKDTree(dense["xy"])
+    far = np.full(len(corner), np.inf)
+    todo = np.arange(len(corner))
+    for count in (4 * _K, n):
+        d, idx = tree.query(at[todo], k=min(count, n))
+        d, idx = d.reshape(len(todo), -1), idx.reshape(len(todo), -1)
+        mid = 0.5 * (dense["xy"][idx] + at[todo, None])
+        incident_piece = ((dense["piece"][idx] == incident[todo, :1])
+                          | (dense["piece"][idx] == incident[todo, 1:]))
+        other = (~((dense["ring"][idx] == k[todo, None]) & incident_piece)
+                 & shapely.contains_xy(region.geometry, mid[..., 0], mid[..., 1]))
+        found = other.any(axis=1)
+        far[todo[found]] = d[found, np.argmax(other[found], axis=1)]
+        todo = todo[~found]
+        if not len(todo) or count >= n:
+            break
+    size = np.minimum(_CORNER * far, on_pieces)
     xy, s = [], []
-    for k in np.unique(ring_of[sharp]):
-        ring = rings[k]
-        own = dense["ring"] == k
-        ring_piece = piece[first[k]:first[k] + len(ring)]
-        for v in np.flatnonzero(sharp[first[k]:first[k] + len(ring)]):
-            incident = (ring_piece[v], ring_piece[v - 1])
-            for count in (4 * _K, len(dense["xy"])):
-                d, idx = tree.query(ring[v], k=min(count, len(dense["xy"])))
-                d, idx = np.atleast_1d(d), np.atleast_1d(idx)
-                mid = 0.5 * (dense["xy"][idx] + ring[v])
-                other = (~(own[idx] & np.isin(dense["piece"][idx], incident))
-                         & shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1]))
-                if other.any() or count >= len(dense["xy"]):
-                    break
-            far = d[other][0] if other.any() else np.inf
-            on_pieces = own & np.isin(dense["piece"], incident)
-            size = min(_CORNER * far, dense["base"][on_pieces].min())
-            xy.append(ring[v][None])
-            s.append([size])
-            if turn[first[k] + v] > math.pi - _FLAT_BELOW:
-                shoulders = _shoulders(ring, v, size)
-                xy.append(shoulders)
-                s.append(np.full(len(shoulders), size))
-    if not xy:
-        return np.empty((0, 2)), np.empty(0)
+    for c, v in enumerate(corner):
+        xy.append(edges[0][v][None])
+        s.append(size[c:c + 1])
+        if turn[v] > math.pi - _FLAT_BELOW:
+            ring = rings[k[c]]
+            shoulders = _shoulders(ring, v - edges[4][k[c]], size[c])
+            xy.append(shoulders)
+            s.append(np.full(len(shoulders), size[c]))
     return np.concatenate(xy), np.concatenate(s)
 
 
