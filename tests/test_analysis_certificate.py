@@ -430,8 +430,10 @@ def test_a_boundary_crossing_its_chord_once_is_certified_from_the_end_it_holds()
 
 
 def test_a_boundary_bending_both_ways_between_samples_is_not_certified():
-    # beyond the chord from (1, 1) to (0, 1) lies a piece that holds neither end
-    wiggle = Polygon([(0, 0), (1, 0), (1, 1), (0.7, 1), (0.6, 1.03), (0.4, 0.97), (0.3, 1), (0, 1)])
+    # beyond the chord from (1, 1) to (0, 1) lies a hooked piece that holds neither end
+    # and turns back along the chord: no cut of it is seen whole from a sample
+    wiggle = Polygon([(0, 0), (1, 0), (1, 1), (0.7, 1), (0.6, 1.05), (0.68, 1.08), (0.45, 1.07),
+                      (0.3, 1), (0, 1)])
     mesh = cdt_mesh(box(0, 0, 1, 1), 0.8, region=wiggle)
     cert = mesh.certificate()
     assert cert.conforming and cert.sampled_outline

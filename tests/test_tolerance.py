@@ -7,6 +7,7 @@ Oracles: shapely's Hausdorff distance (densified) between the raw and the meshed
 boundaries, the region's topology, and the certificate's theorems.
 """
 
+import json
 import math
 
 import numpy as np
@@ -188,10 +189,17 @@ def test_the_command_line_takes_a_tolerance(tmp_path, capsys):
 
     path = shared_file("7_8ths_cube.stl")
     common = [str(path), "--axis", "z", "--at", "-16.51", "--alpha", "auto", "--uniform"]
-    assert main([*common, "-o", str(tmp_path / "a.ply")]) == 0
-    assert "certificate ok" in capsys.readouterr().out
-    main([*common, "--tolerance", "0", "-o", str(tmp_path / "b.ply")])  # every vertex kept
-    assert "FAILED" in capsys.readouterr().out
+    certificates = []
+    for name, extra in (("a", []), ("b", ["--tolerance", "0"])):     # b: every vertex kept
+        report = tmp_path / f"{name}.json"
+        assert main([*common, *extra, "-o", str(tmp_path / f"{name}.ply"),
+                     "--report", str(report)]) == 0
+        assert "certificate ok" in capsys.readouterr().out
+        certificates.append(json.loads(report.read_text())["sections"][0]["certificate"])
+    default, none = certificates
+    assert default["tolerance"] == mesh_tolerance(trimesh.load_mesh(path), np.float32)
+    assert 0 < default["source_deviation"] <= default["tolerance"]
+    assert none["tolerance"] == none["source_deviation"] == 0.0
     assert main([*common, "--tolerance", "-1", "-o", str(tmp_path / "c.ply")]) != 0
     assert "--tolerance: expected a number >= 0" in capsys.readouterr().err
 
@@ -225,6 +233,40 @@ def test_the_region_beyond_a_chord_over_a_kink_is_measured_from_the_end_that_see
     distance = np.minimum(np.where(seen_a, np.hypot(*(points - a).T), np.inf),
                           np.where(seen_b, np.hypot(*(points - b).T), np.inf))
     assert distance.max() <= gap * (1 + 1e-9)
+
+
+def test_the_region_beyond_a_chord_hidden_from_both_ends_is_measured_from_the_apex():
+    """Beyond the chord from b = (2, 0) to a = (0, 0) the arc has a bump between two
+    reflex kinks (as where a plane crosses two seams of a tessellated torus within one
+    chord): neither end sees the bump, so without the mesh's triangles the chord is
+    uncertain ("the boundary bends both ways"). The third corner of the triangle on the
+    chord sees it: the piece is cut into a part seen from a, one from the apex and one
+    from b. Brute force: every one of 20,000 points of the sliver sees one of a, b and the
+    apex through the sliver and the triangle, within the measured gap."""
+    from pds_plugin.analysis.conformity import SampledBoundary
+
+    arc = [(1.6, 0.1), (1.4, 0.05), (1.2, 0.12), (1.0, 0.06), (0.6, 0.1)]
+    region = pds.Region.from_shapely(Polygon([(0, 0), (0, -2), (2, -2), (2, 0), *arc]))
+    a, b, apex = np.array([0.0, 0.0]), np.array([2.0, 0.0]), np.array([1.1, -0.9])
+    points = np.array([b, a, (0, -2), (2, -2), apex])
+    on_boundary = np.array([True, True, True, True, False])
+    faces = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    assert SampledBoundary(region, points, on_boundary, 1.2).uncertain.any()
+    sampled = SampledBoundary(region, points, on_boundary, 1.2, faces)
+    assert not sampled.uncertain.any()
+    gap, _ = sampled.sliver_gap()
+    sliver = Polygon([b, *arc, a])
+    seeing = sliver.union(Polygon([a, b, apex])).buffer(1e-9)
+    rng = np.random.default_rng(0)
+    x0, y0, x1, y1 = sliver.bounds
+    probe = rng.uniform((x0, y0), (x1, y1), (20000, 2))
+    probe = probe[shapely.contains_xy(sliver, probe[:, 0], probe[:, 1])]
+    distance = np.full(len(probe), np.inf)
+    for seer in (a, b, apex):
+        lines = shapely.linestrings(np.stack([probe, np.broadcast_to(seer, probe.shape)], 1))
+        seen = shapely.covers(seeing, lines)
+        distance[seen] = np.minimum(distance[seen], np.hypot(*(probe[seen] - seer).T))
+    assert np.isfinite(distance).all() and distance.max() <= gap * (1 + 1e-9)
 
 
 def test_curve_rescaling_never_leaves_a_chord_longer_than_two_alpha():

@@ -61,8 +61,10 @@ _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
 _STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
+_NOISY_INFLECTION_APART = 1.5  # the same where the boundary is known up to a tolerance
 _GUARD_SPREAD = (0.5, -0.5, 1.0, -1.0, 0.25, -0.25, 0.75, -0.75)  # other guard heights, / t_c
 _GUARD_MARGIN = 1e-9     # guards stay this much (/ t_c) inside the heights of circumradius alpha
+_LADDER_ANGLE = 2 * math.asin(1 / (2 * math.sqrt(3)))  # spikes sharper (33.56°) get mirror pairs
 _CAP_SLACK = 0.03        # a corner guard's disc holds the open cap's sampled arcs by this much (/ alpha)
 
 
@@ -276,7 +278,7 @@ def corner_clearance(angle, alpha):
     return np.minimum(guard, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
 
 
-def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
+def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART) -> np.ndarray:
     """Arc positions where a ring's boundary changes the way it bends between two sharp
     corners (an S-curve's inflection), to be sampled like corners, so that the arc
     between consecutive samples bends one way only and lies on one side of its chord
@@ -286,11 +288,14 @@ def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
     define the bends; between two consecutive ones that turn opposite ways, with no sharp
     corner between them, the inflection is the middle of the arc that joins them, and a
     vertex turning against both its neighbours (a kink) is one itself. One is
-    kept only at least ``_INFLECTION_APART`` alpha along the ring from every sharp corner
-    and every inflection kept before it: the pieces it bounds then hold a corner's
-    clearance (at most √3 alpha) and parts of up to 1.5 alpha, the longest the curve
-    rescaling asks for (a piece of one part cannot be rescaled, and its chord falls below
-    alpha on a curve).
+    kept only at least ``apart`` alpha along the ring from every sharp corner and every
+    inflection kept before it. At ``_INFLECTION_APART`` (3) the pieces it bounds hold a
+    corner's clearance (at most √3 alpha) and parts of up to 1.5 alpha, the longest the
+    curve rescaling asks for (a piece of one part cannot be rescaled, and its chord falls
+    below alpha on a curve). A boundary known up to a tolerance (a tessellated curve cut
+    by a plane) has inflections wherever the noise bends it, and each one not sampled may
+    leave an arc bending both ways: ``_NOISY_INFLECTION_APART`` (1.5) samples twice as
+    many, at the price of chords below alpha on pieces of one part (itemised exceptions).
 
     Examples
     --------
@@ -323,7 +328,7 @@ def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
     kink = flips & np.roll(flips, 1)
     single = flips & ~kink & ~np.roll(kink, -1)
     candidates = np.sort(np.concatenate([at[kink], at[single] + 0.5 * span[single]]) % length)
-    apart = _INFLECTION_APART * alpha
+    apart = apart * alpha
     if len(corners):                        # clear of the nearest corner, either way round
         after = np.searchsorted(corners, candidates) % len(corners)
         clear = np.minimum((corners[after] - candidates) % length,
@@ -336,7 +341,8 @@ def _inflections(cum, turns, sharp, alpha) -> np.ndarray:
     return np.array(kept)
 
 
-def _ring_positions(ring, turns, feature_angle, alpha, rng):
+def _ring_positions(ring, turns, feature_angle, alpha, rng,
+                    inflections_apart=_INFLECTION_APART):
     """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
     and the inflections of its curves (:func:`_inflections`; or one random point if it
     has neither), the pieces between them split by ``split_gaps`` into parts of arc
@@ -346,22 +352,24 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
     alpha / (2 sin(θ/2)) long (θ the corner's angle, at most √3 alpha), so the samples on
     its two sides are alpha apart. On a curve a chord is shorter than its arc: where a
     chord of a piece falls below alpha, that piece is split again with its lower bounds
-    scaled by alpha / that chord (its parts stay at most √3 alpha, so their chords do)."""
+    scaled by alpha / that chord (its parts stay at most √3 alpha, so their chords do).
+    Inflections are kept ``inflections_apart`` alpha apart (:func:`_inflections`); spikes
+    sharper than 33.56° are sampled in mirror pairs (:func:`_ladders`)."""
     closed = np.vstack([ring, ring[:1]])
     cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
     length = cum[-1]
     sharp = np.abs(turns) >= np.radians(feature_angle)
     longest = math.sqrt(3) * alpha
     first_cap = corner_clearance(0.0, alpha)       # the cap (a corner of angle 0)
-    bends = _inflections(cum, turns, sharp, alpha)
+    bends = _inflections(cum, turns, sharp, alpha, inflections_apart)
     if sharp.any() or len(bends):
         corners = np.concatenate([cum[:-1][sharp], bends])
-        guard = np.concatenate([corner_clearance(np.pi - turns[sharp], alpha),  # the region's
-                                np.full(len(bends), alpha)])                   # angle there
+        angle = np.concatenate([np.pi - turns[sharp], np.full(len(bends), np.pi)])  # the region's
         order = np.argsort(corners, kind="stable")
-        corners, guard = corners[order], guard[order]
+        corners, angle = corners[order], angle[order]
     else:
-        corners, guard = np.array([rng.random() * length]), np.array([alpha])
+        corners, angle = np.array([rng.random() * length]), np.array([np.pi])
+    guard = corner_clearance(angle, alpha)
     lo = corners
     hi = np.append(corners[1:], corners[0] + length)
     scale = np.ones(len(lo))
@@ -407,6 +415,7 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
         splittable = hi - lo > longest
         scale[splittable] = np.minimum(scale[splittable],
                                        np.maximum(1.0, fits[splittable] * (1 - 1e-9)))
+    at = _ladders(at, corners, angle, guard, alpha, length, rng)
     if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
         at = np.sort((at[0] + length * np.arange(3) / 3) % length)
     while len(at) < 3:
@@ -414,6 +423,80 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng):
         k = int(np.argmax(gaps))
         at = np.sort(np.append(at, (at[k] + 0.5 * gaps[k]) % length))
     return at, cum, closed
+
+
+def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
+    """Boundary positions ``at`` with the samples beside each convex corner sharper than
+    33.56° (a spike, whose first samples are √3 alpha from it) placed in mirror pairs,
+    at equal arc length from the corner on its two sides, as far as the spike is thinner
+    than alpha (alpha / (2 sin(θ/2)) from the corner on straight sides).
+
+    Consecutive samples on one side of a spike thinner than alpha make a mesh edge only
+    with a third sample at a height above their chord that the spike has no room for;
+    mirror pairs make it a ladder of near isosceles trapezoids, each nearly cocircular
+    with circumradius about half its diagonal, at most alpha (docs/conforming.md,
+    "Spikes"). The shorter side's samples are kept and mirrored (and the break ending it,
+    if the spike is still thin there and the longer side goes on for alpha or more); the
+    longer side is split again beyond the last mirrored one. ``corners`` are the ring's
+    breaks (sharp corners and inflections) in order, ``angle`` the region's angle at
+    each, ``guard`` their clearances.
+
+    Examples
+    --------
+    >>> at = np.array([0.0, 2.0, 4.0, 5.5, 7.0, 8.5, 10.2])  # a 6° tip at 0, a ring of 12
+    >>> _ladders(at, np.array([0.0, 5.5]), np.radians([6.0, 90.0]), np.array([1.7, 1.0]),
+    ...          1.0, 12.0, np.random.default_rng(0)).round(2).tolist()   # 2, 4, 5.5 mirrored
+    [0.0, 2.0, 4.0, 5.5, 6.5, 8.0, 10.0]
+    """
+    if len(corners) < 2:
+        return at
+    reach = alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2))
+    cap = corner_clearance(0.0, alpha)
+    for i in np.flatnonzero(angle < _LADDER_ANGLE):
+        c = corners[i]
+        before, after = corners[i - 1], corners[(i + 1) % len(corners)]
+        sides = ((after - c) % length or length, (c - before) % length or length)
+        short = int(sides[1] < sides[0])              # 0: the side after the corner
+        sign = (1.0, -1.0)[short]
+        offset = (sign * (at - c)) % length           # along the short side, from c
+        on_short = (offset > 0) & (offset < sides[short])
+        beyond = sides[1 - short] - sides[short]       # how far the long side goes on
+        if sides[short] <= reach[i] and 0 < beyond < alpha:
+            # the short side ends inside the spike and the long side soon after: its last
+            # part ends where the long side's last one, from the mirror image, stays at
+            # most √3 alpha (a chord that long has a triangle in the spike)
+            lo, hi = max(sides[short] + beyond - math.sqrt(3) * alpha, guard[i] + alpha), \
+                sides[short] - alpha
+            if lo <= hi:
+                last = lo + rng.random() * (hi - lo)
+                u = rng.random(int(last // alpha) + 1)
+                split, _ = kern.split_gaps([0.0], [last], [min(guard[i], cap)], [alpha],
+                                           [alpha], math.sqrt(3) * alpha, u)
+                at = np.sort(np.concatenate([at[~on_short],
+                                             (c + sign * np.append(split, last)) % length]))
+                offset = (sign * (at - c)) % length
+        mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
+        if sides[short] <= reach[i] and beyond >= alpha:
+            # the short side ends inside the spike: its last rung is the corner there
+            mirrored = np.append(mirrored, sides[short])
+        if not len(mirrored):
+            continue
+        # the long side: the mirror images, then parts in [alpha, √3 alpha] to its far end
+        last_mirrored = c - sign * mirrored.max()
+        if short == 0:
+            gap, bounds = (before, last_mirrored), (max(guard[i - 1], alpha), alpha)
+        else:
+            gap = (last_mirrored, after)
+            bounds = (alpha, max(guard[(i + 1) % len(corners)], alpha))
+        gap_lo = gap[0]
+        gap_hi = gap_lo + (gap[1] - gap_lo) % length
+        u = rng.random(int((gap_hi - gap_lo) // alpha) + 1)
+        split, _ = kern.split_gaps([gap_lo], [gap_hi], [min(bounds[0], cap)],
+                                   [min(bounds[1], cap)], [alpha], math.sqrt(3) * alpha, u)
+        on_long = ((-sign * (at - c)) % length > 0) & ((-sign * (at - c)) % length < sides[1 - short])
+        at = np.sort(np.concatenate([at[~on_long], (c - sign * mirrored) % length,
+                                     split % length]))
+    return at
 
 
 class _Sampler:
@@ -495,9 +578,10 @@ class _Sampler:
         samples."""
         alpha = self.alpha
         ring_xy = []
+        apart = _NOISY_INFLECTION_APART if self.region.tolerance else _INFLECTION_APART
         for ring in self.region.rings:
             ring_xy.append(_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
-                                                   alpha, rng)))
+                                                   alpha, rng, apart)))
         boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and

@@ -400,7 +400,7 @@ def certify(mesh: PlanarMesh) -> Certificate:
     quality = mesh.quality()
     grid = _SampleGrid(points, 2 * alpha)     # the closest pair, about alpha, lies in adjacent cells
     rim_edges = mesh.boundary_edges
-    sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, alpha)
+    sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, alpha, faces)
     boundary = boundary_report(mesh, sampled)
     problems = list(boundary.problems)
     visibility = False

@@ -115,6 +115,12 @@ class SampledBoundary:
     on_boundary : (N,) bool ndarray
         The samples placed on the boundary; each is put on its nearest boundary segment.
     alpha : float
+    faces : (F, 3) int ndarray, optional
+        The mesh's triangles: the third corner of the triangle on a chord may see a part
+        of the region beyond it that neither chord end sees (:func:`_seen_in_parts`).
+    radius : callable, optional
+        A graded mesh's radius field: of two bounds on the coverage beyond a chord, the
+        smaller relative to it at its place is kept.
 
     Attributes
     ----------
@@ -134,8 +140,10 @@ class SampledBoundary:
         The largest distance of a boundary sample from its ring.
     """
 
-    def __init__(self, region, points, on_boundary, alpha):
+    def __init__(self, region, points, on_boundary, alpha, faces=None, radius=None):
         self.region, self.points, self.alpha = region, np.asarray(points, float), float(alpha)
+        self.faces = faces
+        self.radius = radius
         rings = region.rings
         sizes = np.array([len(r) for r in rings])
         segments = region.segments
@@ -197,6 +205,9 @@ class SampledBoundary:
         turn = into[:, 0] * vector[vertex, 1] - into[:, 1] * vector[vertex, 0]
         self.arc_turns_left = (turn >= -1e-12 * np.hypot(*into.T) * length[vertex])[apart][arc]
         self.straight = np.bincount(self.arc_chord, minlength=len(self.a)) == 0
+        # the boundary is known up to the region's tolerance τ: coverage is proven for
+        # the region without what lies beyond a chord by less than τ (docs/conforming.md)
+        self.snap = region.tolerance
 
     @cached_property
     def arc_offset(self) -> np.ndarray:
@@ -248,10 +259,16 @@ class SampledBoundary:
         chords whose arc bends both ways.)"""
         on = self.arc_chord == k
         a, b = self.points[self.a[k]], self.points[self.b[k]]
+        apex = self._apexes.get(int(k))
         xy = np.concatenate([[a], self.arc_xy[on], [b]])
         height = np.concatenate([[0.0], self.arc_offset[on], [0.0]])
+        area = _area_beyond(xy, height)
         tol = ON_BOUNDARY_TOL * self.alpha
         height[np.abs(height) <= tol] = 0.0
+        # region beyond the chord thinner than the snap is left out (see __init__)
+        shallow = (height < 0) & (height >= -self.snap)
+        height[shallow] = 0.0
+        xy[shallow] = a + np.outer((xy[shallow] - a) @ (b - a), b - a) / ((b - a) @ (b - a))
         pieces, current = [], None
         for i in range(len(xy) - 1):
             if height[i] >= 0 > height[i + 1]:                  # the arc leaves Q's side
@@ -262,29 +279,57 @@ class SampledBoundary:
             if current is not None and height[i + 1] >= 0:     # back on the chord's line
                 t = height[i] / (height[i] - height[i + 1])
                 current.append(xy[i] + t * (xy[i + 1] - xy[i]))
-                pieces.append(np.array(current))
+                pieces.append(_without_repeats(np.array(current), tol))
                 current = None
-        gap, where, area, seen = 0.0, a, 0.0, True
+        gap, where, seen = 0.0, a, True
         for piece in pieces:
-            area += abs(float((piece[:, 0] * np.roll(piece[:, 1], -1)
-                               - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
             ends = [e for e, at in ((a, piece[0]), (b, piece[-1]))
                     if np.allclose(e, at, rtol=0, atol=tol) and _star_shaped_from(piece, e, tol)]
-            if not ends:
+            bounds = [] if len(ends) == 2 else [_seen_in_parts(piece, a, b, apex, tol,
+                                                                  self._relative)]
+            if ends:
+                candidates = list(piece)
+                if len(ends) == 2:              # where the bisector of ab crosses the arc
+                    side = (piece - (a + b) / 2) @ (b - a)
+                    for i in np.flatnonzero((side[:-1] < 0) & (side[1:] >= 0)):
+                        t = side[i] / (side[i] - side[i + 1])
+                        candidates.append(piece[i] + t * (piece[i + 1] - piece[i]))
+                candidates = np.array(candidates)
+                distance = np.min([np.hypot(*(candidates - e).T) for e in ends], axis=0)
+                j = int(np.argmax(distance))
+                bounds.append((float(distance[j]), candidates[j]))
+            bounds = [bound for bound in bounds if bound is not None]
+            if not bounds:
                 seen = False
                 continue
-            candidates = list(piece)
-            if len(ends) == 2:                  # where the bisector of ab crosses the arc
-                side = (piece - (a + b) / 2) @ (b - a)
-                for i in np.flatnonzero((side[:-1] < 0) & (side[1:] >= 0)):
-                    t = side[i] / (side[i] - side[i + 1])
-                    candidates.append(piece[i] + t * (piece[i + 1] - piece[i]))
-            candidates = np.array(candidates)
-            distance = np.min([np.hypot(*(candidates - e).T) for e in ends], axis=0)
-            j = int(np.argmax(distance))
-            if distance[j] > gap:
-                gap, where = float(distance[j]), candidates[j]
+            bound = min(bounds, key=self._relative)             # the better proof
+            if self._relative(bound) > self._relative((gap, where)):
+                gap, where = bound
         return gap, where, area, seen
+
+    def _relative(self, bound) -> float:
+        """A coverage bound (distance, place), relative to the radius field there."""
+        distance, place = bound
+        return distance if self.radius is None else distance / float(
+            self.radius(np.asarray(place, float)[None])[0])
+
+    @cached_property
+    def _apexes(self) -> dict:
+        """Chord index -> the third corner of the mesh's triangle on it, for the mixed
+        chords that are mesh edges (empty without ``faces``)."""
+        if self.faces is None:
+            return {}
+        faces = np.asarray(self.faces, np.int64)
+        n = len(self.points)
+        keys = np.concatenate([_keys(faces[:, i], faces[:, (i + 1) % 3], n) for i in range(3)])
+        third = np.concatenate([faces[:, (i + 2) % 3] for i in range(3)])
+        mixed = np.flatnonzero(self.mixed)
+        order = np.argsort(keys, kind="stable")
+        wanted = _keys(self.a[mixed], self.b[mixed], n)
+        at = np.minimum(np.searchsorted(keys, wanted, sorter=order), len(keys) - 1)
+        found = keys[order[at]] == wanted
+        return {int(k): self.points[third[order[at[m]]]]
+                for m, k in enumerate(mixed) if found[m]}
 
     @property
     def uncertain(self) -> np.ndarray:
@@ -604,6 +649,119 @@ def _star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
     to_point = point - piece
     side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
     return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
+
+
+def _without_repeats(points: np.ndarray, tol: float) -> np.ndarray:
+    """``points`` without those within ``tol`` of the one before."""
+    apart = np.hypot(*np.diff(points, axis=0).T) > tol
+    return points[np.concatenate([[True], apart])]
+
+
+def _area_beyond(xy: np.ndarray, height: np.ndarray) -> float:
+    """The area between the polyline ``xy`` and its chord (from its first point to its
+    last) where the polyline is beyond it (``height`` < 0, each vertex's signed distance
+    from the chord's line): the exact integral of max(0, -height) along the chord, the
+    polyline running forward along it.
+
+    Examples
+    --------
+    >>> _area_beyond(np.array([[0, 0], [1, -1], [2, 0]], float), np.array([0.0, -1.0, 0.0]))
+    1.0
+    """
+    direction = (xy[-1] - xy[0]) / np.hypot(*(xy[-1] - xy[0]))
+    along = (xy - xy[0]) @ direction
+    area = 0.0
+    for (x0, x1), (h0, h1) in zip(zip(along[:-1], along[1:]), zip(height[:-1], height[1:])):
+        if h0 >= 0 and h1 >= 0:
+            continue
+        if h0 <= 0 and h1 <= 0:
+            area -= 0.5 * (h0 + h1) * (x1 - x0)
+        else:                                   # crosses the line: the part beyond only
+            deep = min(h0, h1)
+            area -= 0.5 * deep * (x1 - x0) * deep / (deep - max(h0, h1))
+    return abs(float(area))
+
+
+def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: float,
+                   measure=lambda bound: bound[0]):
+    """A bound on the coverage of a piece of region beyond the chord ab (its arc running
+    forward along the chord) that no chord end sees whole: the arc bends both ways (a
+    shallow kink, as where a plane crosses a tessellation's seam). The piece is cut at
+    arc vertices into up to three parts: one star-shaped from a (if the piece holds a),
+    one seen whole from ``apex`` (the third corner of the mesh's triangle on ab, or None)
+    and one star-shaped from b (if it holds b). Without an apex the cut runs straight
+    across to the chord; with one, along the ray from the apex, and the middle part with
+    the apex is star-shaped from it. Returns the largest distance from a point of the
+    piece to the sample that sees its part, and where, for the best cut; None when no
+    cut works (or the arc turns back along the chord, where a cut would leave the piece).
+
+    Examples
+    --------
+    >>> kinked = np.array([[0, 0], [1, -0.1], [1.2, -0.05], [1.4, -0.1], [2, 0]])
+    >>> _seen_in_parts(kinked, kinked[0], kinked[-1], None, 1e-12)  # cut at (1.2, -0.05)
+    (1.2010412149464313, array([ 1.2 , -0.05]))
+    >>> round(_seen_in_parts(kinked, kinked[0], kinked[-1], np.array([1.0, 0.9]), 1e-12)[0], 3)
+    1.005
+    """
+    length = np.hypot(*(b - a))
+    direction = (b - a) / length
+    along = (piece - a) @ direction
+    if np.any(np.diff(along) <= 0) or along[0] < -tol or along[-1] > length + tol:
+        return None
+    holds_a = np.allclose(piece[0], a, rtol=0, atol=tol)
+    holds_b = np.allclose(piece[-1], b, rtol=0, atol=tol)
+    last = len(piece) - 1
+    cut = _cuts(piece, a, direction, along, apex)
+
+    def reach(points, seer):
+        d = np.hypot(*(points - seer).T)
+        k = int(np.argmax(d))
+        return float(d[k]), points[k]
+
+    best = None
+    for i in range(last + 1):                   # the part seen from a: up to vertex i
+        if cut[i] is None:
+            continue
+        first = np.concatenate([piece[:i + 1], [cut[i]]])
+        if i > 0 and not (holds_a and _star_shaped_from(first, a, tol)):
+            continue
+        for j in range(i, last + 1):             # the part seen from b: from vertex j
+            if cut[j] is None:
+                continue
+            second = np.concatenate([[cut[j]], piece[j:]])
+            if j < last and not (holds_b and _star_shaped_from(second, b, tol)):
+                continue
+            parts = ([(first, a)] if i > 0 else []) + ([(second, b)] if j < last else [])
+            if j > i:                            # the middle, seen from the apex
+                middle = np.concatenate([[cut[i]], piece[i:j + 1], [cut[j]]])
+                if apex is None or not _star_shaped_from(
+                        np.concatenate([piece[i:j + 1], [apex]]), apex, tol):
+                    continue
+                parts.append((middle, apex))
+            bound = max((reach(part, seer) for part, seer in parts), key=lambda r: r[0])
+            if best is None or measure(bound) < measure(best):
+                best = bound
+    return best
+
+
+def _cuts(piece, a, direction, along, apex) -> list:
+    """Where a cut of the piece at each arc vertex meets the chord's line: straight across
+    without an apex, along the ray from the apex with one (None where that ray leaves the
+    strip of the vertex's two arc edges, and could cross the arc, or misses the chord)."""
+    def height(p):
+        return direction[0] * (p[1] - a[1]) - direction[1] * (p[0] - a[0])
+
+    cuts = []
+    for k, point in enumerate(piece):
+        if apex is None or height(point) == 0:
+            cuts.append(a + along[k] * direction)
+            continue
+        t = height(apex) / (height(apex) - height(point))
+        at = apex + t * (point - apex)
+        x = (at - a) @ direction
+        lo, hi = along[max(k - 1, 0)], along[min(k + 1, len(piece) - 1)]
+        cuts.append(at if lo <= x <= hi else None)
+    return cuts
 
 
 def say_located(problems: list, count: int, what: str, where) -> None:

@@ -136,7 +136,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     radius = field(points)
     quality = mesh.quality()
-    sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, field.cap)
+    sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, field.cap, faces, field)
     boundary = boundary_report(mesh, sampled)
     problems = list(boundary.problems)
     why_not = _visibility_route_fails(mesh, boundary, sampled)
