@@ -353,7 +353,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     args.sizes = [10_000, 100_000] + ([] if args.quick else [1_000_000])
     start = machine()
-    print(f"{start['cpu']}, {start['cores']} cores, load {start['load']}", flush=True)
+    print(f"{start['cpu']}, {start['cores']} cores, load {start['load'][0]:.1f}", flush=True)
     rows = run(args.only or CASES, args)
     lines = table(rows)
     verdicts = targets(rows)
@@ -363,7 +363,7 @@ def main(argv=None):
         put_section(ROOT / "docs" / "benchmarks.md", "speed targets", "\n".join([
             "## Speed targets (bench/speed_targets.py, issue 21)\n",
             f"Written by `{command}` on {start['date']} (commit `{start['commit']}`, load "
-            f"{start['load']} at the start; 2 shared cores: the CPU time of the process, all "
+            f"average {start['load'][0]:.1f} at the start; 2 shared cores: the CPU time of the process, all "
             "threads, is the estimate of a quiet machine's wall time). pds_plugin warm, best "
             "of the timed calls; Triangle in the same run, `pq30`/`pq33` with no area bound "
             "beside graded meshes and at pds_plugin's vertex count beside uniform ones. "
