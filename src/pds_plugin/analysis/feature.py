@@ -25,12 +25,11 @@ Hence :func:`pds_plugin.suggest_alpha` returns ``½·LFS = d/4``.
 **Walls, not gaps, for conforming meshes.** Two features at distance ``d`` face each other
 across a *wall* when the segment between their closest points runs through the region
 (material ``d`` thick) and across a *gap* when it runs outside (a slot, a notch, the space
-between two components, across a hole). A wall is measured from a vertex to the nearest
-point of a segment not adjacent to it (the distance between two segments is reached at
-an end of one of them), so that where two segments have several closest points, one
-through material and one across a gap, the material counts (before issue 21 only the
-first pair found was tested, and a 0.079 tab of an angle_block.STL section read as 0.669). The paper's solid alpha-complex bridges a gap
-narrower than about alpha, so with ``conforming=False`` both count. A conforming mesh
+between two components, across a hole). The closest points of two segments are an end
+of one and its foot on the other; of two parallel segments that overlap, the segment
+across the middle of the overlap must run through the region too (the one along the
+boundary from the end of one to the other says nothing of what lies between: a notch's
+sides are a gap). The paper's solid alpha-complex bridges a gap narrower than about alpha, so with ``conforming=False`` both count. A conforming mesh
 joins only samples that see each other through the region: it keeps every gap open at any
 alpha, and only material thinner than alpha limits alpha. With ``conforming=True`` (the
 default, like :func:`pds_plugin.mesh_region`) ``d`` is therefore the thinnest wall.
@@ -214,13 +213,15 @@ class _Boundary:
 
     def closest_nonadjacent(self, walls_only: bool = False):
         """``(distance, (i, j), (p, q))`` over non-adjacent segment pairs, or None; with
-        ``walls_only`` over the vertex-to-segment pairs whose segment between the vertex
-        and its foot runs through the region; ``i`` is the segment the vertex ``p`` starts.
+        ``walls_only`` over the pairs whose closest points are joined through the region
+        (:meth:`_first_wall`); ``p`` is a vertex, ``i`` the segment it starts, ``q`` its
+        foot on segment ``j``.
 
         The distance between two segments that do not cross is reached at an end of
         one of them, so the smallest over non-adjacent pairs is the smallest distance
         from a vertex v to a segment j not adjacent to one of the two segments meeting
-        at v. For each vertex the kernel (``_feature_kernels.nearest_nonadjacent``)
+        at v (for walls, one of which v and its foot are closest points of). For each
+        vertex the kernel (``_feature_kernels.nearest_nonadjacent``)
         finds the nearest such segment in a k-d tree of the segments, skipping whole
         the nodes on v's own stretch of ring that turns by less than 150° (all adjacent
         to it), and for walls only the segments whose foot it faces through material
