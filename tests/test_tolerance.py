@@ -137,6 +137,30 @@ def test_components_touching_at_a_point_are_moved_apart_within_the_tolerance(sec
         assert mesh.betti == (2, 0)
 
 
+@pytest.mark.parametrize("polygon, holes", [
+    (Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(0, 2), (2, 1), (2, 3)]]), 0),
+    (Polygon(box(0, 0, 6, 4).exterior.coords, [[(1, 1), (3, 2), (1, 3)], [(3, 2), (5, 1), (5, 3)]]), 1),
+    (Polygon([(0, 0.001), (0.001, 0.001), (0.001, 0), (0.00025, 0), (0.00025, 0.00025),
+              (0, 0.00025)], [[(0.0005, 0.00025), (0.0005, 0.0005), (0.00025, 0.0005),
+                               (0.00025, 0.00025)]]), 0)],
+    ids=["hole on the outline", "two holes touching", "hole on the outline (fuzz)"])
+def test_a_hole_touching_a_ring_opens_there_within_the_tolerance(polygon, holes):
+    """Material of width zero is no material: a hole touching the outline (or another
+    hole) at a point opens there, by a square of radius the pinch step cut out, and the
+    region has one hole fewer. On main such regions were refused ("the region's boundary
+    touches itself"); now they are meshed and certified."""
+    assert polygon.is_valid
+    region = pds.Region.from_shapely(polygon)
+    assert region.betti == (1, holes)
+    assert 0 < region.source_deviation <= region.tolerance <= 1e-6 * max(polygon.bounds[2:])
+    assert region.geometry.symmetric_difference(polygon).area < 1e-10 * polygon.area
+    x0, y0, x1, y1 = polygon.bounds
+    for alpha, graded in ((max(x1 - x0, y1 - y0) / 20, False), ("auto", False), ("auto", True)):
+        mesh = pds.mesh_region(region, alpha, graded=graded, seed=1, max_samples=200_000)
+        assert mesh.certificate().ok_with_exceptions, mesh.certificate()
+        assert mesh.betti == (1, holes)
+
+
 def test_sections_of_two_solids_sharing_an_edge_are_certified():
     """shared.STL: two boxes sharing an edge; every section across it was refused on main
     ("the region's boundary touches itself")."""

@@ -336,34 +336,54 @@ coordinate), so that the gap it leaves is a gap."""
 
 
 def _pinches_opened(geometry: MultiPolygon, tolerance: float):
-    """``geometry`` with its components moved apart where they touch, and how far.
+    """``geometry`` with the points where its boundary touches itself opened, and how far
+    the boundary moved there.
 
-    Two polygons of a valid MultiPolygon may touch at points (two parts of an assembly
-    sharing an edge, cut across it). A conforming mesh joins each ring's samples by
-    chords, and one sample cannot end the chords of two rings; the interiors do not
-    meet there anyway (two open squares touching at a corner are two components). So
-    each ring vertex at such a point moves into its own polygon along the bisector of its
-    corner, by half the tolerance or ``PINCH_STEP`` of the extent, whichever is larger:
-    the boundary moves by at most that, and the two parts no longer touch. The input is
-    returned unchanged (step 0) when nothing touches or the result would not be valid.
+    A valid MultiPolygon may touch itself at points: two parts of an assembly sharing an
+    edge, cut across it; a hole touching its outline or another hole (a plane tangent to
+    a bore at the part's edge). A conforming mesh joins each ring's samples by chords,
+    and one sample cannot end the chords of two rings; the interiors do not meet there
+    anyway. So, by a step of half the tolerance or ``PINCH_STEP`` of the extent,
+    whichever is larger:
+
+    - each ring vertex where two components touch moves into its own polygon along the
+      bisector of its corner (two open squares touching at a corner are two components);
+    - where rings of one polygon touch, a square of that radius about the point is cut
+      out: material of width zero is no material, so the hole opens there (to the
+      outside, or into the other hole) and the region has one hole fewer.
+
+    The boundary moves by at most the step. The input is returned unchanged (step 0)
+    when nothing touches or the result would not be valid.
 
     Examples
     --------
-    >>> from shapely.geometry import box
+    >>> from shapely.geometry import box, Polygon
     >>> touching = MultiPolygon([box(0, 0, 1, 1), box(1, 1, 2, 2)])
     >>> opened, step = _pinches_opened(touching, 0.0)
     >>> step, opened.is_valid, opened.geoms[0].touches(opened.geoms[1])
     (2e-07, True, False)
+    >>> hole = Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(0, 2), (2, 1), (2, 3)]])
+    >>> opened, step = _pinches_opened(MultiPolygon([hole]), 0.0)
+    >>> step, opened.is_valid, len(opened.geoms[0].interiors)   # the hole opens at (0, 2)
+    (4e-07, True, 0)
     """
+    xmin, ymin, xmax, ymax = geometry.bounds
+    step = max(tolerance / 2, PINCH_STEP * max(xmax - xmin, ymax - ymin))
+    apart = _components_apart(geometry, step)
+    opened = _rings_opened(apart, step)
+    return (geometry, 0.0) if opened is geometry else (opened, step)
+
+
+def _components_apart(geometry: MultiPolygon, step: float) -> MultiPolygon:
+    """``geometry`` with its components moved apart by ``step`` where they touch (see
+    :func:`_pinches_opened`), or ``geometry`` itself."""
     polygons = np.array(geometry.geoms)
     if len(polygons) < 2:
-        return geometry, 0.0
+        return geometry
     first, second = shapely.STRtree(polygons).query(polygons, predicate="touches")
     i, j = first[first < second], second[first < second]
     if not len(i):
-        return geometry, 0.0
-    xmin, ymin, xmax, ymax = geometry.bounds
-    step = max(tolerance / 2, PINCH_STEP * max(xmax - xmin, ymax - ymin))
+        return geometry
     contacts = shapely.get_coordinates(shapely.intersection(shapely.boundary(polygons[i]),
                                                             shapely.boundary(polygons[j])))
     moved = polygons.copy()
@@ -373,8 +393,29 @@ def _pinches_opened(geometry: MultiPolygon, tolerance: float):
     opened = MultiPolygon(list(moved))
     if (not opened.is_valid or len(opened.geoms) != len(polygons)
             or shapely.intersects(moved[i], moved[j]).any()):
-        return geometry, 0.0
-    return opened, step
+        return geometry
+    return opened
+
+
+def _rings_opened(geometry: MultiPolygon, step: float) -> MultiPolygon:
+    """``geometry`` with a square of radius ``step`` cut out where two rings of one
+    polygon touch (see :func:`_pinches_opened`), or ``geometry`` itself."""
+    contacts = []
+    for polygon in geometry.geoms:
+        rings = np.array([polygon.exterior, *polygon.interiors])
+        if len(rings) < 2:
+            continue
+        first, second = shapely.STRtree(rings).query(rings, predicate="intersects")
+        pairs = first < second
+        contacts.extend(shapely.intersection(rings[first[pairs]], rings[second[pairs]]))
+    if not contacts:
+        return geometry
+    points = shapely.get_coordinates(np.array(contacts))
+    cut = shapely.union_all(shapely.buffer(shapely.points(points), step, quad_segs=1))
+    opened = _polygons_of(shapely.difference(geometry, cut))
+    if not opened or not MultiPolygon(opened).is_valid:
+        return geometry
+    return shapely.orient_polygons(MultiPolygon(opened))
 
 
 def _moved_ring(ring, contacts, step) -> np.ndarray:

@@ -230,16 +230,17 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
 def check_rings_apart(region: Region):
     """Refuse, for conforming samplings, a region whose boundary rings touch.
 
-    A valid polygon may have a hole touching its outline at a point (parts touching at
-    points are moved apart by :meth:`Region.from_shapely`). A conforming sampling joins
-    each ring's samples by chords, so such a point would be a sample of two rings at
-    once: a :class:`~pds_plugin.errors.RegionError` names the point instead.
+    A valid polygon may have a hole touching its outline at a point. A conforming
+    sampling joins each ring's samples by chords, so such a point would be a sample of
+    two rings at once. :meth:`Region.from_shapely` opens such points (parts touching
+    move apart, a touching hole opens there); a Region built otherwise that still has
+    one gets a :class:`~pds_plugin.errors.RegionError` naming the point.
 
     Examples
     --------
-    >>> from shapely.geometry import Polygon
+    >>> from shapely.geometry import MultiPolygon, Polygon
     >>> touching = Polygon([(0, 0), (4, 0), (4, 4), (0, 4)], [[(0, 2), (2, 1), (2, 3)]])
-    >>> check_rings_apart(Region.from_shapely(touching))  # doctest: +ELLIPSIS
+    >>> check_rings_apart(Region(MultiPolygon([touching]), np.eye(4)))  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
     pds_plugin.errors.RegionError: the region's boundary touches itself at (0, 2) ...

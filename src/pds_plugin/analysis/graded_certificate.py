@@ -10,6 +10,9 @@
   cross it (the points the uniform certificate measures, :mod:`.certificate`); with the
   slivers of region beyond the chords. At most 1. r is taken at those points, so this
   is exact for the distance and samples r where the distance peaks (docs/graded.md §7).
+  Peaks in a chord's *lens*, where the sampler places no sample (one there would drop
+  the chord's triangle), are measured apart (``lens_coverage``): at most 1 for ``ok``,
+  at most the proven 1 / (1 - L) for ``ok_with_exceptions``.
 - **Quality**: the angles against the proven ``θ_L = arcsin((1 - L)/2)`` and the aspect
   ratio against ``4 cot θ_L``; the triangles below θ_L are located.
 - **Small features** (:mod:`.small_features`, with r for alpha): every pair closer than
@@ -33,8 +36,8 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
-from .certificate import (QUALITY_TOL, SEPARATION_TOL, Certificate, _nonmanifold_vertices,
-                          _sees, _visibility_route_fails)
+from .certificate import (COVERAGE_TOL, QUALITY_TOL, SEPARATION_TOL, Certificate,
+                          _nonmanifold_vertices, _sees, _visibility_route_fails)
 from .conformity import SampledBoundary, boundary_report
 from .small_features import small_feature_exceptions
 from .topology import topology_report
@@ -65,6 +68,13 @@ class GradedCertificate(Certificate):
         How many there are.
     smallest_radius, largest_radius : float
         The extremes of r over the samples.
+    lens_coverage : float
+        The largest coverage ratio at a peak inside a chord's lens (0 if none is above
+        1): the points on a chord's inner side where a sample would make the chord's
+        triangle too large to keep, so the sampler leaves them to the chord's ends,
+        which are within r(x) / (1 - L) of them.
+    lens_coverage_at : tuple of float
+        Where.
 
     Examples
     --------
@@ -82,6 +92,8 @@ class GradedCertificate(Certificate):
     below_bound_count: int = 0
     smallest_radius: float = 0.0
     largest_radius: float = 0.0
+    lens_coverage: float = 0.0
+    lens_coverage_at: tuple = (0.0, 0.0)
 
     unit = "r"
     _aspect_name = "4 cot θ_L = "
@@ -103,10 +115,30 @@ class GradedCertificate(Certificate):
         return self.below_bound_count == 0 and (
             self.triangles == 0 or self.min_angle >= self.proven_angle * (1 - QUALITY_TOL))
 
+    @property
+    def lens_ok(self) -> bool:
+        """The coverage in chords' lenses is within its proven 1 / (1 - L)."""
+        return self.lens_coverage <= (1 + COVERAGE_TOL) / (1 - self.grading)
+
+    @property
+    def ok(self) -> bool:
+        """Every guarantee holds, the coverage in chords' lenses included."""
+        return super().ok and self.lens_coverage <= 1 + COVERAGE_TOL
+
+    @property
+    def ok_with_exceptions(self) -> bool:
+        """As for uniform meshes, with the coverage in chords' lenses within its bound."""
+        strict = self.sampling_ok and self.quality_ok and self._rest_ok
+        excused = (self._excused and self.coverage_gap <= 1 + COVERAGE_TOL
+                   and (self.quality_ok or bool(self.exceptions)) and self._rest_ok)
+        return self.lens_ok and (strict or excused)
+
     def as_dict(self) -> dict:
         """:meth:`Certificate.as_dict` with the graded fields (``below_bound`` as lists)."""
         values = super().as_dict()
         values["below_bound"] = [list(c) for c in self.below_bound]
+        values["lens_coverage_at"] = list(self.lens_coverage_at)
+        values["lens_ok"] = self.lens_ok
         return values
 
     def __str__(self) -> str:
@@ -115,6 +147,12 @@ class GradedCertificate(Certificate):
         lines.insert(1, f"  grading      L={self.grading:g}, r in [{self.smallest_radius:.4g}, "
                         f"{self.largest_radius:.4g}]; angles proven >= {self.proven_angle:.3f}°, "
                         f"{self.below_bound_count} triangles below")
+        if self.lens_coverage > 1 + COVERAGE_TOL:
+            at = ", ".join(f"{v:.4g}" for v in self.lens_coverage_at)
+            bound = 1 / (1 - self.grading)
+            lines.insert(4, f"  in a lens    coverage {self.lens_coverage:.6f} r at ({at}), in a "
+                            f"chord's lens where no sample may go (<= 1/(1-L) = {bound:.4g})  "
+                            f"{'exception' if self.lens_ok else 'FAILED'}")
         return "\n".join(lines)
 
 
@@ -142,7 +180,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     why_not = _visibility_route_fails(mesh, boundary, sampled)
     if why_not:
         problems.append(f"coverage not measured with the visibility rule: {why_not}")
-    gap, gap_at = _relative_coverage(points, faces, field, sampled)
+    gap, gap_at, lens, lens_at = _relative_coverage(points, faces, field, sampled)
     proven = angle_bound(field.grading)
     angles = quality.angles.reshape(-1, 3)
     low = np.flatnonzero(angles.min(axis=1, initial=180.0) < proven * (1 - QUALITY_TOL))
@@ -175,6 +213,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
         below_bound_count=len(low),
         smallest_radius=float(radius.min(initial=np.inf)),
         largest_radius=float(radius.max(initial=0.0)),
+        lens_coverage=lens, lens_coverage_at=tuple(float(v) for v in lens_at),
     )
 
 
@@ -212,8 +251,9 @@ def _relative_separation(mesh, radius, sampled):
 def _relative_coverage(points, faces, field, sampled):
     """The largest min_v |x - v| / r(x) at the points of each triangle where the distance
     to its nearest corner peaks, and at the farthest point of the slivers beyond the
-    chords (see the module docstring); and where it is."""
-    worst, at = 0.0, np.zeros(2)
+    chords (see the module docstring), and where; then the same over the peaks above 1
+    that lie in a chord's lens (:func:`_in_a_lens`), measured apart."""
+    worst, at, lens, lens_at = 0.0, np.zeros(2), 0.0, np.zeros(2)
     if len(faces):
         tri = points[faces]                                    # (m, 3, 2)
         length2 = np.sum((np.roll(tri, -1, axis=1) - tri) ** 2, axis=2)   # edge k: k -> k+1
@@ -233,7 +273,14 @@ def _relative_coverage(points, faces, field, sampled):
         t_b = 1 - 0.5 * np.sum(bc * bc, axis=1) / np.maximum(-np.sum(bc * ab, axis=1), 1e-300)
         for t in (t_a, t_b):
             peak = np.where(obtuse[:, None], a + np.clip(t, 0, 1)[:, None] * ab, centre)
-            ratio = np.min(np.linalg.norm(tri - peak[:, None, :], axis=2), axis=1) / field(peak)
+            radius = field(peak)
+            ratio = np.min(np.linalg.norm(tri - peak[:, None, :], axis=2), axis=1) / radius
+            high = np.flatnonzero(ratio > 1 + COVERAGE_TOL)
+            high = high[_in_a_lens(peak[high], radius[high] / (1 - field.grading), sampled)]
+            if len(high) and ratio[high].max() > lens:
+                k = high[np.argmax(ratio[high])]
+                lens, lens_at = float(ratio[k]), peak[k]
+            ratio[high] = 0.0
             k = int(np.argmax(ratio))
             if ratio[k] > worst:
                 worst, at = float(ratio[k]), peak[k]
@@ -242,4 +289,30 @@ def _relative_coverage(points, faces, field, sampled):
         ratio = sliver / float(field(np.asarray(sliver_at, float)[None])[0])
         if ratio > worst:
             worst, at = ratio, np.asarray(sliver_at, float)
-    return worst, at
+    return worst, at, lens, lens_at
+
+
+def _in_a_lens(x, limit, sampled) -> np.ndarray:
+    """Which points ``x`` lie in the lens of a chord ab of ``sampled`` with their
+    ``limit``: on the chord's inner side, with an obtuse angle at x and the circumradius
+    of (a, b, x) above the limit, the graded sampler's rule for a place where no sample
+    goes (``_graded_kernels._encroaches``, whose limit is at most this one, so its
+    lenses hold these). Such an x is in the circular segment of radius ``limit`` on ab,
+    and sees a or b within the distance from a to the middle of that segment's arc,
+    √(2 limit h) ≤ limit for a chord of at most √3 limit (h the segment's height): within
+    r(x) / (1 - L) of a sample."""
+    found = np.zeros(len(x), bool)
+    if not len(x) or not len(sampled.a):
+        return found
+    a, b = sampled.points[sampled.a], sampled.points[sampled.b]
+    ab, ab2 = b - a, np.sum((b - a) ** 2, axis=1)
+    # an obtuse angle at x puts x in the disc on ab: near the chord's middle
+    near = cKDTree(0.5 * (a + b)).query_ball_point(x, 0.5 * math.sqrt(ab2.max()))
+    for k, (point, reach, chords) in enumerate(zip(x, limit, near)):
+        chords = np.asarray(chords, np.int64)
+        ax, bx = point - a[chords], point - b[chords]
+        cross = ab[chords, 0] * ax[:, 1] - ab[chords, 1] * ax[:, 0]
+        found[k] = ((cross > 0) & (np.sum(ax * bx, axis=1) < 0)
+                    & (ab2[chords] * np.sum(ax * ax, axis=1) * np.sum(bx * bx, axis=1)
+                       > 4 * reach ** 2 * cross ** 2)).any()
+    return found
