@@ -233,9 +233,9 @@ def targets(rows: dict) -> list[str]:
     lines = ["| target (issue 21) | measured | verdict |", "|---|---|---|"]
     if "drawing" in rows:
         r = rows["drawing"]
-        lines.append(f"| 373-hole drawing, graded auto: ≤ 0.5 s (aim 0.2 s) | {r['wall']:.3f} s "
-                     f"wall, {r['cpu']:.3f} s CPU | {verdict(min(r['wall'], r['cpu']) <= 0.5)} "
-                     "(by CPU) |")
+        lines.append(f"| 373-hole drawing, graded auto: ≤ 0.5 s for the call (aim 0.2 s) | "
+                     f"{r['wall']:.3f} s wall, {r['cpu']:.3f} s CPU (all threads) | "
+                     f"{verdict(r['wall'] <= 0.5)} by wall, {verdict(r['cpu'] <= 0.5)} by CPU |")
         lines.append(f"| 373-hole drawing: ≤ 2× Triangle pq30's vertices (aim 1.5×) | "
                      f"{ratio(r, what='vertices'):.2f}× | {verdict(ratio(r, what='vertices') <= 2)} |")
     for key in [k for k in rows if k.startswith("sections ")]:
