@@ -4,7 +4,8 @@ scikit-fem conversions cost beside meshing, and the P1/P2 convergence on the uni
     python bench/fem.py              # alphas 0.02, 0.01, 0.005 (about 10 s)
     python bench/fem.py --alphas 0.01 0.004
 
-Prints two tables: seconds per step on an SVG disc with a slot (arcs kept exact), and
+Prints two tables: seconds per step on an SVG disc with a slot (arcs kept exact: its
+certificate, the quadratic mesh's with the Jacobians, the files, dolfinx's pair), and
 the L2 error of -Δu = 1 on the unit disc (u = (1 - r²)/4) with P1, P2 on the true circle,
 and P2 with its boundary mid nodes left on the chords, with the rates between alphas.
 Needs the fem extra (meshio, scikit-fem).
@@ -18,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import pds_plugin as pds
+from pds_plugin.sinks.fem import write_dolfinx
 
 SHAFT = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="-1 -1 2 2"><path id="shaft" '
          'fill-rule="evenodd" d="M1 0A1 1 0 0 0 -1 0A1 1 0 0 0 1 0Z M0.3 0.1H-0.3V-0.1H0.3Z"/>'
@@ -35,8 +37,8 @@ def costs(folder, alphas):
     path = Path(folder) / "shaft.svg"
     path.write_text(SHAFT)
     region = pds.load_svg(path)
-    steps = ("mesh", "tags", "quadratic", "to_meshio", "to_skfem(1)", "to_skfem(2)",
-             ".msh", ".vtu", ".xdmf")
+    steps = ("mesh", "tags", "quadratic", "certificate", "P2 cert.", "to_meshio",
+             "to_skfem(1)", "to_skfem(2)", ".msh", ".vtu", ".xdmf", "dolfinx")
     print(f"{'alpha':>7} {'vertices':>9} " + " ".join(f"{s:>11}" for s in steps))
     for alpha in alphas:
         box = {}
@@ -44,11 +46,14 @@ def costs(folder, alphas):
         mesh = box["mesh"]
         row.append(timed(lambda: (mesh.region_tags, mesh.boundary_tags)))
         row.append(timed(mesh.quadratic))
+        row.append(timed(mesh.certificate))
+        row.append(timed(lambda: mesh.quadratic().certificate()))   # + the Jacobians
         row.append(timed(mesh.to_meshio))
         row.append(timed(lambda: mesh.to_skfem(1)))
         row.append(timed(lambda: mesh.to_skfem(2)))
         for suffix in (".msh", ".vtu", ".xdmf"):
             row.append(timed(lambda: mesh.export(Path(folder) / f"shaft{suffix}")))
+        row.append(timed(lambda: write_dolfinx(mesh, Path(folder) / "shaft_dolfinx.xdmf")))
         print(f"{alpha:>7.3g} {len(mesh.vertices):>9} " + " ".join(f"{t:>11.3f}" for t in row))
 
 

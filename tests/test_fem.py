@@ -234,6 +234,61 @@ def test_quadratic_check_reports_an_inverted_triangle(plate):
     assert len(dataclasses.replace(q, min_jacobian=_min_jacobian(points[q.triangles])).inverted)
 
 
+def test_the_quadratic_certificate_fails_a_nearly_folded_curved_triangle(tmp_path):
+    """The triangle of the test above with its third vertex at 1.3 and 1.5 times the hole's
+    radius: the arc's node is kept both times (its triangle is not inverted), but at 1.3 the
+    map shrinks some area element about thirty-fold."""
+    region = pds.load_svg(_svg(tmp_path, '<path fill-rule="evenodd" d="M-2 -2H2V2H-2Z '
+                               'M1 0A1 1 0 0 1 -1 0A1 1 0 0 1 1 0Z"/>', view="-2 -2 4 4"))
+    hole = region.rings[1]
+    angle = np.arctan2(hole[:, 1], hole[:, 0])
+    a, b = hole[np.argmin(np.abs(angle))], hole[np.argmin(np.abs(angle - np.pi / 2))]
+    for radius, passes in ((1.3, False), (1.5, True)):
+        c = radius * (a + b) / np.linalg.norm(a + b)
+        turn = (b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]
+        faces = [[0, 1, 2]] if turn > 0 else [[0, 2, 1]]
+        q = pds.PlanarMesh([a, b, c], faces, [True, True, False], region, 1.0).quadratic()
+        report = q.certificate().quadratic
+        assert len(q.straightened) == 0 and len(q.inverted) == 0
+        assert report.min_jacobian == q.min_jacobian.min() > 0
+        assert report.ok is passes and report.below_bound == (0 if passes else 1)
+        assert ("FAILED" in str(report)) is not passes
+
+
+def test_the_quadratic_certificate_is_the_linear_one_and_its_jacobians(tmp_path):
+    import dataclasses
+    import json
+    disc = pds.load_svg(_svg(tmp_path, '<circle r="1"/>'))
+    mesh = pds.mesh_region(disc, 0.2)
+    q = mesh.quadratic()
+    cert = q.certificate()
+    assert mesh.certificate().ok and cert.ok and mesh.certificate().quadratic is None
+    assert cert.quadratic.min_jacobian == q.min_jacobian.min() > 0.5
+    assert json.loads(json.dumps(cert.as_dict()))["quadratic"]["ok"] is True
+    assert "quadratic    min Jacobian" in str(cert)
+    # the check is exact: the Jacobian sampled densely over every triangle stays above it
+    u, v = np.meshgrid(np.linspace(0, 1, 21), np.linspace(0, 1, 21))
+    keep = u + v <= 1
+    u, v = u[keep], v[keep]
+    gradients = np.stack([                       # d(shape functions)/du and /dv at (u, v)
+        [4 * u + 4 * v - 3, 4 * u - 1, 0 * u, 4 - 8 * u - 4 * v, 4 * v, -4 * v],
+        [4 * u + 4 * v - 3, 0 * u, 4 * v - 1, -4 * u, 4 * u, 4 - 4 * u - 8 * v]])
+    nodes = q.points[q.triangles]                               # (M, 6, 2)
+    jac = np.einsum("dkp,mkc->mpdc", gradients, nodes)          # (M, P, 2, 2)
+    det = jac[..., 0, 0] * jac[..., 1, 1] - jac[..., 0, 1] * jac[..., 1, 0]
+    corners = mesh.vertices[mesh.faces]          # relative to the linear mesh's triangle
+    straight = np.abs(np.linalg.det(np.stack([corners[:, 1] - corners[:, 0],
+                                              corners[:, 2] - corners[:, 0]], axis=1)))
+    sampled = (det / straight[:, None]).min(axis=1)
+    assert (sampled >= q.min_jacobian - 1e-12).all()
+    assert (sampled - q.min_jacobian).min() < 0.05   # and it is reached (to the grid's step)
+    # one curved triangle below the bound, and the certificate is no longer ok
+    low = q.min_jacobian.copy()
+    low[int(np.argmin(low))] = 0.05
+    worse = dataclasses.replace(q, min_jacobian=low).certificate()
+    assert not worse.ok and not worse.ok_with_exceptions and worse.quadratic.below_bound == 1
+
+
 # --- convergence (the issue's target) ----------------------------------------------
 
 def _l2_error(m, element, intorder):
@@ -344,3 +399,69 @@ def test_a_real_drawing_goes_out_quadratic_with_its_elements_named():
     sources = boundary_tags(mesh, by="source")
     assert (sources.values > 0).all() and set(sources.names) == set(region.curves.labels)
     assert (mesh.boundary_tags.values > 0).all()
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_dolfinx_files_hold_one_grid_each_with_its_tags(plate, tmp_path, order):
+    import xml.etree.ElementTree as ElementTree
+    from pds_plugin.sinks.fem import write_dolfinx
+    domain, facets = write_dolfinx(plate, tmp_path / "plate.xdmf", order=order)
+    m = plate.to_meshio(order)
+    for path, block, name in ((domain, 0, "region"), (facets, 1, "boundary")):
+        grids = ElementTree.parse(path).getroot().findall(".//Grid")
+        assert [g.get("Name") for g in grids] == ["Grid"]          # dolfinx's name="Grid"
+        back = meshio.read(path)
+        assert len(back.cells) == 1 and back.cells[0].type == m.cells[block].type
+        np.testing.assert_array_equal(back.points, m.points)
+        np.testing.assert_array_equal(back.cells[0].data, m.cells[block].data)
+        np.testing.assert_array_equal(back.cell_data[name][0], m.cell_data[name][block])
+    with pytest.raises(ArgumentError, match=r"\.xdmf"):
+        write_dolfinx(plate, tmp_path / "plate.msh")
+
+
+@pytest.mark.parametrize("graded", [False, True])
+def test_boundary_samples_of_a_drawn_circle_are_on_the_circle(tmp_path, graded):
+    disc = pds.load_svg(_svg(tmp_path, '<circle r="1"/>'))
+    mesh = pds.mesh_region(disc, 0.2, graded=graded)
+    assert mesh.certificate().ok
+    radius = np.linalg.norm(mesh.vertices[mesh.on_boundary], axis=1)
+    assert np.abs(radius - 1).max() <= 4e-16
+    assert np.abs(np.linalg.norm(np.concatenate(disc.rings), axis=1) - 1).max() <= 4e-16
+    assert mesh.quadratic().moved == 0                  # nothing left to move
+    again = pds.mesh_region(disc, 0.2, graded=graded)   # bit for bit
+    np.testing.assert_array_equal(again.vertices, mesh.vertices)
+
+
+def test_a_move_onto_the_curve_past_the_samplings_bounds_is_undone():
+    from pds_plugin.boundary_curves import curves_builder, samples_onto_curves
+    build = curves_builder(0.01)
+    build.arc((0, 0), np.eye(2), 0.0, np.pi, "upper")
+    build.arc((0, 0), np.eye(2), np.pi, np.pi, "lower")
+    curves = build.done()
+    theta = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    ring = np.column_stack([np.cos(theta), np.sin(theta)])           # sagitta 0.0085
+    samples = (ring + np.roll(ring, -1, axis=0))[::3] / 2            # chord middles
+    chord = np.hypot(*(np.roll(samples, -1, axis=0) - samples).T)
+    [moved], geometry = samples_onto_curves(curves, [ring], [(0, None)], [samples], 0.1, np.inf)
+    assert np.allclose(np.hypot(*moved.T), 1, rtol=0, atol=1e-15)   # all onto the circle
+    assert geometry.is_valid and len(geometry.geoms[0].exterior.coords) == 24 + 8 + 1
+    grown = np.hypot(*(np.roll(moved, -1, axis=0) - moved).T)
+    assert (grown > chord).all()                     # moving out lengthens every chord
+    # with the longest chord allowed between the two: every move is undone
+    [kept], none = samples_onto_curves(curves, [ring], [(0, None)], [samples], 0.1,
+                                       0.5 * (chord.max() + grown.min()))
+    np.testing.assert_array_equal(kept, samples)
+    assert none is None
+
+
+def test_the_certificate_measures_the_mesh_against_the_exact_curves(tmp_path, plate):
+    disc = pds.load_svg(_svg(tmp_path, '<circle r="1"/>'))
+    mesh = pds.mesh_region(disc, 0.2)
+    boundary = mesh.vertices[mesh.boundary_edges]                  # chords of the circle
+    half = np.arcsin(np.clip(np.hypot(*(boundary[:, 1] - boundary[:, 0]).T) / 2, 0, 1))
+    sagitta = (1 - np.cos(half)).max()                             # exact: samples on it
+    cert = mesh.certificate()
+    assert cert.ok                                   # probes alpha/50 apart: the middle
+    assert 0 <= sagitta - cert.curve_deviation * mesh.alpha <= (mesh.alpha / 100) ** 2
+    assert cert.curve_deviation >= cert.boundary_deviation - 1e-12   # the polygon is inside
+    assert "exact curves within" in str(cert) and plate.certificate().curve_deviation is None

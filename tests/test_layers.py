@@ -6,7 +6,8 @@ layers of the README's Layout section:
 
     kernels, errors, checks -> region, boundary curves -> sampling, complex, sizing
     -> graded sampling and complex -> mesh -> analysis, tags, quadratic
-    -> pipeline -> sources, sinks -> workflows, batch -> cli -> the package's lazy names
+    -> pipeline -> sources, sinks, partition -> workflows, batch, remeshing -> cli
+    -> the package's lazy names
 """
 
 import ast
@@ -32,8 +33,8 @@ LAYERS = [
     (6, "pds_plugin.mesh"),
     (7, "pds_plugin.analysis"), (7, "pds_plugin.tags"), (7, "pds_plugin.quadratic"),
     (8, "pds_plugin.pipeline"),
-    (9, "pds_plugin.sources"), (9, "pds_plugin.sinks"),
-    (10, "pds_plugin.workflows"), (10, "pds_plugin.batch"),
+    (9, "pds_plugin.sources"), (9, "pds_plugin.sinks"), (9, "pds_plugin.partition"),
+    (10, "pds_plugin.workflows"), (10, "pds_plugin.batch"), (10, "pds_plugin.remeshing"),
     (11, "pds_plugin.cli"),
     (12, "pds_plugin"),
 ]

@@ -21,6 +21,7 @@ from pds_plugin.cli import main
 from pds_plugin.errors import (ArgumentError, MissingDependencyError, SectionError,
                                SourceError)
 from pds_plugin.sources import step
+from pds_plugin.tags import boundary_tags
 
 needs_ocp = pytest.mark.skipif(importlib.util.find_spec("OCP") is None,
                                reason="OCP (the [step] extra) is not installed")
@@ -91,6 +92,10 @@ def test_featuretype_step_mid_height_area_is_occts_to_1e_6():
     region = pds.section(path, origin, normal, tolerance=2e-5)         # 1.4e-7 of its size
     assert region.betti == (2, 8)
     assert region.area == pytest.approx(exact, rel=1e-6)
+    low = (0.0, 0.0, 5.0)                        # lines and circles: 1e-6 at the default
+    assert {c.kind for c in step.section_curves(path, low, normal)} == {"line", "circle"}
+    assert pds.section(path, low, normal).area == pytest.approx(
+        occt_section_area(step.load(path), low, normal), rel=1e-6)
 
 
 @needs_ocp
@@ -114,16 +119,39 @@ def test_region_vertices_on_circles_lie_on_them_and_chords_keep_the_tolerance():
 
 
 @needs_ocp
-def test_boundary_samples_on_circles_lie_on_the_circle_to_1e_9_of_the_radius():
-    origin, normal = (0, 0, 20), (0, 0, 1)              # the bolt's shank: a disc of radius 5
-    region = pds.section(parts.bolt(), origin, normal, tolerance=1e-9 * 5)
-    [circle] = step.section_curves(parts.bolt(), origin, normal)
-    mesh = pds.mesh_region(region, 0.5, seed=0)
+@pytest.mark.parametrize("graded", [False, True])
+def test_boundary_samples_on_circles_lie_on_the_circle_to_1e_9_of_the_radius(graded):
+    """At the default tolerance: the samples the sampler places on chords of a flattened
+    circle are moved onto the circle, and the mesh's region runs through them."""
+    shape = parts.plate_with_holes()                # bores of radius 5 and 12
+    origin, normal = (0, 0, 5), (0, 0, 1)
+    region = pds.section(shape, origin, normal)
+    circles = [c for c in step.section_curves(shape, origin, normal) if c.kind == "circle"]
+    mesh = pds.mesh_region(region, 1.0, graded=graded)
     assert mesh.certificate().ok
     boundary = mesh.vertices[mesh.on_boundary]
-    assert len(boundary) >= 50
-    off = np.abs(np.linalg.norm(boundary - circle.center, axis=1) - 5.0)
-    assert off.max() <= 1e-9 * 5.0
+    radius = [np.linalg.norm(c.radii[:, 0]) for c in circles]
+    off = np.min([np.abs(np.linalg.norm(boundary - c.center, axis=1) - r) / r
+                  for c, r in zip(circles, radius)], axis=0)
+    on_holes = off < 0.1
+    assert on_holes.sum() >= 60
+    assert off[on_holes].max() <= 1e-12                 # 1e-9 r asked; rounding here
+    assert mesh.region is not region and mesh.region.curves is region.curves   # through them
+    ring_points = np.concatenate(mesh.region.rings)
+    for sample in boundary[on_holes][:20]:              # each sample is a vertex of a ring
+        assert (np.abs(ring_points - sample).max(axis=1) == 0).any()
+    assert abs(mesh.region.area - region.area) <= 1e-6 * region.area
+
+
+@needs_ocp
+@pytest.mark.parametrize("name, height", [("plate_with_holes", 5.0), ("pocketed_plate", 14.0),
+                                          ("overlapping_bodies", 5.0)])
+def test_sections_of_lines_and_arcs_have_occts_area_to_1e_6_at_the_default(name, height):
+    shape = parts.PARTS[name][0]()
+    origin, normal = (0.0, 0.0, height), (0.0, 0.0, 1.0)
+    region = pds.section(shape, origin, normal)
+    assert {c.kind for c in step.section_curves(shape, origin, normal)} <= {"line", "circle"}
+    assert region.area == pytest.approx(occt_section_area(shape, origin, normal), rel=1e-6)
 
 
 @needs_ocp
@@ -286,3 +314,49 @@ def test_the_cli_and_a_batch_manifest_mesh_step_parts(tmp_path):
     assert row["status"] == "ok" and row["certificate_ok"] is True
     record = json.loads(parse_job(jobs[0], 0, tmp_path / "out", tmp_path).record.read_text())
     assert record["sections"][0]["certificate"]["betti_region"] == [1, 5]
+
+
+@needs_ocp
+def test_each_section_edge_is_labelled_by_the_face_it_was_cut_from():
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+    from OCP.TopoDS import TopoDS
+    shape = parts.plate_with_holes()
+    origin, normal = (0, 0, 5), (0, 0, 1)
+    faces = step._explore(step.StepSolid(shape).solids[0], "FACE")
+    curves = step.section_curves(shape, origin, normal)
+    assert all(c.face.startswith("face ") for c in curves)
+    for curve in curves:                      # a circle from its bore, a line from a side
+        surface = BRepAdaptor_Surface(TopoDS.Face(faces[int(curve.face.split()[1])]))
+        if curve.kind == "circle":
+            assert surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Cylinder
+            assert surface.Cylinder().Radius() == pytest.approx(np.linalg.norm(curve.radii[:, 0]))
+        else:
+            assert surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Plane
+    region = pds.section(shape, origin, normal)
+    assert sorted(region.curves.labels) == sorted(c.face for c in curves)    # one face each
+    mesh = pds.mesh_region(region, 2.0)
+    tags = boundary_tags(mesh, by="source")
+    assert (tags.values > 0).all()
+    for ring in range(1, 6):                  # each hole's edges: its bore's face alone
+        on_ring = mesh.boundary_tags.values == ring + 1
+        assert len(np.unique(tags.values[on_ring])) == 1
+    two = step.section_curves(parts.overlapping_bodies(), origin, normal)
+    assert {c.face.split(" face ")[0] for c in two} == {"solid 0", "solid 1"}
+
+
+@needs_ocp
+def test_quadratic_nodes_of_a_step_section_lie_on_its_circles():
+    shape = parts.plate_with_holes()
+    origin, normal = (0, 0, 5), (0, 0, 1)
+    circles = [c for c in step.section_curves(shape, origin, normal) if c.kind == "circle"]
+    mesh = pds.mesh_region(pds.section(shape, origin, normal), 1.0)
+    q = mesh.quadratic()
+    assert len(q.straightened) == 0
+    nodes = q.points[np.unique(q.boundary_lines)]
+    off = np.min([np.abs(np.linalg.norm(nodes - c.center, axis=1)
+                         - np.linalg.norm(c.radii[:, 0])) for c in circles], axis=0)
+    round_ = off < 0.5                         # the nodes on the holes (the rest on lines)
+    assert round_.sum() > 50 and off[round_].max() <= 1e-12 * 12
+    cert = q.certificate()
+    assert cert.ok and cert.quadratic.ok

@@ -20,6 +20,8 @@ from .pipeline import (
     section_report as section_report,
     suggest_alpha as suggest_alpha,
 )
+from .partition import CompositeMesh as CompositeMesh, mesh_regions as mesh_regions
+from .remeshing import RemeshResult as RemeshResult, remesh as remesh
 from .sources.solids import mesh_tolerance as mesh_tolerance, section as section, sections as sections
 from .sources.svg import load_svg as load_svg
 from .sources.dxf import load_dxf as load_dxf
@@ -47,6 +49,7 @@ __all__ = [
     "ArgumentTypeError",
     "BudgetError",
     "Certificate",
+    "CompositeMesh",
     "EmptyMeshError",
     "FeatureSize",
     "MissingDependencyError",
@@ -55,6 +58,7 @@ __all__ = [
     "Quality",
     "Region",
     "RegionError",
+    "RemeshResult",
     "Resolution",
     "Samples",
     "SectionError",
@@ -71,10 +75,12 @@ __all__ = [
     "load_svg",
     "mesh_batch",
     "mesh_region",
+    "mesh_regions",
     "mesh_tolerance",
     "meshlab_quality",
     "multiresolution",
     "poisson_disc",
+    "remesh",
     "section",
     "section_report",
     "sections",

@@ -21,7 +21,7 @@ import shapely
 
 from ._checks import check_positive
 
-__all__ = ["BoundaryCurves", "curves_builder"]
+__all__ = ["BoundaryCurves", "curves_builder", "samples_onto_curves"]
 
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
 _NEWTON_STEPS = 8
@@ -200,6 +200,98 @@ class BoundaryCurves:
             t = np.clip(t - step, 0.0, 1.0)
         distance = np.linalg.norm(self._derivatives(piece, t, 0) - points, axis=1)
         return piece, t, distance
+
+    def onto_arcs(self, points):
+        """``points`` moved onto the elliptic arc nearest each, where that arc is within
+        the tolerance (``tolerance`` with a margin of 1e-9 of it): the nearest point of
+        the arc, on it to rounding. Points on other pieces, or farther, stay.
+
+        Parameters
+        ----------
+        points : (n, 2) array_like
+
+        Returns
+        -------
+        moved : (n, 2) float ndarray
+        on_arc : (n,) bool ndarray
+            Which points were moved.
+
+        Examples
+        --------
+        >>> build = curves_builder(0.01)
+        >>> build.arc((0, 0), [[1, 0], [0, 1]], 0.0, np.pi, "top")
+        >>> build.line((-1, 0), (1, 0), "base")
+        >>> moved, on_arc = build.done().onto_arcs([[0, 0.995], [0.5, 0]])
+        >>> np.round(moved, 12).tolist(), on_arc.tolist()
+        ([[0.0, 1.0], [0.5, 0.0]], [True, False])
+        """
+        points = np.array(points, dtype=float).reshape(-1, 2)
+        piece, t, distance = self.locate(points)
+        on_arc = self.elliptic[piece] & (distance > 0) & (distance <= self.tolerance * (1 + 1e-9))
+        points[on_arc] = self.point(piece[on_arc], t[on_arc])
+        return points, on_arc
+
+    def deviation(self, segments, boundary, step) -> float:
+        """How far the curves that bound a region get from ``segments`` (a mesh's
+        boundary edges): the largest distance from a point of a piece, probed every
+        ``step`` along it, to the nearest segment, over the probes within the tolerance
+        of ``boundary`` (the region's boundary segments: parts of pieces inside the
+        region, such as the walls of overlapping bodies in their union, are not its
+        boundary).
+
+        Parameters
+        ----------
+        segments, boundary : (m, 2, 2) array_like
+        step : float
+            The probes' spacing along each piece (arc length).
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> build = curves_builder(1e-3)
+        >>> build.arc((0, 0), [[1, 0], [0, 1]], 0.0, np.pi / 2, "quarter")
+        >>> theta = np.linspace(0, np.pi / 2, 40)                 # within 1e-3 of the arc
+        >>> ring = np.column_stack([np.cos(theta), np.sin(theta)])
+        >>> boundary = np.stack([ring[:-1], ring[1:]], axis=1)
+        >>> chord = [[[1, 0], [0, 1]]]                            # sagitta 1 - cos(pi/4)
+        >>> found = build.done().deviation(chord, boundary, 1e-3)
+        >>> bool(abs(found - (1 - np.sqrt(0.5))) < 1e-9)
+        True
+        """
+        segments = np.asarray(segments, dtype=float).reshape(-1, 2, 2)
+        boundary = np.asarray(boundary, dtype=float).reshape(-1, 2, 2)
+        if not (len(segments) and len(boundary)):
+            return 0.0
+        piece = np.flatnonzero(self._bent)            # straight pieces: the mesh's own
+        if not len(piece):                               # deviation measures them
+            return 0.0
+        counts = np.ceil(self.length(piece, np.zeros(len(piece)), np.ones(len(piece))) / step)
+        counts = counts.astype(np.int64) + 2
+        owner = np.repeat(piece, counts)
+        t = (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)) \
+            / np.repeat(counts - 1, counts)
+        probes = shapely.points(self.point(owner, t))
+        near = shapely.STRtree(shapely.linestrings(boundary)).query(
+            probes, predicate="dwithin", distance=self.tolerance * (1 + 1e-9))[0]
+        if not len(near):
+            return 0.0
+        _, distance = shapely.STRtree(shapely.linestrings(segments)).query_nearest(
+            probes[np.unique(near)], all_matches=False, return_distance=True)
+        return float(distance.max())
+
+    @property
+    def _bent(self) -> np.ndarray:
+        """The pieces that are not straight: arcs, and cubics whose inner control points
+        are off the line of their ends (lines are cubics with them at its thirds)."""
+        p = self.control
+        chord = p[:, 3] - p[:, 0]
+        off = np.abs(chord[:, None, 0] * (p[:, 1:3, 1] - p[:, :1, 1])
+                     - chord[:, None, 1] * (p[:, 1:3, 0] - p[:, :1, 0])).max(axis=1)
+        scale = np.abs(p).max(axis=(1, 2)) * np.hypot(*chord.T)
+        return self.elliptic | (off > 1e-12 * scale)
 
     # --- evaluation ----------------------------------------------------------------
 
@@ -399,3 +491,123 @@ def curves_builder(tolerance) -> _Builder:
     ('hump',)
     """
     return _Builder(tolerance)
+
+
+def samples_onto_curves(curves: BoundaryCurves, rings, owners, ring_xy, lower, upper):
+    """Boundary samples moved onto the elliptic arcs they were placed within the
+    tolerance of, and the polygon they lie on: the sampler's hook for regions with
+    exact curves (see :func:`pds_plugin.sampling.poisson_disc`).
+
+    A sample placed on a chord of a flattened arc moves onto the arc, by at most the
+    flattening's tolerance. A move is undone where it would bring two samples closer than
+    ``lower`` (if they were not already), or lengthen a chord between consecutive samples
+    past ``upper`` (or past its length, if it was longer): the sampling's distances stay
+    within the bounds it chose them by. The region is then refined through the samples: each ring
+    keeps its vertices (on the curves) and gets the moved samples inserted in order, so
+    the samples are on its boundary and it stays within the tolerance of the curves.
+
+    Parameters
+    ----------
+    curves : BoundaryCurves
+    rings : list of (k, 2) ndarray
+        The region's rings (:attr:`pds_plugin.Region.rings`).
+    owners : sequence of (int, int or None)
+        ``(component, hole)`` of each ring (:attr:`pds_plugin.Region.ring_owners`).
+    ring_xy : list of (m, 2) ndarray
+        Each ring's samples, in order along it, on its segments.
+    lower : float or callable
+        The smallest distance between two samples that the sampling keeps, or a function
+        giving the radius at each of an (n, 2) array of points (a graded sampling's field:
+        two samples then stay ``min`` of their radii apart).
+    upper : float
+        The longest chord between consecutive samples that the sampling keeps.
+
+    Returns
+    -------
+    ring_xy : list of (m, 2) ndarray
+        The samples, those moved onto the arcs.
+    geometry : shapely MultiPolygon or None
+        The region through them, or None if no sample moved.
+
+    Examples
+    --------
+    >>> from shapely.geometry import Point
+    >>> build = curves_builder(1e-3)
+    >>> build.arc((0, 0), [[1, 0], [0, 1]], 0.0, np.pi, "top")
+    >>> build.arc((0, 0), [[1, 0], [0, 1]], np.pi, np.pi, "bottom")
+    >>> theta = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    >>> ring = np.column_stack([np.cos(theta), np.sin(theta)])      # on the circle
+    >>> chord = (ring + np.roll(ring, -1, axis=0))[::4] / 2          # sagitta 3e-3 > 1e-3
+    >>> samples = (0.95 * ring + 0.05 * np.roll(ring, -1, axis=0))[::4]
+    >>> moved, geometry = samples_onto_curves(build.done(), [ring], [(0, None)], [samples],
+    ...                                       0.5, 1.0)
+    >>> bool(np.allclose(np.hypot(*moved[0].T), 1, rtol=0, atol=1e-15))
+    True
+    >>> len(geometry.geoms[0].exterior.coords) - 1                  # 40 vertices, 10 samples
+    50
+    """
+    before = [np.asarray(xy, dtype=float) for xy in ring_xy]
+    after, on_arc = [], []
+    for xy in before:
+        moved, moving = curves.onto_arcs(xy)
+        after.append(moved)
+        on_arc.append(moving)
+    if not any(m.any() for m in on_arc):
+        return before, None
+    sizes = np.cumsum([0] + [len(xy) for xy in before])
+    flat_before, flat_on = np.concatenate(before), np.concatenate(on_arc)
+    nxt = np.concatenate([np.roll(np.arange(a, b), -1) for a, b in zip(sizes[:-1], sizes[1:])])
+    apart = lower if callable(lower) else (lambda xy: np.full(len(xy), float(lower)))
+    chord_before = np.hypot(*(flat_before[nxt] - flat_before).T)
+    close_before = {tuple(pair) for pair in _close_pairs(flat_before, apart(flat_before))}
+    for _ in range(len(flat_before)):
+        flat_after = np.where(flat_on[:, None], np.concatenate(after), flat_before)
+        radius = apart(flat_after)
+        chord = np.hypot(*(flat_after[nxt] - flat_after).T)
+        bad = ((chord < np.minimum(chord_before, np.minimum(radius, radius[nxt])))
+               | (chord > np.maximum(chord_before, upper)))
+        ends = np.concatenate([np.flatnonzero(bad), nxt[bad]])
+        new = [pair for pair in map(tuple, _close_pairs(flat_after, radius))
+               if pair not in close_before]
+        ends = np.concatenate([ends, np.array(new, dtype=np.int64).reshape(-1)])
+        ends = ends[flat_on[ends]]
+        if not len(ends):
+            break
+        flat_on[ends] = False                    # those samples stay where they were
+    if not flat_on.any():
+        return before, None
+    flat_after = np.where(flat_on[:, None], np.concatenate(after), flat_before)
+    moved = [flat_after[a:b] for a, b in zip(sizes[:-1], sizes[1:])]
+    refined = [_through(ring, old, new) for ring, old, new in zip(rings, before, moved)]
+    polygons = []
+    for ring, (component, hole) in zip(refined, owners):
+        if hole is None:
+            polygons.append([ring, []])
+        else:
+            polygons[component][1].append(ring)
+    return moved, shapely.MultiPolygon([shapely.Polygon(shell, holes) for shell, holes in polygons])
+
+
+def _close_pairs(points, radius) -> np.ndarray:
+    """The pairs (i < j) of ``points`` closer than the smaller of their radii."""
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(points).query_pairs(float(radius.max()), output_type="ndarray")
+    gap = np.hypot(*(points[pairs[:, 0]] - points[pairs[:, 1]]).T)
+    return pairs[gap < np.minimum(radius[pairs[:, 0]], radius[pairs[:, 1]])]
+
+
+def _through(ring, old, new) -> np.ndarray:
+    """The closed ``ring`` (k, 2) with the points ``new`` inserted at the places along it
+    of ``old`` (points on its segments), replacing the vertices they fall on."""
+    closed = shapely.LinearRing(ring)
+    length = closed.length
+    at = shapely.line_locate_point(closed, shapely.points(old))
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(np.vstack([ring, ring[:1]]),
+                                                              axis=0).T))])[:-1]
+    at = np.where(at >= length, 0.0, at)
+    kept = np.abs(cum[:, None] - at[None, :]).min(axis=1) > 1e-12 * length
+    where = np.concatenate([cum[kept], at])
+    points = np.concatenate([ring[kept], new])
+    order = np.argsort(where, kind="stable")
+    return points[order]

@@ -230,6 +230,9 @@ def _inside_perturbed(a, b, c, d) -> bool:
     """Is point d inside the circle through counter-clockwise a, b, c? Each argument is
     (xy, index). Exact; ties are broken by lifting each point by -eps**index (the
     smaller the index, the larger the perturbation)."""
+    sign = _incircle_sign_filtered(a[0], b[0], c[0], d[0])
+    if sign:
+        return sign > 0
     (pa, ia), (pb, ib), (pc, ic), (pd, id_) = ((tuple(map(Fraction, xy)), i) for xy, i in (a, b, c, d))
     adx, ady = pa[0] - pd[0], pa[1] - pd[1]
     bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
@@ -243,3 +246,34 @@ def _inside_perturbed(a, b, c, d) -> bool:
     # d's coefficient, bc + ca + ab, is twice the triangle's area: never zero
     coefficient = {ia: -bc, ib: -ca, ic: -ab, id_: bc + ca + ab}
     return next(coefficient[i] > 0 for i in sorted(coefficient) if coefficient[i] != 0)
+
+
+_INCIRCLE_BOUND = (10 + 96 * 2.0 ** -53) * 2.0 ** -53
+"""Shewchuk's error bound A of the floating-point incircle determinant, relative to its
+permanent (Adaptive Precision Floating-Point Arithmetic, 1997: ``iccerrboundA``)."""
+
+
+def _incircle_sign_filtered(pa, pb, pc, pd) -> int:
+    """The sign of the incircle determinant of four points in floating point, when its
+    error bound decides it; 0 when it does not (the caller then computes it exactly).
+
+    Examples
+    --------
+    >>> inside = _incircle_sign_filtered((0, 0), (1, 0), (0, 1), (0.5, 0.5))
+    >>> cocircular = _incircle_sign_filtered((0, 0), (1, 0), (0, 1), (1, 1))
+    >>> inside, cocircular
+    (1, 0)
+    """
+    adx, ady = float(pa[0]) - float(pd[0]), float(pa[1]) - float(pd[1])
+    bdx, bdy = float(pb[0]) - float(pd[0]), float(pb[1]) - float(pd[1])
+    cdx, cdy = float(pc[0]) - float(pd[0]), float(pc[1]) - float(pd[1])
+    bc, cb = bdx * cdy, cdx * bdy
+    ca, ac = cdx * ady, adx * cdy
+    ab, ba = adx * bdy, bdx * ady
+    alift, blift, clift = adx * adx + ady * ady, bdx * bdx + bdy * bdy, cdx * cdx + cdy * cdy
+    det = alift * (bc - cb) + blift * (ca - ac) + clift * (ab - ba)
+    permanent = (alift * (abs(bc) + abs(cb)) + blift * (abs(ca) + abs(ac))
+                 + clift * (abs(ab) + abs(ba)))
+    if abs(det) > _INCIRCLE_BOUND * permanent:
+        return 1 if det > 0 else -1
+    return 0

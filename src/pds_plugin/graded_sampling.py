@@ -32,8 +32,8 @@ from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
-from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _guards,
-                       _joined, check_rings_apart, corner_clearance)
+from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _guards, _joined,
+                       _onto_curves, check_rings_apart, corner_clearance)
 from .sizing import RadiusField
 
 __all__ = ["graded_poisson_disc"]
@@ -97,7 +97,7 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
     return Samples(points, on_boundary, field.cap, sampler.rings,
-                   sampler.radius[:sampler.count].copy())
+                   sampler.radius[:sampler.count].copy(), sampler.sampled_region)
 
 
 def _tau_rings(rings, field, grading):
@@ -336,6 +336,7 @@ class _GradedSampler:
         self.nxt = np.empty(1024, np.int32)
         self.count = 0
         self.rings = ()
+        self.sampled_region = None          # the region through samples moved onto its arcs
         self.vis = vis_kern.no_chords(1024)
         self.chord_bound = np.empty(0)
         self.width, self.height = width, height
@@ -403,6 +404,7 @@ class _GradedSampler:
             ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
                                                           before > unit),
                                       ring, tau[:-1][first], tau[-1], self.field))
+        ring_xy, self.sampled_region = _onto_curves(self.region, ring_xy, self.field, np.inf)
         boundary, self.rings = _joined(ring_xy)
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())

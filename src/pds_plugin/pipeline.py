@@ -134,7 +134,8 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     _check_sampling_options(sampling_options)
     samples = poisson_disc(region, alpha, seed=seed, conforming=conforming, **sampling_options)
     faces = solid_alpha_complex(samples.points, alpha, boundary=samples.rings)
-    return PlanarMesh(samples.points, faces, samples.on_boundary, region, alpha, conforming)
+    sampled = region if samples.region is None else samples.region   # moved onto its arcs
+    return PlanarMesh(samples.points, faces, samples.on_boundary, sampled, alpha, conforming)
 
 
 def _graded_mesh(region, alpha, seed, conforming, grading, sizing, options) -> PlanarMesh:
@@ -150,7 +151,8 @@ def _graded_mesh(region, alpha, seed, conforming, grading, sizing, options) -> P
     samples = graded_poisson_disc(region, field, seed, **options)
     faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
                                  boundary=samples.rings)
-    return PlanarMesh(samples.points, faces, samples.on_boundary, region, field.cap, True,
+    sampled = region if samples.region is None else samples.region   # moved onto its arcs
+    return PlanarMesh(samples.points, faces, samples.on_boundary, sampled, field.cap, True,
                       field=field)
 
 

@@ -19,13 +19,16 @@ straight one). Where a boundary node on the curve would make it non-positive (th
 turns too much between the edge's ends for the triangle), that edge is left straight,
 listed in :attr:`QuadraticMesh.straightened` and reported in a warning; a triangle still
 inverted (by its vertices' moves onto the curves) is listed in
-:attr:`QuadraticMesh.inverted` and reported too.
+:attr:`QuadraticMesh.inverted` and reported too. :meth:`QuadraticMesh.certificate` is the
+linear mesh's certificate with these checks in its ``quadratic`` field
+(:class:`JacobianReport`): it is not ``ok`` when a curved triangle's Jacobian falls to
+:data:`MIN_JACOBIAN` of its straight triangle's or below.
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -33,7 +36,14 @@ import shapely
 
 from ._checks import check_has_triangles
 
-__all__ = ["QuadraticMesh", "quadratic"]
+__all__ = ["QuadraticMesh", "JacobianReport", "quadratic", "MIN_JACOBIAN"]
+
+MIN_JACOBIAN = 0.1
+"""The smallest Jacobian a curved triangle may have, relative to its straight triangle's,
+for the quadratic mesh's certificate: a curved element whose map shrinks an area element
+tenfold is on its way to folding (at 0 it inverts), and its quadrature and conditioning
+degrade long before; the meshes here stay near 1 (a disc at alpha = r / 5: 0.93)."""
+_MAX_LOCATED = 3
 
 _REFERENCE = np.array([[0, 0], [1, 0], [0, 1], [0.5, 0], [0.5, 0.5], [0, 0.5]])
 """The nodes of the reference triangle, in the order of ``triangles``: corners, then the
@@ -93,6 +103,36 @@ class QuadraticMesh:
         return np.flatnonzero(~(self.min_jacobian > 0))
 
     @cached_property
+    def jacobian_report(self) -> "JacobianReport":
+        """The Jacobian checks of the curved triangles (see :class:`JacobianReport`)."""
+        low = np.flatnonzero(~(self.min_jacobian > MIN_JACOBIAN))
+        low = low[np.argsort(self.min_jacobian[low], kind="stable")]
+        centres = self.points[self.triangles[low[:_MAX_LOCATED], :3]].mean(axis=1)
+        return JacobianReport(float(self.min_jacobian.min(initial=1.0)), len(self.inverted),
+                              len(low), len(self.straightened), float(self.moved),
+                              tuple(tuple(map(float, c)) for c in centres))
+
+    def certificate(self):
+        """The linear mesh's certificate with this mesh's Jacobian checks as its
+        ``quadratic`` field; its ``ok`` also needs every curved triangle's Jacobian above
+        :data:`MIN_JACOBIAN` of its straight triangle's.
+
+        Returns
+        -------
+        Certificate
+
+        Examples
+        --------
+        >>> import pds_plugin as pds
+        >>> from shapely.geometry import Point
+        >>> disc = pds.Region.from_shapely(Point(0, 0).buffer(1, 64))
+        >>> cert = pds.mesh_region(disc, 0.2).quadratic().certificate()
+        >>> cert.ok, cert.quadratic.ok, cert.quadratic.min_jacobian > 0.9
+        (True, True, True)
+        """
+        return replace(self.mesh.certificate(), quadratic=self.jacobian_report)
+
+    @cached_property
     def area(self) -> float:
         """The area of the curved triangles (exact: quadrature of the quadratic Jacobian)."""
         return float(_jacobian_integral(self.points[self.triangles]).sum())
@@ -101,6 +141,76 @@ class QuadraticMesh:
         return (f"QuadraticMesh(points={len(self.points)}, triangles={len(self.triangles)}, "
                 f"inverted={len(self.inverted)}, straightened={len(self.straightened)}, "
                 f"min_jacobian={self.min_jacobian.min():.3g})")
+
+
+@dataclass(frozen=True)
+class JacobianReport:
+    """The Jacobian checks of a quadratic mesh's curved triangles, as its certificate
+    holds them (``Certificate.quadratic``).
+
+    Attributes
+    ----------
+    min_jacobian : float
+        The smallest Jacobian over every triangle, relative to its straight triangle's
+        (exact: the minimum of a quadratic polynomial over the triangle).
+    inverted : int
+        Triangles whose Jacobian is not positive somewhere.
+    below_bound : int
+        Triangles whose smallest Jacobian is at most :data:`MIN_JACOBIAN` (the inverted
+        ones included).
+    straightened : int
+        Boundary edges left straight, their mid node on the chord, because on the curve
+        it would invert their triangle (not a failure: the triangle is valid, the
+        boundary there is the chord's).
+    moved : float
+        The farthest a boundary vertex was moved onto its curve.
+    below_bound_at : tuple of (x, y)
+        Where the first few triangles below the bound are, worst first.
+    bound : float
+        :data:`MIN_JACOBIAN`.
+
+    Examples
+    --------
+    >>> report = JacobianReport(0.02, 0, 1, 0, 0.0, ((1.0, 2.0),))
+    >>> report.ok
+    False
+    >>> print(report)
+    quadratic    min Jacobian 0.02 of the straight triangle's (> 0.1)  FAILED: 1 triangle(s) at or below it, 0 inverted, the first at (1, 2)
+    """
+
+    min_jacobian: float
+    inverted: int
+    below_bound: int
+    straightened: int
+    moved: float
+    below_bound_at: tuple = ()
+    bound: float = MIN_JACOBIAN
+
+    @property
+    def ok(self) -> bool:
+        """Every curved triangle's Jacobian is above the bound (so none is inverted)."""
+        return self.inverted == 0 and self.below_bound == 0 and self.min_jacobian > self.bound
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values, ``ok`` included."""
+        values = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        values["below_bound_at"] = [list(xy) for xy in self.below_bound_at]
+        values["ok"] = self.ok
+        return values
+
+    def __str__(self) -> str:
+        line = (f"quadratic    min Jacobian {self.min_jacobian:.3g} of the straight "
+                f"triangle's (> {self.bound:g})  ")
+        if self.ok:
+            line += "ok"
+        else:
+            line += (f"FAILED: {self.below_bound} triangle(s) at or below it, {self.inverted} "
+                     f"inverted")
+            if self.below_bound_at:
+                line += ", the first at ({:.6g}, {:.6g})".format(*self.below_bound_at[0])
+        if self.straightened:
+            line += f"; {self.straightened} boundary edge(s) left straight"
+        return line
 
 
 def quadratic(mesh) -> QuadraticMesh:

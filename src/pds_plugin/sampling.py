@@ -41,7 +41,8 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .errors import BudgetError, RegionError
+from .boundary_curves import samples_onto_curves
+from .errors import ArgumentError, BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
 __all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_rings_apart",
@@ -86,6 +87,10 @@ class Samples:
     radius : (N,) float ndarray or None
         Graded samplings (:func:`pds_plugin.graded_sampling.graded_poisson_disc`): the
         radius r of the field at each sample; None for uniform ones.
+    region : Region or None
+        Conforming samplings of a region with exact curves (``region.curves``): the
+        region refined through the boundary samples, which were moved onto its arcs
+        (:func:`pds_plugin.boundary_curves.samples_onto_curves`); None otherwise.
 
     Examples
     --------
@@ -100,6 +105,7 @@ class Samples:
     alpha: float
     rings: tuple = ()
     radius: np.ndarray | None = None
+    region: Region | None = None
 
     def __len__(self) -> int:
         return len(self.points)
@@ -154,7 +160,8 @@ def largest_alpha(region: Region, max_samples: int) -> float:
 
 def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
                  max_samples: int = DEFAULT_MAX_SAMPLES,
-                 feature_angle: float = 30.0, conforming: bool = False) -> Samples:
+                 feature_angle: float = 30.0, conforming: bool = False,
+                 boundary_samples=None) -> Samples:
     """Maximal Poisson disc sampling of ``region`` with radius ``alpha``.
 
     Every two samples are at least ``alpha`` apart, every point of the region is within
@@ -177,6 +184,11 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
         Sample for a conforming, constrained mesh (see the module docstring): the
         result's ``rings`` give the boundary to pass to
         :func:`pds_plugin.solid_alpha_complex`.
+    boundary_samples : sequence of (k, 2) array_like, optional
+        Conforming samplings: the boundary samples of each ring of ``region.rings``, in
+        order along it, given instead of drawn (guards and interior as usual).
+        :mod:`pds_plugin.partition` gives them so that a boundary chain shared by two
+        regions gets the same samples on both sides.
 
     Returns
     -------
@@ -212,10 +224,12 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
             "or raise max_samples")
     if conforming:
         check_rings_apart(region)
+    if boundary_samples is not None:
+        boundary_samples = _given_boundary(region, boundary_samples, conforming)
     rng = np.random.default_rng(seed)
     sampler = _Sampler(region, alpha, conforming)
     if conforming:
-        n_boundary = sampler.add_conforming_boundary(feature_angle, rng)
+        n_boundary = sampler.add_conforming_boundary(feature_angle, rng, boundary_samples)
     else:
         sampler.add_corners(feature_angle)
         sampler.add_boundary(rng)
@@ -224,7 +238,19 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
-    return Samples(points, on_boundary, alpha, sampler.rings)
+    return Samples(points, on_boundary, alpha, sampler.rings, region=sampler.sampled_region)
+
+
+def _given_boundary(region: Region, boundary_samples, conforming: bool) -> list:
+    """``boundary_samples`` as one (k, 2) float array per ring of ``region``, checked."""
+    if not conforming:
+        raise ArgumentError("boundary_samples apply to conforming samplings; pass conforming=True")
+    rings = [np.asarray(ring, dtype=float).reshape(-1, 2) for ring in boundary_samples]
+    if len(rings) != len(region.rings) or any(len(ring) < 3 for ring in rings):
+        raise ArgumentError(f"boundary_samples must give at least 3 samples for each of the "
+                            f"region's {len(region.rings)} rings, got "
+                            f"{[len(ring) for ring in rings]}")
+    return rings
 
 
 def check_rings_apart(region: Region):
@@ -477,6 +503,8 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
                                              (c + sign * np.append(split, last)) % length]))
                 offset = (sign * (at - c)) % length
         mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
+        if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < _RESOLUTION * alpha:
+            continue                            # a needle: its sides are one line
         if sides[short] <= reach[i] and beyond >= alpha:
             # the short side ends inside the spike: its last rung is the corner there
             mirrored = np.append(mirrored, sides[short])
@@ -529,6 +557,7 @@ class _Sampler:
         self.vis = vis_kern.no_chords(capacity)
         self.one_per_cell = not conforming
         self.rings = ()
+        self.sampled_region = None          # the region through samples moved onto its arcs
         self.count = 0
         # the chords whose region darts and refinement boxes must be in: the region's
         # own rings, or (conforming) the chords between the boundary samples
@@ -571,18 +600,20 @@ class _Sampler:
             start, direction, length, order, u, self.grid, self.nxt, self.covered, self.points,
             self.count, self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s, self.vis)
 
-    def add_conforming_boundary(self, feature_angle: float, rng) -> int:
-        """Sample every ring (sharp corners, then the pieces between them), join
-        consecutive samples by chords, and add guard samples inside pieces too short to
-        split. The chords become the boundary that visibility is measured through and
-        the chord polygons the domain of the interior. Returns the number of boundary
-        samples."""
+    def add_conforming_boundary(self, feature_angle: float, rng, given=None) -> int:
+        """Sample every ring (sharp corners, then the pieces between them; or take the
+        ``given`` samples of each ring), join consecutive samples by chords, and add guard
+        samples inside pieces too short to split. The chords become the boundary that
+        visibility is measured through and the chord polygons the domain of the interior.
+        Returns the number of boundary samples."""
         alpha = self.alpha
-        ring_xy = []
-        apart = _NOISY_INFLECTION_APART if self.region.tolerance else _INFLECTION_APART
-        for ring in self.region.rings:
-            ring_xy.append(_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
-                                                   alpha, rng, apart)))
+        ring_xy = given
+        if given is None:
+            apart = _NOISY_INFLECTION_APART if self.region.tolerance else _INFLECTION_APART
+            ring_xy = [_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
+                                               alpha, rng, apart)) for ring in self.region.rings]
+            ring_xy, self.sampled_region = _onto_curves(    # chords stay in [1, √3) alpha
+                self.region, ring_xy, alpha, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
         boundary, self.rings = _joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
@@ -689,6 +720,23 @@ def _along(at, cum, closed) -> np.ndarray:
     """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
     are at positions ``cum`` (arc length, or any increasing measure along it)."""
     return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
+
+
+def _onto_curves(region: Region, ring_xy, lower, upper):
+    """The boundary samples moved onto the region's exact arcs, and the region through
+    them (:func:`pds_plugin.boundary_curves.samples_onto_curves`); the samples as they
+    are and None for a region without curves, with a tolerance pass (its boundary is not
+    the curves'), or where the refined region would not be valid."""
+    if region.curves is None or region.tolerance != 0:
+        return ring_xy, None
+    moved, geometry = samples_onto_curves(region.curves, region.rings, region.ring_owners,
+                                          ring_xy, lower, upper)
+    if geometry is None:
+        return ring_xy, None
+    try:
+        return moved, Region.from_shapely(geometry, region.frame, curves=region.curves)
+    except RegionError:
+        return ring_xy, None
 
 
 def _joined(ring_xy):

@@ -54,7 +54,8 @@ from .. import _certificate_kernels as kern
 from .._checks import check_planar_mesh
 from .._complex_kernels import bin_points
 from .._geometry_kernels import circumcircles
-from .conformity import AREA_TOL, FACE_BLOCK, SampledBoundary, boundary_report
+from .conformity import (AREA_TOL, FACE_BLOCK, PROBES_PER_ALPHA, SampledBoundary,
+                         boundary_report)
 from .quality import ASPECT_BOUND
 from .small_features import ExceptionalTriangle, small_feature_exceptions
 from .topology import TopologyReport, topology_report
@@ -123,6 +124,17 @@ class Certificate:
     source_deviation : float
         The Hausdorff distance between the region's boundary and the input's, measured
         exactly (absolute; at most ``tolerance``, or ``ok`` is false).
+    curve_deviation : float or None
+        For a region with exact curves (``region.curves``: SVG, DXF, STEP): how far the
+        curves bounding the region get from the mesh's boundary, / alpha, probed every
+        alpha / 50 (:meth:`~pds_plugin.boundary_curves.BoundaryCurves.deviation`); the
+        mesh's deviation from the true boundary, where ``boundary_deviation`` is from
+        the region's polygon. None without curves.
+    quadratic : JacobianReport or None
+        The certificate of a quadratic mesh (``mesh.quadratic().certificate()``): its
+        curved triangles' Jacobians (:class:`pds_plugin.quadratic.JacobianReport`);
+        ``ok`` is false when one is not positive or below its bound. None for the
+        linear mesh.
     conforming : bool
         Consecutive boundary samples are joined by mesh edges, and no edge of the mesh's
         boundary ends at an interior sample.
@@ -191,6 +203,8 @@ class Certificate:
     unexplained: tuple[str, ...] = ()
     tolerance: float = 0.0
     source_deviation: float = 0.0
+    curve_deviation: float | None = None
+    quadratic: object = None
 
     aspect_bound = ASPECT_BOUND
     angle_range = (30.0, 120.0)
@@ -272,6 +286,7 @@ class Certificate:
     @property
     def _rest_ok(self) -> bool:
         return (self.topology_ok and self.tolerance_ok and self.isolated_samples == 0
+                and (self.quadratic is None or self.quadratic.ok)
                 and self.nonmanifold_vertices == 0
                 and (self.boundary_ok or not self.claims_conforming))
 
@@ -300,6 +315,7 @@ class Certificate:
         values["topology"] = self.topology.as_dict()
         values["exceptions"] = [e.as_dict() for e in self.exceptions]
         values["unexplained"] = list(self.unexplained)
+        values["quadratic"] = None if self.quadratic is None else self.quadratic.as_dict()
         values.update(aspect_bound=self.aspect_bound, betti_mesh=self.betti_mesh,
                       betti_region=self.betti_region, sampling_ok=self.sampling_ok,
                       quality_ok=self.quality_ok, topology_ok=self.topology_ok,
@@ -347,7 +363,11 @@ class Certificate:
             f"{self.outside_area_ratio:.3g} and missing {self.missing_area_ratio:.3g} of the "
             "region's area",
             *self._tolerance_lines(),
+            *([] if self.curve_deviation is None else [
+                f"    exact curves within {self.curve_deviation:.3g} alpha of the mesh's "
+                "boundary (probed every alpha/50)"]),
             *[f"    - {p}" for p in self.boundary_problems],
+            *([] if self.quadratic is None else [f"  {self.quadratic}"]),
             *self._exception_lines(),
             "  " + str(self.topology).replace("\n", "\n  "),
         ])
@@ -439,7 +459,18 @@ def certify(mesh: PlanarMesh) -> Certificate:
         topology=topology_report(mesh),
         exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
         tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
+        curve_deviation=curve_deviation(mesh),
     )
+
+
+def curve_deviation(mesh) -> float | None:
+    """How far the exact curves bounding the mesh's region get from its boundary edges,
+    / alpha, probed every alpha / :data:`PROBES_PER_ALPHA`; None without curves."""
+    curves = mesh.region.curves
+    if curves is None:
+        return None
+    return curves.deviation(mesh.vertices[mesh.boundary_edges], mesh.region.segments,
+                            mesh.alpha / PROBES_PER_ALPHA) / mesh.alpha
 
 
 def _yes(value: bool) -> str:

@@ -205,9 +205,6 @@ class SampledBoundary:
         turn = into[:, 0] * vector[vertex, 1] - into[:, 1] * vector[vertex, 0]
         self.arc_turns_left = (turn >= -1e-12 * np.hypot(*into.T) * length[vertex])[apart][arc]
         self.straight = np.bincount(self.arc_chord, minlength=len(self.a)) == 0
-        # the boundary is known up to the region's tolerance τ: coverage is proven for
-        # the region without what lies beyond a chord by less than τ (docs/conforming.md)
-        self.snap = region.tolerance
 
     @cached_property
     def arc_offset(self) -> np.ndarray:
@@ -265,10 +262,6 @@ class SampledBoundary:
         area = _area_beyond(xy, height)
         tol = ON_BOUNDARY_TOL * self.alpha
         height[np.abs(height) <= tol] = 0.0
-        # region beyond the chord thinner than the snap is left out (see __init__)
-        shallow = (height < 0) & (height >= -self.snap)
-        height[shallow] = 0.0
-        xy[shallow] = a + np.outer((xy[shallow] - a) @ (b - a), b - a) / ((b - a) @ (b - a))
         pieces, current = [], None
         for i in range(len(xy) - 1):
             if height[i] >= 0 > height[i + 1]:                  # the arc leaves Q's side

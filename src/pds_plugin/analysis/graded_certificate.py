@@ -37,7 +37,7 @@ from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
 from .certificate import (COVERAGE_TOL, QUALITY_TOL, SEPARATION_TOL, Certificate,
-                          _nonmanifold_vertices, _sees, _visibility_route_fails)
+                          _nonmanifold_vertices, _sees, _visibility_route_fails, curve_deviation)
 from .conformity import SampledBoundary, boundary_report
 from .small_features import small_feature_exceptions
 from .topology import topology_report
@@ -207,6 +207,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
         boundary_problems=tuple(problems), topology=topology_report(mesh),
         exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
         tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
+        curve_deviation=curve_deviation(mesh),
         grading=field.grading, proven_angle=proven,
         below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
                           for k in low[:_MAX_LOCATED]),

@@ -1,6 +1,7 @@
 """The ``pds-mesh`` command: certified triangle meshes of CAD sections and 2D drawings.
 
-``pds-mesh demo`` runs the whole product on a built-in part; ``pds-mesh batch MANIFEST
+``pds-mesh demo`` runs the whole product on a built-in part; ``pds-mesh remesh IN -o
+OUT`` re-triangulates every planar face of a mesh file, the solid kept; ``pds-mesh batch MANIFEST
 -o DIR`` meshes many parts and planes, locally or on Dask; ``pds-mesh mesh INPUT -o
 OUT`` (or just ``pds-mesh INPUT -o OUT``) meshes one or several sections of a mesh file
 (STL, OBJ, PLY, OFF, 3MF, GLB), or an SVG or DXF drawing, and writes the meshes (binary PLY with
@@ -25,13 +26,13 @@ import sys
 import threading
 
 from ..errors import PdsError
-from . import batch, demo, mesh
+from . import batch, demo, mesh, remesh
 from .arguments import COMMANDS, PROG, glue_negative_values, parser
 from .output import say
 
 __all__ = ["main", "console"]
 
-_RUN = {"mesh": mesh.run, "demo": demo.run, "batch": batch.run}
+_RUN = {"mesh": mesh.run, "demo": demo.run, "batch": batch.run, "remesh": remesh.run}
 
 
 def main(argv=None) -> int:

@@ -18,7 +18,7 @@ __all__ = ["PROG", "AXES", "COMMANDS", "MAX_SECTIONS", "parser", "wants_graded",
            "glue_negative_values"]
 
 PROG = "pds-mesh"
-COMMANDS = ("mesh", "demo", "batch")
+COMMANDS = ("mesh", "demo", "batch", "remesh")
 _NUMBER_OPTIONS = ("--at", "--plane-origin", "--plane-normal")
 
 _DESCRIPTION = """\
@@ -35,6 +35,8 @@ commands:
   pds-mesh batch MANIFEST -o DIR [--scheduler ADDRESS | --workers N]
                                                     many parts and planes, locally or on
                                                     a Dask cluster; resumable
+  pds-mesh remesh IN -o OUT [--alpha A|auto]      remesh every planar face of a mesh
+                                                    file, the solid kept
 
 Run 'pds-mesh demo' first, and 'pds-mesh mesh --help' for the options."""
 
@@ -141,7 +143,27 @@ def parser() -> argparse.ArgumentParser:
         description="Mesh every job of a manifest (many parts, many planes) in parallel "
                     "processes or on a Dask cluster; resumable: a rerun only does what "
                     "is missing."))
+    _remesh_arguments(commands.add_parser(
+        "remesh", help="re-triangulate every planar face of a mesh file, the solid kept",
+        description="Re-triangulate every planar face (patch of coplanar triangles) of a "
+                    "mesh file with certified triangles (angles >= 30 degrees but at the "
+                    "input's small features): each patch boundary is sampled once for both "
+                    "patches, so the result is the same closed solid. Faces of curved "
+                    "surfaces narrower than alpha are kept, split where samples fall on "
+                    "their edges (docs/remesh.md)."))
     return top
+
+
+def _remesh_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("input", metavar="IN", help="a mesh file (STL, OBJ, PLY, OFF...)")
+    parser.add_argument("-o", "--output", metavar="OUT", type=Path, required=True,
+                        help="the remeshed mesh (format by suffix: .stl, .ply, .obj...)")
+    parser.add_argument("--alpha", type=_alpha, default="auto",
+                        help="disc radius in the input's units, or 'auto' (default): the "
+                             "bounding box's diagonal / 100")
+    parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
+    parser.add_argument("--report", metavar="JSON", type=Path,
+                        help="write every patch certificate and the solid's checks here")
 
 
 def _mesh_arguments(parser: argparse.ArgumentParser) -> None:

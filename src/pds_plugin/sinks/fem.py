@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 
     from ..mesh import PlanarMesh
 
-__all__ = ["to_meshio", "to_skfem", "write_meshio", "MESHIO_SUFFIXES"]
+__all__ = ["to_meshio", "to_skfem", "write_meshio", "write_dolfinx", "MESHIO_SUFFIXES"]
 
 MESHIO_SUFFIXES = (".msh", ".vtu", ".vtk", ".xdmf", ".xmf", ".inp", ".mesh", ".meshb",
                    ".bdf", ".nas", ".fem", ".mdpa", ".vol")
@@ -162,6 +162,67 @@ def write_meshio(mesh: PlanarMesh, path, suffix: str) -> None:
         tagged.points = np.column_stack([tagged.points, np.zeros(len(tagged.points))])
     file_format = _FORMAT.get(suffix) or meshio._helpers.extension_to_filetypes[suffix][0]
     meshio.write(path, tagged, file_format=file_format, **options)
+
+
+def write_dolfinx(mesh: PlanarMesh, path, order: int = 1, boundary: str = "ring"):
+    """Write ``mesh`` as the two XDMF files dolfinx reads: the triangles with their region
+    tags, and the boundary lines with their boundary tags.
+
+    dolfinx reads one cell type per XDMF grid, and its mesh tags from a grid of the cells
+    they tag, so the triangles go to ``path`` and the boundary lines to ``path`` with
+    ``_facets`` before the suffix. Each file holds one grid named ``"Grid"`` (meshio's
+    name, which dolfinx's ``read_mesh`` and ``read_meshtags`` take as ``name=``) with the
+    2D points, its cells (``triangle`` / ``line``, or ``triangle6`` / ``line3`` for
+    ``order=2``) and one integer attribute (``region`` / ``boundary``); the arrays go in
+    an HDF5 file beside each, as dolfinx wants them (meshio with h5py, both in the
+    ``fem`` extra). docs/fem.md shows the dolfinx side.
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+    path : str or os.PathLike
+        The triangles' file, ending in ``.xdmf``.
+    order : {1, 2}
+    boundary : {"ring", "source"}
+        How boundary edges are tagged (:func:`pds_plugin.tags.boundary_tags`).
+
+    Returns
+    -------
+    (pathlib.Path, pathlib.Path)
+        The triangles' file and the facets' file.
+
+    Raises
+    ------
+    MissingDependencyError
+        If meshio or h5py is not installed (``pip install "pds_plugin[fem]"``).
+    ArgumentError
+        If ``path`` does not end in ``.xdmf``, or ``order`` or ``boundary`` is not valid.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, meshio, pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.25)
+    >>> domain, facets = write_dolfinx(mesh, pathlib.Path(tempfile.mkdtemp()) / "square.xdmf")
+    >>> facets.name, [block.type for block in meshio.read(facets).cells]
+    ('square_facets.xdmf', ['line'])
+    """
+    from pathlib import Path
+
+    meshio = import_optional("meshio", "fem", "dolfinx's XDMF files")
+    import_optional("h5py", "fem", "dolfinx's XDMF files (their HDF5 data)")
+    path = Path(path)
+    if path.suffix.lower() != ".xdmf":
+        raise ArgumentError(f"dolfinx reads .xdmf files; got {str(path)!r}: name it "
+                            f"{path.stem}.xdmf")
+    tagged = to_meshio(mesh, order, boundary)
+    facets = path.with_name(f"{path.stem}_facets{path.suffix}")
+    for target, block, name in ((path, 0, "region"), (facets, 1, "boundary")):
+        cells = tagged.cells[block]
+        meshio.write(target, meshio.Mesh(tagged.points, [(cells.type, cells.data)],
+                                         cell_data={name: [tagged.cell_data[name][block]]}),
+                     file_format="xdmf")
+    return path, facets
 
 
 def _element_sets(tagged) -> dict:

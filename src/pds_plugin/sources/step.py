@@ -33,12 +33,13 @@ from __future__ import annotations
 import os
 import sys
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
 
 from .._checks import check_path, check_positive, import_optional
+from ..boundary_curves import BoundaryCurves, curves_builder
 from ..errors import SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
@@ -46,13 +47,18 @@ from .curves import bezier_points, elliptic_points
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
-__all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "SectionCurve", "accepts", "load",
-           "section_curves", "StepSolid"]
+__all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "AREA_ERROR", "ARC_REFINEMENT", "SectionCurve",
+           "accepts", "load", "section_curves", "StepSolid"]
 
 SUFFIXES = frozenset({".step", ".stp", ".iges", ".igs", ".brep", ".brp"})
 """File suffixes read through OpenCASCADE (case-insensitive)."""
 RELATIVE_TOLERANCE = 1e-5
 """Default chord tolerance, as a fraction of the solid's diagonal."""
+AREA_ERROR = 0.5e-6
+"""By default circles and ellipses are flattened finer, so that their chords miss at most
+this fraction of the section's area (see :data:`ARC_REFINEMENT`)."""
+ARC_REFINEMENT = 100
+"""At most this many times finer than the default tolerance (10 times the vertices)."""
 _ON_PLANE = 1e-9        # a planar face within this fraction of the solid's size is on the plane
 _STEP_OFF = 1e-6        # on_face moves the plane by this fraction of the solid's size
 
@@ -78,6 +84,13 @@ class SectionCurve:
         OCCT's bound on the distance between this edge and the true intersection of the
         plane and the face (about 1e-7 for analytic faces, the approximation's error for
         free-form ones).
+    start, sweep : float
+        Circles and ellipses: the parameter θ of the first point and its signed range.
+    face : str
+        The face of the solid the edge was cut from: ``"face i"`` (``"solid k face i"``
+        when the shape has several solids), ``i`` counting the solid's faces in
+        OpenCASCADE's order (``TopExp_Explorer``, as CAD tools number them); ``""`` if
+        OCCT's history does not say.
     """
 
     kind: str
@@ -85,6 +98,9 @@ class SectionCurve:
     center: np.ndarray | None = None
     radii: np.ndarray | None = None
     edge_tolerance: float = 0.0
+    start: float = 0.0
+    sweep: float = 0.0
+    face: str = ""
 
 
 def accepts(solid) -> bool:
@@ -244,6 +260,7 @@ class StepSolid:
             raise SourceError(f"{self.name} has no extent (an empty or degenerate solid)")
         self.tolerance = (RELATIVE_TOLERANCE * self.scale if tolerance is None
                           else check_positive(tolerance, "tolerance"))
+        self.adaptive = tolerance is None       # arcs finer, for the area (_arc_tolerance)
         self.planes = _planar_faces(self.solids)
 
     def heights(self, origin, normal) -> np.ndarray:
@@ -252,36 +269,70 @@ class StepSolid:
         return np.array([low[2], high[2]])
 
     def cut(self, origin, normal, on_face=None) -> Region:
-        """The section by the plane through ``origin`` (unit ``normal``) as a Region."""
+        """The section by the plane through ``origin`` (unit ``normal``) as a Region, with
+        its exact curves (``region.curves``, each labelled by the face it was cut from)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
-        parts = []
-        for solid in self._moved(to_2d):
-            curves = self._section_curves(solid, self._reach(origin))
-            if not curves:
-                continue
-            join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
-            geometry, open_ends = outline_geometry([c.points for c in curves], join)
-            if len(open_ends):
-                raise SectionError(
-                    f"the section of {self.name} at normal·x = {offset:.9g} is open "
-                    f"({len(open_ends)} open end(s), at {places_in_3d(open_ends, to_3d)}): "
-                    f"the solid is not closed where the plane cuts it; repair it in CAD "
-                    f"(sew its faces) or move the plane")
-            parts.append(geometry)
-        geometry = shapely.union_all(parts) if parts else shapely.Polygon()
+        cuts = []                                   # each solid's faces and curves
+        for number, solid in enumerate(self._moved(to_2d)):
+            faces, curves = self._cut_curves(solid, number, origin)
+            if curves:
+                cuts.append((faces, curves))
+        # the area the arcs' tolerance is chosen for: one solid's from its wires, or the
+        # union's (the faces of several solids may overlap)
+        area = (_wire_area(*cuts[0]) if len(cuts) == 1
+                else self._polygons(cuts, offset, to_3d).area)
+        arcs = self._arc_tolerance(area, [c for _, curves in cuts for c in curves])
+        if arcs < self.tolerance:                   # the arcs again, finer
+            cuts = [(faces, [_finer(c, arcs) for c in curves]) for faces, curves in cuts]
+        geometry = self._polygons(cuts, offset, to_3d)
         if geometry.is_empty or geometry.area == 0:
             self._refuse_empty(to_2d, offset)
-        return Region.from_shapely(geometry, frame=to_3d)
+        pieces = [c for _, curves in cuts for c in curves]
+        return Region.from_shapely(geometry, frame=to_3d,
+                                   curves=_boundary_curves(pieces, self.tolerance))
+
+    def _polygons(self, cuts, offset, to_3d):
+        """The union of the solids' sections, each from its faces' wires (or its curves
+        by even-odd nesting, which reports open ends)."""
+        parts = []
+        for faces, curves in cuts:
+            join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
+            geometry = _face_polygons(faces, curves, join)
+            if geometry is None:           # the faces' wires do not close: say where
+                geometry, open_ends = outline_geometry([c.points for c in curves], join)
+                if len(open_ends):
+                    raise SectionError(
+                        f"the section of {self.name} at normal·x = {offset:.9g} is open "
+                        f"({len(open_ends)} open end(s), at {places_in_3d(open_ends, to_3d)}): "
+                        f"the solid is not closed where the plane cuts it; repair it in CAD "
+                        f"(sew its faces) or move the plane")
+            parts.append(geometry)
+        if not parts:
+            return shapely.Polygon()
+        return parts[0] if len(parts) == 1 else shapely.union_all(parts)
+
+    def _arc_tolerance(self, area, curves) -> float:
+        """The chord tolerance of circles and ellipses: by default the one that keeps their
+        flattening's area error within :data:`AREA_ERROR` of the section's ``area`` (an
+        inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its arc's
+        segment), between :data:`ARC_REFINEMENT` times finer than :attr:`tolerance` and
+        :attr:`tolerance` itself; a ``tolerance`` given is kept as it is."""
+        length = sum(float(np.hypot(*np.diff(c.points, axis=0).T).sum())
+                     for c in curves if c.kind in ("circle", "ellipse"))
+        if not self.adaptive or length == 0:
+            return self.tolerance
+        return min(self.tolerance, max(self.tolerance / ARC_REFINEMENT,
+                                       1.5 * AREA_ERROR * area / length))
 
     def curves(self, origin, normal, on_face=None) -> list[SectionCurve]:
         """The section's edges as :class:`SectionCurve` objects (see
         :func:`section_curves`)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d = _to_2d(origin, normal)
-        curves = [curve for solid in self._moved(to_2d)
-                  for curve in self._section_curves(solid, self._reach(origin))]
+        curves = [curve for number, solid in enumerate(self._moved(to_2d))
+                  for curve in self._cut_curves(solid, number, origin)[1]]
         if not curves:
             self._refuse_empty(to_2d, float(origin @ normal))
         return curves
@@ -296,14 +347,29 @@ class StepSolid:
         location = TopLoc_Location(transform)
         return [solid.Moved(location) for solid in self.solids]
 
-    def _section_curves(self, solid, reach) -> list[SectionCurve]:
-        """The edges of the cut of one (moved) solid by z = 0: the boundary of its common
-        with the square [-reach, reach]² of that plane. (OCCT's Common gives the same
+    def _cut_curves(self, solid, number, origin):
+        """The faces of the cut of one (moved) solid (:meth:`_common_faces`) and their
+        edges' curves, wire after wire, each labelled by the solid's face it lies on."""
+        faces = self._common_faces(solid, self._reach(origin))
+        edges = [edge for face in faces for wire in face for edge, _ in wire]
+        labels = _face_labels(edges, solid, faces.common,
+                              number if len(self.solids) > 1 else None)
+        curves = [_curve(edge, self.tolerance, reversed_, label) for label, (edge, reversed_)
+                  in zip(labels, (pair for face in faces for wire in face for pair in wire))]
+        return faces, curves
+
+    def _common_faces(self, solid, reach) -> list:
+        """The cut of one (moved) solid by z = 0: the faces of its common with the square
+        [-reach, reach]² of that plane, each as its wires (outer first), each wire its
+        edges in order with whether each runs reversed. (OCCT's Common gives the same
         curves as its Section, and is faster on free-form faces: 0.85 s against 12-16 s
-        on the thread of M6-1x12-countersunk-screw.step.)"""
+        on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are the
+        section's loops, already nested.) The faces carry the Common as ``.common``."""
         from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
         from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+        from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
         from OCP.gp import gp_Pln
+        from OCP.TopAbs import TopAbs_Orientation
         from OCP.TopoDS import TopoDS
 
         plane = BRepBuilderAPI_MakeFace(gp_Pln(), -reach, reach, -reach, reach).Face()
@@ -311,9 +377,21 @@ class StepSolid:
         if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
-        return [_curve(TopoDS.Edge(edge), self.tolerance)        # the faces' edges: a plane
-                for face in _explore(common.Shape(), "FACE")       # touching an edge gives
-                for edge in _explore(face, "EDGE")]                # a line, not material
+        faces = _Faces(common)
+        for face in _explore(common.Shape(), "FACE"):   # a plane touching an edge gives
+            face = TopoDS.Face(face)                       # a line, not material: no face
+            outer = BRepTools.OuterWire_s(face)
+            wires = [outer] + [w for w in _explore(face, "WIRE") if not w.IsSame(outer)]
+            ordered = []
+            for wire in wires:
+                walk, edges = BRepTools_WireExplorer(TopoDS.Wire(wire), face), []
+                while walk.More():
+                    edges.append((walk.Current(), walk.Orientation()
+                                  == TopAbs_Orientation.TopAbs_REVERSED))
+                    walk.Next()
+                ordered.append(edges)
+            faces.append(ordered)
+        return faces
 
     def _reach(self, origin) -> float:
         """A half-width of the plane's square about ``origin`` that holds every solid."""
@@ -371,6 +449,105 @@ class StepSolid:
             f"touches the solid, or passes through a gap between parts); move the plane")
 
 
+class _Faces(list):
+    """The faces of a cut (each its wires of ``(edge, reversed)``), with the Boolean that
+    made them as ``common`` (its history names the solid's face of each edge)."""
+
+    def __init__(self, common):
+        super().__init__()
+        self.common = common
+
+
+def _face_labels(edges, solid, common, number) -> list[str]:
+    """The face of ``solid`` each section edge was cut from, as ``"face i"`` (``"solid k
+    face i"`` when ``number`` is not None), from the Boolean's history; ``""`` where it
+    says nothing."""
+    if not edges:
+        return []
+    wanted = {}
+    for edge in edges:
+        wanted.setdefault(hash(edge), []).append(edge)
+    found = {}
+    prefix = "" if number is None else f"solid {number} "
+    history = common.History()
+    for index, face in enumerate(_explore(solid, "FACE")):
+        for made in _listed(history.Generated(face)):
+            for edge in wanted.get(hash(made), ()):
+                if edge.IsSame(made):
+                    found.setdefault(hash(made), f"{prefix}face {index}")
+        if len(found) == len(wanted):
+            break
+    return [found.get(hash(edge), "") for edge in edges]
+
+
+def _listed(shapes) -> list:
+    """An OCCT list of shapes as a Python list (iterating the list itself costs a quarter
+    of a millisecond; its ends cost microseconds)."""
+    size = shapes.Size()
+    if size <= 2:
+        return [shapes.First(), shapes.Last()][2 - size:] if size else []
+    return list(shapes)
+
+
+def _wire_area(faces, curves) -> float:
+    """The area of a cut's faces from their wires' points (shoelace; outer wire less
+    the others), before any polygon is built."""
+    area, at = 0.0, 0
+    for face in faces:
+        for number, wire in enumerate(face):
+            xy = np.concatenate([c.points for c in curves[at:at + len(wire)]])
+            at += len(wire)
+            ring = abs(float(np.dot(xy[:, 0], np.roll(xy[:, 1], -1))
+                             - np.dot(xy[:, 1], np.roll(xy[:, 0], -1)))) / 2
+            area += ring if number == 0 else -ring
+    return area
+
+
+def _face_polygons(faces, curves, join):
+    """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
+    a wire does not close within ``join`` or the polygons are not valid (the caller then
+    assembles the curves by even-odd nesting, which finds the open ends)."""
+    polygons, at = [], 0
+    for face in faces:
+        rings = []
+        for wire in face:
+            chain = curves[at:at + len(wire)]
+            at += len(wire)
+            ends = np.array([c.points[-1] for c in chain])
+            starts = np.roll(np.array([c.points[0] for c in chain]), -1, axis=0)
+            if np.hypot(*(ends - starts).T).max() > join:
+                return None
+            ring = np.concatenate([c.points[:-1] for c in chain])
+            ring = ring[np.any(ring != np.roll(ring, 1, axis=0), axis=1)]
+            if len(ring) < 3:
+                return None
+            rings.append(ring)
+        polygons.append(shapely.Polygon(rings[0], rings[1:]))
+    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(polygons)
+    return geometry if geometry.is_valid and geometry.area > 0 else None
+
+
+def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
+    """The section's exact pieces for :attr:`Region.curves`: lines, and circles and
+    ellipses as elliptic arcs (in two halves past half a turn, so that the seam of a
+    whole circle is a junction of two pieces, as in the drawing readers); B-splines and
+    other curves as their flattening (straight pieces within the tolerance of the
+    curve). Each is labelled by its face."""
+    build = curves_builder(tolerance)
+    for curve in curves:
+        label = curve.face or "section"
+        if curve.kind == "line":
+            build.line(curve.points[0], curve.points[-1], label)
+        elif curve.kind in ("circle", "ellipse"):        # halves past a half turn: a
+            halves = 2 if abs(curve.sweep) > np.pi else 1    # whole one has a seam that an
+            for half in range(halves):                       # edge across it must see
+                build.arc(curve.center, curve.radii, curve.start + half * curve.sweep / halves,
+                          curve.sweep / halves, label)
+        else:
+            build.polyline(curve.points, label)
+    return build.done()
+
+
 def _planar_faces(solids) -> tuple[np.ndarray, np.ndarray]:
     """Unit normals (n, 3) and offsets n·x (n,) of the planes of the solids' planar faces."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
@@ -412,7 +589,26 @@ def _xy(point) -> np.ndarray:
     return np.array([point.X(), point.Y()])
 
 
-def _curve(edge, tolerance) -> SectionCurve:
+def _curve(edge, tolerance, reversed_=False, face="") -> SectionCurve:
+    """One edge of a cut by z = 0, flattened within ``tolerance``; its points run the
+    other way if ``reversed_`` (the edge's orientation in its wire)."""
+    curve = _flattened(edge, tolerance)
+    return replace(curve, points=curve.points[::-1] if reversed_ else curve.points, face=face)
+
+
+def _finer(curve, tolerance) -> SectionCurve:
+    """A circle or ellipse flattened again within ``tolerance``, the same way round and
+    closed if it was; other curves as they are."""
+    if curve.kind not in ("circle", "ellipse"):
+        return curve
+    points = elliptic_points(curve.center, curve.radii, curve.start, curve.sweep, tolerance)
+    if np.array_equal(curve.points[0], curve.points[-1]):
+        points[-1] = points[0]
+    forward = np.hypot(*(curve.points[1] - points[1])) <= np.hypot(*(curve.points[1] - points[-2]))
+    return replace(curve, points=points if forward else points[::-1])
+
+
+def _flattened(edge, tolerance) -> SectionCurve:
     """One edge of a cut by z = 0, flattened within ``tolerance``."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve
@@ -438,7 +634,7 @@ def _curve(edge, tolerance) -> SectionCurve:
         if BRep_Tool.IsClosed_s(edge):
             points[-1] = points[0]           # a whole turn ends where it starts
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
-                            center, radii, bound)
+                            center, radii, bound, first, last - first)
     if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
         pieces = _bezier_pieces(curve, kind, first, last)
         if pieces is not None:

@@ -1,0 +1,171 @@
+"""pds.remesh against MeshLab's isotropic remeshing, at an equal edge length (issue 24).
+
+For each part (the shared STL files in ../shared/data when present, and generated
+manifold3d parts with holes and pockets written as float32 STL), in one process:
+
+- pds: ``pds.remesh(path, "auto")`` (alpha = bounding-box diagonal / 100);
+- MeshLab: ``meshing_isotropic_explicit_remeshing`` with ``targetlen`` = the mean edge
+  length of the pds mesh (an equal edge length) and ``iterations=5`` (the issue's
+  setting), on the same file read by pymeshlab; and again with the edge length scaled by
+  the square root of the vertex counts' ratio (about an equal vertex count).
+
+Columns: CPU seconds (``time.process_time``: all threads of the process; the machine is
+shared) of the remesh, and for pds of measuring its patch certificates after it,
+vertices, smallest angle and the 1st percentile of the triangles' smallest
+angles over the whole output, volume change relative to the input, Hausdorff distance
+from the output to the input surface / bounding-box diagonal (pymeshlab's
+``get_hausdorff_distance``: every vertex and 10 points per vertex on the faces),
+watertight. For pds also the smallest
+angle and 1st percentile on the remeshed patches only, and the certificate's verdict.
+
+Run: ``python bench/remesh_vs_meshlab.py [--repeats N]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+import pds_plugin as pds
+
+DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data"
+SHARED = ("featuretype.STL", "angle_block.STL", "7_8ths_cube.stl", "ADIS16480.STL",
+          "20mm-xyz-cube.stl", "shared.STL")
+
+
+def generated_parts(folder: Path) -> list[Path]:
+    """Plates and brackets with holes and pockets, as float32 STL."""
+    import manifold3d as m3d
+
+    parts = {
+        "g-plate-holes": m3d.Manifold.cube([60.0, 40.0, 8.0])
+        - m3d.Manifold.cylinder(20.0, 5.0, 5.0, 48).translate([15.0, 20.0, -5.0])
+        - m3d.Manifold.cylinder(20.0, 3.0, 3.0, 32).translate([45.0, 12.0, -5.0])
+        - m3d.Manifold.cube([18.0, 10.0, 4.0]).translate([30.0, 24.0, 5.0]),
+        "g-bracket": (m3d.Manifold.cube([50.0, 30.0, 6.0])
+                      + m3d.Manifold.cube([6.0, 30.0, 40.0]))
+        - m3d.Manifold.cylinder(20.0, 4.0, 4.0, 40).translate([30.0, 15.0, -5.0])
+        - m3d.Manifold.cube([10.0, 12.0, 20.0]).translate([-2.0, 9.0, 15.0]),
+        "g-block-pockets": m3d.Manifold.cube([30.0, 30.0, 20.0])
+        - m3d.Manifold.cube([10.0, 10.0, 12.0]).translate([4.0, 4.0, 10.0])
+        - m3d.Manifold.cube([12.0, 8.0, 12.0]).translate([15.0, 18.0, 10.0])
+        - m3d.Manifold.cylinder(30.0, 2.5, 2.5, 24).translate([22.0, 8.0, -5.0]),
+    }
+    paths = []
+    for name, solid in parts.items():
+        mesh = solid.to_mesh()
+        vertices = np.asarray(mesh.vert_properties[:, :3], dtype=np.float32)
+        path = folder / f"{name}.stl"
+        trimesh.Trimesh(vertices, np.asarray(mesh.tri_verts), process=False).export(path)
+        paths.append(path)
+    return paths
+
+
+def min_angles(vertices, faces) -> np.ndarray:
+    p = np.asarray(vertices, float)[np.asarray(faces)]
+    a = np.linalg.norm(p[:, 1] - p[:, 2], axis=1)
+    b = np.linalg.norm(p[:, 2] - p[:, 0], axis=1)
+    c = np.linalg.norm(p[:, 0] - p[:, 1], axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = np.stack([(b * b + c * c - a * a) / (2 * b * c), (a * a + c * c - b * b) / (2 * a * c),
+                        (a * a + b * b - c * c) / (2 * a * b)], axis=1)
+    return np.nan_to_num(np.degrees(np.arccos(np.clip(cos, -1, 1))).min(axis=1))
+
+
+def hausdorff(meshset, output_id, input_id, diagonal) -> float:
+    """Largest distance from the output (its vertices and 10 points per vertex on its
+    faces) to the input surface / diagonal."""
+    n = meshset.mesh(output_id).vertex_number()
+    values = meshset.get_hausdorff_distance(sampledmesh=output_id, targetmesh=input_id,
+                                            samplevert=True, sampleedge=False, samplefauxedge=False,
+                                            sampleface=True, samplenum=10 * n)
+    return values["max"] / diagonal
+
+
+def row(name, vertices, faces, seconds, source, meshset, output_id, diagonal) -> dict:
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    angles = min_angles(vertices, faces)
+    return {"part": name, "seconds": seconds, "vertices": len(vertices),
+            "min_angle": float(angles.min()), "p1_angle": float(np.percentile(angles, 1)),
+            "volume_error": abs(mesh.volume - source.volume) / abs(source.volume),
+            "hausdorff": hausdorff(meshset, output_id, 0, diagonal),
+            "watertight": mesh.is_watertight}
+
+
+def run(path: Path) -> list[dict]:
+    import pymeshlab
+
+    source = trimesh.load_mesh(path)
+    diagonal = float(np.linalg.norm(np.ptp(source.vertices, axis=0)))
+    start = time.process_time()
+    result = pds.remesh(path, "auto")
+    pds_seconds = time.process_time() - start
+    start = time.process_time()
+    certified = result.ok_with_exceptions          # the patch certificates, measured now
+    certify_seconds = time.process_time() - start
+    edges = result.mesh.edges_unique_length
+    meshset = pymeshlab.MeshSet()
+    meshset.load_new_mesh(str(path))
+    meshset.add_mesh(pymeshlab.Mesh(vertex_matrix=np.asarray(result.mesh.vertices, float),
+                                    face_matrix=np.asarray(result.mesh.faces, np.int32)), "pds")
+    pds_row = row("pds", result.mesh.vertices, result.mesh.faces, pds_seconds, source, meshset,
+                  1, diagonal)
+    remeshed = result.angles()
+    pds_row.update(patch_min=float(remeshed.min(initial=180.0)),
+                   patch_p1=float(np.percentile(remeshed, 1)) if len(remeshed) else np.nan,
+                   verdict="ok" if result.ok else "ok w/ exc" if certified else "FAILED",
+                   certify=certify_seconds)
+    meshset.load_new_mesh(str(path))
+    start = time.process_time()
+    meshset.meshing_isotropic_explicit_remeshing(
+        iterations=5, targetlen=pymeshlab.PureValue(float(edges.mean())))
+    lab_seconds = time.process_time() - start
+    lab = meshset.current_mesh()
+    lab_row = row("meshlab", lab.vertex_matrix(), lab.face_matrix(), lab_seconds, source,
+                  meshset, meshset.current_mesh_id(), diagonal)
+    lab_row.update(patch_min=np.nan, patch_p1=np.nan, verdict="-", certify=np.nan)
+    # an equal vertex count: the edge length scaled by the square root of the counts
+    meshset.load_new_mesh(str(path))
+    scaled = float(edges.mean()) * math.sqrt(lab_row["vertices"] / pds_row["vertices"])
+    start = time.process_time()
+    meshset.meshing_isotropic_explicit_remeshing(iterations=5,
+                                                 targetlen=pymeshlab.PureValue(scaled))
+    count_seconds = time.process_time() - start
+    lab = meshset.current_mesh()
+    count_row = row("meshlab (= vertices)", lab.vertex_matrix(), lab.face_matrix(),
+                    count_seconds, source, meshset, meshset.current_mesh_id(), diagonal)
+    count_row.update(patch_min=np.nan, patch_p1=np.nan, verdict="-", certify=np.nan)
+    for r in (pds_row, lab_row, count_row):
+        r["part"] = f"{path.name} {r['part']}"
+        r["input_faces"] = len(source.faces)
+        r["edge"] = float(edges.mean())
+    return [pds_row, lab_row, count_row]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.parse_args(argv)
+    rows = []
+    with tempfile.TemporaryDirectory() as folder:
+        paths = [DATA / name for name in SHARED if (DATA / name).is_file()]
+        paths += generated_parts(Path(folder))
+        for path in paths:
+            rows += run(path)
+    print("| part / mesher | CPU s | certify s | vertices | min angle | 1st pct | remeshed min / 1st pct "
+          "| volume error | Hausdorff / diag | watertight | certificate |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['part']} | {r['seconds']:.2f} | {r['certify']:.2f} | {r['vertices']} | {r['min_angle']:.2f} | "
+              f"{r['p1_angle']:.2f} | {r['patch_min']:.2f} / {r['patch_p1']:.2f} | "
+              f"{r['volume_error']:.2g} | {r['hausdorff']:.2g} | {r['watertight']} | "
+              f"{r['verdict']} |")
+
+
+if __name__ == "__main__":
+    main()

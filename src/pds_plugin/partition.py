@@ -1,0 +1,995 @@
+"""Meshes of planar partitions: regions that share boundary chains, each chain sampled once.
+
+Several regions of one plane (a steel core in a concrete section, the planar faces of a
+solid unrolled into their planes) are meshed so that the meshes join with no T-junction:
+
+1. **Chains.** The regions' rings, on shared vertex numbers (every ring vertex lying on
+   another ring's segment is inserted there), are cut into *chains*: maximal runs of
+   edges owned by the same regions (one side on the outer boundary, two on an
+   interface), between *junctions* (vertices where the edges of other regions start, or
+   the owners change, or that the caller pins). A ring with no junction is one closed
+   chain.
+2. **Samples, once per chain**, by the conforming sampler's rules
+   (docs/conforming.md), which depend on the chain alone: its junctions are samples;
+   its sharp vertices are samples, with the clearance of the sharper of the two sides'
+   angles, ``corner_clearance(pi - |turn|)`` (the convex side's); its inflections are
+   samples; the pieces between are cut into parts in [alpha, √3 alpha], the first and
+   last at least the clearance of the sharpest corner any side has at that junction.
+   Every such rule is at least what either side alone would ask, so both sides'
+   proofs hold with the same samples (docs/partition.md).
+3. **Each region** is then sampled inside (guards, darts, refinement: per side) with its
+   boundary samples given (``poisson_disc(boundary_samples=...)``), meshed by the
+   constrained solid alpha-complex and certified on its own.
+4. **Joined.** The meshes share the chains' samples by number: an interface edge is an
+   edge of both sides' meshes, once each, in opposite directions.
+   :func:`interface_report` checks it on the result.
+
+:func:`mesh_regions` is the public entry (composite sections, issue 23);
+:mod:`pds_plugin.remeshing` (``pds.remesh``) uses :func:`sample_chains` with its patches in their own planes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+
+from ._checks import check_alpha, check_seed
+from .errors import ArgumentError, ArgumentTypeError, RegionError
+from .mesh import PlanarMesh
+from .region import Region, turning_angles
+from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_clearance
+from . import _sampling_kernels as kern
+
+__all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
+           "ChainSamples", "mesh_part", "interface_report", "InterfaceReport"]
+
+_ON_SEGMENT = 1e-12
+"""How close (relative to the extent) a vertex of one ring must be to a segment of
+another to be inserted there: shared boundaries are shared up to rounding only."""
+
+
+# --- chains and their samples -------------------------------------------------------
+
+@dataclass(frozen=True)
+class ChainSamples:
+    """The boundary samples of a partition, each chain sampled once.
+
+    A sample is the point ``x[u] + t (x[v] - x[u])`` of the vertex coordinates ``x`` of
+    whichever frame it is read in (a junction is ``u = v``, ``t = 0``), so that the two
+    sides of a chain, each in its own plane, read the same samples.
+
+    Attributes
+    ----------
+    u, v : (S,) int64 ndarray
+        The vertex numbers of the segment each sample lies on.
+    t : (S,) float ndarray
+        Where along it.
+    rings : list of list of (k,) int64 ndarray
+        Per region, per ring (in the order given), the sample numbers along it.
+    chains : list of (k,) int64 ndarray
+        The vertex numbers along each chain (a closed chain does not repeat its first).
+    closed : list of bool
+        Whether each chain is closed (a whole ring).
+    sides : list of tuple of int
+        The regions each chain bounds (one, or two for an interface).
+    chain_samples : list of (m,) int64 ndarray
+        The sample numbers along each chain, ends included.
+    """
+
+    u: np.ndarray
+    v: np.ndarray
+    t: np.ndarray
+    rings: list
+    chains: list
+    closed: list
+    sides: list
+    chain_samples: list
+
+    def chords(self, chain: int) -> np.ndarray:
+        """The (m, 2) sample numbers of the consecutive samples along ``chain``."""
+        samples = self.chain_samples[chain]
+        ends = np.roll(samples, -1) if self.closed[chain] else samples[1:]
+        return np.column_stack([samples[:len(ends)], ends])
+
+    def points(self, coordinates) -> np.ndarray:
+        """The samples read in ``coordinates`` (indexable by vertex number: an array, or
+        :class:`Frame`)."""
+        xu, xv = coordinates[self.u], coordinates[self.v]
+        return xu + self.t[:, None] * (xv - xu)
+
+
+class Frame:
+    """Coordinates of some vertices, indexed by vertex number: ``frame[ids]``.
+
+    Examples
+    --------
+    >>> frame = Frame([7, 3], [[1.0, 2.0], [3.0, 4.0]])
+    >>> frame[np.array([3, 7])].tolist()
+    [[3.0, 4.0], [1.0, 2.0]]
+    """
+
+    def __init__(self, ids, xy):
+        ids = np.asarray(ids, dtype=np.int64)
+        order = np.argsort(ids, kind="stable")
+        self.ids, self.xy = ids[order], np.asarray(xy, dtype=float)[order]
+
+    def __getitem__(self, ids):
+        ids = np.asarray(ids, dtype=np.int64)
+        at = np.searchsorted(self.ids, ids)
+        if np.any(at >= len(self.ids)) or np.any(self.ids[np.minimum(at, len(self.ids) - 1)] != ids):
+            raise KeyError("a vertex outside this frame")
+        return self.xy[at]
+
+
+def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, seed: int = 0,
+                  pinned=()) -> ChainSamples:
+    """Sample the boundary chains of regions that share them, each chain once.
+
+    Parameters
+    ----------
+    rings : list of list of (k,) int array_like
+        Per region, its rings as vertex numbers, the region on the left; a vertex shared
+        by two regions has one number, and a shared edge is run both ways.
+    frames : list
+        Per region, its vertices' 2D coordinates indexed by vertex number (an (n, 2)
+        array over all vertices, or a :class:`Frame`).
+    alpha : float
+    feature_angle : float
+        Chain vertices turning by at least this many degrees are sampled (corners).
+    seed : int
+        Seed of the chains' random cuts.
+    pinned : iterable of int
+        Vertices that must be samples (chains are cut there).
+
+    Returns
+    -------
+    ChainSamples
+
+    Raises
+    ------
+    RegionError
+        If an edge is run the same way by two regions (they overlap) or bounds three.
+
+    Examples
+    --------
+    >>> xy = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]], float)
+    >>> left, right = [np.array([0, 1, 4, 5])], [np.array([1, 2, 3, 4])]
+    >>> chains = sample_chains([left, right], [xy, xy], 0.3)
+    >>> shared = [c for c, sides in zip(chains.chain_samples, chains.sides) if len(sides) == 2]
+    >>> len(shared), chains.points(xy)[shared[0]][:, 0].tolist() == [1.0] * len(shared[0])
+    (1, True)
+    """
+    alpha = check_alpha(alpha)
+    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+    owner, angle = _edge_owners(rings, frames)
+    junction = _junctions(owner, pinned)
+    chains = _chains(rings, owner, junction)
+    sample_u, sample_v, sample_t = [], [], []
+    index = {}                             # junction vertex -> its sample number
+
+    def vertex_sample(vertex):
+        if vertex not in index:
+            index[vertex] = len(sample_u)
+            sample_u.append(vertex)
+            sample_v.append(vertex)
+            sample_t.append(0.0)
+        return index[vertex]
+
+    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
+                                 junction, _spikes(rings, frames, junction))
+    chain_samples = []
+    for (vertices, closed), (segment, t) in zip(chains, positions):
+        ids = []
+        for k, s in zip(segment, t):
+            if s == 0.0 and k == 0 and int(vertices[0]) in junction:
+                ids.append(vertex_sample(int(vertices[k])))
+            else:
+                ids.append(len(sample_u))
+                sample_u.append(int(vertices[k]))
+                sample_v.append(int(vertices[(k + 1) % len(vertices)]))
+                sample_t.append(float(s))
+        if not closed:
+            ids.append(vertex_sample(int(vertices[-1])))
+        chain_samples.append(np.array(ids, dtype=np.int64))
+    ring_samples = _ring_samples(rings, chains, chain_samples)
+    return ChainSamples(np.array(sample_u, np.int64), np.array(sample_v, np.int64),
+                        np.array(sample_t, float), ring_samples, [c[0] for c in chains],
+                        [bool(c[1]) for c in chains],
+                        [tuple(sorted(set(owner[_key(c[0][0], c[0][1])])))
+                         for c in chains], chain_samples)
+
+
+def _key(a, b):
+    return (int(a), int(b)) if a < b else (int(b), int(a))
+
+
+def _edge_owners(rings, frames):
+    """Per undirected edge: the regions that run it; per directed edge: its region and
+    that region's interior angles at the edge's start and end."""
+    owner, angle = {}, {}
+    for r, region in enumerate(rings):
+        for ring in region:
+            xy = frames[r][ring]
+            inner = np.pi - turning_angles(xy)          # the region's angle at each vertex
+            following = np.roll(ring, -1)
+            for k, (a, b) in enumerate(zip(ring.tolist(), following.tolist())):
+                if (a, b) in angle:
+                    raise RegionError(f"regions {angle[(a, b)][0]} and {r} overlap along the "
+                                      f"edge of vertices {a} and {b} (both run it the same way)")
+                angle[(a, b)] = (r, inner[k], inner[(k + 1) % len(ring)])
+                sides = owner.setdefault(_key(a, b), [])
+                sides.append(r)
+                if len(sides) > 2:
+                    raise RegionError(f"the edge of vertices {a} and {b} bounds regions "
+                                      f"{sides}; an edge bounds two regions at most")
+    return owner, angle
+
+
+def _junctions(owner, pinned) -> set:
+    """Vertices that end chains: pinned ones, those with other than two edges, and those
+    where the owners of the edges change."""
+    edges_at = {}
+    for key in owner:
+        for vertex in key:
+            edges_at.setdefault(vertex, []).append(key)
+    junction = {int(v) for v in pinned}
+    for vertex, keys in edges_at.items():
+        if len(keys) != 2 or sorted(owner[keys[0]]) != sorted(owner[keys[1]]):
+            junction.add(vertex)
+    return junction
+
+
+def _chains(rings, owner, junction):
+    """The chains, as (vertices, closed), in the order the rings run them: each starts
+    at a junction (or is a whole ring without one) and follows the first region that
+    runs it."""
+    chains, done = [], set()
+    for region in rings:
+        for ring in region:
+            ring = ring.tolist()
+            n = len(ring)
+            starts = [k for k, vertex in enumerate(ring) if vertex in junction]
+            if not starts:
+                if _key(ring[0], ring[1]) not in done:
+                    done.update(_key(ring[k], ring[(k + 1) % n]) for k in range(n))
+                    chains.append((np.array(ring, np.int64), True))
+                continue
+            for start in starts:
+                if _key(ring[start], ring[(start + 1) % n]) in done:
+                    continue
+                vertices = [ring[start]]
+                k = start
+                while True:
+                    done.add(_key(ring[k], ring[(k + 1) % n]))
+                    k = (k + 1) % n
+                    vertices.append(ring[k])
+                    if ring[k] in junction:
+                        break
+                if vertices[0] == vertices[-1] and len(vertices) > 2 and len(starts) == 1:
+                    chains.append((np.array(vertices[:-1], np.int64), True))   # a loop at a junction
+                else:
+                    chains.append((np.array(vertices, np.int64), False))
+    return chains
+
+
+def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, junction,
+                     spikes=()):
+    """Per chain, its samples as (segment, fraction) pairs along it, read in the frame of
+    the first region that runs it (an open chain's last end excluded).
+
+    Each chain draws from its own random generator, seeded by ``seed`` and its end
+    vertices, so that its samples do not depend on the other chains (a patch dropped
+    by :func:`pds_plugin.remesh` leaves the others' samples as they were). Straight open
+    chains (the faces of a solid meet in straight lines) are cut by ``split_gaps``
+    directly, then the two straight chains of each spike at a junction (``spikes``) are
+    sampled in mirror pairs (:func:`_junction_ladder`); the others go through the
+    conforming sampler's own ring rule (``_ring_positions``, :func:`_bent_chain`), which
+    makes the ladders of their own spikes."""
+    out, straight = [], {}
+    cap = float(corner_clearance(0.0, alpha))
+    for c, (vertices, closed) in enumerate(chains):
+        xy = frames[owner[_key(vertices[0], vertices[1])][0]][vertices]
+        if closed:
+            # a ring without junction, or a loop that leaves a junction and comes back
+            ends = None if int(vertices[0]) not in junction else [max(
+                _end_clearance(vertices[0], vertices[1], angle),
+                _end_clearance(vertices[0], vertices[-1], angle))] * 2
+        else:
+            ends = [_end_clearance(vertices[0], vertices[1], angle),
+                    _end_clearance(vertices[-1], vertices[-2], angle)]
+        if closed or not _is_straight(xy):
+            out.append(_bent_chain(xy, closed, ends, alpha, feature_angle, _chain_rng(seed, vertices)))
+            continue
+        cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+        at = np.zeros(1)
+        if cum[-1] >= 2 * alpha:          # else no room for two parts: nothing drawn
+            first, last = (min(max(end * alpha, alpha), cap) for end in ends)
+            u = _chain_rng(seed, vertices).random(int(cum[-1] // alpha) + 1)
+            inner, _ = kern.split_gaps(np.zeros(1), cum[-1:], [first], [last], [alpha],
+                                       math.sqrt(3) * alpha, u)
+            at = np.concatenate([[0.0], np.sort(inner)])
+        straight[c] = [at, cum, [min(max(end * alpha, alpha), cap) for end in ends]]
+        out.append(None)
+    along = _along_chains(chains)
+    for spike in spikes:
+        _junction_ladder(spike, along, chains, straight, alpha, seed)
+    for c, (at, cum, _) in straight.items():
+        out[c] = _segments_of(at, cum)
+    return out
+
+
+def _junction_ladder(spike, along, chains, straight, alpha, seed):
+    """Sample the two straight chains of a spike whose tip is a junction in mirror pairs
+    (the conforming sampler's ladders, ``sampling._ladders``): the shorter side's samples
+    within the spike's reach alpha / (2 sin(θ/2)) (and its far end, if the spike is still
+    thinner than alpha there, the end at least the tip's clearance from it, and the longer
+    side goes on for alpha or more) are copied to
+    the longer side at the same distance from the tip, and the longer side is cut again
+    beyond the last copy. Mirrored samples are a part's length apart like the ones they
+    copy, so every region running the longer chain keeps its parts in [alpha, √3 alpha]."""
+    vertex, before, after, theta = spike
+    sides = []
+    for neighbour in (after, before):
+        c, forward = along[(vertex, neighbour)]
+        if c not in straight:
+            return                                   # a bent side: no ladder
+        at, cum, _ = straight[c]
+        length = cum[-1]
+        offsets = at[1:] if forward else np.sort(length - at[1:])
+        sides.append((c, forward, length, offsets))
+    if sides[0][0] == sides[1][0]:
+        return
+    short, long = sorted(sides, key=lambda side: side[2])
+    reach = alpha / (2 * math.sin(max(theta, 1e-300) / 2))
+    mirrored = short[3][short[3] < min(reach, short[2])]
+    # the short side's far corner is mirrored too when at least the tip's clearance
+    # from it (a copy closer to the tip would be a pair no small feature explains)
+    if (float(corner_clearance(theta, alpha)) <= short[2] <= reach
+            and long[2] - short[2] >= alpha):
+        mirrored = np.append(mirrored, short[2])
+    while len(mirrored) and long[2] - mirrored[-1] < alpha:
+        mirrored = mirrored[:-1]                    # leave the long side a last part
+    if not len(mirrored):
+        return
+    c, forward, length, _ = long
+    far = straight[c][2][1 if forward else 0]
+    vertices = chains[c][0]
+    u = _chain_rng(seed + 1, vertices).random(int((length - mirrored[-1]) // alpha) + 1)
+    split, _ = kern.split_gaps([mirrored[-1]], [length], [alpha], [far], [alpha],
+                               math.sqrt(3) * alpha, u)
+    offsets = np.sort(np.concatenate([mirrored, split]))
+    inner = offsets if forward else np.sort(length - offsets)
+    straight[c][0] = np.concatenate([[0.0], inner])
+
+
+def _along_chains(chains) -> dict:
+    """Per directed edge of the chains: (chain, whether the chain runs it that way)."""
+    along = {}
+    for c, (vertices, closed) in enumerate(chains):
+        n = len(vertices)
+        for k in range(n if closed else n - 1):
+            a, b = int(vertices[k]), int(vertices[(k + 1) % n])
+            along[(a, b)] = (c, True)
+            along[(b, a)] = (c, False)
+    return along
+
+
+def _spikes(rings, frames, junction) -> list:
+    """(tip, vertex before, vertex after, angle) of every corner of a region sharper than
+    the sampler's ladder angle (33.56°) whose tip is a junction."""
+    out = []
+    for r, region in enumerate(rings):
+        for ring in region:
+            inner = np.pi - turning_angles(frames[r][ring])
+            for k in np.flatnonzero(inner < _LADDER_ANGLE).tolist():
+                if int(ring[k]) in junction:
+                    out.append((int(ring[k]), int(ring[k - 1]), int(ring[(k + 1) % len(ring)]),
+                                float(inner[k])))
+    return out
+
+
+def _chain_rng(seed, vertices):
+    """The random generator of one chain: seeded by ``seed`` and the chain's ends."""
+    return np.random.default_rng([seed, int(vertices[0]), int(vertices[1]), int(vertices[-1])])
+
+
+def _end_clearance(vertex, neighbour, angle) -> float:
+    """The first part's lower bound beside a junction, / alpha: the clearance of the
+    sharpest corner that a region running the chain's end segment has there."""
+    clearances = []
+    for a, b, at_start in ((vertex, neighbour, True), (neighbour, vertex, False)):
+        entry = angle.get((int(a), int(b)))
+        if entry is not None:
+            clearances.append(float(corner_clearance(entry[1] if at_start else entry[2], 1.0)))
+    return max(clearances)
+
+
+def _is_straight(xy) -> bool:
+    """Every interior vertex of the polyline turns by at most the straight turn."""
+    return bool(np.all(np.abs(_open_turns(xy)) <= _STRAIGHT_TURN))
+
+
+def _open_turns(xy) -> np.ndarray:
+    """The signed turns at the interior vertices of an open polyline."""
+    d = np.diff(xy, axis=0)
+    cross = d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]
+    return np.arctan2(cross, (d[:-1] * d[1:]).sum(axis=1))
+
+
+def _segments_of(at, cum):
+    """Arc positions ``at`` along a polyline of cumulative lengths ``cum`` as
+    (segment, fraction) pairs."""
+    k = np.clip(np.searchsorted(cum, at, side="right") - 1, 0, len(cum) - 2)
+    span = cum[k + 1] - cum[k]
+    t = np.where(span > 0, (at - cum[k]) / np.where(span > 0, span, 1.0), 0.0)
+    return k, np.clip(t, 0.0, 1.0)
+
+
+def _bent_chain(xy, closed, ends, alpha, feature_angle, rng):
+    """Sample positions of a chain that bends, by the conforming sampler's
+    ``_ring_positions``: a closed chain as the ring it is, an open one closed by a
+    detour of two points 4 alpha off its chord (turns there count as straight; the
+    detour's samples are dropped). Sharp vertices get their turn made positive, so that
+    their clearance is the convex side's, ``corner_clearance(pi - |turn|)``; a junction
+    becomes a corner whose turn pi - A gives the junction's clearance
+    (``corner_clearance(A)``, :func:`_angle_of_clearance`). Only sharp vertices use the
+    turn's sign for the clearance, none for the inflections."""
+    n = len(xy)
+    floor = np.radians(feature_angle)
+    if closed:
+        ring, turns = xy, turning_angles(xy)
+    else:
+        chord = xy[-1] - xy[0]
+        size = math.hypot(*chord)
+        normal = np.array([-chord[1], chord[0]]) / size if size > 0 else np.array([0.0, 1.0])
+        ring = np.vstack([xy, xy[-1] + 4 * alpha * normal, xy[0] + 4 * alpha * normal])
+        turns = np.zeros(n + 2)
+        turns[1:n - 1] = _open_turns(xy)
+    sharp = np.abs(turns) >= floor
+    turns[sharp] = np.abs(turns[sharp])
+    if ends is not None:
+        turns[0] = np.pi - _angle_of_clearance(ends[0], floor)
+        if not closed:
+            turns[n - 1] = np.pi - _angle_of_clearance(ends[1], floor)
+    at, cum, _ = _ring_positions(ring, turns, feature_angle, alpha, rng)
+    if not closed:
+        at = at[at < cum[n - 1] * (1 - 1e-12)]
+    return _segments_of(at, cum[:n + 1] if closed else cum[:n])
+
+
+def _angle_of_clearance(clearance, floor) -> float:
+    """The corner angle A whose ``corner_clearance(A)`` (/ alpha) is ``clearance``, at
+    most pi - ``floor`` so that a junction counts as a sharp corner."""
+    if clearance <= 1.0:
+        return min(np.pi / 2, np.pi - floor)
+    return min(2 * math.asin(min(1.0, 1 / (2 * clearance))), np.pi - floor)
+
+
+def _ring_samples(rings, chains, chain_samples):
+    """Per region, per ring, the sample numbers along it, from the chains it runs (in
+    the ring's direction; a closed chain is the whole ring, in cyclic order)."""
+    along = _along_chains(chains)
+    out = []
+    for region in rings:
+        ring_ids = []
+        for ring in region:
+            ring = ring.tolist()
+            n = len(ring)
+            start = next((k for k in range(n) if _starts_chain(ring, k, along, chains)), 0)
+            ids, seen = [], 0
+            while seen < n:
+                k = (start + seen) % n
+                c, forward = along[(ring[k], ring[(k + 1) % n])]
+                vertices, closed = chains[c]
+                samples = chain_samples[c] if forward else chain_samples[c][::-1]
+                if closed:
+                    ids.extend(samples.tolist())
+                    seen += len(vertices)
+                else:
+                    ids.extend(samples[:-1].tolist())
+                    seen += len(vertices) - 1
+            ring_ids.append(np.array(ids, dtype=np.int64))
+        out.append(ring_ids)
+    return out
+
+
+def _starts_chain(ring, k, along, chains) -> bool:
+    """Whether an open chain starts at ring vertex ``k`` in the ring's direction."""
+    c, forward = along[(ring[k], ring[(k + 1) % len(ring)])]
+    vertices, closed = chains[c]
+    return not closed and ring[k] == (vertices[0] if forward else vertices[-1])
+
+
+# --- composite sections --------------------------------------------------------------
+
+def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
+                 max_samples: int | None = None) -> "CompositeMesh":
+    """Mesh regions that share boundaries (a composite section: several materials) as
+    one conforming mesh: every shared boundary chain is sampled once, each region is
+    meshed and certified on its own, and the meshes share the interfaces' vertices.
+
+    Parameters
+    ----------
+    regions : dict of str to Region or shapely polygon, or sequence of them
+        The regions, in one plane (Regions must share their frame). Boundaries that
+        coincide are interfaces; a vertex of one region lying on another's edge is
+        inserted into it.
+    alpha : float or "auto"
+        The disc radius of every region; "auto" takes the smallest of the regions'
+        :func:`pds_plugin.suggest_alpha`.
+    seed : int
+        The same seed gives the same mesh, bit for bit.
+    feature_angle : float
+        Boundary vertices turning by at least this many degrees are sampled as corners.
+    max_samples : int, optional
+        The sample budget of each region (:func:`pds_plugin.poisson_disc`).
+
+    Returns
+    -------
+    CompositeMesh
+        Its ``region_tags`` name each triangle's region, ``interface_edges`` and
+        ``interface_tags`` the shared edges, ``parts`` the regions' own meshes and
+        ``certificate()`` all their certificates and the interfaces' check.
+
+    Raises
+    ------
+    RegionError
+        If two regions overlap (the message names them and where), or a region is not
+        a valid polygon.
+    ArgumentError, ArgumentTypeError
+        If ``regions`` is empty or not regions, or ``alpha`` not a positive number or
+        "auto".
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> core, shell = box(1, 1, 2, 2), box(0, 0, 3, 3).difference(box(1, 1, 2, 2))
+    >>> mesh = pds.mesh_regions({"steel": core, "concrete": shell}, 0.2)
+    >>> mesh.certificate().ok, sorted(mesh.region_tags.names)
+    (True, ['concrete', 'steel'])
+    >>> round(float(mesh.quality().area[mesh.region_tags.where("steel")].sum()), 12)
+    1.0
+    """
+    names, geometries, frame = _named_geometries(regions)
+    check_seed(seed)
+    _check_no_overlap(names, geometries)
+    noded, xy = _noded(geometries)
+    _check_near_misses(names, noded)
+    parts = []
+    for name, geometry in zip(names, noded):
+        parts.append(Region.from_shapely(geometry, frame))
+    if isinstance(alpha, str):
+        if alpha != "auto":
+            raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
+        from .pipeline import suggest_alpha
+        alpha = min(suggest_alpha(part) for part in parts)
+    alpha = check_alpha(alpha)
+    lookup = {tuple(point): k for k, point in enumerate(xy.tolist())}
+    rings = [[_ids_of(ring, lookup, name) for ring in part.rings]
+             for name, part in zip(names, parts)]
+    chains = sample_chains(rings, [xy] * len(parts), alpha, feature_angle=feature_angle,
+                           seed=seed)
+    return _joined_mesh(names, parts, chains, chains.points(xy), alpha, seed, feature_angle,
+                        max_samples, frame)
+
+
+def _named_geometries(regions):
+    """The names, the oriented MultiPolygons and the common frame of ``regions``."""
+    if isinstance(regions, dict):
+        names, values = [str(name) for name in regions], list(regions.values())
+    elif isinstance(regions, (list, tuple)):
+        names, values = [f"region {k}" for k in range(len(regions))], list(regions)
+    else:
+        raise ArgumentTypeError(f"regions must be a dict of names to regions or a list of "
+                                f"regions, got {type(regions).__name__}")
+    if not values:
+        raise ArgumentError("regions is empty: give at least one region")
+    frames, geometries = [], []
+    for name, value in zip(names, values):
+        region = value if isinstance(value, Region) else None
+        if region is None:
+            if not isinstance(value, (Polygon, MultiPolygon)):
+                raise ArgumentTypeError(f"region {name!r} is a {type(value).__name__}; give a "
+                                        "pds_plugin.Region or a shapely (Multi)Polygon")
+            region = Region.from_shapely(value)
+        frames.append(region.frame)
+        geometries.append(region.geometry)
+    for name, frame in zip(names[1:], frames[1:]):
+        if not np.array_equal(frame, frames[0]):
+            raise ArgumentError(f"region {name!r} lies in another plane than {names[0]!r}; "
+                                "composite regions share one frame")
+    return names, geometries, frames[0]
+
+
+def _check_no_overlap(names, geometries):
+    """Refuse regions whose interiors overlap, naming the first pair and where."""
+    tree = shapely.STRtree(geometries)
+    first, second = tree.query(geometries, predicate="intersects")
+    for i, j in zip(first.tolist(), second.tolist()):
+        if i >= j:
+            continue
+        overlap = shapely.intersection(geometries[i], geometries[j])
+        smaller = min(geometries[i].area, geometries[j].area)
+        if overlap.area > 1e-9 * smaller:
+            x, y = shapely.get_coordinates(overlap.representative_point())[0]
+            raise RegionError(f"regions {names[i]!r} and {names[j]!r} overlap over an area of "
+                              f"{overlap.area:.6g} around ({x:.6g}, {y:.6g}); composite "
+                              "regions may share boundaries but not area: subtract one from "
+                              "the other (shapely's difference)")
+
+
+_NEAR_MISS = 1e-9
+"""Boundaries of two regions closer than this (relative to the extent) must share their
+vertices: closer but apart, they leave a sliver that no alpha can mesh."""
+
+
+def _check_near_misses(names, geometries):
+    """Refuse a vertex of one region that lies within ``_NEAR_MISS`` of another region's
+    boundary without lying on it (a boundary meant to be shared, drawn twice)."""
+    extent = max(float(np.ptp(shapely.get_coordinates(g), axis=0).max()) for g in geometries) or 1.0
+    boundaries = shapely.boundary(np.array(geometries, dtype=object))
+    tree = shapely.STRtree(boundaries)
+    for i, geometry in enumerate(geometries):
+        points = shapely.points(np.unique(shapely.get_coordinates(geometry), axis=0))
+        point, other = tree.query(points, predicate="dwithin", distance=_NEAR_MISS * extent)
+        keep = other != i
+        distance = shapely.distance(points[point[keep]], boundaries[other[keep]])
+        near = distance > _ON_SEGMENT * extent
+        if near.any():
+            k = int(np.flatnonzero(near)[0])
+            x, y = shapely.get_coordinates(points[point[keep][k]])[0]
+            raise RegionError(f"regions {names[i]!r} and {names[other[keep][k]]!r} nearly touch at "
+                              f"({x:.6g}, {y:.6g}), {distance[k]:.3g} apart, without sharing "
+                              "their boundary there; snap them to one boundary (e.g. "
+                              "shapely.set_precision) or move them apart")
+
+
+def _noded(geometries):
+    """The geometries with every ring vertex of any of them that lies on a segment of
+    another's ring inserted there, and the table of all their vertices."""
+    coords = np.unique(np.concatenate([shapely.get_coordinates(g) for g in geometries]), axis=0)
+    extent = float(np.ptp(coords, axis=0).max()) or 1.0
+    tree = shapely.STRtree(shapely.points(coords))
+    eps = _ON_SEGMENT * extent
+    out = []
+    for geometry in geometries:
+        polygons = []
+        for polygon in geometry.geoms:
+            rings = [_noded_ring(shapely.get_coordinates(ring)[:-1], coords, tree, eps)
+                     for ring in (polygon.exterior, *polygon.interiors)]
+            polygons.append(Polygon(rings[0], rings[1:]))
+        out.append(MultiPolygon(polygons))
+    table = np.unique(np.concatenate([shapely.get_coordinates(g) for g in out]), axis=0)
+    return out, table
+
+
+def _noded_ring(ring, coords, tree, eps):
+    """``ring`` with the points of ``coords`` lying on its segments inserted in order."""
+    following = np.roll(ring, -1, axis=0)
+    segments = shapely.linestrings(np.stack([ring, following], axis=1))
+    segment, point = tree.query(segments, predicate="dwithin", distance=eps)
+    d = following[segment] - ring[segment]
+    t = ((coords[point] - ring[segment]) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300)
+    inside = (t > 0) & (t < 1) & np.any(coords[point] != ring[segment], axis=1) \
+        & np.any(coords[point] != following[segment], axis=1)
+    segment, point, t = segment[inside], point[inside], t[inside]
+    key = np.concatenate([np.arange(len(ring)), segment])
+    order = np.lexsort((np.concatenate([np.zeros(len(ring)), t]), key))
+    return np.concatenate([ring, coords[point]])[order]
+
+
+def _ids_of(ring, lookup, name):
+    """The vertex numbers of a ring's vertices."""
+    try:
+        return np.array([lookup[point] for point in map(tuple, ring.tolist())], dtype=np.int64)
+    except KeyError:
+        raise RegionError(f"region {name!r} was moved where it touches itself at a point; "
+                          "composite regions need rings that do not touch") from None
+
+
+def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, max_samples,
+                 frame):
+    """Mesh every part with its chains' samples, and join the meshes by sample number."""
+    options = {"feature_angle": feature_angle}
+    if max_samples is not None:
+        options["max_samples"] = max_samples
+    points, faces, part_of_face, maps, meshes = [boundary_xy], [], [], [], []
+    count = len(boundary_xy)
+    for r, (part, ring_ids) in enumerate(zip(parts, chains.rings)):
+        mesh, _ = mesh_part(part, alpha, [boundary_xy[ids] for ids in ring_ids], seed, **options)
+        given = np.concatenate(ring_ids)
+        extra = len(mesh.vertices) - len(given)
+        to_global = np.concatenate([given, count + np.arange(extra)])
+        points.append(mesh.vertices[len(given):])
+        count += extra
+        faces.append(to_global[mesh.faces])
+        part_of_face.append(np.full(len(mesh.faces), r))
+        maps.append(to_global)
+        meshes.append(mesh)
+    outer = np.zeros(count, bool)
+    for samples, sides in zip(chains.chain_samples, chains.sides):
+        if len(sides) == 1:
+            outer[samples] = True
+    union = Region.from_shapely(shapely.union_all([part.geometry for part in parts]), frame)
+    return CompositeMesh(np.concatenate(points), np.concatenate(faces), outer, union, alpha,
+                         parts=tuple(meshes), names=tuple(names),
+                         part_of_face=np.concatenate(part_of_face), vertex_maps=tuple(maps),
+                         chains=chains)
+
+
+ATTEMPTS = 3
+"""Interiors drawn for a part (seeds ``seed``, ``seed + 1``, ...) until its boundary edges
+are exactly the chords between its given samples."""
+
+
+def mesh_part(region: Region, alpha: float, given, seed: int, **options):
+    """Mesh one part of a partition with its ``given`` ring samples, drawing its interior
+    again from the next seeds (up to :data:`ATTEMPTS`) while a chord is not a mesh edge.
+
+    The chords' proof (docs/conforming.md, "Why consecutive boundary samples are mesh
+    edges") assumes no small feature near the chord; beside a short piece a chord may be
+    left unjoined, depending on the interior samples. The boundary samples stay as given,
+    so the part still joins its neighbours when a later draw succeeds.
+
+    Returns
+    -------
+    mesh : PlanarMesh
+        The first mesh whose boundary edges are exactly the chords, else the last one.
+    joined : bool
+        Whether it is.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> ring = [[0, 0], [0.5, 0], [1, 0], [1, 0.5], [1, 1], [0.5, 1], [0, 1], [0, 0.5]]
+    >>> mesh, joined = mesh_part(square, 0.3, [ring], seed=0)
+    >>> joined, len(mesh.boundary_edges)
+    (True, 8)
+    """
+    from .pipeline import mesh_region
+
+    local = np.cumsum([0] + [len(ring) for ring in given])
+    chords = np.unique(np.concatenate([np.column_stack([np.arange(a, b), np.roll(np.arange(a, b), -1)])
+                                       for a, b in zip(local[:-1], local[1:])]), axis=0)
+    for attempt in range(ATTEMPTS):
+        mesh = mesh_region(region, alpha, seed=seed + attempt, boundary_samples=given, **options)
+        boundary = mesh.boundary_edges
+        if len(boundary) == len(chords) and np.array_equal(np.unique(boundary, axis=0), chords):
+            return mesh, True
+    return mesh, False
+
+
+class CompositeMesh(PlanarMesh):
+    """The mesh of regions sharing interfaces (:func:`mesh_regions`): one
+    :class:`~pds_plugin.PlanarMesh` of their union whose triangles are tagged by region.
+
+    Attributes
+    ----------
+    parts : tuple of PlanarMesh
+        Each region's own mesh (its certificate is the usual one).
+    names : tuple of str
+        The regions' names; ``region_tags`` tag ``k + 1`` is ``names[k]``.
+    part_of_face : (M,) int64 ndarray
+        The region of each triangle.
+    vertex_maps : tuple of (n_k,) int64 ndarray
+        For each part, the number in this mesh of each of its vertices.
+    interface_edges : (I, 2) int64 ndarray
+        The edges on an interface between two regions.
+    interface_tags : Tags
+        Which two regions each interface edge separates, named ``"a|b"``.
+    """
+
+    def __init__(self, vertices, faces, on_boundary, region, alpha, *, parts, names,
+                 part_of_face, vertex_maps, chains):
+        super().__init__(vertices, faces, on_boundary, region, alpha, conforming=True)
+        self.parts, self.names = parts, names
+        self.part_of_face = np.asarray(part_of_face, dtype=np.int64)
+        self.vertex_maps = vertex_maps
+        self._chains = chains
+
+    @cached_property
+    def region_tags(self):
+        """The region of each triangle, named as given to :func:`mesh_regions`."""
+        from .tags import Tags
+        return Tags(self.part_of_face + 1, {name: k + 1 for k, name in enumerate(self.names)})
+
+    @cached_property
+    def _interfaces(self):
+        edges, tags, names = [], [], {}
+        for chain, sides in enumerate(self._chains.sides):
+            if len(sides) != 2:
+                continue
+            name = f"{self.names[sides[0]]}|{self.names[sides[1]]}"
+            tag = names.setdefault(name, len(names) + 1)
+            pairs = self._chains.chords(chain)
+            edges.append(pairs)
+            tags.append(np.full(len(pairs), tag))
+        from .tags import Tags
+        if not edges:
+            return np.zeros((0, 2), np.int64), Tags(np.zeros(0, np.int64), names)
+        return np.concatenate(edges), Tags(np.concatenate(tags), names)
+
+    @property
+    def interface_edges(self) -> np.ndarray:
+        """(I, 2) int64: the edges between consecutive samples of the interfaces."""
+        return self._interfaces[0]
+
+    @property
+    def interface_tags(self):
+        """The two regions of each of :attr:`interface_edges`, named ``"a|b"``."""
+        return self._interfaces[1]
+
+    @cached_property
+    def _certificate(self) -> "PartitionCertificate":
+        return PartitionCertificate(self.names, tuple(part.certificate() for part in self.parts),
+                                    interface_report(self.vertices, self.faces,
+                                                     self.interface_edges, self.on_boundary))
+
+    def __repr__(self) -> str:
+        return (f"CompositeMesh(regions={len(self.parts)}, vertices={len(self.vertices)}, "
+                f"faces={len(self.faces)}, alpha={self.alpha:.6g})")
+
+
+# --- the joined mesh's check ---------------------------------------------------------
+
+@dataclass(frozen=True)
+class InterfaceReport:
+    """How the meshes of a partition join, checked on the joined triangles alone.
+
+    Attributes
+    ----------
+    duplicate_vertices : int
+        Vertices at the same coordinates as an earlier one (a seam not shared).
+    misoriented_edges : int
+        Directed edges run by two triangles (two triangles folded onto each other).
+    nonmanifold_edges : int
+        Edges of more than two triangles.
+    unjoined_interface_edges : int
+        Interface edges not shared by exactly two triangles.
+    open_edges : int
+        Edges of one triangle only that do not join two samples of the outer boundary,
+        or lie on an interface: a T-junction or a gap.
+    problems : tuple of str
+        The first few of them, located.
+    """
+
+    duplicate_vertices: int
+    misoriented_edges: int
+    nonmanifold_edges: int
+    unjoined_interface_edges: int
+    open_edges: int
+    problems: tuple
+
+    @property
+    def ok(self) -> bool:
+        """The meshes join with no T-junction, gap, fold or duplicate vertex."""
+        return not (self.duplicate_vertices or self.misoriented_edges or self.nonmanifold_edges
+                    or self.unjoined_interface_edges or self.open_edges)
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values, ``ok`` included."""
+        values = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        values["problems"] = list(self.problems)
+        values["ok"] = self.ok
+        return values
+
+
+def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport:
+    """Check that triangles meshed part by part join along their interfaces.
+
+    Parameters
+    ----------
+    vertices : (N, 2) or (N, 3) array_like of float
+    faces : (M, 3) array_like of int
+        The joined triangles, all oriented alike.
+    interface_edges : (I, 2) array_like of int
+        The edges that two parts share.
+    outer : (N,) array_like of bool
+        The samples of the outer boundary (none for a closed surface).
+
+    Returns
+    -------
+    InterfaceReport
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]], float)
+    >>> report = interface_report(square, [[0, 1, 2], [0, 2, 3]], [[0, 2]], [True] * 4 + [False])
+    >>> report.ok
+    True
+    >>> t_junction = interface_report(square, [[0, 1, 2], [0, 4, 3], [4, 2, 3]], [[0, 2]],
+    ...                               [True] * 4 + [False])
+    >>> t_junction.ok, t_junction.unjoined_interface_edges, t_junction.open_edges
+    (False, 1, 3)
+    """
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    outer = np.asarray(outer, dtype=bool)
+    interface = np.sort(np.asarray(interface_edges, dtype=np.int64).reshape(-1, 2), axis=1)
+    problems = []
+    _, first, repeats = np.unique(vertices, axis=0, return_index=True, return_counts=True)
+    duplicate = int(np.sum(repeats - 1))
+    for k in first[repeats > 1][:3]:
+        problems.append(f"two vertices at {_where(vertices[k])}")
+    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    runs, run_count = np.unique(directed, axis=0, return_counts=True)
+    for edge in runs[run_count > 1][:3]:
+        problems.append(f"two triangles run the edge at {_where(vertices[edge].mean(axis=0))} "
+                        "the same way")
+    edges, uses = np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
+    for edge in edges[uses > 2][:3]:
+        problems.append(f"the edge at {_where(vertices[edge].mean(axis=0))} has {uses.max()} triangles")
+    edge_code = edges[:, 0] * (len(vertices) + 1) + edges[:, 1]
+    interface_code = interface[:, 0] * (len(vertices) + 1) + interface[:, 1]
+    position = np.searchsorted(edge_code, interface_code)
+    found = position < len(edge_code)
+    found[found] = edge_code[position[found]] == interface_code[found]
+    shared = np.zeros(len(interface), bool)
+    shared[found] = uses[position[found]] == 2
+    for edge in interface[~shared][:3]:
+        problems.append(f"the interface edge at {_where(vertices[edge].mean(axis=0))} is not "
+                        "shared by two triangles (a T-junction or a gap)")
+    single = edges[uses == 1]
+    open_edge = ~outer[single].all(axis=1) | np.isin(edge_code[uses == 1], interface_code)
+    for edge in single[open_edge][:3]:
+        problems.append(f"an open edge inside at {_where(vertices[edge].mean(axis=0))}")
+    return InterfaceReport(duplicate, int(np.count_nonzero(run_count > 1)),
+                           int(np.count_nonzero(uses > 2)), int(np.count_nonzero(~shared)),
+                           int(np.count_nonzero(open_edge)), tuple(problems))
+
+
+def _where(point) -> str:
+    return "(" + ", ".join(f"{float(v):.6g}" for v in point) + ")"
+
+
+@dataclass(frozen=True)
+class PartitionCertificate:
+    """The certificate of a partition's mesh: each part's own, and how they join.
+
+    Attributes
+    ----------
+    names : tuple of str
+    parts : tuple of Certificate
+        Each region's certificate (:func:`pds_plugin.certify`), in ``names`` order.
+    interfaces : InterfaceReport
+    """
+
+    names: tuple
+    parts: tuple
+    interfaces: InterfaceReport
+
+    @property
+    def ok(self) -> bool:
+        """Every part is ``ok`` and the parts join."""
+        return self.interfaces.ok and all(part.ok for part in self.parts)
+
+    @property
+    def ok_with_exceptions(self) -> bool:
+        """Every part is ``ok_with_exceptions`` and the parts join."""
+        return self.interfaces.ok and all(part.ok_with_exceptions for part in self.parts)
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values: each part's certificate by name, the interfaces'
+        check, ``ok`` and ``ok_with_exceptions``."""
+        return {"parts": {name: part.as_dict() for name, part in zip(self.names, self.parts)},
+                "interfaces": self.interfaces.as_dict(), "ok": self.ok,
+                "ok_with_exceptions": self.ok_with_exceptions}
+
+    def __str__(self) -> str:
+        verdict = ("ok" if self.ok else "ok with exceptions" if self.ok_with_exceptions
+                   else "FAILED")
+        lines = [f"composite certificate: {verdict} ({len(self.parts)} regions)",
+                 f"  interfaces: {'ok' if self.interfaces.ok else 'FAILED'}"]
+        lines += [f"    {problem}" for problem in self.interfaces.problems]
+        for name, part in zip(self.names, self.parts):
+            part_verdict = ("ok" if part.ok else "ok with exceptions" if part.ok_with_exceptions
+                            else "FAILED")
+            lines.append(f"  {name}: {part_verdict}")
+        return "\n".join(lines)

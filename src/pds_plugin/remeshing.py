@@ -1,0 +1,574 @@
+"""Remeshing CAD meshes: every planar face re-triangulated with certified triangles, the
+solid kept (issue 24, docs/remesh.md).
+
+1. **Patches**: maximal sets of edge-connected faces that lie in one plane, to the
+   mesh's float noise (16 units in the last place of its largest coordinate, in float32
+   for an STL file, as :func:`pds_plugin.mesh_tolerance` counts it): two neighbours join
+   when the far vertex of the smaller lies within it of the larger's plane (the larger's
+   normal is the accurate one; a sliver's is not), and every patch is checked against
+   its area-weighted plane.
+2. A patch is **remeshed** when it is at least alpha wide (area / perimeter >= alpha / 2)
+   and its boundary makes a valid polygon in its plane; the others (the strips of a
+   tessellated cylinder, small faces) are **kept**, split where a remeshed neighbour puts
+   samples on their edges.
+3. The remeshed patches are a partition (:mod:`pds_plugin.partition`): their boundary
+   chains, cut at the vertices where three patches meet, where the owners change and at
+   every vertex of a kept face, are sampled once, in each patch's plane the same points of
+   the input's edges; each patch is meshed and certified in its plane; interior samples
+   go back to 3D on the input triangle they lie in.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from shapely.geometry import Polygon
+
+from ._checks import check_alpha, check_seed
+from .errors import ArgumentError, ArgumentTypeError, PdsError
+from .partition import Frame, InterfaceReport, interface_report, mesh_part, sample_chains
+from .region import check_tolerance
+from .sources.solids import NOISE_ULPS
+
+if TYPE_CHECKING:
+    import pymeshlab
+    import trimesh
+
+__all__ = ["remesh", "RemeshResult", "AUTO_DIVISIONS"]
+
+AUTO_DIVISIONS = 100
+"""alpha="auto" is the bounding box's diagonal over this (MeshLab's isotropic remeshing
+defaults to about 1 % of it as well)."""
+
+_VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
+
+KEEP_NARROWER = 1.0
+"""A patch narrower than this many alpha (twice its area over its perimeter: a strip's
+width) is kept as it is; measured in docs/remesh.md ("Strips: kept or remeshed")."""
+
+
+@dataclass(frozen=True, eq=False)
+class RemeshResult:
+    """A remeshed solid and what was checked on it (:func:`remesh`).
+
+    Attributes
+    ----------
+    mesh : trimesh.Trimesh
+        The remeshed surface.
+    patch : (M,) int64 ndarray
+        Per face of ``mesh``: the planar patch it was meshed in, -1 for kept faces.
+    patch_meshes : tuple of PlanarMesh
+        The remeshed patches' meshes, each in its plane (its region's 2D coordinates).
+    certificates : tuple of Certificate
+        One per remeshed patch (its 2D certificate, in its plane), measured when first
+        asked for (``ok`` asks).
+    interfaces : InterfaceReport
+        How the patches and the kept faces join (no T-junction, fold or duplicate).
+    alpha : float
+    patches, kept_patches : int
+        How many planar patches were found, and how many of them were kept as they were.
+    watertight : tuple of bool
+        (input, output).
+    euler_number : tuple of int
+        (input, output).
+    volume_error : float
+        |volume(output) - volume(input)| / |volume(input)| (nan for an open input).
+    surface_distance : float
+        The largest distance from an output vertex to the input triangle it was placed
+        on (samples on edges are on them by construction), absolute.
+    tolerance : float
+        The coplanarity tolerance the patches were found with.
+    """
+
+    mesh: "trimesh.Trimesh"
+    patch: np.ndarray
+    patch_meshes: tuple
+    interfaces: InterfaceReport
+    alpha: float
+    patches: int
+    kept_patches: int
+    watertight: tuple
+    euler_number: tuple
+    volume_error: float
+    surface_distance: float
+    tolerance: float
+
+    @cached_property
+    def certificates(self) -> tuple:
+        """The patches' certificates (:meth:`PlanarMesh.certificate`)."""
+        return tuple(mesh.certificate() for mesh in self.patch_meshes)
+
+    @property
+    def solid_ok(self) -> bool:
+        """Watertightness and Euler number kept, volume to 1e-9, joins clean, vertices on
+        the input to its tolerance."""
+        volume = not self.watertight[0] or self.volume_error <= _VOLUME_TOL
+        return (self.interfaces.ok and self.watertight[1] == self.watertight[0]
+                and self.euler_number[1] == self.euler_number[0] and volume
+                and self.surface_distance <= self.tolerance)
+
+    @property
+    def ok(self) -> bool:
+        """The solid is kept and every patch certificate is ``ok``."""
+        return self.solid_ok and all(c.ok for c in self.certificates)
+
+    @property
+    def ok_with_exceptions(self) -> bool:
+        """The solid is kept and every patch certificate is ``ok_with_exceptions``
+        (triangles below 30° only at small features of the patch, within their bounds)."""
+        return self.solid_ok and all(c.ok_with_exceptions for c in self.certificates)
+
+    def angles(self, remeshed_only: bool = True) -> np.ndarray:
+        """The smallest angle of each (remeshed) triangle, in degrees."""
+        faces = self.mesh.faces[self.patch >= 0] if remeshed_only else self.mesh.faces
+        return _min_angles(self.mesh.vertices, faces)
+
+    def to_meshset(self) -> "pymeshlab.MeshSet":
+        """A ``pymeshlab.MeshSet`` holding the remeshed surface; face quality is the
+        patch index (-1 for kept faces)."""
+        from ._checks import import_optional
+        pymeshlab = import_optional("pymeshlab", "meshlab", "to_meshset")
+        meshset = pymeshlab.MeshSet()
+        meshset.add_mesh(pymeshlab.Mesh(vertex_matrix=np.asarray(self.mesh.vertices, float),
+                                        face_matrix=np.asarray(self.mesh.faces, np.int32),
+                                        f_scalar_array=self.patch.astype(float)), "pds remesh")
+        return meshset
+
+    def as_dict(self) -> dict:
+        """Plain JSON-ready values (each patch's certificate by index)."""
+        angles = self.angles()
+        return {"alpha": self.alpha, "vertices": len(self.mesh.vertices),
+                "faces": len(self.mesh.faces), "patches": self.patches,
+                "kept_patches": self.kept_patches, "watertight": list(self.watertight),
+                "euler_number": list(self.euler_number), "volume_error": self.volume_error,
+                "surface_distance": self.surface_distance, "tolerance": self.tolerance,
+                "min_angle_remeshed": float(angles.min(initial=180.0)),
+                "angle_p1_remeshed": float(np.percentile(angles, 1)) if len(angles) else None,
+                "interfaces": self.interfaces.as_dict(),
+                "certificates": [c.as_dict() for c in self.certificates],
+                "solid_ok": self.solid_ok, "ok": self.ok,
+                "ok_with_exceptions": self.ok_with_exceptions}
+
+    def __str__(self) -> str:
+        verdict = ("ok" if self.ok else "ok with exceptions" if self.ok_with_exceptions
+                   else "FAILED")
+        angles = self.angles()
+        failed = sum(not c.ok_with_exceptions for c in self.certificates)
+        lines = [f"remesh {verdict}: {len(self.mesh.faces)} triangles, alpha {self.alpha:.6g}, "
+                 f"{len(self.certificates)} patches remeshed, {self.kept_patches} kept",
+                 f"  watertight {self.watertight[0]} -> {self.watertight[1]}, Euler "
+                 f"{self.euler_number[0]} -> {self.euler_number[1]}, volume error "
+                 f"{self.volume_error:.3g}, vertices on the input to {self.surface_distance:.3g}",
+                 f"  remeshed triangles: min angle {angles.min(initial=180.0):.2f}°, 1st "
+                 f"percentile {np.percentile(angles, 1) if len(angles) else float('nan'):.2f}°",
+                 f"  interfaces {'ok' if self.interfaces.ok else 'FAILED'}; patch certificates "
+                 f"failed: {failed}"]
+        lines += [f"    {problem}" for problem in self.interfaces.problems]
+        return "\n".join(lines)
+
+
+def remesh(mesh, alpha="auto", *, seed: int = 0, feature_angle: float = 30.0,
+           tolerance: float | None = None, max_samples: int | None = None) -> RemeshResult:
+    """Re-triangulate every planar face of a mesh with certified triangles, keeping the
+    solid: same surface on its planar faces, same edges, no T-junction.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh, str or os.PathLike, or pymeshlab.MeshSet
+        The mesh (its current mesh for a MeshSet); never modified.
+    alpha : float or "auto"
+        The disc radius in the mesh's units; "auto" is the bounding box's diagonal /
+        :data:`AUTO_DIVISIONS`.
+    seed : int
+        The same seed gives the same mesh, bit for bit.
+    feature_angle : float
+        Patch boundary vertices turning by at least this many degrees are corners.
+    tolerance : float, optional
+        Coplanarity tolerance (absolute); default 16 units in the last place of the
+        largest coordinate, in float32 if every vertex is a float32 number.
+    max_samples : int, optional
+        The sample budget of each patch.
+
+    Returns
+    -------
+    RemeshResult
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError
+        For a bad alpha or mesh.
+    SourceError
+        If the mesh file cannot be read or has no triangles.
+
+    Examples
+    --------
+    >>> import trimesh, pds_plugin as pds
+    >>> result = pds.remesh(trimesh.creation.box((2, 1, 1)), 0.2)
+    >>> result.ok, result.watertight, result.volume_error < 1e-12
+    (True, (True, True), True)
+    >>> bool(result.angles().min() >= 30)
+    True
+    """
+    source = _as_trimesh(mesh)
+    check_seed(seed)
+    vertices = np.asarray(source.vertices, dtype=np.float64)
+    faces = np.asarray(source.faces, dtype=np.int64)
+    diagonal = float(np.linalg.norm(np.ptp(vertices, axis=0)))
+    if isinstance(alpha, str):
+        if alpha != "auto":
+            raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
+        alpha = diagonal / AUTO_DIVISIONS
+    alpha = check_alpha(alpha)
+    if tolerance is None:
+        single = np.array_equal(vertices.astype(np.float32), vertices)
+        largest = (np.float32 if single else np.float64)(np.abs(vertices).max(initial=0.0))
+        tolerance = NOISE_ULPS * float(np.spacing(largest))
+    tolerance = check_tolerance(tolerance)
+    normals = np.asarray(source.face_normals, dtype=np.float64)
+    areas = np.asarray(source.area_faces, dtype=np.float64)
+    label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
+    patches = _usable_patches(vertices, faces, normals, areas, label, alpha)
+    remeshed = _manifold_patches([p for p in patches if p is not None])
+    options = {"feature_angle": feature_angle}
+    if max_samples is not None:
+        options["max_samples"] = max_samples
+    cache = {}
+    while True:
+        kept = np.ones(len(faces), bool)
+        for patch in remeshed:
+            kept[patch.faces] = False
+        on_kept = np.zeros(len(vertices), bool)
+        on_kept[faces[kept].ravel()] = True
+        chains = sample_chains([p.rings for p in remeshed], [p.frame for p in remeshed], alpha,
+                               feature_angle=feature_angle, seed=seed,
+                               pinned=np.flatnonzero(on_kept).tolist())
+        meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache)
+                  for k, patch in enumerate(remeshed)]
+        # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
+        # where no guard fits) is kept instead, and the chains sampled again without it
+        joined = [mesh is not None for mesh in meshes]
+        if all(joined):
+            break
+        remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
+    return _assemble(source, vertices, faces, kept, remeshed, meshes, chains, tolerance,
+                     len(patches), alpha)
+
+
+def _patch_mesh(patch, chains, k, alpha, seed, options, cache):
+    """The mesh of patch ``k`` with its chains' samples, or None if its boundary edges
+    are not exactly the chords between them (it would not join its neighbours) with any
+    of the interiors :func:`pds_plugin.partition.mesh_part` draws.
+    ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
+    change when another was dropped is not meshed again (the same mesh, bit for bit)."""
+    ring_ids = chains.rings[k]
+    given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
+             * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
+    key = (id(patch), b"".join(ring.tobytes() for ring in given))
+    if key in cache:
+        return cache[key]
+    mesh, joined = mesh_part(patch.region, alpha, given, seed, **options)
+    cache[key] = mesh if joined else None
+    return cache[key]
+
+
+def _as_trimesh(mesh) -> "trimesh.Trimesh":
+    """A fresh ``trimesh.Trimesh`` of ``mesh`` (a Trimesh, a file, or a MeshSet's current
+    mesh), its duplicate vertices merged."""
+    import trimesh
+
+    if type(mesh).__name__ == "MeshSet":
+        current = mesh.current_mesh()
+        vertices, faces = current.vertex_matrix(), current.face_matrix()
+    elif isinstance(mesh, trimesh.Trimesh):
+        vertices, faces = mesh.vertices, mesh.faces
+    elif isinstance(mesh, (str, os.PathLike)):
+        from .sources.trimesh import load
+        loaded = load(mesh)
+        vertices, faces = loaded.vertices, loaded.faces
+    else:
+        raise ArgumentTypeError(f"remesh takes a trimesh.Trimesh, a mesh file path or a "
+                                f"pymeshlab.MeshSet, got {type(mesh).__name__}")
+    if len(faces) == 0:
+        raise ArgumentError("the mesh has no triangles: there is nothing to remesh")
+    return trimesh.Trimesh(np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64),
+                           process=True)
+
+
+def _coplanar_patches(source, vertices, faces, normals, areas, tolerance) -> np.ndarray:
+    """The planar patch of each face: neighbours join when the far vertex of the smaller
+    lies within ``tolerance`` of the larger's plane (same side up); a patch whose
+    vertices spread farther than twice that from its area-weighted plane is split into
+    its faces."""
+    pairs = np.asarray(source.face_adjacency, dtype=np.int64).reshape(-1, 2)
+    far = np.asarray(source.face_adjacency_unshared, dtype=np.int64).reshape(-1, 2)
+    edge = np.asarray(source.face_adjacency_edges, dtype=np.int64).reshape(-1, 2)
+    larger = areas[pairs[:, 0]] >= areas[pairs[:, 1]]
+    big = np.where(larger, pairs[:, 0], pairs[:, 1])
+    small_far = np.where(larger, far[:, 1], far[:, 0])
+    height = np.abs(np.einsum("ij,ij->i", normals[big],
+                              vertices[small_far] - vertices[edge[:, 0]]))
+    same = (height <= tolerance) & (np.einsum("ij,ij->i", normals[pairs[:, 0]],
+                                              normals[pairs[:, 1]]) > 0)
+    graph = coo_matrix((np.ones(int(same.sum())), (pairs[same, 0], pairs[same, 1])),
+                       shape=(len(faces), len(faces)))
+    label = connected_components(graph, directed=False)[1]
+    count = label.max() + 1
+    plane = np.zeros((count, 3))
+    np.add.at(plane, label, normals * areas[:, None])
+    plane /= np.maximum(np.linalg.norm(plane, axis=1), 1e-300)[:, None]
+    level = np.einsum("fkj,fj->fk", vertices[faces], plane[label])
+    low, high = np.full(count, np.inf), np.full(count, -np.inf)
+    np.minimum.at(low, label, level.min(axis=1))
+    np.maximum.at(high, label, level.max(axis=1))
+    bent = (high - low > 2 * tolerance)[label]
+    label[bent] = count + np.arange(int(bent.sum()))
+    return label
+
+
+@dataclass
+class _Patch:
+    """A planar patch to remesh: its faces, rings (vertex numbers, the patch on the
+    left seen from its outward normal), 2D frame and Region."""
+
+    faces: np.ndarray
+    rings: list
+    frame: Frame
+    region: object
+    basis: tuple
+
+
+def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
+    """Per patch, a :class:`_Patch` if it is remeshed, else None: kept when narrower than
+    alpha (area / perimeter < alpha / 2), pinched, or not a valid polygon in its plane."""
+    from .region import Region
+
+    count = label.max() + 1
+    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    owner = np.repeat(label, 3)
+    n = len(vertices)
+    code = (directed[:, 0] * n + directed[:, 1]) * count + owner
+    back = (directed[:, 1] * n + directed[:, 0]) * count + owner
+    rim = ~np.isin(back, code)
+    length = np.linalg.norm(vertices[directed[:, 1]] - vertices[directed[:, 0]], axis=1)
+    perimeter = np.bincount(owner[rim], length[rim], minlength=count)
+    area = np.bincount(label, areas, minlength=count)
+    wide = 2 * area >= KEEP_NARROWER * alpha * np.maximum(perimeter, 1e-300)
+    order = np.argsort(label, kind="stable")
+    starts = np.searchsorted(label[order], np.arange(count + 1))
+    rim_order = np.flatnonzero(rim)
+    rim_order = rim_order[np.argsort(owner[rim_order], kind="stable")]
+    rim_starts = np.searchsorted(owner[rim_order], np.arange(count + 1))
+    out = []
+    for p in range(count):
+        if not wide[p]:
+            out.append(None)
+            continue
+        members = order[starts[p]:starts[p + 1]]
+        edges = directed[rim_order[rim_starts[p]:rim_starts[p + 1]]]
+        out.append(_patch(vertices, faces, normals, areas, members, edges, Region))
+    return out
+
+
+def _patch(vertices, faces, normals, areas, members, edges, Region):
+    """The :class:`_Patch` of faces ``members`` with boundary ``edges``, or None."""
+    following = dict(zip(edges[:, 0].tolist(), edges[:, 1].tolist()))
+    if len(following) != len(edges):
+        return None                                   # pinched at a vertex
+    normal = (normals[members] * areas[members, None]).sum(axis=0)
+    normal /= np.linalg.norm(normal)
+    origin = vertices[edges[0, 0]]
+    axis = vertices[edges[0, 1]] - origin
+    axis -= normal * (axis @ normal)
+    axis /= np.linalg.norm(axis)
+    basis = (origin, axis, np.cross(normal, axis), normal)
+    ids = np.unique(faces[members])
+    xy = np.column_stack([(vertices[ids] - origin) @ basis[1], (vertices[ids] - origin) @ basis[2]])
+    frame = Frame(ids, xy)
+    cycles, left = [], set(following)
+    while left:
+        start = min(left)
+        cycle, vertex = [], start
+        while vertex in left:
+            left.discard(vertex)
+            cycle.append(vertex)
+            vertex = following[vertex]
+        if vertex != start:
+            return None
+        cycles.append(np.array(cycle, dtype=np.int64))
+    rings = [frame[cycle] for cycle in cycles]
+    signed = [0.5 * float(np.sum(r[:, 0] * np.roll(r[:, 1], -1) - np.roll(r[:, 0], -1) * r[:, 1]))
+              for r in rings]
+    outer = [k for k, a in enumerate(signed) if a > 0]
+    if len(outer) != 1:
+        return None
+    holes = [rings[k] for k, a in enumerate(signed) if a <= 0]
+    try:
+        region = Region.from_shapely(Polygon(rings[outer[0]], holes))
+    except PdsError:
+        return None
+    lookup = {tuple(point): vertex for vertex, point in zip(ids.tolist(), xy.tolist())}
+    try:
+        ring_ids = [np.array([lookup[tuple(point)] for point in ring.tolist()], dtype=np.int64)
+                    for ring in region.rings]
+    except KeyError:
+        return None
+    return _Patch(members, ring_ids, frame, region, basis)
+
+
+def _manifold_patches(patches) -> list:
+    """The patches whose boundary edges no other patch runs the same way, nor two others
+    (non-manifold input: two bodies sharing a face); the rest are kept."""
+    runs = {}
+    for k, patch in enumerate(patches):
+        for ring in patch.rings:
+            for a, b in zip(ring.tolist(), np.roll(ring, -1).tolist()):
+                runs.setdefault((a, b), []).append(k)
+                runs.setdefault((min(a, b), max(a, b), None), []).append(k)
+    bad = set()
+    for key, owners in runs.items():
+        if len(owners) > (2 if len(key) == 3 else 1):
+            bad.update(owners)
+    return [patch for k, patch in enumerate(patches) if k not in bad]
+
+
+def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
+              patch_count, alpha) -> RemeshResult:
+    """Join the patches' meshes and the kept faces (split where samples fall on their
+    edges) into one mesh, checked."""
+    import trimesh
+
+    junction = (chains.u == chains.v) & (chains.t == 0)
+    number = np.where(junction, chains.u, len(vertices) + np.cumsum(~junction) - 1)
+    points = [vertices, chains.points(vertices)[~junction]]
+    count = len(vertices) + int(np.count_nonzero(~junction))
+    new_faces, patch_of, distance = [], [], 0.0
+    for k, (patch, mesh) in enumerate(zip(patches, meshes)):
+        ring_ids = chains.rings[k]
+        n_given = sum(len(ids) for ids in ring_ids)
+        inner, gap = _on_input(mesh.vertices[n_given:], patch, vertices, faces)
+        distance = max(distance, gap)
+        to_out = np.concatenate([number[np.concatenate(ring_ids)], count + np.arange(len(inner))])
+        points.append(inner)
+        count += len(inner)
+        new_faces.append(to_out[mesh.faces])
+        patch_of.append(np.full(len(mesh.faces), k))
+    split, centres = _split_kept(faces[kept], chains, number, count, vertices)
+    points.append(centres)
+    new_faces.append(split)
+    patch_of.append(np.full(len(split), -1))
+    all_points = np.concatenate(points)
+    all_faces = np.concatenate(new_faces)
+    used = np.zeros(len(all_points), bool)
+    used[all_faces.ravel()] = True
+    renumber = np.cumsum(used) - 1
+    out = trimesh.Trimesh(all_points[used], renumber[all_faces], process=False)
+    rim = source.edges[trimesh.grouping.group_rows(source.edges_sorted, require_count=1)]
+    rim_keys = {(int(a), int(b)) for a, b in np.sort(rim, axis=1).tolist()}
+    # every chain is an interface (two patches, or a patch and kept faces) but those on
+    # the input's own open boundary
+    interfaces = [c for c, vertices in enumerate(chains.chains)
+                  if tuple(sorted((int(vertices[0]), int(vertices[1])))) not in rim_keys]
+    chords = np.concatenate([chains.chords(c) for c in interfaces] or
+                            [np.zeros((0, 2), np.int64)])
+    on_rim = np.zeros(len(vertices), bool)
+    on_rim[rim.ravel()] = True
+    flags = np.zeros(len(all_points), bool)
+    flags[:len(vertices)] = on_rim
+    flags[number[on_rim[chains.u] & on_rim[chains.v]]] = True
+    outer = flags[used]
+    report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer)
+    volume_in = float(source.volume) if source.is_watertight else float("nan")
+    volume_error = (abs(float(out.volume) - volume_in) / abs(volume_in)
+                    if source.is_watertight and volume_in else float("nan"))
+    return RemeshResult(out, np.concatenate(patch_of).astype(np.int64), tuple(meshes),
+                        report, alpha, patch_count, patch_count - len(patches),
+                        (bool(source.is_watertight), bool(out.is_watertight)),
+                        (int(source.euler_number), int(out.euler_number)), volume_error,
+                        distance, tolerance)
+
+
+def _on_input(xy, patch, vertices, faces):
+    """The 3D points of a patch's interior samples ``xy``, each on the input triangle it
+    lies in (barycentric), and the largest distance from one of them to that triangle's
+    plane."""
+    if not len(xy):
+        return np.zeros((0, 3)), 0.0
+    triangles = faces[patch.faces]
+    corners = patch.frame[triangles.ravel()].reshape(-1, 3, 2)
+    tree = shapely.STRtree(shapely.polygons(np.concatenate([corners, corners[:, :1]], axis=1)))
+    found, which = tree.query(shapely.points(xy), predicate="intersects")
+    first = np.full(len(xy), -1)
+    first[found[::-1]] = which[::-1]
+    missing = np.flatnonzero(first < 0)
+    if len(missing):
+        first[missing] = tree.query_nearest(shapely.points(xy[missing]), all_matches=False)[1]
+    a, b, c = (corners[first, k] for k in range(3))
+    v0, v1, v2 = b - a, c - a, xy - a
+    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
+    beta = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / det
+    gamma = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / det
+    p = vertices[triangles[first]]
+    out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    gap = float(np.abs(np.einsum("ij,ij->i", out - p[:, 0], normal)).max())
+    return out, gap
+
+
+def _split_kept(kept_faces, chains, number, count, vertices):
+    """The kept faces, each split where chain samples lie inside its edges, and the new
+    points that needs: a fan from the corner whose two edges carry no sample, or, when
+    there is none, from the triangle's centroid (a new point, on the face)."""
+    inside = (chains.t > 0) & (chains.t < 1)
+    on_edge = {}
+    for s in np.flatnonzero(inside).tolist():
+        u, v, t = int(chains.u[s]), int(chains.v[s]), float(chains.t[s])
+        on_edge.setdefault((u, v), []).append((t, s))
+        on_edge.setdefault((v, u), []).append((1 - t, s))
+    out, centres = [], []
+    for face in kept_faces.tolist():
+        ring = []
+        for k in range(3):
+            a, b = face[k], face[(k + 1) % 3]
+            ring.append(int(a))
+            ring.extend(int(number[s]) for _, s in sorted(on_edge.get((a, b), [])))
+        if len(ring) == 3:
+            out.append(face)
+            continue
+        fan = _corner_fan(ring, face)
+        if fan is None:
+            centre = count + len(centres)
+            centres.append(vertices[face].mean(axis=0))
+            fan = [[centre, x, y] for x, y in zip(ring, ring[1:] + ring[:1])]
+        out.extend(fan)
+    return np.array(out, dtype=np.int64).reshape(-1, 3), np.array(centres).reshape(-1, 3)
+
+
+def _corner_fan(ring, face):
+    """A fan over a triangle ``face`` whose edges carry extra points (``ring``, in
+    order) from a corner whose two edges carry none, or None."""
+    corners = [ring.index(v) for v in face]
+    n = len(ring)
+    for k, at in enumerate(corners):
+        before, after = corners[k - 1], corners[(k + 1) % 3]
+        if (at - before) % n == 1 and (after - at) % n == 1:
+            others = [ring[(after + j) % n] for j in range((before - after) % n + 1)]
+            return [[ring[at], x, y] for x, y in zip(others[:-1], others[1:])]
+    return None
+
+
+def _min_angles(vertices, faces) -> np.ndarray:
+    """The smallest angle of each triangle, in degrees."""
+    p = np.asarray(vertices)[np.asarray(faces)]
+    lengths = np.linalg.norm(p[:, [1, 2, 0]] - p[:, [2, 0, 1]], axis=2)   # opposite each corner
+    a, b, c = lengths.T
+    cos = np.clip(np.stack([(b * b + c * c - a * a) / (2 * b * c), (a * a + c * c - b * b) / (2 * a * c),
+                            (a * a + b * b - c * c) / (2 * a * b)], axis=1), -1, 1)
+    return np.degrees(np.arccos(cos)).min(axis=1)

@@ -1,0 +1,124 @@
+"""pds.remesh (issue 24): planar patches of a CAD mesh remeshed with certified triangles,
+the solid kept. Oracles: trimesh's own watertightness, Euler number and volume of the
+input, and the input's triangles (every output vertex lies on one)."""
+
+import numpy as np
+import pytest
+import trimesh
+
+import pds_plugin as pds
+
+
+def part_with_hole(sections=24):
+    """A 4 x 3 x 1 plate with a through hole and a pocket, as a float32 STL would give it."""
+    manifold3d = pytest.importorskip("manifold3d")
+    plate = manifold3d.Manifold.cube([4.0, 3.0, 1.0])
+    hole = manifold3d.Manifold.cylinder(3.0, 0.5, 0.5, sections).translate([1.2, 1.5, -1.0])
+    pocket = manifold3d.Manifold.cube([1.2, 1.0, 0.6]).translate([2.4, 1.0, 0.5])
+    mesh = (plate - hole - pocket).to_mesh()
+    vertices = np.asarray(mesh.vert_properties[:, :3], dtype=np.float32).astype(np.float64)
+    return trimesh.Trimesh(vertices, np.asarray(mesh.tri_verts), process=True)
+
+
+def _on_input(result, source):
+    """Largest distance from an output vertex to the input surface."""
+    _, distance, _ = trimesh.proximity.closest_point(source, result.mesh.vertices)
+    return float(distance.max())
+
+
+def test_a_box_is_remeshed_certified_with_its_solid_kept():
+    box = trimesh.creation.box((2.0, 1.0, 0.5))
+    result = pds.remesh(box, 0.15, seed=0)
+    assert result.ok, str(result)
+    assert result.watertight == (True, True) and result.euler_number == (2, 2)
+    assert abs(result.mesh.volume - box.volume) <= 1e-12 * box.volume
+    assert result.angles().min() >= 30 - 1e-9
+    assert (result.patch >= 0).all() and len(result.certificates) == 6
+    assert _on_input(result, box) <= 1e-12
+    assert len(result.mesh.faces) > 20 * len(box.faces)
+
+
+def test_a_part_with_a_hole_and_a_pocket_keeps_its_solid():
+    source = part_with_hole()
+    result = pds.remesh(source, 0.12, seed=1)
+    assert result.ok_with_exceptions and result.solid_ok, str(result)
+    assert result.watertight == (True, True)
+    assert result.euler_number == (source.euler_number,) * 2
+    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
+    assert _on_input(result, source) <= 1e-9
+    assert (result.patch == -1).any()             # the hole's strips are kept
+    kept_area = result.mesh.area_faces[result.patch == -1].sum()
+    assert 0 < kept_area < 0.5 * result.mesh.area
+    # the remeshed triangles: only corners of the input below 30 degrees
+    angles = result.angles()
+    assert np.percentile(angles, 5) >= 30 - 1e-9
+    for certificate in result.certificates:
+        assert certificate.ok_with_exceptions
+        assert all(e.meets_bound for e in certificate.exceptions)
+
+
+def test_the_same_seed_gives_the_same_mesh():
+    box = trimesh.creation.box((1.0, 1.0, 1.0))
+    first, again = pds.remesh(box, 0.2, seed=5), pds.remesh(box, 0.2, seed=5)
+    assert np.array_equal(first.mesh.vertices, again.mesh.vertices)
+    assert np.array_equal(first.mesh.faces, again.mesh.faces)
+
+
+def test_the_input_is_not_modified_and_a_meshset_round_trips(tmp_path):
+    pytest.importorskip("pymeshlab")
+    box = trimesh.creation.box((1.0, 2.0, 1.0))
+    before = box.vertices.copy()
+    result = pds.remesh(box, 0.3)
+    assert np.array_equal(box.vertices, before)
+    meshset = result.to_meshset()
+    assert meshset.current_mesh().face_number() == len(result.mesh.faces)
+    again = pds.remesh(meshset, 0.3)
+    assert again.solid_ok and again.watertight == (True, True)
+    path = tmp_path / "box.stl"
+    box.export(path)
+    assert pds.remesh(path, 0.3).solid_ok
+
+
+def test_bad_input_gets_a_clear_error():
+    with pytest.raises(pds.ArgumentTypeError, match="trimesh.Trimesh"):
+        pds.remesh([1, 2, 3], 0.1)
+    with pytest.raises(pds.ArgumentError, match="'auto'"):
+        pds.remesh(trimesh.creation.box(), "fine")
+    with pytest.raises(FileNotFoundError):
+        pds.remesh("no-such-file.stl", 0.1)
+
+
+def test_an_open_surface_keeps_its_rim():
+    box = trimesh.creation.box((1.0, 1.0, 1.0))
+    open_box = trimesh.Trimesh(box.vertices, box.faces[2:], process=True)   # one side off
+    result = pds.remesh(open_box, 0.2)
+    assert result.ok, str(result)
+    assert result.watertight == (False, False) and result.euler_number == (1, 1)
+    outline = result.mesh.outline()           # the same square rim, sampled
+    assert outline.length == pytest.approx(open_box.outline().length, rel=1e-12)
+    assert len(outline.entities) == 1 and len(outline.entities[0].points) > 5
+
+
+def test_a_curved_solid_without_planar_faces_is_kept_as_it_is():
+    sphere = trimesh.creation.icosphere(2)
+    result = pds.remesh(sphere, 0.3)
+    assert result.solid_ok and len(result.certificates) == 0
+    assert (result.patch == -1).all()
+    assert len(result.mesh.faces) == len(sphere.faces)
+    assert result.mesh.volume == pytest.approx(sphere.volume, rel=1e-12)
+
+
+def test_a_spike_face_is_remeshed_with_mirror_pairs():
+    """A 5° prism: its triangular faces are spikes whose tips are junctions of three
+    patches; their two sides are chains of their own, sampled in mirror pairs so that
+    every chord joins (without them the faces were left as they were)."""
+    manifold3d = pytest.importorskip("manifold3d")
+    tip = np.radians(5.0)
+    outline = manifold3d.CrossSection([[(0, 0), (3, 0), (3 * np.cos(tip), 3 * np.sin(tip))]])
+    solid = manifold3d.Manifold.extrude(outline, 1.0).to_mesh()
+    prism = trimesh.Trimesh(solid.vert_properties[:, :3], solid.tri_verts)
+    result = pds.remesh(prism, 0.1, seed=0)
+    assert result.ok_with_exceptions and result.kept_patches == 0, str(result)
+    assert result.angles().min() >= 5.0 - 1e-6            # the tip's own angle
+    for certificate in result.certificates:
+        assert all(e.meets_bound for e in certificate.exceptions)
