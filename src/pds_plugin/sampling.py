@@ -505,8 +505,9 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
         mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
         if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < _RESOLUTION * alpha:
             continue                            # a needle: its sides are one line
-        if sides[short] <= reach[i] and beyond >= alpha:
-            # the short side ends inside the spike: its last rung is the corner there
+        if guard[i] <= sides[short] <= reach[i] and beyond >= alpha:
+            # the short side ends inside the spike: its last rung is the corner there (not
+            # nearer the tip than its clearance, which keeps the first rung apart)
             mirrored = np.append(mirrored, sides[short])
         if not len(mirrored):
             continue
