@@ -260,3 +260,32 @@ def test_scales_linearly():
     small = feature_size(region(plate)).value
     big = feature_size(region(shapely.affinity.scale(plate, 1000, 1000, origin=(0, 0)))).value
     assert big == pytest.approx(1000 * small, rel=1e-9)
+
+
+@pytest.mark.parametrize("degrees", [0, 25, 40])
+def test_a_tab_under_a_body_reads_as_the_rule_says_at_any_rotation(degrees):
+    # an angle_block.STL section: a thin tab under a body, whose bottom and the body's
+    # underside are parallel and overlap; the line across the middle of the overlap
+    # leaves the region, so the pair is a gap. The search by runs of segments took
+    # the line from the end of one (a corner) for the pair at 40° (0.079, not 0.669)
+    tab = [(-0.3935, -0.5), (0.3935, -0.5), (0.3935, -0.48), (0.3345, -0.421),
+           (0.6693, -0.421), (0.6693, 0.4741), (-0.6693, 0.4741), (-0.6693, -0.421),
+           (-0.3345, -0.421), (-0.3935, -0.48)]
+    reg = region(shapely.affinity.rotate(shapely.Polygon(tab), degrees, origin=(0, 0)))
+    assert feature_size(reg).value == pytest.approx(brute_force(reg, walls_only=True),
+                                                    rel=1e-12)
+    assert feature_size(reg, conforming=False).value == pytest.approx(brute_force(reg),
+                                                                      rel=1e-12)
+
+
+def test_dense_arcs_are_measured_exactly_and_fast():
+    # 160-vertex arcs against the brute force; a 40,000-vertex circle (quadratic in
+    # pairs of runs of segments before: 5 s) has the chord spanning 150° of arc
+    plate = region(box(-20, -20, 20, 20).difference(Point(3, 0).buffer(10, quad_segs=40)))
+    for reg in (plate, region(Point(0, 0).buffer(10, quad_segs=40))):
+        assert feature_size(reg).value == pytest.approx(brute_force(reg, walls_only=True),
+                                                        rel=1e-12)
+    disc = region(Point(0, 0).buffer(10, quad_segs=10_000))
+    fs = feature_size(disc)
+    assert fs.kind == "wall"
+    assert fs.value == pytest.approx(20 * math.sin(math.radians(75)), rel=1e-3)

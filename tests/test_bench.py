@@ -195,3 +195,18 @@ def test_graded_targets_are_checked_on_the_run():
     assert "smallest 22.00° (part)" in lines[3] and lines[3].endswith("**misses** |")  # < 23.58°
     assert "1 of 2 regions" in lines[4] and lines[4].endswith("**misses** |")
     assert "1.20 s per 30k (sheet)" in lines[6] and lines[6].endswith("**misses** |")
+
+
+def test_speed_targets_drawing_is_the_373_hole_sheet_and_verdicts_follow_the_ratios():
+    import speed_targets
+
+    region = speed_targets.drawing_region()
+    assert region.betti == (10, 373)                       # 10 plates, 373 holes
+    rows = {"drawing": {"wall": 0.9, "cpu": 0.45, "vertices": 300,
+                        "pq30": (100, 0.01, 0.01), "pq33": (120, 0.01, 0.01)},
+            "square 10000": {"wall": 0.02, "cpu": 0.02, "vertices": 9_000,
+                             "pq30": (9_000, 0.01, 0.01), "pq33": (9_000, 0.01, 0.01)}}
+    verdicts = "\n".join(speed_targets.targets(rows))
+    assert "**misses** by wall, **holds** by CPU" in verdicts  # 0.9 s wall, 0.45 s CPU
+    assert "| 3.00× | **misses** |" in verdicts                # 300 / 100 vertices > 2×
+    assert "2.00× CPU" in verdicts and "**misses**" in verdicts.splitlines()[-1]

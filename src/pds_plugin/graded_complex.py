@@ -27,6 +27,7 @@ __all__ = ["graded_alpha_complex"]
 
 _MAX_BINS = 4_000_000
 _MAX_CHORD_ENTRIES = 1_000_000
+_CHORD_CELLS = 32            # as graded_sampling._CHORD_CELLS
 
 
 def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np.ndarray:
@@ -107,7 +108,8 @@ def _chord_vis(points, rings, radius, grading):
     lo = points.min(axis=0) - reach.max()
     hi = points.max(axis=0) + reach.max()
     entries = np.sum((length + 2 * reach) ** 2)
-    h = max(float(radius.min()), math.sqrt(entries / _MAX_CHORD_ENTRIES),
+    h = max(float(radius.min()), math.sqrt(entries / min(_MAX_CHORD_ENTRIES,
+                                                          _CHORD_CELLS * len(length))),
             math.sqrt(float(np.prod(hi - lo)) / _MAX_BINS))
     nx, ny = (int(v) + 1 for v in (hi - lo) / h)
     start, items = kern.bin_chords_by_reach(vis[0], reach, lo[0], lo[1], h, nx, ny)

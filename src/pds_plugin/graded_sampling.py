@@ -42,6 +42,9 @@ _PASSES = 3
 _TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
 _MAX_BINS = 4_000_000
 _MAX_CHORD_ENTRIES = 1_000_000
+_CHORD_CELLS = 32            # cells of the chord grid a chord is listed in, on average, at most
+                             # (a grid of half the smallest radius listed small sections' chords
+                             # in a million cells: 17 ms of binning per section, issue 21)
 _MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per allowed sample
 
 
@@ -429,7 +432,8 @@ class _GradedSampler:
         reach = 2.0 * (np.maximum(radius[a], radius[b]) + 0.5 * L * length) / (1.0 - L) * (1 + 1e-9)
         self.chord_bound = np.minimum(radius[a], radius[b]) / (1.0 - L)
         entries = np.sum((length + 2 * reach) ** 2)
-        h = max(self.h, math.sqrt(entries / _MAX_CHORD_ENTRIES))
+        h = max(self.h, math.sqrt(entries / min(_MAX_CHORD_ENTRIES,
+                                                _CHORD_CELLS * len(length))))
         nx, ny = int(self.width / h) + 1, int(self.height / h) + 1
         start, items = kern.bin_chords_by_reach(vis[0], reach, self.x0, self.y0, h, nx, ny)
         self.vis = vis[:3] + (start, items, self.x0, self.y0, h, nx, ny)

@@ -17,12 +17,12 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import _sizing_kernels as kern
-from ._parallel import get_threads
 from ._checks import check_grading
 from .errors import ArgumentError, ArgumentTypeError
-from .region import Region, turning_angles
+from .region import Region
 
-__all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "DEFAULT_GRADING"]
+__all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "curve_factor",
+           "DEFAULT_GRADING"]
 
 DEFAULT_GRADING = 0.2
 """Default Lipschitz constant L: proven angles >= arcsin(0.4) = 23.6° (docs/graded.md)."""
@@ -32,7 +32,6 @@ _CORNER = 0.4        # corner disc: 0.4 x distance to the nearest non-incident b
 _RING = 1 / 6        # r <= perimeter / 6 of the ring
 _PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length is >= 2.5,
                      # so it splits into two or more chords (graded_sampling._positions)
-_CURVE = 0.3         # r <= 0.3 x radius of the arc a vertex chain approximates
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
 _FLAT_BELOW = math.pi / 3   # convex corners sharper than this keep their size along
 _FLAT_REACH = 2             # their sides up to this many times it
@@ -188,7 +187,7 @@ def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | 
                                 f"{type(sizing).__name__}")
     if cap is None:
         cap = inradius(region)
-    points, sizes = _features(region, cap, feature_angle)
+    points, sizes = _features(region, cap, feature_angle, curve_factor(grading, feature_angle))
     return RadiusField(points, sizes, grading, cap, sizing)
 
 
@@ -205,62 +204,107 @@ def inradius(region: Region) -> float:
                for polygon in region.geometry.geoms)
 
 
-def _features(region: Region, cap: float, feature_angle: float):
+def curve_factor(grading: float, feature_angle: float = 30.0) -> float:
+    """The curvature rule's factor κ: r <= κ R on an arc of radius R (docs/graded.md,
+    section 3, *curvature*).
+
+    The sampler splits a closed arc into k equal parts of normalized length at least
+    ``a = 1.02 / (1 - L/2)`` (graded_sampling._positions), so with r = κ R on it
+    ``k = floor(2π / (a κ))`` chords turning by 2π / k each. κ is the largest value
+    giving at least ``360° / (3/4 feature_angle)`` chords, so that they turn by at most
+    three quarters of the feature angle (the sampler's own threshold for a corner) and
+    their sagitta is at most ``R (1 - cos(3/8 feature_angle))``: 1.9 % of R at 30°. The
+    quarter is margin: at the full feature angle (13 chords at 30°) a tilted
+    featuretype.STL section lost a chord's triangle (bench/cad_corpus.py).
+
+    Parameters
+    ----------
+    grading : float
+        The Lipschitz constant L.
+    feature_angle : float
+        Degrees; vertices turning by more are sharp corners.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(curve_factor(0.2), 4)          # 16 chords on a circle, 22.5° each
+    0.3465
+    """
+    a = 1.02 / (1.0 - 0.5 * grading)
+    chords = math.ceil(360.0 / (0.75 * feature_angle) - 1e-9)
+    return 2.0 * math.pi / (chords * a) * (1.0 - 1e-9)
+
+
+def _features(region: Region, cap: float, feature_angle: float, curve: float):
     """Feature points and sizes: the boundary densified until every edge is split into
     parts at most a quarter of the smallest size found on it.
 
     Inside the disc of a sharp corner the two pieces meeting there are not walls of each
     other (their distance goes to 0 at the corner): the corner's own size holds there.
     Otherwise each round would find the two sides closer near the corner, densify them
-    finer and find them closer again (an STL section's 46° corner reached 1e-7)."""
+    finer and find them closer again (an STL section's 46° corner reached 1e-7).
+
+    Every ring is handled at once (flat arrays over all edges), so the cost grows with
+    the boundary, not with the number of holes times a per-ring overhead."""
     rings = region.rings
-    from_ring = [_ring_sizes(ring, cap, math.radians(feature_angle)) for ring in rings]
-    ring_size = [f[0] for f in from_ring]
-    vertex_size = np.concatenate([f[1] for f in from_ring])
-    piece = [f[2] for f in from_ring]
-    corners = [f[3] for f in from_ring]
     edges = _edges(rings)
+    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(edges, cap,
+                                                             math.radians(feature_angle), curve)
     dense = _densify(edges, ring_size, ring_size, piece)
-    corner_xy, corner_s = _corner_discs(region, rings, corners, piece, dense)
-    edge_size = [size.copy() for size in ring_size]
+    corner_xy, corner_s = _corner_discs(region, rings, edges, sharp, turn, piece, dense)
+    edge_size = ring_size.copy()
+    flat_edge = edges[4][dense["ring"]] + dense["edge"]
     for round_ in range(_ROUNDS):
         if round_:
-            parts = int(np.sum(np.ceil(4 * edges[2] / np.concatenate(edge_size))))
+            parts = int(np.sum(np.ceil(4 * edges[2] / edge_size)))
             if parts > _MAX_DENSE:
                 break                   # keep the last densification: memory stays bounded
             dense = _densify(edges, edge_size, ring_size, piece)
+            flat_edge = edges[4][dense["ring"]] + dense["edge"]
         size = _wall_sizes(region, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
-        changed = False
-        for k in range(len(rings)):
-            on = dense["ring"] == k
-            smallest = np.full(len(rings[k]), np.inf)
-            np.minimum.at(smallest, dense["edge"][on], size[on])
-            new = np.minimum(edge_size[k], smallest)
-            changed |= bool(np.any(new < 0.7 * edge_size[k]))
-            edge_size[k] = new
+        smallest = np.full(len(edge_size), np.inf)
+        np.minimum.at(smallest, flat_edge, size)
+        new = np.minimum(edge_size, smallest)
+        changed = bool(np.any(new < 0.7 * edge_size))
+        edge_size = new
         if not changed:
             break
-    return (np.concatenate([dense["xy"], corner_xy, np.concatenate(rings)]),
+    return (np.concatenate([dense["xy"], corner_xy, edges[0]]),
             np.concatenate([size, corner_s, vertex_size]))
 
 
-def _ring_sizes(ring, cap, sharp_turn):
-    """Sizes from the ring alone: per edge (piece length, perimeter) and per vertex
-    (also the curvature), the piece index of each edge, and which vertices are sharp
-    corners."""
-    length = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
-    turn = np.abs(turning_angles(ring))
+def _ring_sizes(edges, cap, sharp_turn, curve):
+    """Sizes from each ring alone, all rings at once (``edges`` from :func:`_edges`): per
+    edge (piece length, perimeter) and per vertex (also the curvature), the piece index
+    of each edge within its ring, which vertices are sharp corners, and the signed
+    turning angle at each vertex (as :func:`pds_plugin.region.turning_angles`)."""
+    start, d, length, ring_of, first = edges
+    following = np.append(first[1:], len(start))                # one past each ring's end
+    previous = np.arange(-1, len(start) - 1)
+    previous[first] = following - 1
+    into = d[previous]
+    signed = np.arctan2(into[:, 0] * d[:, 1] - into[:, 1] * d[:, 0],
+                        (into * d).sum(axis=1))
+    turn = np.abs(signed)
     sharp = turn >= sharp_turn
-    piece = np.cumsum(sharp) % max(int(sharp.sum()), 1)     # edge k belongs to piece[k]
-    piece_length = np.bincount(piece, weights=length)
-    size = np.minimum(cap, _RING * length.sum())
-    edge_size = np.minimum(size, _PIECE * piece_length[piece])
-    size = np.minimum(edge_size, np.roll(edge_size, 1))        # per vertex: both edges
-    mean_edge = 0.5 * (length + np.roll(length, 1))
+    counts = np.bincount(ring_of, weights=sharp, minlength=len(first)).astype(np.int64)
+    running = np.cumsum(sharp)
+    before = np.where(first > 0, running[first - 1], 0)
+    piece = (running - before[ring_of]) % np.maximum(counts, 1)[ring_of]   # within its ring
+    offset = np.cumsum(np.maximum(counts, 1)) - np.maximum(counts, 1)
+    piece_length = np.bincount(offset[ring_of] + piece, weights=length)
+    perimeter = np.array([length[lo:hi].sum() for lo, hi in zip(first, following)])
+    size = np.minimum(cap, _RING * perimeter)[ring_of]
+    edge_size = np.minimum(size, _PIECE * piece_length[offset[ring_of] + piece])
+    size = np.minimum(edge_size, edge_size[previous])           # per vertex: both edges
+    mean_edge = 0.5 * (length + length[previous])
     curved = ~sharp & (turn > 1e-12)
-    size[curved] = np.minimum(size[curved], _CURVE * mean_edge[curved] / turn[curved])
-    return edge_size, size, piece, sharp
+    size[curved] = np.minimum(size[curved], curve * mean_edge[curved] / turn[curved])
+    return edge_size, size, piece, sharp, signed
 
 
 def _edges(rings):
@@ -280,14 +324,14 @@ def _densify(edges, edge_size, ring_size, piece):
     its size, with the edge's inward unit normal, ring, edge and piece index, and its
     size from the ring alone; all rings at once."""
     start, d, length, ring_of, first = edges
-    parts = np.maximum(np.ceil(4 * length / np.concatenate(edge_size)), 1).astype(np.int64)
+    parts = np.maximum(np.ceil(4 * length / edge_size), 1).astype(np.int64)
     edge = np.repeat(np.arange(len(start)), parts)
     begin = np.cumsum(parts) - parts
     t = (np.arange(parts.sum()) - begin[edge] + 0.5) / parts[edge]
     return {"xy": start[edge] + t[:, None] * d[edge],
             "normal": np.column_stack([-d[edge, 1], d[edge, 0]]) / length[edge, None],
             "ring": ring_of[edge], "edge": edge - first[ring_of[edge]],
-            "piece": np.concatenate(piece)[edge], "base": np.concatenate(ring_size)[edge]}
+            "piece": piece[edge], "base": ring_size[edge]}
 
 
 def _wall_sizes(region, dense, cap):
@@ -317,7 +361,7 @@ def _wall_sizes(region, dense, cap):
     return np.minimum(dense["base"], _WALL * wall)
 
 
-def _corner_discs(region, rings, corners, piece, dense):
+def _corner_discs(region, rings, edges, sharp, turn, piece, dense):
     """Sharp corners and their disc radius: _CORNER x the distance to the nearest
     boundary point that is not on the two pieces incident to the corner and is seen
     through material (the midpoint in the region: a notch or gap does not count), at
@@ -331,32 +375,48 @@ def _corner_discs(region, rings, corners, piece, dense):
     33.56°, stays within what the complex keeps, min r / (1 - L). Where the field grew
     at the rate L from the corner instead, r(p) reached (1 + 1.6 L) r(c) at 37° and the
     triangle was dropped: a tooth's tip came off at L = 0.3."""
-    turns = [turning_angles(ring) for ring in rings]
-    tree = cKDTree(dense["xy"])
-    xy, s = [], []
-    for k, ring in enumerate(rings):
-        own = dense["ring"] == k
-        for v in np.flatnonzero(corners[k]):
-            incident = (piece[k][v], piece[k][v - 1])
-            for count in (4 * _K, len(dense["xy"])):
-                d, idx = tree.query(ring[v], k=min(count, len(dense["xy"])))
-                d, idx = np.atleast_1d(d), np.atleast_1d(idx)
-                mid = 0.5 * (dense["xy"][idx] + ring[v])
-                other = (~(own[idx] & np.isin(dense["piece"][idx], incident))
-                         & shapely.contains_xy(region.geometry, mid[:, 0], mid[:, 1]))
-                if other.any() or count >= len(dense["xy"]):
-                    break
-            far = d[other][0] if other.any() else np.inf
-            on_pieces = own & np.isin(dense["piece"], incident)
-            size = min(_CORNER * far, dense["base"][on_pieces].min())
-            xy.append(ring[v][None])
-            s.append([size])
-            if turns[k][v] > math.pi - _FLAT_BELOW:
-                shoulders = _shoulders(ring, v, size)
-                xy.append(shoulders)
-                s.append(np.full(len(shoulders), size))
-    if not xy:
+    ring_of = edges[3]
+    corner = np.flatnonzero(sharp)
+    if not len(corner):
         return np.empty((0, 2)), np.empty(0)
+    at, k = edges[0][corner], ring_of[corner]
+    previous = np.arange(-1, len(sharp) - 1)
+    previous[edges[4]] = np.append(edges[4][1:], len(sharp)) - 1
+    incident = np.column_stack([piece[corner], piece[previous[corner]]])
+    # the smallest ring size on each (ring, piece): the corner's size is at most that
+    width = int(dense["piece"].max()) + 1
+    keys, where = np.unique(dense["ring"] * width + dense["piece"], return_inverse=True)
+    base = np.full(len(keys), np.inf)
+    np.minimum.at(base, where, dense["base"])
+    on_pieces = np.minimum(base[np.searchsorted(keys, k * width + incident[:, 0])],
+                           base[np.searchsorted(keys, k * width + incident[:, 1])])
+    n = len(dense["xy"])
+    tree = cKDTree(dense["xy"])
+    far = np.full(len(corner), np.inf)
+    todo = np.arange(len(corner))
+    for count in (4 * _K, n):
+        d, idx = tree.query(at[todo], k=min(count, n))
+        d, idx = d.reshape(len(todo), -1), idx.reshape(len(todo), -1)
+        mid = 0.5 * (dense["xy"][idx] + at[todo, None])
+        incident_piece = ((dense["piece"][idx] == incident[todo, :1])
+                          | (dense["piece"][idx] == incident[todo, 1:]))
+        other = (~((dense["ring"][idx] == k[todo, None]) & incident_piece)
+                 & shapely.contains_xy(region.geometry, mid[..., 0], mid[..., 1]))
+        found = other.any(axis=1)
+        far[todo[found]] = d[found, np.argmax(other[found], axis=1)]
+        todo = todo[~found]
+        if not len(todo) or count >= n:
+            break
+    size = np.minimum(_CORNER * far, on_pieces)
+    xy, s = [], []
+    for c, v in enumerate(corner):
+        xy.append(edges[0][v][None])
+        s.append(size[c:c + 1])
+        if turn[v] > math.pi - _FLAT_BELOW:
+            ring = rings[k[c]]
+            shoulders = _shoulders(ring, v - edges[4][k[c]], size[c])
+            xy.append(shoulders)
+            s.append(np.full(len(shoulders), size[c]))
     return np.concatenate(xy), np.concatenate(s)
 
 
