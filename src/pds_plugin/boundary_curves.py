@@ -547,21 +547,17 @@ def samples_onto_curves(curves: BoundaryCurves, rings, owners, ring_xy, lower, u
     50
     """
     before = [np.asarray(xy, dtype=float) for xy in ring_xy]
-    after, on_arc = [], []
-    for xy in before:
-        moved, moving = curves.onto_arcs(xy)
-        after.append(moved)
-        on_arc.append(moving)
-    if not any(m.any() for m in on_arc):
-        return before, None
     sizes = np.cumsum([0] + [len(xy) for xy in before])
-    flat_before, flat_on = np.concatenate(before), np.concatenate(on_arc)
+    flat_before = np.concatenate(before)
+    on_arcs, flat_on = curves.onto_arcs(flat_before)            # all rings in one search
+    if not flat_on.any():
+        return before, None
     nxt = np.concatenate([np.roll(np.arange(a, b), -1) for a, b in zip(sizes[:-1], sizes[1:])])
     apart = lower if callable(lower) else (lambda xy: np.full(len(xy), float(lower)))
     chord_before = np.hypot(*(flat_before[nxt] - flat_before).T)
     close_before = {tuple(pair) for pair in _close_pairs(flat_before, apart(flat_before))}
     for _ in range(len(flat_before)):
-        flat_after = np.where(flat_on[:, None], np.concatenate(after), flat_before)
+        flat_after = np.where(flat_on[:, None], on_arcs, flat_before)
         radius = apart(flat_after)
         chord = np.hypot(*(flat_after[nxt] - flat_after).T)
         bad = ((chord < np.minimum(chord_before, np.minimum(radius, radius[nxt])))
@@ -576,7 +572,7 @@ def samples_onto_curves(curves: BoundaryCurves, rings, owners, ring_xy, lower, u
         flat_on[ends] = False                    # those samples stay where they were
     if not flat_on.any():
         return before, None
-    flat_after = np.where(flat_on[:, None], np.concatenate(after), flat_before)
+    flat_after = np.where(flat_on[:, None], on_arcs, flat_before)
     moved = [flat_after[a:b] for a, b in zip(sizes[:-1], sizes[1:])]
     refined = [_through(ring, old, new) for ring, old, new in zip(rings, before, moved)]
     polygons = []

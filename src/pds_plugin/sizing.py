@@ -211,11 +211,13 @@ def curve_factor(grading: float, feature_angle: float = 30.0) -> float:
     The sampler splits a closed arc into k equal parts of normalized length at least
     ``a = 1.02 / (1 - L/2)`` (graded_sampling._positions), so with r = κ R on it
     ``k = floor(2π / (a κ))`` chords turning by 2π / k each. κ is the largest value
-    giving at least ``360° / (3/4 feature_angle)`` chords, so that they turn by at most
-    three quarters of the feature angle (the sampler's own threshold for a corner) and
-    their sagitta is at most ``R (1 - cos(3/8 feature_angle))``: 1.9 % of R at 30°. The
-    quarter is margin: at the full feature angle (13 chords at 30°) a tilted
-    featuretype.STL section lost a chord's triangle (bench/cad_corpus.py).
+    giving at least ``360° / (2/3 feature_angle)`` chords, so that they turn by at most
+    two thirds of the feature angle (the sampler's own threshold for a corner) and their
+    sagitta is at most ``R (1 - cos(feature_angle / 3))``: 1.5 % of R at 30°. The third is
+    margin found on real parts: at the full feature angle (13 chords at 30°) a tilted
+    featuretype.STL section lost a chord's triangle (bench/cad_corpus.py), and at three
+    quarters (16 chords) the region beyond a chord of featuretype.STEP's mid-height
+    section was 1.01 r from its ends (tests/test_sources_step.py).
 
     Parameters
     ----------
@@ -230,11 +232,11 @@ def curve_factor(grading: float, feature_angle: float = 30.0) -> float:
 
     Examples
     --------
-    >>> round(curve_factor(0.2), 4)          # 16 chords on a circle, 22.5° each
-    0.3465
+    >>> round(curve_factor(0.2), 4)          # 18 chords on a circle, 20° each
+    0.308
     """
     a = 1.02 / (1.0 - 0.5 * grading)
-    chords = math.ceil(360.0 / (0.75 * feature_angle) - 1e-9)
+    chords = math.ceil(360.0 / (2 / 3 * feature_angle) - 1e-9)
     return 2.0 * math.pi / (chords * a) * (1.0 - 1e-9)
 
 
