@@ -551,3 +551,35 @@ def test_a_drawing_far_from_the_origin_says_to_translate_it(tmp_path):
     near, near_msp = new()
     square(near_msp, 1e6, 1e6, 1)
     assert load_dxf(save(near, tmp_path, "near.dxf")).area == pytest.approx(1.0, rel=1e-9)
+
+
+# --- one region per layer: composite sections (issue 23) ----------------------------
+
+def test_one_region_per_layer_meshes_as_a_composite_section(tmp_path):
+    """A concrete section with a steel core, drawn as CAD users draw materials: each on
+    its own layer, the concrete's outline and the core's edge (its hole), the core on
+    the STEEL layer; a centre line on a third layer closes nothing and is left out. The
+    two layers' regions share the core's edge exactly (one tolerance for the drawing), so
+    pds.mesh_regions meshes them as one conforming, certified mesh whose tags and areas
+    are the materials'."""
+    import pds_plugin as pds
+
+    doc, msp = new()
+    square(msp, 0, 0, 10, layer="CONCRETE")
+    square(msp, 3, 3, 4, layer="CONCRETE")
+    square(msp, 3, 3, 4, layer="STEEL")
+    msp.add_line((5, -1), (5, 11), dxfattribs={"layer": "AXIS"})
+    path = save(doc, tmp_path)
+    with pytest.warns(UserWarning, match="layer 'AXIS'.*left out"):
+        parts = load_dxf(path, regions="layer", mode="outline")
+    assert list(parts) == ["CONCRETE", "STEEL"]
+    assert parts["CONCRETE"].betti == (1, 1) and parts["STEEL"].betti == (1, 0)
+    mesh = pds.mesh_regions(parts, 1.0, seed=0)
+    assert mesh.certificate().ok, mesh.certificate()
+    area = mesh.quality().area
+    assert area[mesh.region_tags.where("CONCRETE")].sum() == pytest.approx(84, rel=1e-12)
+    assert area[mesh.region_tags.where("STEEL")].sum() == pytest.approx(16, rel=1e-12)
+    interface = np.hypot(*np.diff(mesh.vertices[mesh.interface_edges], axis=1)[:, 0].T).sum()
+    assert interface == pytest.approx(16, rel=1e-12)
+    with pytest.raises(ArgumentError, match="regions must be None"):
+        load_dxf(path, regions="layers")

@@ -51,8 +51,8 @@ _MAX_NESTING = 64
 
 
 def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
-             mode: str = "auto", max_bytes: int = MAX_BYTES, max_entities: int = MAX_ENTITIES,
-             max_segments: int = MAX_SEGMENTS) -> Region:
+             mode: str = "auto", regions=None, max_bytes: int = MAX_BYTES,
+             max_entities: int = MAX_ENTITIES, max_segments: int = MAX_SEGMENTS):
     """Read a DXF drawing's model space (or a paper-space sheet) as a :class:`Region` in
     the plane z = 0.
 
@@ -104,6 +104,12 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
     mode : {"auto", "fill", "outline"}
         ``auto`` reads the hatched areas if the hatches enclose any area, and the outline
         of the curves otherwise.
+    regions : {None, "layer"}
+        None: one Region of everything read. ``"layer"``: a dict of Regions, one per
+        layer whose curves (or hatches) close, by layer name, read with the drawing's
+        one tolerance so that boundaries drawn on two layers match: the parts of a
+        composite section for :func:`pds_plugin.mesh_regions`. Layers whose curves close
+        no loop are left out with a warning.
     max_bytes, max_entities, max_segments : int
         Limits checked before the drawing is expanded (see :mod:`._dxf_limits`): the
         file's size (50 MB), the entities the layout read expands to with every INSERT
@@ -112,7 +118,7 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
 
     Returns
     -------
-    Region
+    Region, or dict of str to Region (``regions="layer"``)
         With the identity frame (the drawing lies in the plane z = 0).
 
     Raises
@@ -146,12 +152,20 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
     >>> region = pds.load_dxf(path, units="cm", tolerance=1e-4)
     >>> region.betti, round(region.area, 3)
     ((1, 1), 1.874)
+    >>> _ = doc.modelspace().add_circle((10, 5), radius=2, dxfattribs={"layer": "INSERT"})
+    >>> doc.saveas(path)
+    >>> parts = pds.load_dxf(path, regions="layer", mode="outline", tolerance=1e-4)
+    >>> {layer: round(part.area, 1) for layer, part in parts.items()}   # plate, insert
+    {'0': 187.4, 'INSERT': 12.6}
     """
     if mode not in ("auto", "fill", "outline"):
         raise ArgumentError(f"mode must be 'auto', 'fill' or 'outline', got {mode!r}")
     if units is not None and units not in _UNITS:
         raise ArgumentError(f"units must be None (the drawing's own) or one of "
                             f"{tuple(_UNITS)}, got {units!r}")
+    if regions not in (None, "layer"):
+        raise ArgumentError(f"regions must be None (one region) or 'layer' (one per layer), "
+                            f"got {regions!r}")
     if layout is not None and not isinstance(layout, str):
         raise ArgumentError(f"layout must be the name of a layout ('Model' for the model "
                             f"space), got {layout!r}")
@@ -166,16 +180,37 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
     else:
         drawing = _first_drawn(document, **read)
     drawing.warn(name)
-    hatch_loops, curve_chains, tolerance = drawing.hatches, drawing.curves, drawing.tolerance
-    if not hatch_loops and not curve_chains:
+    if not drawing.hatches and not drawing.curves:
         raise RegionError(f"{name} has no outline curve ({', '.join(CURVES)}) or HATCH in its "
                           f"{drawing.space} on the layers read: nothing to mesh")
+    if regions is None:
+        return _region(drawing.hatches, drawing.hatch_layers, drawing.curves,
+                       drawing.curve_layers, drawing.tolerance, mode, name)
+    found = {}
+    for layer in sorted(set(drawing.hatch_layers) | set(drawing.curve_layers)):
+        hatches = [(h, at) for h, at in zip(drawing.hatches, drawing.hatch_layers) if at == layer]
+        curves = [(c, at) for c, at in zip(drawing.curves, drawing.curve_layers) if at == layer]
+        try:
+            found[layer] = _region(*(list(v) for v in zip(*hatches)) if hatches else ([], []),
+                                   *(list(v) for v in zip(*curves)) if curves else ([], []),
+                                   drawing.tolerance, mode, f"{name}, layer {layer!r}")
+        except RegionError as error:
+            warnings.warn(f"layer {layer!r} of {name} is left out: {error}", UserWarning,
+                          stacklevel=2)
+    if not found:
+        raise RegionError(f"no layer of {name} closes a loop: nothing to mesh")
+    return found
+
+
+def _region(hatch_loops, hatch_layers, curve_chains, curve_layers, tolerance, mode, name):
+    """The Region of a drawing's hatches and curves (and the layer of each), read by
+    ``mode`` as :func:`load_dxf` says."""
     geometry = shapely.Polygon()
     if mode != "outline":
         geometry = shapely.union_all([fill_geometry(
             [_points(chain, tolerance) for chain in chains], "evenodd")
             for chains in hatch_loops])
-        drawn = [(layer, chain) for layer, chains in zip(drawing.hatch_layers, hatch_loops)
+        drawn = [(layer, chain) for layer, chains in zip(hatch_layers, hatch_loops)
                  for chain in chains]
         if geometry.is_empty and mode == "fill":
             raise RegionError(f"the hatches of {name} enclose no area: nothing to mesh (for "
@@ -186,7 +221,7 @@ def load_dxf(path, *, layers=None, layout=None, units=None, tolerance=None,
                               f"layers read and its hatches enclose no area: nothing to mesh")
         geometry = outline([_points(chain, tolerance) for chain in curve_chains], tolerance,
                            name, kind="curve")
-        drawn = list(zip(drawing.curve_layers, curve_chains))
+        drawn = list(zip(curve_layers, curve_chains))
     return Region.from_shapely(geometry, curves=_curves(drawn, tolerance))
 
 
