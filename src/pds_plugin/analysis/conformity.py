@@ -252,14 +252,15 @@ class SampledBoundary:
         star-shaped from is one of its vertices, or with both ends where the chord's
         bisector crosses its boundary (each side of the bisector is star-shaped from its
         own end too: a segment from that end to a point of it stays on that side). A
-        piece star-shaped from no chord end is not certified. (A Python loop, over the few
-        chords whose arc bends both ways.)"""
+        piece that no chord end sees whole is cut into parts seen from the ends and the
+        apex of the chord's triangle (:func:`_seen_in_parts`), and where that gives a
+        smaller bound it is kept; a piece with no such cut is not certified. (A Python
+        loop, over the few chords whose arc bends both ways.)"""
         on = self.arc_chord == k
         a, b = self.points[self.a[k]], self.points[self.b[k]]
         apex = self._apexes.get(int(k))
         xy = np.concatenate([[a], self.arc_xy[on], [b]])
         height = np.concatenate([[0.0], self.arc_offset[on], [0.0]])
-        area = _area_beyond(xy, height)
         tol = ON_BOUNDARY_TOL * self.alpha
         height[np.abs(height) <= tol] = 0.0
         pieces, current = [], None
@@ -272,10 +273,12 @@ class SampledBoundary:
             if current is not None and height[i + 1] >= 0:     # back on the chord's line
                 t = height[i] / (height[i] - height[i + 1])
                 current.append(xy[i] + t * (xy[i + 1] - xy[i]))
-                pieces.append(_without_repeats(np.array(current), tol))
+                pieces.append(np.array(current))
                 current = None
-        gap, where, seen = 0.0, a, True
+        gap, where, area, seen = 0.0, a, 0.0, True
         for piece in pieces:
+            area += abs(float((piece[:, 0] * np.roll(piece[:, 1], -1)
+                               - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
             ends = [e for e, at in ((a, piece[0]), (b, piece[-1]))
                     if np.allclose(e, at, rtol=0, atol=tol) and _star_shaped_from(piece, e, tol)]
             bounds = [] if len(ends) == 2 else [_seen_in_parts(piece, a, b, apex, tol,
@@ -642,37 +645,6 @@ def _star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
     to_point = point - piece
     side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
     return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
-
-
-def _without_repeats(points: np.ndarray, tol: float) -> np.ndarray:
-    """``points`` without those within ``tol`` of the one before."""
-    apart = np.hypot(*np.diff(points, axis=0).T) > tol
-    return points[np.concatenate([[True], apart])]
-
-
-def _area_beyond(xy: np.ndarray, height: np.ndarray) -> float:
-    """The area between the polyline ``xy`` and its chord (from its first point to its
-    last) where the polyline is beyond it (``height`` < 0, each vertex's signed distance
-    from the chord's line): the exact integral of max(0, -height) along the chord, the
-    polyline running forward along it.
-
-    Examples
-    --------
-    >>> _area_beyond(np.array([[0, 0], [1, -1], [2, 0]], float), np.array([0.0, -1.0, 0.0]))
-    1.0
-    """
-    direction = (xy[-1] - xy[0]) / np.hypot(*(xy[-1] - xy[0]))
-    along = (xy - xy[0]) @ direction
-    area = 0.0
-    for (x0, x1), (h0, h1) in zip(zip(along[:-1], along[1:]), zip(height[:-1], height[1:])):
-        if h0 >= 0 and h1 >= 0:
-            continue
-        if h0 <= 0 and h1 <= 0:
-            area -= 0.5 * (h0 + h1) * (x1 - x0)
-        else:                                   # crosses the line: the part beyond only
-            deep = min(h0, h1)
-            area -= 0.5 * deep * (x1 - x0) * deep / (deep - max(h0, h1))
-    return abs(float(area))
 
 
 def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: float,

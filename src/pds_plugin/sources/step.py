@@ -43,7 +43,7 @@ from ..boundary_curves import BoundaryCurves, curves_builder
 from ..errors import SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import bezier_points, elliptic_points
+from .curves import bezier_points, checked_file, elliptic_points
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
@@ -169,15 +169,9 @@ def load(solid):
     shape = _shape_of(solid)
     if shape is not None:
         return shape
-    name = check_path(solid)
-    suffix = os.path.splitext(name)[1].lower()
+    suffix = os.path.splitext(check_path(solid))[1].lower()
     kind = {".iges": "IGES", ".igs": "IGES", ".brep": "BREP", ".brp": "BREP"}.get(suffix, "STEP")
-    if os.path.isdir(name):
-        raise IsADirectoryError(f"{name!r} is a folder, not a {kind} file")
-    if not os.path.isfile(name):
-        raise FileNotFoundError(f"no such {kind} file: {name!r}")
-    if os.path.getsize(name) == 0:
-        raise SourceError(f"the {kind} file {name!r} is empty")
+    name = checked_file(solid, kind)
     _ocp("TopoDS")
     from ..silence import silenced
 
