@@ -703,7 +703,7 @@ def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: f
                         np.concatenate([piece[i:j + 1], [apex]]), apex, tol):
                     continue
                 parts.append((middle, apex))
-            bound = max((reach(part, seer) for part, seer in parts), key=lambda r: r[0])
+            bound = max((reach(part, seer) for part, seer in parts), key=measure)
             if best is None or measure(bound) < measure(best):
                 best = bound
     return best
