@@ -15,6 +15,7 @@ name boundaries after the drawing (:mod:`pds_plugin.tags`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import chain
 
 import numpy as np
 import shapely
@@ -187,19 +188,56 @@ class BoundaryCurves:
         return candidate[first], t[first], gap[first]
 
     def _project(self, points, piece):
-        """The nearest point of the given piece to each point: piece, t, distance."""
-        polyline = self._polylines[piece]
-        along = shapely.line_locate_point(polyline, shapely.points(points), normalized=True)
-        t = self._parameter_of(piece, along)
+        """The nearest point of the given piece to each point: piece, t, distance. Newton
+        from the point's angle on a circular arc, else from the nearest point of the
+        piece's polyline; a point stops when its step no longer moves it."""
+        t = np.empty(len(piece))
+        circle = self._circular[piece]
+        if circle.any():
+            t[circle] = self._circle_parameter(points[circle], piece[circle])
+        if not circle.all():
+            polyline = self._polylines[piece[~circle]]
+            along = shapely.line_locate_point(polyline, shapely.points(points[~circle]),
+                                              normalized=True)
+            t[~circle] = self._parameter_of(piece[~circle], along)
+        active = np.arange(len(piece))
         for _ in range(_NEWTON_STEPS):
-            gap = self._derivatives(piece, t, 0) - points
-            first, second = self._derivatives(piece, t, 1), self._derivatives(piece, t, 2)
+            point, first, second = _Jet(self, piece[active])(t[active])
+            gap = point - points[active]
             slope = (gap * first).sum(axis=1)
             curvature = (first * first).sum(axis=1) + (gap * second).sum(axis=1)
             step = np.where(curvature > 0, slope / np.where(curvature > 0, curvature, 1), 0)
-            t = np.clip(t - step, 0.0, 1.0)
-        distance = np.linalg.norm(self._derivatives(piece, t, 0) - points, axis=1)
+            moved = np.clip(t[active] - step, 0.0, 1.0)
+            still = moved != t[active]
+            t[active] = moved
+            active = active[still]
+            if not len(active):
+                break
+        distance = np.linalg.norm(_Jet(self, piece)(t, 0) - points, axis=1)
         return piece, t, distance
+
+    @property
+    def _circular(self) -> np.ndarray:
+        """The arcs of circles: ``u`` and ``v`` orthogonal and of one length (to 1e-12)."""
+        cached = self.__dict__.get("_circular_cache")
+        if cached is None:
+            u, v = self.conic[:, 2:4], self.conic[:, 4:6]
+            uu, vv, uv = (u * u).sum(axis=1), (v * v).sum(axis=1), (u * v).sum(axis=1)
+            cached = self.elliptic & (np.abs(uu - vv) <= 1e-12 * uu) & (np.abs(uv) <= 1e-12 * uu)
+            object.__setattr__(self, "_circular_cache", cached)
+        return cached
+
+    def _circle_parameter(self, points, piece) -> np.ndarray:
+        """The parameter of the nearest point of circular arcs: the point's angle on the
+        arc, or the nearer end where that angle is off it."""
+        c = self.conic[piece]
+        w = points - c[:, :2]
+        theta = np.arctan2((w * c[:, 4:6]).sum(axis=1), (w * c[:, 2:4]).sum(axis=1))
+        start, sweep = c[:, 6], c[:, 7]
+        turn = np.mod(np.where(sweep >= 0, theta - start, start - theta), 2 * np.pi)
+        span = np.abs(sweep)
+        beyond = np.where(turn - span < 2 * np.pi - turn, 1.0, 0.0)
+        return np.where(turn <= span, turn / np.where(span > 0, span, 1.0), beyond)
 
     def onto_arcs(self, points):
         """``points`` moved onto the elliptic arc nearest each, where that arc is within
@@ -226,9 +264,20 @@ class BoundaryCurves:
         ([[0.0, 1.0], [0.5, 0.0]], [True, False])
         """
         points = np.array(points, dtype=float).reshape(-1, 2)
-        piece, t, distance = self.locate(points)
-        on_arc = self.elliptic[piece] & (distance > 0) & (distance <= self.tolerance * (1 + 1e-9))
-        points[on_arc] = self.point(piece[on_arc], t[on_arc])
+        reach = self.tolerance * (1 + 1e-9)
+        # a piece within ``reach`` of a point has its polyline within reach + _sagitta:
+        # the pieces whose polyline's box is that near are all that can be moved onto
+        owner, piece = self._boxes_near(reach).query(shapely.points(points))
+        on_arc = np.zeros(len(points), bool)
+        if not len(owner):
+            return points, on_arc
+        _, t, distance = self._project(points[owner], piece)
+        best = np.lexsort((piece, distance, owner))        # nearest first, ties by index
+        first = best[np.r_[True, owner[best][1:] != owner[best][:-1]]]
+        owner, piece, t, distance = owner[first], piece[first], t[first], distance[first]
+        move = self.elliptic[piece] & (distance > 0) & (distance <= reach)
+        points[owner[move]] = self.point(piece[move], t[move])
+        on_arc[owner[move]] = True
         return points, on_arc
 
     def deviation(self, segments, boundary, step) -> float:
@@ -372,28 +421,101 @@ class BoundaryCurves:
             grid = self._parameters
             middle = np.tile(0.5 * (grid[1:] + grid[:-1]), count)
             piece = np.repeat(np.arange(count), len(grid) - 1)
-            chords = shapely.get_coordinates(self._polylines).reshape(count, -1, 2)
+            chords = self._polyline_coords
             chord_middle = (0.5 * (chords[:, 1:] + chords[:, :-1])).reshape(-1, 2)
             cached = 1.5 * float(np.linalg.norm(self._derivatives(piece, middle, 0)
                                                 - chord_middle, axis=1).max())
             object.__setattr__(self, "_sagitta_cache", cached)
         return cached
 
+    def _boxes_near(self, distance: float):
+        """An STRtree of the pieces' polyline boxes grown by ``distance + _sagitta``
+        (cached for the last distance asked)."""
+        cached = self.__dict__.get("_boxes_cache")
+        if cached is None or cached[0] != distance:
+            grow = distance + self._sagitta
+            low, high = self._polyline_bounds
+            boxes = shapely.box(low[:, 0] - grow, low[:, 1] - grow, high[:, 0] + grow,
+                                high[:, 1] + grow)
+            cached = (distance, shapely.STRtree(boxes))
+            object.__setattr__(self, "_boxes_cache", cached)
+        return cached[1]
+
+    @property
+    def _polyline_bounds(self):
+        coords = self._polyline_coords
+        return coords.min(axis=1), coords.max(axis=1)
+
+    @property
+    def _polyline_coords(self) -> np.ndarray:
+        """(P, _POLYLINE_POINTS, 2): the polylines' points."""
+        cached = self.__dict__.get("_coords_cache")
+        if cached is None:
+            cached = shapely.get_coordinates(self._polylines).reshape(len(self), -1, 2)
+            object.__setattr__(self, "_coords_cache", cached)
+        return cached
+
+    @property
+    def _fractions(self) -> np.ndarray:
+        """(P, _POLYLINE_POINTS): the fraction of each polyline's length at its points."""
+        cached = self.__dict__.get("_fractions_cache")
+        if cached is None:
+            steps = np.linalg.norm(np.diff(self._polyline_coords, axis=1), axis=2)
+            cumulative = np.concatenate([np.zeros((len(self), 1)), np.cumsum(steps, axis=1)],
+                                        axis=1)
+            total = np.where(cumulative[:, -1] > 0, cumulative[:, -1], 1.0)
+            cached = cumulative / total[:, None]
+            object.__setattr__(self, "_fractions_cache", cached)
+        return cached
+
     def _parameter_of(self, piece, along) -> np.ndarray:
         """The parameter at a fraction ``along`` of each piece's polyline length."""
-        coords = shapely.get_coordinates(self._polylines[piece]).reshape(len(piece), -1, 2)
-        steps = np.linalg.norm(np.diff(coords, axis=1), axis=2)
-        cumulative = np.concatenate([np.zeros((len(piece), 1)), np.cumsum(steps, axis=1)], axis=1)
-        total = np.where(cumulative[:, -1] > 0, cumulative[:, -1], 1.0)
-        fraction = (cumulative / total[:, None] + 2 * np.arange(len(piece))[:, None]).ravel()
-        where = np.asarray(along) + 2 * np.arange(len(piece))      # rows kept apart by 2
-        right = np.clip(np.searchsorted(fraction, where), 1, _POLYLINE_POINTS * len(piece) - 1)
-        right = np.where(right % _POLYLINE_POINTS == 0, right + 1, right)
-        left = right - 1
-        width = fraction[right] - fraction[left]
-        share = np.clip((where - fraction[left]) / np.where(width > 0, width, 1), 0, 1)
-        grid = self._parameters
-        return grid[left % _POLYLINE_POINTS] + share / (_POLYLINE_POINTS - 1)
+        fraction = self._fractions[piece]
+        along = np.asarray(along, dtype=float)
+        right = np.clip((fraction < along[:, None]).sum(axis=1), 1, _POLYLINE_POINTS - 1)
+        rows = np.arange(len(piece))
+        left_at, right_at = fraction[rows, right - 1], fraction[rows, right]
+        width = right_at - left_at
+        share = np.clip((along - left_at) / np.where(width > 0, width, 1), 0, 1)
+        return self._parameters[right - 1] + share / (_POLYLINE_POINTS - 1)
+
+
+class _Jet:
+    """A curve's point and first two derivatives at parameters ``t`` on fixed pieces
+    (the pieces' numbers gathered once, the angles' sines shared by the three)."""
+
+    def __init__(self, curves: BoundaryCurves, piece):
+        piece = np.asarray(piece, dtype=np.int64)
+        self.size = len(piece)
+        self.arcs = curves.elliptic[piece]
+        self.conic = curves.conic[piece[self.arcs]]
+        self.cubic = ~self.arcs
+        self.control = curves.control[piece[self.cubic]]
+
+    def __call__(self, t, orders=2):
+        """(point, first, second) at ``t``; the point alone if ``orders`` is 0."""
+        out = np.empty((3, self.size, 2))
+        if len(self.conic):
+            c = self.conic
+            theta = c[:, 6] + c[:, 7] * t[self.arcs]
+            cos, sin = np.cos(theta)[:, None], np.sin(theta)[:, None]
+            u, v, sweep = c[:, 2:4], c[:, 4:6], c[:, 7:8]
+            out[0, self.arcs] = c[:, :2] + cos * u + sin * v
+            if orders:
+                out[1, self.arcs] = sweep * (-sin * u + cos * v)
+                out[2, self.arcs] = -sweep ** 2 * (cos * u + sin * v)
+        if len(self.control):
+            p = self.control
+            s = t[self.cubic][:, None]
+            out[0, self.cubic] = ((1 - s) ** 3 * p[:, 0] + 3 * (1 - s) ** 2 * s * p[:, 1]
+                                  + 3 * (1 - s) * s ** 2 * p[:, 2] + s ** 3 * p[:, 3])
+            if orders:
+                out[1, self.cubic] = 3 * ((1 - s) ** 2 * (p[:, 1] - p[:, 0])
+                                          + 2 * (1 - s) * s * (p[:, 2] - p[:, 1])
+                                          + s ** 2 * (p[:, 3] - p[:, 2]))
+                out[2, self.cubic] = 6 * ((1 - s) * (p[:, 2] - 2 * p[:, 1] + p[:, 0])
+                                          + s * (p[:, 3] - 2 * p[:, 2] + p[:, 1]))
+        return out if orders else out[0]
 
 
 class _Builder:
@@ -547,25 +669,28 @@ def samples_onto_curves(curves: BoundaryCurves, rings, owners, ring_xy, lower, u
     50
     """
     before = [np.asarray(xy, dtype=float) for xy in ring_xy]
-    sizes = np.cumsum([0] + [len(xy) for xy in before])
+    sizes = np.array([len(xy) for xy in before])
     flat_before = np.concatenate(before)
     on_arcs, flat_on = curves.onto_arcs(flat_before)            # all rings in one search
     if not flat_on.any():
         return before, None
-    nxt = np.concatenate([np.roll(np.arange(a, b), -1) for a, b in zip(sizes[:-1], sizes[1:])])
+    ring_of = np.repeat(np.arange(len(before)), sizes)
+    first = np.cumsum(sizes) - sizes
+    nxt = np.arange(len(flat_before)) + 1
+    nxt[first + sizes - 1] = first
     apart = lower if callable(lower) else (lambda xy: np.full(len(xy), float(lower)))
     chord_before = np.hypot(*(flat_before[nxt] - flat_before).T)
-    close_before = {tuple(pair) for pair in _close_pairs(flat_before, apart(flat_before))}
+    close_before = _close_pairs(flat_before, apart(flat_before), flat_on)
     for _ in range(len(flat_before)):
         flat_after = np.where(flat_on[:, None], on_arcs, flat_before)
         radius = apart(flat_after)
         chord = np.hypot(*(flat_after[nxt] - flat_after).T)
         bad = ((chord < np.minimum(chord_before, np.minimum(radius, radius[nxt])))
                | (chord > np.maximum(chord_before, upper)))
-        ends = np.concatenate([np.flatnonzero(bad), nxt[bad]])
-        new = [pair for pair in map(tuple, _close_pairs(flat_after, radius))
-               if pair not in close_before]
-        ends = np.concatenate([ends, np.array(new, dtype=np.int64).reshape(-1)])
+        new = _close_pairs(flat_after, radius, flat_on)
+        new = new[~np.isin(new, close_before)]
+        n = len(flat_before)
+        ends = np.concatenate([np.flatnonzero(bad), nxt[bad], new // n, new % n])
         ends = ends[flat_on[ends]]
         if not len(ends):
             break
@@ -573,37 +698,67 @@ def samples_onto_curves(curves: BoundaryCurves, rings, owners, ring_xy, lower, u
     if not flat_on.any():
         return before, None
     flat_after = np.where(flat_on[:, None], on_arcs, flat_before)
-    moved = [flat_after[a:b] for a, b in zip(sizes[:-1], sizes[1:])]
-    refined = [_through(ring, old, new) for ring, old, new in zip(rings, before, moved)]
-    polygons = []
-    for ring, (component, hole) in zip(refined, owners):
-        if hole is None:
-            polygons.append([ring, []])
-        else:
-            polygons[component][1].append(ring)
-    return moved, shapely.MultiPolygon([shapely.Polygon(shell, holes) for shell, holes in polygons])
+    moved = np.split(flat_after, first[1:])
+    refined, ring_id = _through(rings, flat_before, flat_after, ring_of)
+    linear = shapely.linearrings(refined, indices=ring_id)
+    component = np.array([c for c, _ in owners])
+    hole = np.array([h is not None for _, h in owners])
+    shells_first = np.lexsort((hole, component))
+    polygons = shapely.polygons(linear[shells_first], indices=component[shells_first])
+    return moved, shapely.MultiPolygon(list(polygons))
 
 
-def _close_pairs(points, radius) -> np.ndarray:
-    """The pairs (i < j) of ``points`` closer than the smaller of their radii."""
+def _close_pairs(points, radius, moving) -> np.ndarray:
+    """The pairs (i, j) of ``points`` closer than the smaller of their radii with ``i``
+    among the ``moving`` ones, as ``i * n + j`` (n points), sorted."""
     from scipy.spatial import cKDTree
 
-    pairs = cKDTree(points).query_pairs(float(radius.max()), output_type="ndarray")
-    gap = np.hypot(*(points[pairs[:, 0]] - points[pairs[:, 1]]).T)
-    return pairs[gap < np.minimum(radius[pairs[:, 0]], radius[pairs[:, 1]])]
+    index = np.flatnonzero(moving)
+    near = cKDTree(points).query_ball_point(points[index], radius[index],
+                                            return_sorted=False)
+    counts = np.fromiter(map(len, near), np.int64, len(index))
+    i = np.repeat(index, counts)
+    j = np.fromiter(chain.from_iterable(near), np.int64, int(counts.sum()))
+    gap = np.hypot(*(points[i] - points[j]).T)
+    keep = (i != j) & (gap < np.minimum(radius[i], radius[j]))
+    return np.sort(i[keep] * len(points) + j[keep])
 
 
-def _through(ring, old, new) -> np.ndarray:
-    """The closed ``ring`` (k, 2) with the points ``new`` inserted at the places along it
-    of ``old`` (points on its segments), replacing the vertices they fall on."""
-    closed = shapely.LinearRing(ring)
-    length = closed.length
-    at = shapely.line_locate_point(closed, shapely.points(old))
-    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(np.vstack([ring, ring[:1]]),
-                                                              axis=0).T))])[:-1]
-    at = np.where(at >= length, 0.0, at)
-    kept = np.abs(cum[:, None] - at[None, :]).min(axis=1) > 1e-12 * length
+def _through(rings, old, new, ring_of):
+    """Every ring (k, 2) with the points ``new`` inserted at the places along it of
+    ``old`` (points on its segments; ``ring_of`` names each one's ring), replacing the
+    vertices they fall on: the refined rings' points, one after the other, and the ring
+    of each point."""
+    count = np.array([len(ring) for ring in rings])
+    ring_id = np.repeat(np.arange(len(rings)), count)
+    vertices = np.concatenate(rings)
+    closed = shapely.linearrings(vertices, indices=ring_id)
+    length = shapely.length(closed)
+    at = shapely.line_locate_point(closed[ring_of], shapely.points(old))
+    at = np.where(at >= length[ring_of], 0.0, at)
+    cum = np.concatenate([np.r_[0.0, np.cumsum(np.hypot(*np.diff(np.vstack([r, r[:1]]),
+                                                                  axis=0).T))[:-1]]
+                          for r in rings])
+    # a vertex is replaced by a point within 1e-12 of its ring's length along it: the
+    # points just before and after each vertex along its ring, from one sort of both
+    place = np.concatenate([cum, at])
+    ring = np.concatenate([ring_id, ring_of])
+    is_point = np.r_[np.zeros(len(cum), bool), np.ones(len(at), bool)]
+    order = np.lexsort((place, ring))
+    rank = np.arange(len(order))
+    previous = np.maximum.accumulate(np.where(is_point[order], rank, -1))
+    following = np.minimum.accumulate(np.where(is_point[order], rank, len(order))[::-1])[::-1]
+    gap = np.full(len(order), np.inf)
+    for neighbour in (previous, following):
+        found = (neighbour >= 0) & (neighbour < len(order))
+        other = order[np.where(found, neighbour, 0)]
+        same = found & (ring[other] == ring[order])
+        gap = np.where(same, np.minimum(gap, np.abs(place[other] - place[order])), gap)
+    far = np.empty(len(order), bool)
+    far[order] = gap > 1e-12 * length[ring[order]]
+    kept = far[:len(cum)]
     where = np.concatenate([cum[kept], at])
-    points = np.concatenate([ring[kept], new])
-    order = np.argsort(where, kind="stable")
-    return points[order]
+    points = np.concatenate([vertices[kept], new])
+    ring = np.concatenate([ring_id[kept], ring_of])
+    order = np.lexsort((where, ring))           # stable: a vertex before a point at its place
+    return points[order], ring[order]
