@@ -5,8 +5,10 @@
 Samples sit in a pyramid of uniform grids (``bins`` = (heads, offsets, nxs, nys, hs,
 counts)): level l has square bins of side ``hs[l] = hs[0] 2^l`` and holds the samples
 q with ``hs[l] <= r(q) < 2 hs[l]`` (level 0 also the smaller ones, the top level the
-larger), ``heads[offsets[l] + c]`` the last sample of its bin c, ``nxt[q]`` the one
-before q. A sample q only matters within r(q) <= 2 hs[l], so a query looks at 5 x 5 bins
+larger), ``heads[offsets[l] + c]`` one more than the last sample of its bin c (0: an
+empty bin, so that a zeroed array, which the system hands out untouched, is an empty
+pyramid: only the pages of bins that get samples are ever written), ``nxt[q]`` the
+sample before q (-1: none). A sample q only matters within r(q) <= 2 hs[l], so a query looks at 5 x 5 bins
 per level at most, whatever the radii around it. The radius field is evaluated outside
 (sizing.py, ``_sizing_kernels``); the kernels get its values. Visibility is that of ``_visibility_kernels``
 (a ``vis`` bundle), with chords binned by their own reach (:func:`bin_chords_by_reach`).
@@ -197,26 +199,38 @@ ctypedef bint (*SampleTest)(const Query *query, Py_ssize_t q) noexcept nogil
 
 
 cdef bint _any_sample(const Query *query, SampleTest test, Py_ssize_t first, Py_ssize_t last,
-                      Py_ssize_t since, const Bins *b) noexcept nogil:
+                      Py_ssize_t since, const Bins *b, bint cover=False) noexcept nogil:
     """Does ``test`` hold for a sample numbered ``since`` or later on the levels
     first..last within min(r, 2 h) of the query's box (a sample of level l matters within
-    r(q) < 2 h of it)? A bin lists its samples newest first, so the walk stops at the
-    first one before ``since``."""
+    r(q) < 2 h of it)? With ``cover``, only the samples within that distance of all four
+    corners are asked (the box is covered by one of them or not at all): the bins that
+    meet [x + size - w, x + w]² (w = min(r, 2 h), with a margin for rounding), none if
+    that is empty. A bin lists its samples newest first, so the walk stops at the first
+    one before ``since``."""
     cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y
     cdef int32_t q
-    cdef double h, reach, x0 = query.placed.x0, y0 = query.placed.y0
+    cdef double h, reach, margin, x0 = query.placed.x0, y0 = query.placed.y0
     for level in range(first, last + 1):
         if b.counts[level] == 0:
             continue
         h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
         reach = min(query.r, 2.0 * h)
-        lo_x = _clamp((query.x - reach - x0) / h, nx)
-        lo_y = _clamp((query.y - reach - y0) / h, ny)
-        hi_x = _clamp((query.x + query.size + reach - x0) / h, nx)
-        hi_y = _clamp((query.y + query.size + reach - y0) / h, ny)
+        if cover:
+            margin = 1e-9 * (reach + query.size + abs(query.x) + abs(query.y))
+            if query.size > 2.0 * reach + 2.0 * margin:
+                continue
+            lo_x = _clamp((query.x + query.size - reach - margin - x0) / h, nx)
+            lo_y = _clamp((query.y + query.size - reach - margin - y0) / h, ny)
+            hi_x = _clamp((query.x + reach + margin - x0) / h, nx)
+            hi_y = _clamp((query.y + reach + margin - y0) / h, ny)
+        else:
+            lo_x = _clamp((query.x - reach - x0) / h, nx)
+            lo_y = _clamp((query.y - reach - y0) / h, ny)
+            hi_x = _clamp((query.x + query.size + reach - x0) / h, nx)
+            hi_y = _clamp((query.y + query.size + reach - y0) / h, ny)
         for jy in range(lo_y, hi_y + 1):
             for jx in range(lo_x, hi_x + 1):
-                q = b.heads[b.offsets[level] + jy * nx + jx]
+                q = b.heads[b.offsets[level] + jy * nx + jx] - 1
                 while q >= since:
                     if test(query, q):
                         return True
@@ -267,8 +281,8 @@ cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double
     points[count, 0] = x
     points[count, 1] = y
     radius[count] = r
-    nxt[count] = b.heads[cell]
-    b.heads[cell] = <int32_t>count
+    nxt[count] = b.heads[cell] - 1
+    b.heads[cell] = <int32_t>(count + 1)
     b.counts[level] += 1
 
 
@@ -346,7 +360,7 @@ cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double hi
     levels."""
     cdef Query query = Query(x_lo, y_lo, s, low, p, c)
     return _any_sample(&query, _covers, _level((1.0 - grading) * low, b),
-                       _level(high + grading * low, b), since, b)
+                       _level(high + grading * low, b), since, b, True)
 
 
 def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple bins, nxt,

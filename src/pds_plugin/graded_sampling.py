@@ -353,7 +353,7 @@ class _GradedSampler:
         nys = (self.height / hs).astype(np.int64) + 1
         offsets = np.concatenate([[0], np.cumsum(nxs * nys)])
         self.h = h
-        self.bins = (np.full(offsets[-1], -1, np.int32), offsets, nxs, nys, hs,
+        self.bins = (np.zeros(offsets[-1], np.int32), offsets, nxs, nys, hs,
                      np.zeros(len(hs), np.int64))
 
     def _reserve(self, extra: int):
