@@ -131,18 +131,21 @@ cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const dou
                           const int64_t[::1] first, const int64_t[::1] stop,
                           const int64_t[::1] left, const int64_t[::1] right,
                           const double[:, ::1] box, const double[::1] smin,
-                          int64_t *stack) noexcept nogil:
+                          int64_t *stack, double *bound) noexcept nogil:
     """min(cap, min_i(s_i + L|x - f_i|)) at (x, y): a depth-first search of the tree,
     the more promising child first, pruning nodes whose bound smin + L·distance is no
-    better than the best so far."""
-    cdef double best = cap, dx, dy, value
-    cdef Py_ssize_t top = 1, k, t, i
+    better than the best so far. Each node's bound is computed once, when it is pushed
+    (``bound`` beside ``stack``); a node pruned then would be pruned when popped (the
+    best only falls), and the value is the same exact minimum whatever is pruned."""
+    cdef double best = cap, dx, dy, value, bound_a, bound_b
+    cdef Py_ssize_t top = 1, k, t, i, a, b
     stack[0] = 0
+    bound[0] = smin[0] + L * _box_distance(x, y, box, 0)
     while top:
         top -= 1
-        k = stack[top]
-        if smin[k] + L * _box_distance(x, y, box, k) >= best:
+        if bound[top] >= best:
             continue
+        k = stack[top]
         if left[k] < 0:
             for t in range(first[k], stop[k]):
                 i = perm[t]
@@ -151,7 +154,18 @@ cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const dou
                 if value < best:
                     best = value
             continue
-        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
+        a, b = left[k], right[k]
+        bound_a = smin[a] + L * _box_distance(x, y, box, a)
+        bound_b = smin[b] + L * _box_distance(x, y, box, b)
+        if bound_a < bound_b:                   # the more promising child on top
+            a, b = b, a
+            bound_a, bound_b = bound_b, bound_a
+        if bound_a < best:
+            stack[top], bound[top] = a, bound_a
+            top += 1
+        if bound_b < best:
+            stack[top], bound[top] = b, bound_b
+            top += 1
     return best
 
 
@@ -167,11 +181,14 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
     out_array = np.empty(n)
     cdef double[::1] out = out_array
     cdef int64_t *stack
+    cdef double *bound
     with nogil, parallel(num_threads=threads_for(n)):
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
+        bound = <double *>malloc(STACK * sizeof(double))
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
             out[k] = _cone_minimum(q[k, 0], q[k, 1], f, sz, L, cap, pm, fs, st, lf, rt, bx, sm,
-                                   stack)
+                                   stack, bound)
+        free(bound)
         free(stack)
     return out_array
 
