@@ -15,7 +15,6 @@ name boundaries after the drawing (:mod:`pds_plugin.tags`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import chain
 
 import numpy as np
 import shapely
@@ -709,18 +708,14 @@ def samples_onto_curves(curves: BoundaryCurves, rings, owners, ring_xy, lower, u
 
 
 def _close_pairs(points, radius, moving) -> np.ndarray:
-    """The pairs (i, j) of ``points`` closer than the smaller of their radii with ``i``
-    among the ``moving`` ones, as ``i * n + j`` (n points), sorted."""
+    """The pairs (i < j) of ``points`` closer than the smaller of their radii with ``i``
+    or ``j`` among the ``moving`` ones, as ``i * n + j`` (n points), sorted."""
     from scipy.spatial import cKDTree
 
-    index = np.flatnonzero(moving)
-    near = cKDTree(points).query_ball_point(points[index], radius[index],
-                                            return_sorted=False)
-    counts = np.fromiter(map(len, near), np.int64, len(index))
-    i = np.repeat(index, counts)
-    j = np.fromiter(chain.from_iterable(near), np.int64, int(counts.sum()))
+    pairs = cKDTree(points).query_pairs(float(radius.max()), output_type="ndarray")
+    i, j = pairs[:, 0], pairs[:, 1]
     gap = np.hypot(*(points[i] - points[j]).T)
-    keep = (i != j) & (gap < np.minimum(radius[i], radius[j]))
+    keep = (moving[i] | moving[j]) & (gap < np.minimum(radius[i], radius[j]))
     return np.sort(i[keep] * len(points) + j[keep])
 
 
