@@ -14,10 +14,20 @@ the mesh's topology against the region's, and the certificate that gathers them.
 Nothing here makes a mesh: that is :mod:`pds_plugin.pipeline`.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..mesh import PlanarMesh
+    from ..partition import PartitionCertificate
+    from ..quadratic import QuadraticMesh
+    from .certificate import Certificate
+
 __all__ = ["certify"]
 
 
-def certify(mesh):
+def certify(mesh: PlanarMesh | QuadraticMesh) -> Certificate | PartitionCertificate:
     """The certificate of any mesh this package makes, chosen by the mesh's kind.
 
     - a uniform :class:`~pds_plugin.PlanarMesh`: a
