@@ -35,7 +35,7 @@ commands:
   pds-mesh batch MANIFEST -o DIR [--scheduler ADDRESS | --workers N]
                                                     many parts and planes, locally or on
                                                     a Dask cluster; resumable
-  pds-mesh remesh IN -o OUT [--alpha A|auto]      remesh every planar face of a mesh
+  pds-mesh remesh IN -o OUT [--alpha A|auto]        remesh every planar face of a mesh
                                                     file, the solid kept
 
 Run 'pds-mesh demo' first, and 'pds-mesh mesh --help' for the options."""
