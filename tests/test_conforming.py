@@ -391,6 +391,33 @@ def test_s_curves_are_sampled_at_their_inflections(amplitude, wavelength):
         assert (np.abs(top[:, 0][None, :] - zeros[:, None]).min(axis=1) < 2 / 800).all()
 
 
+def test_a_kink_is_sampled_before_a_nearby_inflection():
+    """A long segment between opposite turns (its inflection its middle) followed, 1.2
+    alpha on, by a kink (a tessellation seam: one vertex turning against both
+    neighbours). The two are closer than the rule allows, and the kink is kept: an
+    unsampled kink hides region from both ends of its chord (a torus section's was 1.195
+    alpha from every sample it saw), while the inflection may fall anywhere on its
+    segment."""
+    from pds_plugin.region import turning_angles
+    from pds_plugin.sampling import _NOISY_INFLECTION_APART, _inflections
+
+    alpha = 1.0
+    # a right turn, a 1.5 alpha segment, then a left bend with a kink (a right turn) inside
+    xy, heading = [(-3.0, -0.2), (-1.5, 0.0), (0.0, 0.0)], 0.0
+    for k in range(24):                    # the kink 1.35 alpha on, 1.8 from the corner
+        heading += np.radians(-10 if k == 6 else 1.4)
+        xy.append((xy[-1][0] + 0.1, xy[-1][1] + 0.1 * np.tan(heading)))
+    ring = np.array(xy + [(xy[-1][0], -3.0), (-3.0, -3.0)])
+    turns = turning_angles(ring)
+    closed = np.vstack([ring, ring[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    sharp = np.abs(turns) >= np.radians(30)
+    kink = cum[2 + 6]
+    assert turns[8] < 0 < min(turns[7], turns[9]) and kink - (cum[1] + cum[2]) / 2 < 1.5
+    kept = _inflections(cum, turns, sharp, alpha, _NOISY_INFLECTION_APART)
+    assert np.isclose(kept, kink).any(), (kept, kink)
+
+
 @pytest.mark.parametrize("seed", [0, 2])
 def test_the_mil_drawing_is_covered_at_the_benchmark_alpha(seed):
     """The benchmark's MIL.svg at its alpha: coverage failed at 1.10 and 1.25 alpha with

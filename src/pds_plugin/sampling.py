@@ -354,18 +354,25 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART) -> np.ndarra
     # keep only one
     kink = flips & np.roll(flips, 1)
     single = flips & ~kink & ~np.roll(kink, -1)
-    candidates = np.sort(np.concatenate([at[kink], at[single] + 0.5 * span[single]]) % length)
+    kinks = np.sort(at[kink] % length)
+    singles = np.sort((at[single] + 0.5 * span[single]) % length)
     apart = apart * alpha
-    if len(corners):                        # clear of the nearest corner, either way round
-        after = np.searchsorted(corners, candidates) % len(corners)
-        clear = np.minimum((corners[after] - candidates) % length,
-                           (candidates - corners[after - 1]) % length) >= apart
-        candidates = candidates[clear]
-    kept = []
-    for x in candidates:                    # in order: the last kept and the first are nearest
-        if not kept or (x - kept[-1] >= apart and length - (x - kept[0]) >= apart):
-            kept.append(x)
-    return np.array(kept)
+    kept = np.zeros(0)
+    # kinks first: a kink left unsampled hides region from both ends of its chord, while
+    # the inflection of a long arc between two opposite turns may move along that arc
+    for candidates in (kinks, singles):
+        blocking = np.sort(np.concatenate([corners, kept]))
+        if len(blocking):                   # clear of the nearest break, either way round
+            after = np.searchsorted(blocking, candidates) % len(blocking)
+            clear = np.minimum((blocking[after] - candidates) % length,
+                               (candidates - blocking[after - 1]) % length) >= apart
+            candidates = candidates[clear]
+        chosen = []
+        for x in candidates:                # in order: the last kept and the first are nearest
+            if not chosen or (x - chosen[-1] >= apart and length - (x - chosen[0]) >= apart):
+                chosen.append(x)
+        kept = np.sort(np.concatenate([kept, chosen]))
+    return kept
 
 
 def _ring_positions(ring, turns, feature_angle, alpha, rng,
