@@ -223,10 +223,11 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit, vertex, grading):
     first such point, not a later one: |p - c| - k r(p) grows along a straight side (r is
     L-Lipschitz, k L < 1), and a longer part would make the corner's triangle (of
     circumradius |p - c| / (2 cos(θ/2)) when |p - c| = |q - c|) larger than separation
-    needs, and too large for the complex where r(c) is small. Where a side bends before
-    its neighbour (a drilled hole's arc running into a spike), the angle that matters is
-    the one the chords cp and cq make, not the tangents': k is taken from it instead
-    (:func:`_chord_angle_clearance`)."""
+    needs, and too large for the complex where r(c) is small. Where a side bends away
+    before its neighbour (a drilled hole's arc running into a spike), the chords cp and
+    cq make a wider angle than the tangents, and k is taken from it
+    (:func:`_chord_angle_clearance`); the legs are then shortened if the corner's
+    triangle is still too large for the complex (:func:`_tip_kept`)."""
     n, length = len(dense), tau[-1]
     k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
     after, before = np.full(len(corner), unit), np.full(len(corner), unit)
@@ -234,8 +235,8 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit, vertex, grading):
         sides = [_side(dense, tau, corner[c], corner[(c + 1) % len(corner)], 1, length),
                  _side(dense, tau, corner[c], corner[c - 1], -1, length)]
         legs = [_leg(dense, radius, side, k[c]) for side in sides]
-        if any(leg is not None and vertex[side[0][1:leg[2] + 1]].any()
-               for side, leg in zip(sides, legs)):
+        if all(leg is not None for leg in legs) and any(
+                vertex[side[0][1:leg[2] + 1]].any() for side, leg in zip(sides, legs)):
             legs = _chord_angle_clearance(dense, radius, sides, legs, k[c])
         legs = _tip_kept(dense, radius, sides, legs, k[c], grading)
         for out, side, leg in zip((after, before), sides, legs):
@@ -302,20 +303,21 @@ def _tip_kept(dense, radius, sides, legs, k, grading):
 
 
 def _chord_angle_clearance(dense, radius, sides, legs, k):
-    """The legs of a corner whose side bends before them, from the angle between the
-    chords to the legs rather than between the sides' tangents: a side bending away
-    opens that angle (and the corner's triangle grew beyond what the complex keeps at a
-    small r(c): a tip sample left isolated), one bending in closes it (and the tangents'
-    k no longer separated the neighbours). k is set from the chords' angle and the legs
-    found again, a few times; kept only if the neighbours it gives are separated."""
+    """The legs of a corner whose side bends away before them, from the angle between
+    the chords to the legs rather than between the sides' tangents: the bend opens that
+    angle, and the tangents' k made the corner's triangle larger than the complex keeps
+    at a small r(c) (a tip sample left isolated). k is set from the chords' angle and the
+    legs found again, a few times; kept only if the neighbours it gives are separated.
+    A side bending in (closing the angle) keeps the tangents' k: longer legs would
+    separate the neighbours but leave the corner's triangle's circumcentre uncovered."""
     c = dense[sides[0][0][0]]
-    best = legs
+    best, tangents_k = legs, k
     for _ in range(4):
-        if any(leg is None for leg in legs):
-            break
         u, v = legs[0][1] - c, legs[1][1] - c
-        angle = abs(math.atan2(u[0] * v[1] - u[1] * v[0], u @ v))
-        k = float(corner_clearance(angle, 1.0))
+        k = min(tangents_k, float(corner_clearance(
+            abs(math.atan2(u[0] * v[1] - u[1] * v[0], u @ v)), 1.0)))
+        if k == tangents_k:
+            break
         legs = [_leg(dense, radius, side, k) for side in sides]
         if any(leg is None for leg in legs):
             break
