@@ -418,6 +418,31 @@ def test_a_kink_is_sampled_before_a_nearby_inflection():
     assert np.isclose(kept, kink).any(), (kept, kink)
 
 
+def test_kinks_of_a_noisy_boundary_are_sampled_one_alpha_apart():
+    """A tessellated curve cut by a plane: a gentle bend with a kink (a right turn) every
+    1.2 alpha. On a boundary known up to a tolerance every kink is sampled; at 1.5 alpha
+    apart every other one was left out, and a sample just before it could not see the
+    region just past it (a held-out torus section: 1.075 alpha from every sample it
+    saw). No two are closer than alpha."""
+    from pds_plugin.region import turning_angles
+    from pds_plugin.sampling import _NOISY_INFLECTION_APART, _NOISY_KINK_APART, _inflections
+
+    xy, heading = [(0.0, -2.0), (0.0, 0.0)], np.radians(5)
+    for k in range(1, 80):
+        heading += np.radians(-6 if k % 12 == 0 else 1.0)
+        xy.append((xy[-1][0] + 0.1 * np.cos(heading), xy[-1][1] + 0.1 * np.sin(heading)))
+    ring = np.array(xy + [(xy[-1][0], -2.0)])
+    turns = turning_angles(ring)
+    closed = np.vstack([ring, ring[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    sharp = np.abs(turns) >= np.radians(30)
+    kinks = cum[np.arange(12, 80, 12)]
+    kinks = kinks[(kinks - cum[1] >= 1.5) & (cum[len(xy) - 1] - kinks >= 1.5)]
+    kept = _inflections(cum, turns, sharp, 1.0, _NOISY_INFLECTION_APART, _NOISY_KINK_APART)
+    assert len(kinks) >= 3 and np.isin(kinks, kept).all(), (kept, kinks)
+    assert np.diff(kept).min() >= 1.0
+
+
 @pytest.mark.parametrize("seed", [0, 2])
 def test_the_mil_drawing_is_covered_at_the_benchmark_alpha(seed):
     """The benchmark's MIL.svg at its alpha: coverage failed at 1.10 and 1.25 alpha with
