@@ -137,7 +137,9 @@ def estimate_samples(region: Region, alpha: float) -> float:
 
 def largest_alpha(region: Region, max_samples: int) -> float:
     """The alpha at which :func:`estimate_samples` equals ``max_samples``: the smallest
-    radius a sample budget allows.
+    radius a sample budget allows; or, if larger, the smallest whose sampling grid over
+    the region's bounding box stays within the grid's limit (a thin part across a wide
+    box, as a tilted plane through a plate gives).
 
     Parameters
     ----------
@@ -156,7 +158,12 @@ def largest_alpha(region: Region, max_samples: int) -> float:
     7400
     """
     a, p = 0.7 * region.area, region.perimeter
-    return (p + math.sqrt(p * p + 4 * max_samples * a)) / (2 * max_samples)
+    samples = (p + math.sqrt(p * p + 4 * max_samples * a)) / (2 * max_samples)
+    # (w / s + 3) (h / s + 3) cells of side s = alpha / √2 at most, 1 % to spare
+    xmin, ymin, xmax, ymax = region.bounds
+    w, h, cells = xmax - xmin, ymax - ymin, 0.99 * _MAX_GRID_CELLS
+    per_side = (-3 * (w + h) + math.sqrt(9 * (w + h) ** 2 + 4 * w * h * (cells - 9))) / (2 * w * h)
+    return max(samples, math.sqrt(2) / per_side * (1 + 1e-9))
 
 
 def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
