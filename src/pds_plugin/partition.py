@@ -42,11 +42,13 @@ from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
 from .region import Region, turning_angles
+from .graded_sampling import _TAU_MARGIN, _cleared_piece, _corner_clearance, _positions
 from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_clearance
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
-           "ChainSamples", "mesh_part", "interface_report", "InterfaceReport"]
+           "graded_sample_chains", "chain_sample_radii", "with_sample_cones", "ChainSamples",
+           "mesh_part", "interface_report", "InterfaceReport"]
 
 _ON_SEGMENT = 1e-12
 """How close (relative to the extent) a vertex of one ring must be to a segment of
@@ -169,6 +171,14 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     owner, angle = _edge_owners(rings, frames)
     junction = _junctions(owner, pinned)
     chains = _chains(rings, owner, junction)
+    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
+                                 junction, _spikes(rings, frames, junction))
+    return _assembled(rings, owner, junction, chains, positions)
+
+
+def _assembled(rings, owner, junction, chains, positions) -> ChainSamples:
+    """The :class:`ChainSamples` of ``chains`` from each chain's (segment, fraction)
+    positions, junctions numbered once."""
     sample_u, sample_v, sample_t = [], [], []
     index = {}                             # junction vertex -> its sample number
 
@@ -180,8 +190,6 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
             sample_t.append(0.0)
         return index[vertex]
 
-    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
-                                 junction, _spikes(rings, frames, junction))
     chain_samples = []
     for (vertices, closed), (segment, t) in zip(chains, positions):
         ids = []
@@ -202,6 +210,200 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
                         [bool(c[1]) for c in chains],
                         [tuple(sorted(set(owner[_key(c[0][0], c[0][1])])))
                          for c in chains], chain_samples)
+
+
+def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, seed: int = 0,
+                         pinned=()) -> ChainSamples:
+    """Sample the boundary chains of regions that share them, each chain once, for
+    graded meshes: by the graded sampler's rules (:mod:`pds_plugin.graded_sampling`) with
+    the radius r = the smallest of the fields of the regions the chain bounds.
+
+    Each chain is densified and measured in normalized arc length ``τ = ∫ dt / r``; its
+    junctions and its vertices turning by at least ``feature_angle`` are corners (a
+    junction with the clearance of the sharpest angle a region has there, a vertex
+    with its convex side's), and each piece between corners is cut into equal parts of
+    τ in ``[a, 2 a)``, ``a = 1.02 / (1 - L/2)``, or by the corners' clearances, as the
+    graded sampler cuts a ring's pieces; a chain without junction is a ring to it.
+    Samples are then ``min(r(p), r(q))`` apart along the chain in every region's frame,
+    so the regions' own samplers take them as given (``boundary_samples``) once their
+    fields agree on the chain (:func:`chain_sample_radii`).
+
+    Parameters
+    ----------
+    rings, frames, feature_angle, seed, pinned
+        As for :func:`sample_chains`.
+    fields : list of RadiusField
+        Per region, its radius field in its own frame (all of one grading L).
+
+    Returns
+    -------
+    ChainSamples
+
+    Raises
+    ------
+    RegionError
+        As :func:`sample_chains`.
+
+    Examples
+    --------
+    >>> from pds_plugin.sizing import RadiusField
+    >>> xy = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]], float)
+    >>> left, right = [np.array([0, 1, 4, 5])], [np.array([1, 2, 3, 4])]
+    >>> field = RadiusField([[0, 0]], [0.05], grading=0.2, cap=0.4)
+    >>> chains = graded_sample_chains([left, right], [xy, xy], [field, field])
+    >>> shared = [c for c, sides in zip(chains.chain_samples, chains.sides) if len(sides) == 2]
+    >>> p = chains.points(xy)[shared[0]]                  # the interface x = 1
+    >>> r = field(p)
+    >>> bool(np.all(np.hypot(*np.diff(p, axis=0).T) >= np.minimum(r[:-1], r[1:])))
+    True
+    """
+    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+    owner, angle = _edge_owners(rings, frames)
+    junction = _junctions(owner, pinned)
+    chains = _chains(rings, owner, junction)
+    grading = max(field.grading for field in fields)
+    unit = _TAU_MARGIN / (1.0 - 0.5 * grading)
+    positions = []
+    for vertices, closed in chains:
+        sides = sorted(set(owner[_key(vertices[0], vertices[1])]))
+        positions.append(_graded_chain(vertices, closed, sides, angle, frames, fields, grading,
+                                       unit, feature_angle, junction, _chain_rng(seed, vertices)))
+    return _assembled(rings, owner, junction, chains, positions)
+
+
+def _graded_chain(vertices, closed, sides, angle, frames, fields, grading, unit, feature_angle,
+                  junction, rng):
+    """The (segment, fraction) positions of one chain's graded samples (an open chain's
+    last end excluded): see :func:`graded_sample_chains`."""
+    n = len(vertices)
+    xy = frames[sides[0]][vertices]
+    segment, t = _dense_chain(vertices, closed, sides, frames, fields, grading)
+    dense = _chain_points(xy, closed, segment, t)
+    radius = _chain_radius(vertices, closed, sides, frames, fields, segment, t)
+    ring = np.vstack([dense, dense[:1]])               # an open chain closed by a chord
+    step = np.hypot(*np.diff(ring, axis=0).T)
+    inverse = 1.0 / np.append(radius, radius[0])
+    tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inverse[:-1] + inverse[1:]))])
+    turns = turning_angles(xy) if closed else np.concatenate([[0.0], _open_turns(xy), [0.0]])
+    corner_vertex = np.abs(turns) >= np.radians(feature_angle)
+    turn = np.abs(turns)                                # the convex side's clearance
+    ends = [0] if closed else [0, n - 1]
+    for end in ends:
+        if int(vertices[end]) in junction:
+            neighbours = [vertices[(end + 1) % n] if closed or end == 0 else vertices[end - 1]]
+            if closed:
+                neighbours.append(vertices[-1])
+            sharpest = min(_junction_angle(vertices[end], other, angle) for other in neighbours)
+            corner_vertex[end] = True
+            turn[end] = np.pi - sharpest
+    at_vertex = np.flatnonzero(t == 0.0)                # the dense points that are vertices
+    corner = at_vertex[corner_vertex[segment[at_vertex]]]
+    after, before = _corner_clearance(dense, radius, tau, corner,
+                                      turn[segment[corner]], unit)
+    if closed:
+        at = _positions(tau, tau[corner], after, before, unit, rng)
+    else:
+        pieces = [tau[corner[:-1]]]
+        for i in range(len(corner) - 1):
+            lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
+            first, last = after[i], before[i + 1]
+            if first > unit or last > unit:
+                pieces.append(_cleared_piece(lo, span, first, last, unit))
+            else:
+                parts = max(int(span // unit), 1)
+                pieces.append(lo + span * np.arange(1, parts) / parts)
+        at = np.sort(np.concatenate(pieces))
+    j = np.clip(np.searchsorted(tau, at, side="right") - 1, 0, len(dense) - 1)
+    frac = (at - tau[j]) / np.maximum(tau[j + 1] - tau[j], 1e-300)
+    following = (j + 1) % len(dense)
+    t_next = np.where(segment[following] == segment[j], t[following], 1.0)
+    s = np.clip(t[j] + frac * (t_next - t[j]), 0.0, 1.0)
+    return segment[j], np.where(frac > 0, s, t[j])
+
+
+def _junction_angle(vertex, neighbour, angle) -> float:
+    """The sharpest angle a region running the edge (vertex, neighbour) has at ``vertex``."""
+    angles = []
+    for a, b, at_start in ((vertex, neighbour, True), (neighbour, vertex, False)):
+        entry = angle.get((int(a), int(b)))
+        if entry is not None:
+            angles.append(float(entry[1] if at_start else entry[2]))
+    return min(angles)
+
+
+def _chain_points(xy, closed, segment, t) -> np.ndarray:
+    """The points (segment, fraction) along a chain of vertices ``xy``."""
+    following = (segment + 1) % len(xy) if closed else np.minimum(segment + 1, len(xy) - 1)
+    return xy[segment] + t[:, None] * (xy[following] - xy[segment])
+
+
+def _chain_radius(vertices, closed, sides, frames, fields, segment, t) -> np.ndarray:
+    """The smallest of the ``sides``' fields at the points (segment, fraction) of a
+    chain, each read in its own frame."""
+    return np.min([fields[r](_chain_points(frames[r][vertices], closed, segment, t))
+                   for r in sides], axis=0)
+
+
+def _dense_chain(vertices, closed, sides, frames, fields, grading):
+    """A chain's points as (segment, fraction): its vertices, and midpoints inserted
+    until every part is at most 0.3 of the lowest r the field can have on it (as
+    ``graded_sampling._tau_rings`` densifies rings); an open chain's last vertex is
+    (n - 1, 0)."""
+    n = len(vertices)
+    xy = frames[sides[0]][vertices]
+    segment, t = np.arange(n), np.zeros(n)
+    radius = _chain_radius(vertices, closed, sides, frames, fields, segment, t)
+    for _ in range(60):
+        points = _chain_points(xy, closed, segment, t)
+        following = np.append(np.arange(1, len(t)), 0 if closed else len(t) - 1)
+        step = np.hypot(*(points[following] - points).T)
+        low = np.minimum(radius, radius[following]) - 0.5 * grading * step
+        split = step > 0.3 * low
+        if not split.any():
+            break
+        k = np.flatnonzero(split)
+        t_end = np.where(segment[following[k]] == segment[k], t[following[k]], 1.0)
+        middle_segment, middle_t = segment[k], 0.5 * (t[k] + t_end)
+        middle = _chain_radius(vertices, closed, sides, frames, fields, middle_segment, middle_t)
+        segment = np.insert(segment, k + 1, middle_segment)
+        t = np.insert(t, k + 1, middle_t)
+        radius = np.insert(radius, k + 1, middle)
+    return segment, t
+
+
+def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
+    """The radius each region's field is given at each chain sample so that the regions
+    agree on their shared samples and keep them separated: at a sample s, the smallest
+    of the fields of the regions whose rings hold it, and of its distances to its
+    neighbours along those rings.
+
+    A region's own field combined by min with cones of these sizes at its samples
+    (:func:`with_sample_cones`) equals them at every sample (a minimum of L-Lipschitz
+    fields is L-Lipschitz, so no cone undercuts another's sample), whichever region it
+    is read in; samples closer than r (pinned vertices, a short piece) get an r that
+    separates them.
+
+    Returns
+    -------
+    (S,) float ndarray
+    """
+    size = np.full(len(chains.u), np.inf)
+    for r, ring_ids in enumerate(chains.rings):
+        for ids in ring_ids:
+            frame = frames[r]
+            xy = frame[chains.u[ids]] + chains.t[ids, None] * (frame[chains.v[ids]] - frame[chains.u[ids]])
+            gap = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+            np.minimum.at(size, ids, np.minimum(np.minimum(gap, np.roll(gap, 1)), fields[r](xy)))
+    return size
+
+
+def with_sample_cones(field, points, sizes):
+    """``field`` combined by min with the cones ``sizes + L |x - points|`` (a
+    :class:`~pds_plugin.sizing.RadiusField` of the same grading, cap and sizing)."""
+    from .sizing import RadiusField
+    return RadiusField(np.concatenate([field.features, points]),
+                       np.concatenate([field.sizes, sizes]), field.grading, field.cap,
+                       field.sizing)
 
 
 def _key(a, b):
@@ -507,11 +709,19 @@ def _starts_chain(ring, k, along, chains) -> bool:
 
 # --- composite sections --------------------------------------------------------------
 
-def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
+def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool = False,
+                 grading: float | None = None, sizing=None, feature_angle: float = 30.0,
                  max_samples: int | None = None) -> "CompositeMesh":
     """Mesh regions that share boundaries (a composite section: several materials) as
     one conforming mesh: every shared boundary chain is sampled once, each region is
     meshed and certified on its own, and the meshes share the interfaces' vertices.
+
+    ``graded=True`` meshes with one radius field for the whole composite (as
+    :func:`pds_plugin.mesh_region` does for one region): the smallest of the regions'
+    own fields (each follows its walls, holes and corners, an interface being a wall of
+    both sides), combined by min with cones at the chains' samples that make both sides
+    of an interface read the same r there; the chains are sampled once with it
+    (:func:`graded_sample_chains`) and every region is meshed and certified against it.
 
     Parameters
     ----------
@@ -521,9 +731,18 @@ def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
         inserted into it.
     alpha : float or "auto"
         The disc radius of every region; "auto" takes the smallest of the regions'
-        :func:`pds_plugin.suggest_alpha`.
+        :func:`pds_plugin.suggest_alpha`. Graded: the field's cap; "auto" caps it by the
+        largest region's inradius only (the regions' walls and pieces bound it in the
+        smaller ones).
     seed : int
         The same seed gives the same mesh, bit for bit.
+    graded : bool
+        A graded mesh (default: uniform, as :func:`pds_plugin.mesh_region`).
+    grading : float, optional
+        With ``graded``, the Lipschitz constant L of the field, in (0, 1); default
+        :data:`pds_plugin.sizing.DEFAULT_GRADING`.
+    sizing : callable, optional
+        With ``graded``, a user radius ``sizing(x, y)`` on arrays, combined by min.
     feature_angle : float
         Boundary vertices turning by at least this many degrees are sampled as corners.
     max_samples : int, optional
@@ -555,28 +774,58 @@ def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
     (True, ['concrete', 'steel'])
     >>> round(float(mesh.quality().area[mesh.region_tags.where("steel")].sum()), 12)
     1.0
+    >>> graded = pds.mesh_regions({"steel": core, "concrete": shell}, "auto", graded=True)
+    >>> graded.certificate().ok_with_exceptions, len(graded.interface_edges) > 0
+    (True, True)
     """
     names, geometries, frame = _named_geometries(regions)
     check_seed(seed)
+    if not graded and (grading is not None or sizing is not None):
+        raise ArgumentError("grading and sizing apply to graded meshes; pass graded=True")
     _check_no_overlap(names, geometries)
     noded, xy = _noded(geometries)
     _check_near_misses(names, noded)
     parts = []
     for name, geometry in zip(names, noded):
         parts.append(Region.from_shapely(geometry, frame))
-    if isinstance(alpha, str):
-        if alpha != "auto":
-            raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
-        from .pipeline import suggest_alpha
-        alpha = min(suggest_alpha(part) for part in parts)
-    alpha = check_alpha(alpha)
+    if isinstance(alpha, str) and alpha != "auto":
+        raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
     lookup = {tuple(point): k for k, point in enumerate(xy.tolist())}
     rings = [[_ids_of(ring, lookup, name) for ring in part.rings]
              for name, part in zip(names, parts)]
-    chains = sample_chains(rings, [xy] * len(parts), alpha, feature_angle=feature_angle,
-                           seed=seed)
+    frames = [xy] * len(parts)
+    if graded:
+        field = _composite_field(parts, alpha, grading, sizing, feature_angle)
+        chains = graded_sample_chains(rings, frames, [field] * len(parts),
+                                      feature_angle=feature_angle, seed=seed)
+        points = chains.points(xy)
+        field = with_sample_cones(field, points,
+                                  chain_sample_radii(chains, frames, [field] * len(parts)))
+        return _joined_mesh(names, parts, chains, points, field.cap, seed, feature_angle,
+                            max_samples, frame, field)
+    if isinstance(alpha, str):
+        from .pipeline import suggest_alpha
+        alpha = min(suggest_alpha(part) for part in parts)
+    alpha = check_alpha(alpha)
+    chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed)
     return _joined_mesh(names, parts, chains, chains.points(xy), alpha, seed, feature_angle,
                         max_samples, frame)
+
+
+def _composite_field(parts, alpha, grading, sizing, feature_angle):
+    """The radius field of a composite: the smallest of its regions' own fields
+    (:func:`pds_plugin.sizing.radius_field`, each capped by ``alpha`` or, for "auto", by
+    its inradius), capped by ``alpha`` or the largest inradius."""
+    from .sizing import DEFAULT_GRADING, RadiusField, inradius, radius_field
+
+    grading = DEFAULT_GRADING if grading is None else grading
+    caps = ([inradius(part) for part in parts] if isinstance(alpha, str)
+            else [check_alpha(alpha)] * len(parts))
+    fields = [radius_field(part, grading, cap, sizing, feature_angle)
+              for part, cap in zip(parts, caps)]
+    return RadiusField(np.concatenate([f.features for f in fields]),
+                       np.concatenate([f.sizes for f in fields]), fields[0].grading,
+                       max(caps), sizing)
 
 
 def _named_geometries(regions):
@@ -694,15 +943,17 @@ def _ids_of(ring, lookup, name):
 
 
 def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, max_samples,
-                 frame):
-    """Mesh every part with its chains' samples, and join the meshes by sample number."""
+                 frame, field=None):
+    """Mesh every part with its chains' samples (graded with ``field``, one field for
+    all), and join the meshes by sample number."""
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
         options["max_samples"] = max_samples
     points, faces, part_of_face, maps, meshes = [boundary_xy], [], [], [], []
     count = len(boundary_xy)
     for r, (part, ring_ids) in enumerate(zip(parts, chains.rings)):
-        mesh, _ = mesh_part(part, alpha, [boundary_xy[ids] for ids in ring_ids], seed, **options)
+        mesh, _ = mesh_part(part, alpha, [boundary_xy[ids] for ids in ring_ids], seed,
+                            field=field, **options)
         given = np.concatenate(ring_ids)
         extra = len(mesh.vertices) - len(given)
         to_global = np.concatenate([given, count + np.arange(extra)])
@@ -720,7 +971,7 @@ def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, 
     return CompositeMesh(np.concatenate(points), np.concatenate(faces), outer, union, alpha,
                          parts=tuple(meshes), names=tuple(names),
                          part_of_face=np.concatenate(part_of_face), vertex_maps=tuple(maps),
-                         chains=chains)
+                         chains=chains, field=field)
 
 
 ATTEMPTS = 3
@@ -728,9 +979,11 @@ ATTEMPTS = 3
 are exactly the chords between its given samples."""
 
 
-def mesh_part(region: Region, alpha: float, given, seed: int, **options):
+def mesh_part(region: Region, alpha: float, given, seed: int, *, field=None, **options):
     """Mesh one part of a partition with its ``given`` ring samples, drawing its interior
     again from the next seeds (up to :data:`ATTEMPTS`) while a chord is not a mesh edge.
+    With a radius ``field`` the part is graded (the graded sampler and complex with
+    that field, which the certificate then measures against; ``alpha`` is unused).
 
     The chords' proof (docs/conforming.md, "Why consecutive boundary samples are mesh
     edges") assumes no small feature near the chord; beside a short piece a chord may be
@@ -759,11 +1012,27 @@ def mesh_part(region: Region, alpha: float, given, seed: int, **options):
     chords = np.unique(np.concatenate([np.column_stack([np.arange(a, b), np.roll(np.arange(a, b), -1)])
                                        for a, b in zip(local[:-1], local[1:])]), axis=0)
     for attempt in range(ATTEMPTS):
-        mesh = mesh_region(region, alpha, seed=seed + attempt, boundary_samples=given, **options)
+        if field is None:
+            mesh = mesh_region(region, alpha, seed=seed + attempt, boundary_samples=given,
+                               **options)
+        else:
+            mesh = _graded_part(region, field, given, seed + attempt, options)
         boundary = mesh.boundary_edges
         if len(boundary) == len(chords) and np.array_equal(np.unique(boundary, axis=0), chords):
             return mesh, True
     return mesh, False
+
+
+def _graded_part(region, field, given, seed, options) -> PlanarMesh:
+    """The graded mesh of ``region`` with its ring samples ``given`` and radius ``field``."""
+    from .graded_complex import graded_alpha_complex
+    from .graded_sampling import graded_poisson_disc
+
+    samples = graded_poisson_disc(region, field, seed, boundary_samples=given, **options)
+    faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
+                                 boundary=samples.rings)
+    return PlanarMesh(samples.points, faces, samples.on_boundary, region, field.cap, True,
+                      field=field)
 
 
 class CompositeMesh(PlanarMesh):
@@ -787,8 +1056,9 @@ class CompositeMesh(PlanarMesh):
     """
 
     def __init__(self, vertices, faces, on_boundary, region, alpha, *, parts, names,
-                 part_of_face, vertex_maps, chains):
-        super().__init__(vertices, faces, on_boundary, region, alpha, conforming=True)
+                 part_of_face, vertex_maps, chains, field=None):
+        super().__init__(vertices, faces, on_boundary, region, alpha, conforming=True,
+                         field=field)
         self.parts, self.names = parts, names
         self.part_of_face = np.asarray(part_of_face, dtype=np.int64)
         self.vertex_maps = vertex_maps
