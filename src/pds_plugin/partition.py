@@ -47,7 +47,8 @@ from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_cle
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
-           "graded_sample_chains", "chain_sample_radii", "with_sample_cones", "ChainSamples",
+           "graded_sample_chains", "junction_fields", "chain_sample_radii", "with_sample_cones",
+           "ChainSamples",
            "mesh_part", "interface_report", "InterfaceReport"]
 
 _ON_SEGMENT = 1e-12
@@ -261,34 +262,109 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     owner, angle = _edge_owners(rings, frames)
     junction = _junctions(owner, pinned)
     chains = _chains(rings, owner, junction)
+    if not chains:
+        return _assembled(rings, owner, junction, chains, [])
     grading = max(field.grading for field in fields)
     unit = _TAU_MARGIN / (1.0 - 0.5 * grading)
-    positions = []
-    for vertices, closed in chains:
-        sides = sorted(set(owner[_key(vertices[0], vertices[1])]))
-        positions.append(_graded_chain(vertices, closed, sides, angle, frames, fields, grading,
-                                       unit, feature_angle, junction, _chain_rng(seed, vertices)))
-    return _assembled(rings, owner, junction, chains, positions)
+    sides = [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
+    chain_set = _ChainSet(chains, sides, frames, fields)
+    cid, segment, t = chain_set.dense(grading)
+    xy, radius = chain_set.evaluate(cid, segment, t)
+    bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
+    taus, positions = [], []
+    for c, (vertices, closed) in enumerate(chains):
+        part = slice(bounds[c], bounds[c + 1])
+        tau, at = _graded_chain(vertices, closed, sides[c], angle, xy[part], radius[part],
+                                segment[part], unit, feature_angle, junction,
+                                _chain_rng(seed, vertices))
+        taus.append(tau)
+        positions.append(at)
+    positions = _halved(chain_set, taus, positions, segment, t, bounds)
+    return _assembled(rings, owner, junction, chains,
+                      [_tau_to_chain(at, tau, segment[bounds[c]:bounds[c + 1]],
+                                     t[bounds[c]:bounds[c + 1]])
+                       for c, (at, tau) in enumerate(zip(positions, taus))])
 
 
-def _graded_chain(vertices, closed, sides, angle, frames, fields, grading, unit, feature_angle,
+class _ChainSet:
+    """The chains of a partition as flat arrays, and their points (chain, segment,
+    fraction) read in each owner's frame, with the smallest of the owners' fields there
+    (one field call per region for all its chains' points)."""
+
+    def __init__(self, chains, sides, frames, fields):
+        self.count = np.array([len(vertices) for vertices, _ in chains], dtype=np.int64)
+        self.closed = np.array([closed for _, closed in chains], dtype=bool)
+        self.offset = np.concatenate([[0], np.cumsum(self.count)[:-1]])
+        self.vertex = np.concatenate([vertices for vertices, _ in chains])
+        side = np.array([[s[0], s[1] if len(s) > 1 else -1] for s in sides], dtype=np.int64)
+        self.side = side
+        self.frames, self.fields = frames, fields
+
+    def evaluate(self, cid, segment, t):
+        """The points in their chain's first owner's frame, and r there."""
+        following = np.where(self.closed[cid], (segment + 1) % self.count[cid],
+                             np.minimum(segment + 1, self.count[cid] - 1))
+        u = self.vertex[self.offset[cid] + segment]
+        v = self.vertex[self.offset[cid] + following]
+        point = np.concatenate([np.arange(len(cid)), np.flatnonzero(self.side[cid, 1] >= 0)])
+        region = np.concatenate([self.side[cid, 0], self.side[cid[point[len(cid):]], 1]])
+        order = np.argsort(region, kind="stable")
+        point, region = point[order], region[order]
+        starts = np.flatnonzero(np.diff(np.concatenate([[-1], region, [-2]])))
+        xy, radius = np.empty((len(cid), 2)), np.full(len(cid), np.inf)
+        for lo, hi in zip(starts[:-1], starts[1:]):
+            r, at = int(region[lo]), point[lo:hi]
+            frame = self.frames[r]
+            a, b = frame[u[at]], frame[v[at]]
+            p = a + t[at, None] * (b - a)
+            radius[at] = np.minimum(radius[at], self.fields[r](p))
+            first = self.side[cid[at], 0] == r
+            xy[at[first]] = p[first]
+        return xy, radius
+
+    def dense(self, grading):
+        """Every chain's points: its vertices, and midpoints inserted until every part
+        is at most 0.3 of the lowest r the field can have on it (as
+        ``graded_sampling._tau_rings`` densifies rings); an open chain's last vertex is
+        (n - 1, 0). Returns (chain, segment, fraction), chain by chain in order."""
+        cid = np.repeat(np.arange(len(self.count)), self.count)
+        segment = np.arange(len(cid)) - np.repeat(self.offset, self.count)
+        t = np.zeros(len(cid))
+        for _ in range(60):
+            xy, radius = self.evaluate(cid, segment, t)
+            last = np.append(cid[1:] != cid[:-1], True)
+            following = np.arange(1, len(cid) + 1)
+            first_of = np.flatnonzero(np.insert(cid[1:] != cid[:-1], 0, True))
+            following[last] = np.where(self.closed[cid[last]], first_of, np.flatnonzero(last))
+            step = np.hypot(*(xy[following] - xy).T)
+            low = np.minimum(radius, radius[following]) - 0.5 * grading * step
+            split = step > 0.3 * low
+            if not split.any():
+                break
+            k = np.flatnonzero(split)
+            t_end = np.where(segment[following[k]] == segment[k], t[following[k]], 1.0)
+            cid = np.insert(cid, k + 1, cid[k])
+            segment = np.insert(segment, k + 1, segment[k])
+            t = np.insert(t, k + 1, 0.5 * (t[k] + t_end))
+        return cid, segment, t
+
+
+def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, feature_angle,
                   junction, rng):
-    """The (segment, fraction) positions of one chain's graded samples (an open chain's
-    last end excluded): see :func:`graded_sample_chains`."""
+    """One chain's τ along its dense points (an open chain closed by a chord back to its
+    start) and its samples' positions in τ (an open chain's last end excluded): see
+    :func:`graded_sample_chains`."""
     n = len(vertices)
-    xy = frames[sides[0]][vertices]
-    segment, t = _dense_chain(vertices, closed, sides, frames, fields, grading)
-    dense = _chain_points(xy, closed, segment, t)
-    radius = _chain_radius(vertices, closed, sides, frames, fields, segment, t)
-    ring = np.vstack([dense, dense[:1]])               # an open chain closed by a chord
+    ring = np.vstack([dense, dense[:1]])
     step = np.hypot(*np.diff(ring, axis=0).T)
     inverse = 1.0 / np.append(radius, radius[0])
     tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inverse[:-1] + inverse[1:]))])
+    at_vertex = np.flatnonzero(np.append(True, segment[1:] != segment[:-1]))   # t == 0
+    xy = dense[at_vertex]
     turns = turning_angles(xy) if closed else np.concatenate([[0.0], _open_turns(xy), [0.0]])
     corner_vertex = np.abs(turns) >= np.radians(feature_angle)
     turn = np.abs(turns)                                # the convex side's clearance
-    ends = [0] if closed else [0, n - 1]
-    for end in ends:
+    for end in ([0] if closed else [0, n - 1]):
         if int(vertices[end]) in junction:
             neighbours = [vertices[(end + 1) % n] if closed or end == 0 else vertices[end - 1]]
             if closed:
@@ -296,26 +372,77 @@ def _graded_chain(vertices, closed, sides, angle, frames, fields, grading, unit,
             sharpest = min(_junction_angle(vertices[end], other, angle) for other in neighbours)
             corner_vertex[end] = True
             turn[end] = np.pi - sharpest
-    at_vertex = np.flatnonzero(t == 0.0)                # the dense points that are vertices
-    corner = at_vertex[corner_vertex[segment[at_vertex]]]
-    after, before = _corner_clearance(dense, radius, tau, corner,
-                                      turn[segment[corner]], unit)
+    corner = at_vertex[corner_vertex]
+    corner_turn = turn[corner_vertex]
+    if not closed and len(corner) == 2 and np.all(corner_clearance(np.pi - corner_turn, 1.0) <= 1):
+        span = tau[corner[1]]                   # one piece, no clearance: equal parts
+        parts = max(int(span // unit), 1)
+        return tau, span * np.arange(parts) / parts
+    after, before = _corner_clearance(dense, radius, tau, corner, corner_turn, unit)
     if closed:
-        at = _positions(tau, tau[corner], after, before, unit, rng)
-    else:
-        pieces = [tau[corner[:-1]]]
-        for i in range(len(corner) - 1):
-            lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
-            first, last = after[i], before[i + 1]
-            if first > unit or last > unit:
-                pieces.append(_cleared_piece(lo, span, first, last, unit))
-            else:
-                parts = max(int(span // unit), 1)
-                pieces.append(lo + span * np.arange(1, parts) / parts)
-        at = np.sort(np.concatenate(pieces))
-    j = np.clip(np.searchsorted(tau, at, side="right") - 1, 0, len(dense) - 1)
+        return tau, _positions(tau, tau[corner], after, before, unit, rng)
+    pieces = [tau[corner[:-1]]]
+    for i in range(len(corner) - 1):
+        lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
+        first, last = after[i], before[i + 1]
+        if first > unit or last > unit:
+            pieces.append(_cleared_piece(lo, span, first, last, unit))
+        else:
+            parts = max(int(span // unit), 1)
+            pieces.append(lo + span * np.arange(1, parts) / parts)
+    return tau, np.sort(np.concatenate(pieces))
+
+
+def _halved(chain_set, taus, positions, segment, t, bounds):
+    """The positions with every part longer than :data:`_LONGEST_PART` times the smaller
+    r at its ends halved in τ, again until none is (at most :data:`_MAX_HALVINGS`
+    rounds)."""
+    positions = list(positions)
+    todo = np.arange(len(positions))
+    for _ in range(_MAX_HALVINGS):
+        if not len(todo):
+            break
+        ends, cids, segs, ts = [], [], [], []
+        for c in todo.tolist():
+            tau, at = taus[c], positions[c]
+            closed = bool(chain_set.closed[c])
+            e = np.append(at, at[0] + tau[-1] if closed else tau[-2])   # and the last end
+            sg, tt = _tau_to_chain(e % tau[-1], tau, segment[bounds[c]:bounds[c + 1]],
+                                   t[bounds[c]:bounds[c + 1]])
+            ends.append(e)
+            cids.append(np.full(len(e), c))
+            segs.append(sg)
+            ts.append(tt)
+        xy, radius = chain_set.evaluate(np.concatenate(cids), np.concatenate(segs),
+                                        np.concatenate(ts))
+        lengths = np.cumsum([0] + [len(e) for e in ends])
+        again = []
+        for c, e, lo, hi in zip(todo.tolist(), ends, lengths[:-1], lengths[1:]):
+            chord = np.hypot(*np.diff(xy[lo:hi], axis=0).T)
+            r = radius[lo:hi]
+            long = chord > _LONGEST_PART * np.minimum(r[:-1], r[1:])
+            if long.any():
+                positions[c] = np.sort(np.concatenate(
+                    [positions[c], (0.5 * (e[:-1] + e[1:]))[long] % taus[c][-1]]))
+                again.append(c)
+        todo = np.array(again, dtype=np.int64)
+    return positions
+
+
+_LONGEST_PART = 2.0
+"""A chain's part longer than this many times the smaller r at its ends is halved (in
+τ): where r grows fast along it (beside a short edge between pinned vertices) a part of
+less than two units of τ can still be 2.9 r long, and the graded sampler, which keeps
+samples out of a chord's lens, cannot cover beside it."""
+
+_MAX_HALVINGS = 8
+
+
+def _tau_to_chain(at, tau, segment, t):
+    """Positions ``at`` in τ along a densified chain as (segment, fraction) pairs."""
+    j = np.clip(np.searchsorted(tau, at, side="right") - 1, 0, len(segment) - 1)
     frac = (at - tau[j]) / np.maximum(tau[j + 1] - tau[j], 1e-300)
-    following = (j + 1) % len(dense)
+    following = (j + 1) % len(segment)
     t_next = np.where(segment[following] == segment[j], t[following], 1.0)
     s = np.clip(t[j] + frac * (t_next - t[j]), 0.0, 1.0)
     return segment[j], np.where(frac > 0, s, t[j])
@@ -331,69 +458,92 @@ def _junction_angle(vertex, neighbour, angle) -> float:
     return min(angles)
 
 
-def _chain_points(xy, closed, segment, t) -> np.ndarray:
-    """The points (segment, fraction) along a chain of vertices ``xy``."""
-    following = (segment + 1) % len(xy) if closed else np.minimum(segment + 1, len(xy) - 1)
-    return xy[segment] + t[:, None] * (xy[following] - xy[segment])
+def junction_fields(rings, frames, fields, pinned=()) -> list:
+    """The regions' fields made to agree at the junctions of their chains (vertices
+    that must be samples: where the owners change, or ``pinned``), before
+    :func:`graded_sample_chains`.
 
+    At a junction v, r(v) becomes, in every region that has v, the smallest of: the
+    fields of those regions at v, and the distance from v to the other end of each
+    chain leaving it (the ends of a chain too short to be cut are consecutive samples,
+    so r there must not exceed it): a cone of that size at v is added to each of their
+    fields. The samples beside
+    a short edge then grade away from it instead of meeting it at the full radius, and
+    every chain leaving v starts from the same r (a chord many times r at one end
+    leaves the graded sampler no room to cover beside it).
 
-def _chain_radius(vertices, closed, sides, frames, fields, segment, t) -> np.ndarray:
-    """The smallest of the ``sides``' fields at the points (segment, fraction) of a
-    chain, each read in its own frame."""
-    return np.min([fields[r](_chain_points(frames[r][vertices], closed, segment, t))
-                   for r in sides], axis=0)
+    Returns
+    -------
+    list of RadiusField
+        Per region, its field with the junctions' cones.
 
-
-def _dense_chain(vertices, closed, sides, frames, fields, grading):
-    """A chain's points as (segment, fraction): its vertices, and midpoints inserted
-    until every part is at most 0.3 of the lowest r the field can have on it (as
-    ``graded_sampling._tau_rings`` densifies rings); an open chain's last vertex is
-    (n - 1, 0)."""
-    n = len(vertices)
-    xy = frames[sides[0]][vertices]
-    segment, t = np.arange(n), np.zeros(n)
-    radius = _chain_radius(vertices, closed, sides, frames, fields, segment, t)
-    for _ in range(60):
-        points = _chain_points(xy, closed, segment, t)
-        following = np.append(np.arange(1, len(t)), 0 if closed else len(t) - 1)
-        step = np.hypot(*(points[following] - points).T)
-        low = np.minimum(radius, radius[following]) - 0.5 * grading * step
-        split = step > 0.3 * low
-        if not split.any():
-            break
-        k = np.flatnonzero(split)
-        t_end = np.where(segment[following[k]] == segment[k], t[following[k]], 1.0)
-        middle_segment, middle_t = segment[k], 0.5 * (t[k] + t_end)
-        middle = _chain_radius(vertices, closed, sides, frames, fields, middle_segment, middle_t)
-        segment = np.insert(segment, k + 1, middle_segment)
-        t = np.insert(t, k + 1, middle_t)
-        radius = np.insert(radius, k + 1, middle)
-    return segment, t
+    Examples
+    --------
+    >>> from pds_plugin.sizing import RadiusField
+    >>> xy = np.array([[0, 0], [1, 0], [1.01, 0], [2, 0], [2, 1], [0, 1]], float)
+    >>> field = RadiusField(np.zeros((0, 2)), [], grading=0.2, cap=0.5)
+    >>> [f(xy).round(3).tolist() for f in junction_fields([[np.arange(6)]], [xy], [field],
+    ...                                                   pinned=[1, 2])]
+    [[0.21, 0.01, 0.01, 0.208, 0.291, 0.293]]
+    """
+    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+    owner, _ = _edge_owners(rings, frames)
+    junctions = _junctions(owner, pinned)
+    junction = np.array(sorted(junctions), dtype=np.int64)
+    size = np.full(len(junction), np.inf)
+    held = []                                   # per region, its junctions (indices)
+    for r, region in enumerate(rings):
+        ids = np.unique(np.concatenate(region))
+        mine = ids[np.isin(ids, junction)]
+        index = np.searchsorted(junction, mine)
+        held.append(index)
+        np.minimum.at(size, index, fields[r](frames[r][mine]))
+    for vertices, closed in _chains(rings, owner, junctions):
+        if not closed:
+            frame = frames[owner[_key(vertices[0], vertices[1])][0]]
+            ends = np.array([vertices[0], vertices[-1]])
+            apart = math.hypot(*(frame[ends[1:]] - frame[ends[:1]])[0])
+            np.minimum.at(size, np.searchsorted(junction, ends), apart)
+    return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
+            for r, index in enumerate(held)]
 
 
 def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
     """The radius each region's field is given at each chain sample so that the regions
     agree on their shared samples and keep them separated: at a sample s, the smallest
-    of the fields of the regions whose rings hold it, and of its distances to its
-    neighbours along those rings.
+    of the fields (after :func:`junction_fields`) of the regions whose rings hold it;
+    where two neighbours along those rings are closer than both their radii (a part
+    where r dips below its ends', a piece too short for its corners' clearances), the
+    smaller radius is lowered to their distance, which separates them and leaves the
+    larger (a junction's, which other chains were cut for) as it was.
 
     A region's own field combined by min with cones of these sizes at its samples
     (:func:`with_sample_cones`) equals them at every sample (a minimum of L-Lipschitz
     fields is L-Lipschitz, so no cone undercuts another's sample), whichever region it
-    is read in; samples closer than r (pinned vertices, a short piece) get an r that
-    separates them.
+    is read in.
 
     Returns
     -------
     (S,) float ndarray
     """
     size = np.full(len(chains.u), np.inf)
+    points = []
     for r, ring_ids in enumerate(chains.rings):
-        for ids in ring_ids:
-            frame = frames[r]
-            xy = frame[chains.u[ids]] + chains.t[ids, None] * (frame[chains.v[ids]] - frame[chains.u[ids]])
-            gap = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
-            np.minimum.at(size, ids, np.minimum(np.minimum(gap, np.roll(gap, 1)), fields[r](xy)))
+        frame = frames[r]
+        ids = np.concatenate(ring_ids)
+        xy = frame[chains.u[ids]] + chains.t[ids, None] * (frame[chains.v[ids]] - frame[chains.u[ids]])
+        points.append(xy)
+        np.minimum.at(size, ids, fields[r](xy))
+    radius = size.copy()
+    for ring_ids, xy in zip(chains.rings, points):
+        lengths = np.cumsum([0] + [len(ids) for ids in ring_ids])
+        for ids, lo, hi in zip(ring_ids, lengths[:-1], lengths[1:]):
+            p = xy[lo:hi]
+            following = np.roll(ids, -1)
+            gap = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
+            close = gap < np.minimum(radius[ids], radius[following])
+            lower = np.where(radius[ids] <= radius[following], ids, following)
+            np.minimum.at(size, lower[close], gap[close])
     return size
 
 
@@ -796,6 +946,9 @@ def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool = False,
     frames = [xy] * len(parts)
     if graded:
         field = _composite_field(parts, alpha, grading, sizing, feature_angle)
+        joined = junction_fields(rings, frames, [field] * len(parts))     # one frame:
+        field = with_sample_cones(field, np.concatenate([f.features for f in joined]),
+                                  np.concatenate([f.sizes for f in joined]))  # one field
         chains = graded_sample_chains(rings, frames, [field] * len(parts),
                                       feature_angle=feature_angle, seed=seed)
         points = chains.points(xy)
