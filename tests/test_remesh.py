@@ -79,6 +79,21 @@ def test_graded_patches_grade_towards_a_finely_tessellated_hole():
         pds.remesh(source, 0.12, graded=False, grading=0.3)
 
 
+def test_the_command_line_remeshes_graded_or_uniform(tmp_path):
+    import json
+
+    from pds_plugin.cli import main
+
+    trimesh.creation.box((2.0, 1.0, 0.5)).export(tmp_path / "box.stl")
+    for flags, graded in (([], True), (["--uniform"], False)):
+        report = tmp_path / f"report{len(flags)}.json"
+        assert main(["remesh", str(tmp_path / "box.stl"), "-o", str(tmp_path / "out.ply"),
+                     "--alpha", "0.2", "--report", str(report), *flags]) == 0
+        values = json.loads(report.read_text())
+        assert values["graded"] is graded and values["ok"]
+        assert all(("grading" in c) is graded for c in values["certificates"])
+
+
 def test_the_same_seed_gives_the_same_mesh():
     box = trimesh.creation.box((1.0, 1.0, 1.0))
     first, again = pds.remesh(box, 0.2, seed=5), pds.remesh(box, 0.2, seed=5)

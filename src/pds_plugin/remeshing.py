@@ -87,6 +87,8 @@ class RemeshResult:
         on (samples on edges are on them by construction), absolute.
     tolerance : float
         The coplanarity tolerance the patches were found with.
+    graded : bool
+        Whether the patches were graded (their certificates then measure against r).
     """
 
     mesh: "trimesh.Trimesh"
@@ -101,6 +103,7 @@ class RemeshResult:
     volume_error: float
     surface_distance: float
     tolerance: float
+    graded: bool = False
 
     @cached_property
     def certificates(self) -> tuple:
@@ -146,7 +149,7 @@ class RemeshResult:
     def as_dict(self) -> dict:
         """Plain JSON-ready values (each patch's certificate by index)."""
         angles = self.angles()
-        return {"alpha": self.alpha, "vertices": len(self.mesh.vertices),
+        return {"alpha": self.alpha, "graded": self.graded, "vertices": len(self.mesh.vertices),
                 "faces": len(self.mesh.faces), "patches": self.patches,
                 "kept_patches": self.kept_patches, "watertight": list(self.watertight),
                 "euler_number": list(self.euler_number), "volume_error": self.volume_error,
@@ -163,7 +166,8 @@ class RemeshResult:
                    else "FAILED")
         angles = self.angles()
         failed = sum(not c.ok_with_exceptions for c in self.certificates)
-        lines = [f"remesh {verdict}: {len(self.mesh.faces)} triangles, alpha {self.alpha:.6g}, "
+        lines = [f"remesh {verdict}: {len(self.mesh.faces)} triangles, "
+                 f"{'graded, largest radius' if self.graded else 'alpha'} {self.alpha:.6g}, "
                  f"{len(self.certificates)} patches remeshed, {self.kept_patches} kept",
                  f"  watertight {self.watertight[0]} -> {self.watertight[1]}, Euler "
                  f"{self.euler_number[0]} -> {self.euler_number[1]}, volume error "
@@ -291,7 +295,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             break
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
     return _assemble(source, vertices, faces, kept, remeshed, meshes, chains, tolerance,
-                     len(patches), alpha)
+                     len(patches), alpha, graded)
 
 
 def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None):
@@ -479,7 +483,7 @@ def _manifold_patches(patches) -> list:
 
 
 def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
-              patch_count, alpha) -> RemeshResult:
+              patch_count, alpha, graded) -> RemeshResult:
     """Join the patches' meshes and the kept faces (split where samples fall on their
     edges) into one mesh, checked."""
     import trimesh
@@ -531,7 +535,7 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
                         report, alpha, patch_count, patch_count - len(patches),
                         (bool(source.is_watertight), bool(out.is_watertight)),
                         (int(source.euler_number), int(out.euler_number)), volume_error,
-                        distance, tolerance)
+                        distance, tolerance, bool(graded))
 
 
 def _on_input(xy, patch, vertices, faces):
