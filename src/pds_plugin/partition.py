@@ -385,7 +385,9 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, 
     for i in range(len(corner) - 1):
         lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
         first, last = after[i], before[i + 1]
-        if first > unit or last > unit:
+        if len(corner) == 2 and span < first + last:
+            continue             # a chain of two junctions, too short for both clearances:
+        if first > unit or last > unit:          # its ends alone (junction_fields)
             pieces.append(_cleared_piece(lo, span, first, last, unit))
         else:
             parts = max(int(span // unit), 1)
@@ -464,10 +466,12 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
     :func:`graded_sample_chains`.
 
     At a junction v, r(v) becomes, in every region that has v, the smallest of: the
-    fields of those regions at v, and the distance from v to the other end of each
-    chain leaving it (the ends of a chain too short to be cut are consecutive samples,
-    so r there must not exceed it): a cone of that size at v is added to each of their
-    fields. The samples beside
+    fields of those regions at v, and the distance from v to the other end w of each
+    chain leaving it over 1.02 k(w), k(w) >= 1 the clearance factor of the sharpest
+    corner a region has at w (``corner_clearance``): the ends of a chain too short to
+    be cut are consecutive samples, so r there must not exceed their distance, and v is
+    then w's neighbour, which must be clear of w's corner: a cone of that size at v is
+    added to each of their fields. The samples beside
     a short edge then grade away from it instead of meeting it at the full radius, and
     every chain leaving v starts from the same r (a chord many times r at one end
     leaves the graded sampler no room to cover beside it).
@@ -487,7 +491,7 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
     [[0.21, 0.01, 0.01, 0.208, 0.291, 0.293]]
     """
     rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
-    owner, _ = _edge_owners(rings, frames)
+    owner, angle = _edge_owners(rings, frames)
     junctions = _junctions(owner, pinned)
     junction = np.array(sorted(junctions), dtype=np.int64)
     size = np.full(len(junction), np.inf)
@@ -503,7 +507,10 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
             frame = frames[owner[_key(vertices[0], vertices[1])][0]]
             ends = np.array([vertices[0], vertices[-1]])
             apart = math.hypot(*(frame[ends[1:]] - frame[ends[:1]])[0])
-            np.minimum.at(size, np.searchsorted(junction, ends), apart)
+            clearance = [max(1.0, _end_clearance(vertices[0], vertices[1], angle)),
+                         max(1.0, _end_clearance(vertices[-1], vertices[-2], angle))]
+            np.minimum.at(size, np.searchsorted(junction, ends),
+                          apart / (_TAU_MARGIN * np.array(clearance[::-1])))
     return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
             for r, index in enumerate(held)]
 
@@ -512,10 +519,11 @@ def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
     """The radius each region's field is given at each chain sample so that the regions
     agree on their shared samples and keep them separated: at a sample s, the smallest
     of the fields (after :func:`junction_fields`) of the regions whose rings hold it;
-    where two neighbours along those rings are closer than both their radii (a part
-    where r dips below its ends', a piece too short for its corners' clearances), the
-    smaller radius is lowered to their distance, which separates them and leaves the
-    larger (a junction's, which other chains were cut for) as it was.
+    where two neighbours along those rings, or the two neighbours of a sample, are
+    closer than both their radii (a part where r dips below its ends', a part halved
+    beside a sharp corner), the smaller radius is lowered to their distance, which
+    separates them and leaves the larger (a junction's, which other chains were cut
+    for) as it was.
 
     A region's own field combined by min with cones of these sizes at its samples
     (:func:`with_sample_cones`) equals them at every sample (a minimum of L-Lipschitz
@@ -539,11 +547,12 @@ def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
         lengths = np.cumsum([0] + [len(ids) for ids in ring_ids])
         for ids, lo, hi in zip(ring_ids, lengths[:-1], lengths[1:]):
             p = xy[lo:hi]
-            following = np.roll(ids, -1)
-            gap = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
-            close = gap < np.minimum(radius[ids], radius[following])
-            lower = np.where(radius[ids] <= radius[following], ids, following)
-            np.minimum.at(size, lower[close], gap[close])
+            for step in (1, 2):            # neighbours, and the two of a corner
+                following = np.roll(ids, -step)
+                gap = np.hypot(*(np.roll(p, -step, axis=0) - p).T)
+                close = gap < np.minimum(radius[ids], radius[following])
+                lower = np.where(radius[ids] <= radius[following], ids, following)
+                np.minimum.at(size, lower[close], gap[close])
     return size
 
 
