@@ -271,15 +271,16 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     cid, segment, t = chain_set.dense(grading)
     xy, radius = chain_set.evaluate(cid, segment, t)
     bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
-    taus, positions = [], []
+    taus, positions, cleared = [], [], []
     for c, (vertices, closed) in enumerate(chains):
         part = slice(bounds[c], bounds[c + 1])
-        tau, at = _graded_chain(vertices, closed, sides[c], angle, xy[part], radius[part],
-                                segment[part], unit, feature_angle, junction,
-                                _chain_rng(seed, vertices))
+        tau, at, clear = _graded_chain(vertices, closed, sides[c], angle, xy[part],
+                                       radius[part], segment[part], unit, feature_angle,
+                                       junction, _chain_rng(seed, vertices))
         taus.append(tau)
         positions.append(at)
-    positions = _halved(chain_set, taus, positions, segment, t, bounds)
+        cleared.append(clear)
+    positions = _halved(chain_set, taus, positions, cleared, segment, t, bounds)
     return _assembled(rings, owner, junction, chains,
                       [_tau_to_chain(at, tau, segment[bounds[c]:bounds[c + 1]],
                                      t[bounds[c]:bounds[c + 1]])
@@ -352,8 +353,9 @@ class _ChainSet:
 def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, feature_angle,
                   junction, rng):
     """One chain's τ along its dense points (an open chain closed by a chord back to its
-    start) and its samples' positions in τ (an open chain's last end excluded): see
-    :func:`graded_sample_chains`."""
+    start), its samples' positions in τ (an open chain's last end excluded), and the
+    positions of its corners whose clearance exceeds a unit (after, before): the parts
+    beside them are kept whole (:func:`_halved`). See :func:`graded_sample_chains`."""
     n = len(vertices)
     ring = np.vstack([dense, dense[:1]])
     step = np.hypot(*np.diff(ring, axis=0).T)
@@ -377,10 +379,11 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, 
     if not closed and len(corner) == 2 and np.all(corner_clearance(np.pi - corner_turn, 1.0) <= 1):
         span = tau[corner[1]]                   # one piece, no clearance: equal parts
         parts = max(int(span // unit), 1)
-        return tau, span * np.arange(parts) / parts
+        return tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0))
     after, before = _corner_clearance(dense, radius, tau, corner, corner_turn, unit)
+    clear = (tau[corner][after > unit], tau[corner][before > unit])
     if closed:
-        return tau, _positions(tau, tau[corner], after, before, unit, rng)
+        return tau, _positions(tau, tau[corner], after, before, unit, rng), clear
     pieces = [tau[corner[:-1]]]
     for i in range(len(corner) - 1):
         lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
@@ -392,13 +395,16 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, 
         else:
             parts = max(int(span // unit), 1)
             pieces.append(lo + span * np.arange(1, parts) / parts)
-    return tau, np.sort(np.concatenate(pieces))
+    return tau, np.sort(np.concatenate(pieces)), clear
 
 
-def _halved(chain_set, taus, positions, segment, t, bounds):
+def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
     """The positions with every part longer than :data:`_LONGEST_PART` times the smaller
     r at its ends halved in τ, again until none is (at most :data:`_MAX_HALVINGS`
-    rounds)."""
+    rounds); a part that keeps a sharp corner's neighbour clear of it (``cleared``: per
+    chain, the positions of such corners, parts after and parts before them) only when
+    longer than that times the larger r (the neighbour's: r at the corner may be far
+    smaller, and halving there would undo the clearance)."""
     positions = list(positions)
     todo = np.arange(len(positions))
     for _ in range(_MAX_HALVINGS):
@@ -422,7 +428,9 @@ def _halved(chain_set, taus, positions, segment, t, bounds):
         for c, e, lo, hi in zip(todo.tolist(), ends, lengths[:-1], lengths[1:]):
             chord = np.hypot(*np.diff(xy[lo:hi], axis=0).T)
             r = radius[lo:hi]
-            long = chord > _LONGEST_PART * np.minimum(r[:-1], r[1:])
+            beside = np.isin(e[:-1], cleared[c][0]) | np.isin(e[1:], cleared[c][1])
+            reach = np.where(beside, np.maximum(r[:-1], r[1:]), np.minimum(r[:-1], r[1:]))
+            long = chord > _LONGEST_PART * reach
             if long.any():
                 positions[c] = np.sort(np.concatenate(
                     [positions[c], (0.5 * (e[:-1] + e[1:]))[long] % taus[c][-1]]))
@@ -519,8 +527,9 @@ def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
     """The radius each region's field is given at each chain sample so that the regions
     agree on their shared samples and keep them separated: at a sample s, the smallest
     of the fields (after :func:`junction_fields`) of the regions whose rings hold it;
-    where two neighbours along those rings, or the two neighbours of a sample, are
-    closer than both their radii (a part where r dips below its ends', a part halved
+    where two neighbours along those rings, or the two neighbours of a sample at a
+    corner of at least the ladder angle (33.56°; a sharper spike's pairs are the
+    certificate's exceptions, as in uniform meshes), are closer than both their radii (a part where r dips below its ends', a part halved
     beside a sharp corner), the smaller radius is lowered to their distance, which
     separates them and leaves the larger (a junction's, which other chains were cut
     for) as it was.
@@ -551,6 +560,11 @@ def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
                 following = np.roll(ids, -step)
                 gap = np.hypot(*(np.roll(p, -step, axis=0) - p).T)
                 close = gap < np.minimum(radius[ids], radius[following])
+                if step == 2:              # not across a spike (its pairs are exceptions)
+                    a, b = p - np.roll(p, -1, axis=0), np.roll(p, -2, axis=0) - np.roll(p, -1, axis=0)
+                    corner = np.arctan2(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
+                                        (a * b).sum(axis=1))
+                    close &= corner >= _LADDER_ANGLE
                 lower = np.where(radius[ids] <= radius[following], ids, following)
                 np.minimum.at(size, lower[close], gap[close])
     return size
