@@ -208,6 +208,37 @@ def test_auto_alpha_is_graded_unless_uniform_is_asked(part_stl, tmp_path, capsys
     assert "graded L=0.2" in out[0] and "graded L=" not in out[2]
 
 
+def test_a_drawing_without_alpha_gets_a_certified_graded_mesh(tmp_path):
+    """``pds-mesh drawing.svg -o out.ply``: --alpha defaults to auto, a graded mesh."""
+    svg = tmp_path / "ring.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20">'
+                   '<path fill-rule="evenodd" d="M0 0H20V20H0Z M5 5H15V15H5Z"/></svg>')
+    out, report = tmp_path / "ring.ply", tmp_path / "r.json"
+    assert main([svg, "-o", out, "--report", report, "-q"]) == 0
+    [entry] = load_report(report)
+    assert entry["alpha_mode"] == "auto" and entry["certificate"]["grading"] == 0.2
+    assert entry["certificate"]["ok"] and entry["certificate"]["betti_mesh"] == [1, 1]
+    assert entry["region"]["area"] == pytest.approx(300.0, rel=1e-9)
+    mesh, _ = read_ply_quality(out)
+    assert len(mesh.faces) == entry["triangles"]
+
+
+def test_demo_without_matplotlib_skips_the_pictures_in_one_line(tmp_path):
+    """A plain install (no [plot] extra): the meshes and report, no picture, one line."""
+    out = tmp_path / "demo"
+    blocked = ("import sys; sys.modules['matplotlib'] = None; "
+               "from pds_plugin.cli import main; sys.exit(main(sys.argv[1:]))")
+    result = subprocess.run([sys.executable, "-c", blocked, "demo", "-o", str(out)],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    skipped = [line for line in result.stdout.splitlines() if "pictures skipped" in line]
+    assert len(skipped) == 1 and 'pip install "pds_plugin[plot]"' in skipped[0]
+    assert not list(out.glob("*.png"))
+    [entry, graded] = load_report(out / "report.json")
+    assert entry["certificate"]["ok"] and graded["certificate"]["ok"]
+    assert entry["plot"] is None and (out / "section_graded.ply").exists()
+
+
 @pytest.mark.parametrize("options", [["--graded"], ["--grading", "0.3"]])
 def test_uniform_with_graded_is_refused(part_stl, tmp_path, capsys, options):
     assert main([part_stl, "-o", tmp_path / "o.ply", "--axis", "z", "--alpha", "auto",

@@ -391,6 +391,58 @@ def test_s_curves_are_sampled_at_their_inflections(amplitude, wavelength):
         assert (np.abs(top[:, 0][None, :] - zeros[:, None]).min(axis=1) < 2 / 800).all()
 
 
+def test_a_kink_is_sampled_before_a_nearby_inflection():
+    """A long segment between opposite turns (its inflection its middle) followed, 1.2
+    alpha on, by a kink (a tessellation seam: one vertex turning against both
+    neighbours). The two are closer than the rule allows, and the kink is kept: an
+    unsampled kink hides region from both ends of its chord (a torus section's was 1.195
+    alpha from every sample it saw), while the inflection may fall anywhere on its
+    segment."""
+    from pds_plugin.region import turning_angles
+    from pds_plugin.sampling import _NOISY_INFLECTION_APART, _inflections
+
+    alpha = 1.0
+    # a right turn, a 1.5 alpha segment, then a left bend with a kink (a right turn) inside
+    xy, heading = [(-3.0, -0.2), (-1.5, 0.0), (0.0, 0.0)], 0.0
+    for k in range(24):                    # the kink 1.35 alpha on, 1.8 from the corner
+        heading += np.radians(-10 if k == 6 else 1.4)
+        xy.append((xy[-1][0] + 0.1, xy[-1][1] + 0.1 * np.tan(heading)))
+    ring = np.array(xy + [(xy[-1][0], -3.0), (-3.0, -3.0)])
+    turns = turning_angles(ring)
+    closed = np.vstack([ring, ring[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    sharp = np.abs(turns) >= np.radians(30)
+    kink = cum[2 + 6]
+    assert turns[8] < 0 < min(turns[7], turns[9]) and kink - (cum[1] + cum[2]) / 2 < 1.5
+    kept = _inflections(cum, turns, sharp, alpha, _NOISY_INFLECTION_APART)
+    assert np.isclose(kept, kink).any(), (kept, kink)
+
+
+def test_kinks_of_a_noisy_boundary_are_sampled_one_alpha_apart():
+    """A tessellated curve cut by a plane: a gentle bend with a kink (a right turn) every
+    1.2 alpha. On a boundary known up to a tolerance every kink is sampled; at 1.5 alpha
+    apart every other one was left out, and a sample just before it could not see the
+    region just past it (a held-out torus section: 1.075 alpha from every sample it
+    saw). No two are closer than alpha."""
+    from pds_plugin.region import turning_angles
+    from pds_plugin.sampling import _NOISY_INFLECTION_APART, _NOISY_KINK_APART, _inflections
+
+    xy, heading = [(0.0, -2.0), (0.0, 0.0)], np.radians(5)
+    for k in range(1, 80):
+        heading += np.radians(-6 if k % 12 == 0 else 1.0)
+        xy.append((xy[-1][0] + 0.1 * np.cos(heading), xy[-1][1] + 0.1 * np.sin(heading)))
+    ring = np.array(xy + [(xy[-1][0], -2.0)])
+    turns = turning_angles(ring)
+    closed = np.vstack([ring, ring[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    sharp = np.abs(turns) >= np.radians(30)
+    kinks = cum[np.arange(12, 80, 12)]
+    kinks = kinks[(kinks - cum[1] >= 1.5) & (cum[len(xy) - 1] - kinks >= 1.5)]
+    kept = _inflections(cum, turns, sharp, 1.0, _NOISY_INFLECTION_APART, _NOISY_KINK_APART)
+    assert len(kinks) >= 3 and np.isin(kinks, kept).all(), (kept, kinks)
+    assert np.diff(kept).min() >= 1.0
+
+
 @pytest.mark.parametrize("seed", [0, 2])
 def test_the_mil_drawing_is_covered_at_the_benchmark_alpha(seed):
     """The benchmark's MIL.svg at its alpha: coverage failed at 1.10 and 1.25 alpha with

@@ -44,7 +44,7 @@ LAYERS = [
 SIBLINGS = ("pds_plugin.analysis", "pds_plugin.sources", "pds_plugin.sinks", "pds_plugin.batch",
             "pds_plugin.cli")
 # PlanarMesh's methods quality(), certificate(), to_trimesh(), to_meshset() and export()
-# are the public shortcuts of DESIGN.md §4: they import their layer when called. These
+# are the public shortcuts of the README's Layout section: they import their layer when called. These
 # are the only imports allowed to go up, and they still may not close a cycle.
 SHORTCUTS = {
     ("pds_plugin.mesh", "pds_plugin.analysis.quality"),

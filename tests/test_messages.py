@@ -65,6 +65,20 @@ def test_an_unknown_binary_file_does_not_blame_a_missing_module(tmp_path):
     assert "No module named" not in str(caught.value)
 
 
+def test_an_empty_binary_mesh_has_no_triangles_and_is_not_called_unreadable(tmp_path):
+    """Binary meshes have NUL bytes too: only bytes no mesh format has are 'unreadable'
+    (trimesh reads any bytes as text when charset_normalizer is installed)."""
+    import numpy as np
+    import trimesh
+    empty = write(tmp_path, "empty.stl", bytes(80) + (0).to_bytes(4, "little"))
+    cloud = tmp_path / "cloud.ply"
+    trimesh.PointCloud(np.eye(3)).export(cloud, encoding="binary")
+    for path in (empty, cloud):
+        with pytest.raises(pds.SourceError, match="has no triangles") as caught:
+            pds.section(path, (0, 0, 0), (0, 0, 1))
+        assert "neither a valid binary mesh" not in str(caught.value)
+
+
 def test_a_face_beyond_the_vertices_of_a_mesh_file_is_named(tmp_path):
     path = write(tmp_path, "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
     with pytest.raises(pds.SourceError, match="a face refers to a vertex the file does not have"):

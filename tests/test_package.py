@@ -35,3 +35,21 @@ def test_import_is_lazy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_dir_shows_the_public_names_and_no_helpers():
+    code = "import pds_plugin; print(' '.join(dir(pds_plugin)))"
+    shown = set(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                               check=True).stdout.split())
+    assert {"os", "import_module", "_os", "_import_module", "_PUBLIC"}.isdisjoint(shown)
+    assert set(pds.__all__) <= shown
+    assert {name for name in shown if not name.startswith("__")} <= set(pds.__all__)
+
+
+def test_the_graded_and_composite_types_are_public():
+    from pds_plugin.analysis.graded_certificate import GradedCertificate
+    from pds_plugin.sizing import RadiusField
+    assert pds.GradedCertificate is GradedCertificate and pds.RadiusField is RadiusField
+    assert issubclass(pds.GradedCertificate, pds.Certificate)
+    for name in ("GradedCertificate", "RadiusField", "PartitionCertificate", "QuadraticMesh"):
+        assert name in pds.__all__

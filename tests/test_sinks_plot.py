@@ -144,3 +144,50 @@ def test_missing_matplotlib_names_the_extra(mesh, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     with pytest.raises(ImportError, match=r'pip install "pds_plugin\[plot\]"'):
         plot_report(mesh, "report.png")
+
+
+# --- graded meshes: drawn on their own bound -----------------------------------------
+
+@pytest.fixture(scope="module")
+def graded(region):
+    return pds.mesh_region(region, alpha=0.4, seed=5, graded=True, grading=0.3)
+
+
+def graded_bound(grading):
+    """4 cot θ_L with θ_L = arcsin((1 - L)/2), docs/graded.md section 2."""
+    return 4 / np.tan(np.arcsin((1 - grading) / 2))
+
+
+def test_graded_mesh_is_coloured_up_to_its_own_bound(graded):
+    bound = graded_bound(0.3)
+    assert graded.certificate().ok and bound > ASPECT_BOUND
+    fig, ax = plt.subplots()
+    plot_mesh(graded, ax=ax)
+    (triangles,) = collections_of(ax, PolyCollection)
+    assert triangles.get_clim() == pytest.approx((ASPECT_EQUILATERAL, bound))
+    bar = fig.axes[1]
+    assert bar.get_ylim() == pytest.approx((ASPECT_EQUILATERAL, bound))
+    assert bar.get_yticklabels()[-1].get_text() == "4 cot θ_L"
+    assert not any(patch.get_facecolor()[:3] == matplotlib.colors.to_rgb("red")
+                   for patch in bar.patches)   # a certified graded mesh has no "over" arrow
+
+
+def test_graded_histogram_marks_the_graded_bound(graded):
+    ax = plot_histogram(graded)
+    assert [line.get_xdata()[0] for line in ax.lines] == pytest.approx(
+        [ASPECT_EQUILATERAL, graded_bound(0.3)])
+    assert "graded bound, L = 0.3" in ax.get_legend().get_texts()[1].get_text()
+
+
+def test_graded_discs_have_each_sample_its_own_radius(graded):
+    ax = plot_samples(graded, discs=True)
+    (discs,) = collections_of(ax, EllipseCollection)
+    radius = graded.field(graded.vertices)
+    np.testing.assert_allclose(discs._widths * 2, 2 * radius)   # half-widths, in data units
+    assert radius.min() < 0.5 * graded.alpha          # the radius does follow the section
+
+
+def test_multiresolution_of_mixed_meshes_uses_the_largest_bound(mesh, graded):
+    figure = plot_multiresolution([mesh, graded])
+    clims = [c.get_clim() for ax in figure.axes[:2] for c in collections_of(ax, PolyCollection)]
+    assert clims == [pytest.approx((ASPECT_EQUILATERAL, graded_bound(0.3)))] * 2

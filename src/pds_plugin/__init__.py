@@ -13,13 +13,13 @@ True
 Every public name is imported on first use, so ``import pds_plugin`` stays fast.
 """
 
-import os
-from importlib import import_module
+import os as _os
+from importlib import import_module as _import_module
 
 # Idle OpenMP threads of the kernels sleep rather than spin: on a busy machine a spinning
 # thread takes the core the working one needs (docs/engine.md). Read when the kernels
 # load OpenMP, so it is set before any of them is imported; a user's setting wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 from ._version import __version__
 
@@ -36,7 +36,9 @@ _PUBLIC = {
     "topology_report": "analysis.topology",
     "TopologyReport": "analysis.topology",
     "Certificate": "analysis.certificate",
-    "certify": "analysis.certificate",
+    "GradedCertificate": "analysis.graded_certificate",
+    "certify": "analysis",
+    "RadiusField": "sizing",
     "mesh_region": "pipeline",
     "suggest_alpha": "pipeline",
     "auto_mesh": "pipeline",
@@ -45,6 +47,8 @@ _PUBLIC = {
     "section_report": "pipeline",
     "mesh_regions": "partition",
     "CompositeMesh": "partition",
+    "PartitionCertificate": "partition",
+    "QuadraticMesh": "quadratic",
     "remesh": "remeshing",
     "RemeshResult": "remeshing",
     "section": "sources.solids",
@@ -71,10 +75,12 @@ def __getattr__(name):
     module = _PUBLIC.get(name)
     if module is None:
         raise AttributeError(f"module 'pds_plugin' has no attribute {name!r}")
-    value = getattr(import_module(f".{module}", __name__), name)
+    value = getattr(_import_module(f".{module}", __name__), name)
     globals()[name] = value
     return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_PUBLIC))
+    """The public names and the module's own dunders (not its private helpers)."""
+    return sorted({name for name in globals() if not name.startswith("_") or
+                   name.startswith("__")} | set(_PUBLIC))

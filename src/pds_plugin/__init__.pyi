@@ -11,7 +11,11 @@ from .analysis.topology import (
     TopologyReport as TopologyReport,
     topology_report as topology_report,
 )
-from .analysis.certificate import Certificate as Certificate, certify as certify
+from .analysis.certificate import Certificate as Certificate
+from .analysis.graded_certificate import GradedCertificate as GradedCertificate
+from .analysis import certify as certify
+from .sizing import RadiusField as RadiusField
+from .quadratic import QuadraticMesh as QuadraticMesh
 from .pipeline import (
     Resolution as Resolution,
     auto_mesh as auto_mesh,
@@ -20,7 +24,11 @@ from .pipeline import (
     section_report as section_report,
     suggest_alpha as suggest_alpha,
 )
-from .partition import CompositeMesh as CompositeMesh, mesh_regions as mesh_regions
+from .partition import (
+    CompositeMesh as CompositeMesh,
+    PartitionCertificate as PartitionCertificate,
+    mesh_regions as mesh_regions,
+)
 from .remeshing import RemeshResult as RemeshResult, remesh as remesh
 from .sources.solids import mesh_tolerance as mesh_tolerance, section as section, sections as sections
 from .sources.svg import load_svg as load_svg
@@ -52,10 +60,14 @@ __all__ = [
     "CompositeMesh",
     "EmptyMeshError",
     "FeatureSize",
+    "GradedCertificate",
     "MissingDependencyError",
+    "PartitionCertificate",
     "PdsError",
     "PlanarMesh",
+    "QuadraticMesh",
     "Quality",
+    "RadiusField",
     "Region",
     "RegionError",
     "RemeshResult",

@@ -216,11 +216,12 @@ def _cleared_piece(lo, span, first, last, unit):
     return lo + max(first, size) + size * np.arange(parts - 1)
 
 
-def _corner_clearance(dense, radius, tau, corner, turn, unit):
+def _corner_clearance(dense, radius, tau, corner, turn, unit, vertex, grading):
     """The τ-lengths kept free of samples after and before each sharp corner of a ring
-    (``dense`` its densified points with r at them and τ along them, ``corner`` the
-    corners' indices among them, ``turn`` their turning angles, positive left: convex
-    with the region on the left), so that a corner's two neighbours p, q are separated.
+    (``dense`` its densified points with r at them and τ along them, ``vertex`` flags the
+    ring's own vertices among them, ``corner`` the corners' indices, ``turn`` their
+    turning angles, positive left: convex with the region on the left), so that a
+    corner's two neighbours p, q are separated.
 
     ``unit`` where the region's angle θ = π - turn is at least 60°. Below, the part from
     the corner c to p ends where |p - c| first reaches 1.02 k r(p), k = 1 / (2 sin(θ/2))
@@ -231,27 +232,108 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit):
     first such point, not a later one: |p - c| - k r(p) grows along a straight side (r is
     L-Lipschitz, k L < 1), and a longer part would make the corner's triangle (of
     circumradius |p - c| / (2 cos(θ/2)) when |p - c| = |q - c|) larger than separation
-    needs, and too large for the complex where r(c) is small."""
+    needs, and too large for the complex where r(c) is small. Where a side bends away
+    before its neighbour (a drilled hole's arc running into a spike), the chords cp and
+    cq make a wider angle than the tangents, and k is taken from it
+    (:func:`_chord_angle_clearance`); the legs are then shortened if the corner's
+    triangle is still too large for the complex (:func:`_tip_kept`)."""
     n, length = len(dense), tau[-1]
     k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
     after, before = np.full(len(corner), unit), np.full(len(corner), unit)
     for c in np.flatnonzero(k > 1.0):
-        nxt_corner = corner[(c + 1) % len(corner)]
-        prev_corner = corner[c - 1]
-        for out, stop, step in ((after, nxt_corner, 1), (before, prev_corner, -1)):
-            steps = (step * (stop - corner[c])) % n or n
-            walk = (corner[c] + step * np.arange(steps + 1)) % n
-            position = (step * (tau[walk] - tau[corner[c]])) % length
-            position[-1] = position[-1] or length
-            apart = np.hypot(*(dense[walk] - dense[corner[c]]).T)
-            g = apart - _TAU_MARGIN * k[c] * radius[walk]
-            j = int(np.argmax(g >= 0))          # g[0] = -k r(c) < 0
-            if not j:
-                out[c] = position[-1]               # the whole piece: too short
-                continue
-            t = g[j - 1] / (g[j - 1] - g[j])
-            out[c] = max(unit, position[j - 1] + t * (position[j] - position[j - 1]))
+        sides = [_side(dense, tau, corner[c], corner[(c + 1) % len(corner)], 1, length),
+                 _side(dense, tau, corner[c], corner[c - 1], -1, length)]
+        legs = [_leg(dense, radius, side, k[c]) for side in sides]
+        if all(leg is not None for leg in legs) and any(
+                vertex[side[0][1:leg[2] + 1]].any() for side, leg in zip(sides, legs)):
+            legs = _chord_angle_clearance(dense, radius, sides, legs, k[c])
+        legs = _tip_kept(dense, radius, sides, legs, k[c], grading)
+        for out, side, leg in zip((after, before), sides, legs):
+            out[c] = side[1][-1] if leg is None else max(unit, leg[0])     # None: too short
     return after, before
+
+
+def _side(dense, tau, start, stop, step, length):
+    """The dense points from a corner to the next (``step`` 1) or previous (-1) corner:
+    their indices and τ from the corner."""
+    n = len(dense)
+    steps = (step * (stop - start)) % n or n
+    walk = (start + step * np.arange(steps + 1)) % n
+    position = (step * (tau[walk] - tau[start])) % length
+    position[-1] = position[-1] or length
+    return walk, position
+
+
+def _leg(dense, radius, side, k):
+    """Where along ``side`` |p - c| first reaches 1.02 k r(p): (τ, point, the index of
+    the dense point before it within the side), or None if it never does."""
+    walk, position = side
+    apart = np.hypot(*(dense[walk] - dense[walk[0]]).T)
+    g = apart - _TAU_MARGIN * k * radius[walk]
+    j = int(np.argmax(g >= 0))          # g[0] = -k r(c) < 0
+    if not j:
+        return None
+    t = g[j - 1] / (g[j - 1] - g[j])
+    point = dense[walk[j - 1]] + t * (dense[walk[j]] - dense[walk[j - 1]])
+    return position[j - 1] + t * (position[j] - position[j - 1]), point, j - 1
+
+
+def _tip_kept(dense, radius, sides, legs, k, grading):
+    """The legs of a corner shortened, if need be, until the corner's triangle c p q has
+    a circumradius the complex keeps (at most min r / (1 - L) over c, p, q, with 2 %
+    to spare): below 33.56° (where the clearance is capped and cannot separate p and q
+    anyway) or where r grew from a small r(c), the clearance's legs made a triangle the
+    complex dropped, leaving the corner's sample isolated. The legs are those of a
+    smaller k, found by bisection; p and q may then be closer than r (an exception the
+    certificate itemises, as for every corner sharper than 33.56°)."""
+    if any(leg is None for leg in legs):
+        return legs
+    c = dense[sides[0][0][0]]
+    rc = radius[sides[0][0][0]]
+
+    def too_big(legs):
+        p, q = legs[0][1], legs[1][1]
+        sides_pq = math.hypot(*(p - q)) * math.hypot(*(p - c)) * math.hypot(*(q - c))
+        area = abs((p[0] - c[0]) * (q[1] - c[1]) - (p[1] - c[1]) * (q[0] - c[0])) / 2
+        r = [np.interp(leg[0], side[1], radius[side[0]]) for side, leg in zip(sides, legs)]
+        return sides_pq > 4 * area * min(rc, *r) / (1 - grading) / _TAU_MARGIN
+
+    if not too_big(legs):
+        return legs
+    low, high, kept = 0.0, 1.0, None
+    for _ in range(30):
+        middle = 0.5 * (low + high)
+        trial = [_leg(dense, radius, side, middle * k) for side in sides]
+        if any(leg is None for leg in trial) or too_big(trial):
+            high = middle
+        else:
+            low, kept = middle, trial
+    return kept or legs
+
+
+def _chord_angle_clearance(dense, radius, sides, legs, k):
+    """The legs of a corner whose side bends away before them, from the angle between
+    the chords to the legs rather than between the sides' tangents: the bend opens that
+    angle, and the tangents' k made the corner's triangle larger than the complex keeps
+    at a small r(c) (a tip sample left isolated). k is set from the chords' angle and the
+    legs found again, a few times; kept only if the neighbours it gives are separated.
+    A side bending in (closing the angle) keeps the tangents' k: longer legs would
+    separate the neighbours but leave the corner's triangle's circumcentre uncovered."""
+    c = dense[sides[0][0][0]]
+    best, tangents_k = legs, k
+    for _ in range(4):
+        u, v = legs[0][1] - c, legs[1][1] - c
+        k = min(tangents_k, float(corner_clearance(
+            abs(math.atan2(u[0] * v[1] - u[1] * v[0], u @ v)), 1.0)))
+        if k == tangents_k:
+            break
+        legs = [_leg(dense, radius, side, k) for side in sides]
+        if any(leg is None for leg in legs):
+            break
+        r = [np.interp(leg[0], side[1], radius[side[0]]) for side, leg in zip(sides, legs)]
+        if math.hypot(*(legs[0][1] - legs[1][1])) >= _TAU_MARGIN * min(r):
+            best = legs
+    return best
 
 
 def _fixed(at, corners, cleared_after, cleared_before):
@@ -410,7 +492,7 @@ class _GradedSampler:
             sharp[first] = sharp_vertex
             corner = np.flatnonzero(sharp)
             after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
-                                              unit)
+                                              unit, first, L)
             at = _positions(tau, tau[corner], after, before, unit, rng)
             samples = _along(at, tau, np.vstack([dense, dense[:1]]))
             ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,

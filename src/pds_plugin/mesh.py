@@ -4,7 +4,7 @@ The mesh owns what is computed from its faces alone (edges, boundary edges, the 
 they bound, connected components and Betti numbers), each once, as named cached
 attributes. Its measurements, certificate and writers live in the layers above
 (:mod:`pds_plugin.analysis`, :mod:`pds_plugin.sinks`); the methods of the same names
-here are the public shortcuts to them (see DESIGN.md §4).
+here are the public shortcuts to them (the README's Layout section).
 """
 
 from __future__ import annotations

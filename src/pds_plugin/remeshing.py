@@ -81,7 +81,7 @@ class RemeshResult:
     euler_number : tuple of int
         (input, output).
     volume_error : float
-        |volume(output) - volume(input)| / |volume(input)| (nan for an open input).
+        ``|volume(output) - volume(input)| / |volume(input)|`` (nan for an open input).
     surface_distance : float
         The largest distance from an output vertex to the input triangle it was placed
         on (samples on edges are on them by construction), absolute.

@@ -63,6 +63,7 @@ _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much bel
 _STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
 _NOISY_INFLECTION_APART = 1.5  # the same where the boundary is known up to a tolerance
+_NOISY_KINK_APART = 1.0  # kinks there: just separated (each one unsampled hides region)
 _GUARD_SPREAD = (0.5, -0.5, 1.0, -1.0, 0.25, -0.25, 0.75, -0.75)  # other guard heights, / t_c
 _GUARD_MARGIN = 1e-9     # guards stay this much (/ t_c) inside the heights of circumradius alpha
 _LADDER_ANGLE = 2 * math.asin(1 / (2 * math.sqrt(3)))  # spikes sharper (33.56°) get mirror pairs
@@ -305,7 +306,8 @@ def corner_clearance(angle, alpha):
     return np.minimum(guard, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
 
 
-def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART) -> np.ndarray:
+def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
+                 kinks_apart=_INFLECTION_APART) -> np.ndarray:
     """Arc positions where a ring's boundary changes the way it bends between two sharp
     corners (an S-curve's inflection), to be sampled like corners, so that the arc
     between consecutive samples bends one way only and lies on one side of its chord
@@ -323,6 +325,10 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART) -> np.ndarra
     by a plane) has inflections wherever the noise bends it, and each one not sampled may
     leave an arc bending both ways: ``_NOISY_INFLECTION_APART`` (1.5) samples twice as
     many, at the price of chords below alpha on pieces of one part (itemised exceptions).
+    Kinks are kept first, ``kinks_apart`` apart (there ``_NOISY_KINK_APART``, 1: just
+    separated), and the other inflections then clear of them: a kink left unsampled
+    hides the region just past it from the chord end before it, while the inflection of
+    a long arc between two opposite turns may fall anywhere on that arc.
 
     Examples
     --------
@@ -354,22 +360,37 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART) -> np.ndarra
     # keep only one
     kink = flips & np.roll(flips, 1)
     single = flips & ~kink & ~np.roll(kink, -1)
-    candidates = np.sort(np.concatenate([at[kink], at[single] + 0.5 * span[single]]) % length)
-    apart = apart * alpha
-    if len(corners):                        # clear of the nearest corner, either way round
-        after = np.searchsorted(corners, candidates) % len(corners)
-        clear = np.minimum((corners[after] - candidates) % length,
-                           (candidates - corners[after - 1]) % length) >= apart
-        candidates = candidates[clear]
+    kinks = _thinned(_clear_of(np.sort(at[kink] % length), corners, apart * alpha, length),
+                     kinks_apart * alpha, length)
+    singles = np.sort((at[single] + 0.5 * span[single]) % length)
+    blocking = np.sort(np.concatenate([corners, kinks]))
+    singles = _thinned(_clear_of(singles, blocking, apart * alpha, length), apart * alpha, length)
+    return np.sort(np.concatenate([kinks, singles]))
+
+
+def _clear_of(candidates, blocking, distance, length) -> np.ndarray:
+    """The sorted ring positions ``candidates`` at least ``distance`` from every one of
+    the sorted positions ``blocking``, either way round a ring of ``length``."""
+    if not len(blocking):
+        return candidates
+    after = np.searchsorted(blocking, candidates) % len(blocking)
+    clear = np.minimum((blocking[after] - candidates) % length,
+                       (candidates - blocking[after - 1]) % length) >= distance
+    return candidates[clear]
+
+
+def _thinned(candidates, distance, length) -> np.ndarray:
+    """The sorted ring positions ``candidates`` kept in order when at least ``distance``
+    from the last kept and, round the ring, from the first."""
     kept = []
-    for x in candidates:                    # in order: the last kept and the first are nearest
-        if not kept or (x - kept[-1] >= apart and length - (x - kept[0]) >= apart):
+    for x in candidates:
+        if not kept or (x - kept[-1] >= distance and length - (x - kept[0]) >= distance):
             kept.append(x)
     return np.array(kept)
 
 
 def _ring_positions(ring, turns, feature_angle, alpha, rng,
-                    inflections_apart=_INFLECTION_APART):
+                    inflections_apart=(_INFLECTION_APART, _INFLECTION_APART)):
     """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
     and the inflections of its curves (:func:`_inflections`; or one random point if it
     has neither), the pieces between them split by ``split_gaps`` into parts of arc
@@ -380,15 +401,16 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng,
     its two sides are alpha apart. On a curve a chord is shorter than its arc: where a
     chord of a piece falls below alpha, that piece is split again with its lower bounds
     scaled by alpha / that chord (its parts stay at most √3 alpha, so their chords do).
-    Inflections are kept ``inflections_apart`` alpha apart (:func:`_inflections`); spikes
-    sharper than 33.56° are sampled in mirror pairs (:func:`_ladders`)."""
+    Inflections and kinks are kept ``inflections_apart`` alpha apart
+    (:func:`_inflections`); spikes sharper than 33.56° are sampled in mirror pairs
+    (:func:`_ladders`)."""
     closed = np.vstack([ring, ring[:1]])
     cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
     length = cum[-1]
     sharp = np.abs(turns) >= np.radians(feature_angle)
     longest = math.sqrt(3) * alpha
     first_cap = corner_clearance(0.0, alpha)       # the cap (a corner of angle 0)
-    bends = _inflections(cum, turns, sharp, alpha, inflections_apart)
+    bends = _inflections(cum, turns, sharp, alpha, *inflections_apart)
     if sharp.any() or len(bends):
         corners = np.concatenate([cum[:-1][sharp], bends])
         angle = np.concatenate([np.pi - turns[sharp], np.full(len(bends), np.pi)])  # the region's
@@ -608,7 +630,8 @@ class _Sampler:
         alpha = self.alpha
         ring_xy = given
         if given is None:
-            apart = _NOISY_INFLECTION_APART if self.region.tolerance else _INFLECTION_APART
+            apart = ((_NOISY_INFLECTION_APART, _NOISY_KINK_APART) if self.region.tolerance
+                     else (_INFLECTION_APART, _INFLECTION_APART))
             ring_xy = [_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
                                                alpha, rng, apart)) for ring in self.region.rings]
             ring_xy, self.sampled_region = _onto_curves(    # chords stay in [1, √3) alpha

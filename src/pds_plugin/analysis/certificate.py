@@ -52,6 +52,7 @@ from scipy.spatial import Delaunay, QhullError, cKDTree
 
 from .. import _certificate_kernels as kern
 from .._checks import check_planar_mesh
+from ..errors import ArgumentError
 from .._complex_kernels import bin_points
 from .._geometry_kernels import circumcircles
 from .conformity import (AREA_TOL, FACE_BLOCK, PROBES_PER_ALPHA, SampledBoundary,
@@ -394,9 +395,10 @@ class Certificate:
 
 
 def certify(mesh: PlanarMesh) -> Certificate:
-    """Measure the certificate of ``mesh`` (see the module docstring).
+    """Measure the certificate of a uniform ``mesh`` (see the module docstring).
 
-    :meth:`PlanarMesh.certificate` calls this once and caches the result.
+    :meth:`PlanarMesh.certificate` calls this once and caches the result;
+    :func:`pds_plugin.certify` takes any kind of mesh.
 
     Parameters
     ----------
@@ -405,6 +407,11 @@ def certify(mesh: PlanarMesh) -> Certificate:
     Returns
     -------
     Certificate
+
+    Raises
+    ------
+    ArgumentError
+        If ``mesh`` is graded (its certificate is :func:`.graded_certificate.certify_graded`'s).
 
     Examples
     --------
@@ -415,6 +422,10 @@ def certify(mesh: PlanarMesh) -> Certificate:
     (True, True, True)
     """
     check_planar_mesh(mesh, "certify")
+    if getattr(mesh, "field", None) is not None:     # measured against alpha it would fail
+        raise ArgumentError("pds_plugin.analysis.certificate.certify measures uniform meshes "
+                            "and this mesh is graded (mesh.field): use pds_plugin.certify(mesh) "
+                            "or mesh.certificate()")
     points, alpha = mesh.vertices, mesh.alpha
     faces = np.ascontiguousarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     quality = mesh.quality()

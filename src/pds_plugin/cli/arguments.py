@@ -28,7 +28,7 @@ sampling of radius alpha, mesh it with the solid alpha-complex, and write
 it with its quality certificate.
 
 commands:
-  pds-mesh [mesh] INPUT -o OUT --alpha A|auto ...   mesh sections of INPUT ('mesh' may be
+  pds-mesh [mesh] INPUT -o OUT [--alpha A|auto] ... mesh sections of INPUT ('mesh' may be
                                                     omitted; 'pds-mesh mesh demo' meshes a
                                                     file named demo)
   pds-mesh demo [-o DIR]                            see every output on a built-in part
@@ -48,6 +48,7 @@ examples:
   pds-mesh part.stl -o cut.ply --plane-origin 0,0,1 --plane-normal 0,1,1 --alpha auto
   pds-mesh part.stl -o slice.ply --axis z --slices 20 --alpha auto --jobs 2 --report r.json
   pds-mesh part.step -o cut.ply --axis z --alpha auto   (STEP, IGES, BREP: pds_plugin[step])
+  pds-mesh drawing.svg -o drawing.ply                  (alpha auto: a graded mesh)
   pds-mesh drawing.svg -o drawing.obj --alpha 2.5 --plot drawing.png --discs
   pds-mesh bracket.dxf -o bracket.ply --alpha auto --layer OUTLINE --layer HOLES
 
@@ -65,7 +66,7 @@ several sections (--slices, or --at with several offsets):
 alpha:
   The disc radius, in the input's units: the samples are >= alpha apart and cover the
   section within alpha, and every triangle has aspect ratio L^2/A <= 4*sqrt(3)
-  (Theorem 1). 'auto' makes a graded mesh: a radius that follows the section (small at
+  (Theorem 1). 'auto' (the default) makes a graded mesh: a radius that follows the section (small at
   thin walls, holes and sharp corners, growing by at most L per unit of distance, up to
   the section's own size), so every feature is kept with the fewest well-shaped
   triangles (angles >= 23.6 degrees at the default L = 0.2). 'auto --uniform' uses one
@@ -119,9 +120,11 @@ def parser() -> argparse.ArgumentParser:
 
     Examples
     --------
-    >>> args = parser().parse_args(["mesh", "part.stl", "-o", "cut.ply", "--alpha", "auto"])
+    >>> args = parser().parse_args(["mesh", "part.stl", "-o", "cut.ply", "--alpha", "0.5"])
     >>> args.command, args.input, args.alpha
-    ('mesh', 'part.stl', 'auto')
+    ('mesh', 'part.stl', 0.5)
+    >>> parser().parse_args(["mesh", "part.stl", "-o", "cut.ply"]).alpha   # graded, wants_graded
+    'auto'
     """
     top = _Parser(prog=PROG, formatter_class=argparse.RawDescriptionHelpFormatter,
                   description=_DESCRIPTION, epilog=_EPILOG)
@@ -178,8 +181,9 @@ def _mesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", metavar="OUT", required=True, type=Path,
                         help="the mesh file to write: .ply (binary, face quality = aspect "
                              "ratio, vertex quality = 1 on the boundary) or .obj")
-    parser.add_argument("--alpha", required=True, type=_alpha, metavar="A|auto",
-                        help="disc radius in the input's units, or 'auto' (see below)")
+    parser.add_argument("--alpha", type=_alpha, default="auto", metavar="A|auto",
+                        help="disc radius in the input's units, or 'auto' (the default: a "
+                             "graded mesh, see below)")
     plane = parser.add_argument_group("plane (mesh files)")
     normal = plane.add_mutually_exclusive_group()
     normal.add_argument("--axis", choices=sorted(AXES), help="normal along this axis")

@@ -1,9 +1,11 @@
 """``pds-mesh demo``: the whole product on the built-in CAD part, every output written:
 the uniform mesh with the automatic alpha, the graded mesh, and one picture with the two
-side by side."""
+side by side. Without matplotlib (the ``[plot]`` extra) the pictures are skipped, with
+one line saying how to get them."""
 
 from __future__ import annotations
 
+from importlib.util import find_spec
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +19,9 @@ from .mesh import Task, mesh_and_report
 from .output import warn_about, write_report
 
 __all__ = ["run"]
+
+NO_PICTURES = ('pictures skipped: matplotlib is not installed (pip install "pds_plugin[plot]" '
+               'to get them)')
 
 
 def run(args) -> int:
@@ -49,16 +54,21 @@ def run(args) -> int:
     solid = out / "part.stl"
     _write_stl(part, solid)
     region = section(part, plane_origin=(0.0, 0.0, 0.0), plane_normal=(0.0, 0.0, 1.0))
-    task = Task(region, "auto", args.seed, None, out / "section.ply", out / "section.png",
+    pictures = find_spec("matplotlib") is not None
+
+    def picture(name):
+        return out / name if pictures else None
+    task = Task(region, "auto", args.seed, None, out / "section.ply", picture("section.png"),
                 discs=True)
     uniform_mesh, entry = mesh_and_report(task)
     warn_about(entry)
     graded_task = Task(region, "auto", args.seed, None, out / "section_graded.ply",
-                       out / "section_graded.png", discs=False, graded=True)
+                       picture("section_graded.png"), discs=False, graded=True)
     graded_mesh, graded = mesh_and_report(graded_task)
     warn_about(graded)
-    both = out / "uniform_and_graded.png"
-    _side_by_side(uniform_mesh, graded_mesh, both)
+    both = picture("uniform_and_graded.png")
+    if pictures:
+        _side_by_side(uniform_mesh, graded_mesh, both)
     report = out / "report.json"
     write_report(report, "pds_plugin.demo_part()", [entry, graded])
     c, g = entry["certificate"], graded["certificate"]
@@ -91,9 +101,10 @@ def run(args) -> int:
         f"  {solid}  the solid (try the command on it)",
         f"  {task.output}  the mesh: binary PLY, face quality = aspect ratio",
         f"  {report}  quality statistics and certificate",
-        f"  {task.plot}  samples with discs, mesh by aspect ratio, histogram",
-        f"  {graded_task.output}, {graded_task.plot}  the graded mesh and its picture",
-        f"  {both}  the uniform and the graded mesh side by side",
+        *([f"  {task.plot}  samples with discs, mesh by aspect ratio, histogram",
+           f"  {graded_task.output}, {graded_task.plot}  the graded mesh and its picture",
+           f"  {both}  the uniform and the graded mesh side by side"] if pictures else
+          [f"  {graded_task.output}  the graded mesh", f"  {NO_PICTURES}"]),
         "",
         "next, a finer mesh, and one too coarse (its certificate says which holes it lost):",
         f"  pds-mesh {solid} -o {out / 'fine.ply'} --axis z --alpha 0.03",

@@ -2,6 +2,10 @@
 aspect ratio, the aspect-ratio histogram (the paper's Figure 5), a one-file report and
 a multiresolution strip.
 
+Triangles are coloured on the scale of the mesh's own quality bound: 4√3 (Theorem 1)
+for a uniform mesh, 4 cot θ_L for a graded one (θ_L = arcsin((1 - L)/2), docs/graded.md),
+so the valid triangles of a graded mesh are not drawn as violations.
+
 Each drawing function takes an optional matplotlib ``ax`` and returns the Axes it drew
 on; without ``ax`` it opens a new pyplot figure (matplotlib picks the non-interactive
 Agg backend by itself when there is no display). The functions that write a file draw on
@@ -12,6 +16,8 @@ matplotlib is an optional dependency: ``pip install "pds_plugin[plot]"``.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -29,6 +35,37 @@ _OVER = "red"          # triangles above the Theorem 1 bound (none on a certifie
 
 def _matplotlib():
     return import_optional("matplotlib", "plot", "pds_plugin.sinks.plot")
+
+
+def aspect_bound(mesh) -> tuple[float, str]:
+    """The aspect ratio L²/A that ``mesh``'s triangles are proven to stay under, and its
+    name: 4√3 for a uniform mesh (Theorem 1), 4 cot θ_L for a graded one whose radius
+    field is L-Lipschitz (θ_L = arcsin((1 - L)/2)).
+
+    Parameters
+    ----------
+    mesh : PlanarMesh
+
+    Returns
+    -------
+    (float, str)
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> square = pds.Region.from_shapely(box(0, 0, 1, 1))
+    >>> aspect_bound(pds.mesh_region(square, 0.2))[1]
+    '4√3'
+    >>> bound, name = aspect_bound(pds.mesh_region(square, 0.2, graded=True, grading=0.2))
+    >>> round(bound, 2), name
+    (9.17, '4 cot θ_L')
+    """
+    field = getattr(mesh, "field", None)
+    if field is None:
+        return ASPECT_BOUND, "4√3"
+    from ..sizing import angle_bound
+    return 4 / math.tan(math.radians(angle_bound(field.grading))), "4 cot θ_L"
 
 
 def _new_axes(ax):
@@ -74,7 +111,8 @@ def _square_view(ax, region):
 def plot_samples(mesh, discs: bool = False, ax=None, markersize: float | None = None):
     """Draw the region's outline and the samples, boundary samples marked.
 
-    With ``discs=True`` every sample also gets its disc of radius ``alpha`` (one
+    With ``discs=True`` every sample also gets its disc of radius ``alpha`` (its own
+    radius r(p) on a graded mesh; one
     EllipseCollection, fast for 10⁵ samples): by maximality the discs cover the region,
     and by the Poisson condition no disc contains another sample. ``markersize`` is the
     scatter size in points² (by default smaller for many samples; raise it for a zoom).
@@ -112,11 +150,15 @@ def plot_samples(mesh, discs: bool = False, ax=None, markersize: float | None = 
                                   label=f"{name} samples ({np.count_nonzero(where)})"))
     if discs:
         style = dict(facecolor="tab:blue", edgecolor="tab:blue", alpha=0.12, linewidth=0.5)
-        diameter = np.full(len(points), 2 * mesh.alpha)
+        field = getattr(mesh, "field", None)
+        if field is None:
+            diameter, label = np.full(len(points), 2 * mesh.alpha), f"α = {mesh.alpha:.3g}"
+        else:                                   # graded: each sample's own radius r(p)
+            diameter, label = 2 * field(points), f"r(p) ≤ α = {mesh.alpha:.3g}"
         ax.add_collection(EllipseCollection(diameter, diameter, 0.0, units="xy", offsets=points,
                                             offset_transform=ax.transData, **style))
         # legends cannot draw an EllipseCollection: show one disc instead
-        handles.append(Circle((0, 0), 1, label=f"discs of radius α = {mesh.alpha:.3g}", **style))
+        handles.append(Circle((0, 0), 1, label=f"discs of radius {label}", **style))
     _square_view(ax, mesh.region)
     ax.set_title(f"{len(points)} samples, α = {mesh.alpha:.3g}")
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.06), ncols=2,
@@ -124,8 +166,8 @@ def plot_samples(mesh, discs: bool = False, ax=None, markersize: float | None = 
     return ax
 
 
-def _draw_mesh(ax, mesh):
-    """The triangles as one PolyCollection coloured by L²/A on [4/√3, 4√3]."""
+def _draw_mesh(ax, mesh, bound: float):
+    """The triangles as one PolyCollection coloured by L²/A on [4/√3, bound]."""
     import matplotlib
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import Normalize
@@ -135,7 +177,7 @@ def _draw_mesh(ax, mesh):
     cmap = matplotlib.colormaps[_CMAP].with_extremes(over=_OVER)
     triangles = PolyCollection(np.asarray(mesh.vertices)[np.asarray(mesh.faces)],
                                array=aspect, cmap=cmap,
-                               norm=Normalize(ASPECT_EQUILATERAL, ASPECT_BOUND),
+                               norm=Normalize(ASPECT_EQUILATERAL, bound),
                                edgecolors="black", linewidths=0.15 if len(aspect) < 20000 else 0.0)
     ax.add_collection(triangles)
     _draw_outline(ax, mesh.region)
@@ -143,19 +185,22 @@ def _draw_mesh(ax, mesh):
     return triangles
 
 
-def _colorbar(figure, mappable, axes, meshes):
-    above = any(mesh.quality().aspect_ratio.max() > ASPECT_BOUND for mesh in meshes)
+def _colorbar(figure, mappable, axes, meshes, bound: float, name: str):
+    above = any(mesh.quality().aspect_ratio.max() > bound for mesh in meshes)
     bar = figure.colorbar(mappable, ax=axes, extend="max" if above else "neither")
-    bar.set_ticks([ASPECT_EQUILATERAL, 3, 4, 5, 6, ASPECT_BOUND],
-                  labels=["4/√3", "3", "4", "5", "6", "4√3"])
+    step = 1 if bound < 8 else 2
+    between = [v for v in range(3, math.ceil(bound), step) if bound - v > 0.4 * step]
+    bar.set_ticks([ASPECT_EQUILATERAL, *between, bound],
+                  labels=["4/√3", *map(str, between), name])
     bar.set_label("aspect ratio L²/A")
     return bar
 
 
 def plot_mesh(mesh, ax=None):
-    """Draw the triangles coloured by aspect ratio L²/A over [4/√3, 4√3], with a colorbar.
+    """Draw the triangles coloured by aspect ratio L²/A over [4/√3, bound], with a colorbar.
 
-    Triangles above the bound 4√3 (none on a certified mesh) are drawn in red. The
+    The bound is the mesh's own (:func:`aspect_bound`: 4√3, or 4 cot θ_L for a graded
+    mesh); triangles above it (none on a certified mesh) are drawn in red. The
     region's outline is drawn on top, so lost holes or bridged gaps show.
 
     Parameters
@@ -176,8 +221,9 @@ def plot_mesh(mesh, ax=None):
     >>> ax = plot_mesh(mesh)
     """
     ax = _new_axes(ax)
-    triangles = _draw_mesh(ax, mesh)
-    _colorbar(ax.figure, triangles, ax, [mesh])
+    bound, name = aspect_bound(mesh)
+    triangles = _draw_mesh(ax, mesh, bound)
+    _colorbar(ax.figure, triangles, ax, [mesh], bound, name)
     ax.set_title(f"{len(mesh.faces)} triangles, α = {mesh.alpha:.3g}")
     return ax
 
@@ -185,8 +231,9 @@ def plot_mesh(mesh, ax=None):
 def plot_histogram(mesh, ax=None, bins: int = 20):
     """Histogram of the aspect ratio L²/A with its statistics (the paper's Figure 5).
 
-    The bounds 4/√3 (equilateral) and 4√3 (Theorem 1) are marked; the mean, standard
-    deviation, minimum and maximum are in the title. The bins span [4/√3, 4√3], widened
+    The bounds 4/√3 (equilateral) and the mesh's own (:func:`aspect_bound`: 4√3 by
+    Theorem 1, 4 cot θ_L for a graded mesh) are marked; the mean, standard deviation,
+    minimum and maximum are in the title. The bins span [4/√3, bound], widened
     to include any value outside it, so a violation of the bound is visible.
 
     Parameters
@@ -211,13 +258,15 @@ def plot_histogram(mesh, ax=None, bins: int = 20):
     ax = _new_axes(ax)
     aspect = mesh.quality().aspect_ratio
     stats = mesh.quality().stats()
+    bound, name = aspect_bound(mesh)
     lo = min(ASPECT_EQUILATERAL, stats["aspect_min"])
-    hi = max(ASPECT_BOUND, stats["aspect_max"])
+    hi = max(bound, stats["aspect_max"])
     ax.hist(aspect, bins=bins, range=(lo, hi), color="tab:blue", edgecolor="white")
     ax.axvline(ASPECT_EQUILATERAL, color="tab:green", linestyle="--",
                label=f"4/√3 ≈ {ASPECT_EQUILATERAL:.3f} (equilateral)")
-    ax.axvline(ASPECT_BOUND, color="tab:red", linestyle="--",
-               label=f"4√3 ≈ {ASPECT_BOUND:.3f} (Theorem 1 bound)")
+    field = getattr(mesh, "field", None)
+    proof = "Theorem 1 bound" if field is None else f"graded bound, L = {field.grading:g}"
+    ax.axvline(bound, color="tab:red", linestyle="--", label=f"{name} ≈ {bound:.3f} ({proof})")
     ax.set_xlabel("aspect ratio L²/A")
     ax.set_ylabel("triangles")
     ax.set_title(f"{stats['triangles']} triangles: mean {stats['aspect_mean']:.3f}, "
@@ -277,7 +326,8 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
 
     The paper's multiresolution view (Figure 6): each panel shows the mesh at its
     ``alpha``, coloured by aspect ratio, with the region's outline on top so that the
-    holes and walls a coarse ``alpha`` loses stand out.
+    holes and walls a coarse ``alpha`` loses stand out. The colour scale ends at the
+    largest of the meshes' bounds (:func:`aspect_bound`).
 
     Parameters
     ----------
@@ -321,11 +371,12 @@ def plot_multiresolution(meshes, path=None, dpi: int = 120):
         path = check_output_directory(path)
         figure = _figure(**size)
     axes = np.atleast_1d(figure.subplots(1, len(meshes)))
+    bound, name = max(aspect_bound(mesh) for mesh in meshes)
     for ax, mesh in zip(axes, meshes):
-        triangles = _draw_mesh(ax, mesh)
+        triangles = _draw_mesh(ax, mesh, bound)
         ax.set_title(f"α = {mesh.alpha:.3g}\n{len(mesh.vertices)} samples, "
                      f"{len(mesh.faces)} triangles")
-    _colorbar(figure, triangles, list(axes), meshes)
+    _colorbar(figure, triangles, list(axes), meshes, bound, name)
     if path is not None:
         with atomic_path(path) as partial:          # never a half-written picture
             figure.savefig(partial, dpi=dpi)

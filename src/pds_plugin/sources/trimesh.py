@@ -64,23 +64,41 @@ def load(solid):
                 from error
         name = f"the file {path!r}"
     if len(mesh.faces) == 0:
+        # with charset_normalizer installed trimesh reads any bytes as text and finds no
+        # triangles in them: a picture or binary noise is named as when trimesh refuses it
+        if not isinstance(solid, trimesh.Trimesh) and (
+                misnamed(path, "a mesh file", MESH_KINDS) or _binary(path)):
+            raise SourceError(f"cannot read {path!r} as a mesh: {_unreadable(path, None)}")
         raise SourceError(f"{name} has no triangles (it is empty, a point cloud, or not a mesh "
                          f"format trimesh reads); give a closed triangle mesh")
     return mesh
 
 
 def _unreadable(path, error) -> str:
-    """Why trimesh could not read ``path``, in the user's terms."""
+    """Why trimesh could not read ``path`` (``error`` None: it read no triangles from a
+    binary file), in the user's terms."""
     other = misnamed(path, "a mesh file", MESH_KINDS)
     if other:
         return other
-    if isinstance(error, ImportError):   # trimesh guesses a text encoding with an optional module
+    if error is None or isinstance(error, ImportError):   # trimesh guesses a text encoding
+        # with an optional module (charset_normalizer): without it, binary noise raises
         detail = "it is neither a valid binary mesh nor plain text"
     elif isinstance(error, IndexError):
         detail = f"a face refers to a vertex the file does not have ({error})"
     else:
         detail = str(error) or type(error).__name__
     return f"{detail}; give a file trimesh reads: STL, OBJ, PLY, OFF, 3MF or GLB"
+
+
+def _binary(path) -> bool:
+    """Whether ``path`` holds bytes that no mesh format has: a NUL in its first 64 KiB (no
+    mesh text has one), and no binary mesh's signature (PLY, GLB, 3MF) or size (STL)."""
+    with open(path, "rb") as file:
+        head = file.read(1 << 16)
+    if b"\x00" not in head or head.startswith((b"ply", b"glTF", b"PK\x03\x04")):
+        return False
+    count = int.from_bytes(head[80:84], "little") if len(head) >= 84 else -1
+    return os.path.getsize(path) != 84 + 50 * count       # not a binary STL, empty or not
 
 
 def _check_binary_stl(path) -> None:
