@@ -42,7 +42,7 @@ from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
 from .region import Region, turning_angles
-from .graded_sampling import _TAU_MARGIN, _cleared_piece, _corner_clearance, _positions
+from .graded_sampling import _TAU_MARGIN, _cleared_piece, _leg, _positions, _side
 from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_clearance
 from . import _sampling_kernels as kern
 
@@ -350,8 +350,8 @@ class _ChainSet:
         return cid, segment, t
 
 
-def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, feature_angle,
-                  junction, rng):
+def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
+                  feature_angle, junction, rng):
     """One chain's τ along its dense points (an open chain closed by a chord back to its
     start), its samples' positions in τ (an open chain's last end excluded), and the
     positions of its corners whose clearance exceeds a unit (after, before): the parts
@@ -380,7 +380,7 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, 
         span = tau[corner[1]]                   # one piece, no clearance: equal parts
         parts = max(int(span // unit), 1)
         return tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0))
-    after, before = _corner_clearance(dense, radius, tau, corner, corner_turn, unit)
+    after, before = _chain_clearance(dense, radius, tau, corner, corner_turn, unit)
     clear = (tau[corner][after > unit], tau[corner][before > unit])
     if closed:
         return tau, _positions(tau, tau[corner], after, before, unit, rng), clear
@@ -396,6 +396,27 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit, 
             parts = max(int(span // unit), 1)
             pieces.append(lo + span * np.arange(1, parts) / parts)
     return tau, np.sort(np.concatenate(pieces)), clear
+
+
+def _chain_clearance(dense, radius, tau, corner, turn, unit):
+    """The τ-lengths kept free of samples after and before each sharp corner of a chain,
+    by the graded sampler's rule (``graded_sampling._corner_clearance``): the part from
+    the corner c to its neighbour p ends where |p - c| first reaches 1.02 k r(p),
+    k = ``corner_clearance(π - turn, 1)``, ``unit`` where k <= 1. Unlike the ring
+    sampler, the legs are not shortened to keep a spike's tip triangle (which leaves the
+    tip's neighbours closer than their clearance, a pair the certificate cannot
+    explain): a patch whose tip chord the complex then drops is kept by
+    :func:`pds_plugin.remesh` instead, its solid the same."""
+    length = tau[-1]
+    k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
+    after, before = np.full(len(corner), unit), np.full(len(corner), unit)
+    for c in np.flatnonzero(k > 1.0):
+        for out, stop, step in ((after, corner[(c + 1) % len(corner)], 1),
+                                (before, corner[c - 1], -1)):
+            side = _side(dense, tau, corner[c], stop, step, length)
+            leg = _leg(dense, radius, side, k[c])
+            out[c] = side[1][-1] if leg is None else max(unit, leg[0])
+    return after, before
 
 
 def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
