@@ -280,11 +280,11 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
         taus.append(tau)
         positions.append(at)
         cleared.append(clear)
-    positions = _halved(chain_set, taus, positions, cleared, segment, t, bounds)
+    chain, at = _halved(chain_set, taus, positions, cleared, segment, t, bounds)
+    along_segment, along_t = _FlatTau(taus, segment, t, bounds).to_chain(chain, at)
+    cut = np.cumsum(np.bincount(chain, minlength=len(chains)))[:-1]
     return _assembled(rings, owner, junction, chains,
-                      [_tau_to_chain(at, tau, segment[bounds[c]:bounds[c + 1]],
-                                     t[bounds[c]:bounds[c + 1]])
-                       for c, (at, tau) in enumerate(zip(positions, taus))])
+                      list(zip(np.split(along_segment, cut), np.split(along_t, cut))))
 
 
 class _ChainSet:
@@ -425,39 +425,73 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
     rounds); a part that keeps a sharp corner's neighbour clear of it (``cleared``: per
     chain, the positions of such corners, parts after and parts before them) only when
     longer than that times the larger r (the neighbour's: r at the corner may be far
-    smaller, and halving there would undo the clearance)."""
-    positions = list(positions)
-    todo = np.arange(len(positions))
+    smaller, and halving there would undo the clearance). All chains at once; returns
+    the chain of each position and the positions, by chain and increasing."""
+    flat = _FlatTau(taus, segment, t, bounds)
+    chain = np.repeat(np.arange(len(positions)), [len(at) for at in positions])
+    at = np.concatenate(positions)
+    guarded = {c: clear for c, clear in enumerate(cleared) if len(clear[0]) or len(clear[1])}
+    todo = np.ones(len(positions), bool)
     for _ in range(_MAX_HALVINGS):
-        if not len(todo):
+        pick = todo[chain]
+        if not pick.any():
             break
-        ends, cids, segs, ts = [], [], [], []
-        for c in todo.tolist():
-            tau, at = taus[c], positions[c]
-            closed = bool(chain_set.closed[c])
-            e = np.append(at, at[0] + tau[-1] if closed else tau[-2])   # and the last end
-            sg, tt = _tau_to_chain(e % tau[-1], tau, segment[bounds[c]:bounds[c + 1]],
-                                   t[bounds[c]:bounds[c + 1]])
-            ends.append(e)
-            cids.append(np.full(len(e), c))
-            segs.append(sg)
-            ts.append(tt)
-        xy, radius = chain_set.evaluate(np.concatenate(cids), np.concatenate(segs),
-                                        np.concatenate(ts))
-        lengths = np.cumsum([0] + [len(e) for e in ends])
-        again = []
-        for c, e, lo, hi in zip(todo.tolist(), ends, lengths[:-1], lengths[1:]):
-            chord = np.hypot(*np.diff(xy[lo:hi], axis=0).T)
-            r = radius[lo:hi]
-            beside = np.isin(e[:-1], cleared[c][0]) | np.isin(e[1:], cleared[c][1])
-            reach = np.where(beside, np.maximum(r[:-1], r[1:]), np.minimum(r[:-1], r[1:]))
-            long = chord > _LONGEST_PART * reach
-            if long.any():
-                positions[c] = np.sort(np.concatenate(
-                    [positions[c], (0.5 * (e[:-1] + e[1:]))[long] % taus[c][-1]]))
-                again.append(c)
-        todo = np.array(again, dtype=np.int64)
-    return positions
+        c_in, a_in = chain[pick], at[pick]
+        last = np.flatnonzero(np.append(c_in[1:] != c_in[:-1], True))
+        first = np.append(0, last[:-1] + 1)
+        ids = c_in[last]
+        end = np.where(chain_set.closed[ids], a_in[first] + flat.length[ids], flat.before_end[ids])
+        c_e = np.insert(c_in, last + 1, ids)
+        e = np.insert(a_in, last + 1, end)
+        xy, radius = chain_set.evaluate(c_e, *flat.to_chain(c_e, e % flat.length[c_e]))
+        pair = np.flatnonzero(c_e[1:] == c_e[:-1])
+        chord = np.hypot(*(xy[pair + 1] - xy[pair]).T)
+        low, high = (f(radius[pair], radius[pair + 1]) for f in (np.minimum, np.maximum))
+        beside = np.zeros(len(pair), bool)
+        for c, (starts, stops) in guarded.items():
+            mine = c_e[pair] == c
+            beside[mine] = np.isin(e[pair][mine], starts) | np.isin(e[pair + 1][mine], stops)
+        long = chord > _LONGEST_PART * np.where(beside, high, low)
+        todo = np.zeros(len(positions), bool)
+        todo[c_e[pair[long]]] = True
+        middle = (0.5 * (e[pair] + e[pair + 1]))[long] % flat.length[c_e[pair[long]]]
+        chain = np.concatenate([chain, c_e[pair[long]]])
+        at = np.concatenate([at, middle])
+        order = np.lexsort((at, chain))
+        chain, at = chain[order], at[order]
+    return chain, at
+
+
+class _FlatTau:
+    """The τ of all chains' dense points in one array, to read positions in τ as
+    (segment, fraction) along their chains all at once: linear in τ between the dense
+    points, as ``graded_sampling._along`` reads a ring's."""
+
+    def __init__(self, taus, segment, t, bounds):
+        self.tau = np.concatenate(taus)
+        self.chain = np.repeat(np.arange(len(taus)), [len(tau) for tau in taus])
+        self.start = np.concatenate([[0], np.cumsum([len(tau) for tau in taus])[:-1]])
+        self.length = np.array([tau[-1] for tau in taus])
+        self.before_end = np.array([tau[-2] for tau in taus])      # an open chain's last end
+        self.segment, self.t, self.bounds = segment, t, bounds
+
+    def to_chain(self, chain, at):
+        """Positions ``at`` along chains ``chain`` as (segment, fraction) pairs."""
+        kind = np.concatenate([np.zeros(len(self.tau)), np.ones(len(at))])
+        order = np.lexsort((kind, np.concatenate([self.tau, at]),
+                            np.concatenate([self.chain, chain])))
+        is_tau = kind[order] == 0
+        before = np.empty(len(at), np.int64)         # the last τ <= at in its chain
+        before[order[~is_tau] - len(self.tau)] = np.cumsum(is_tau)[~is_tau] - 1
+        count = self.bounds[chain + 1] - self.bounds[chain]
+        j = np.clip(before - self.start[chain], 0, count - 1)
+        k = self.start[chain] + j
+        frac = (at - self.tau[k]) / np.maximum(self.tau[k + 1] - self.tau[k], 1e-300)
+        here = self.bounds[chain] + j
+        following = self.bounds[chain] + (j + 1) % count
+        t_next = np.where(self.segment[following] == self.segment[here], self.t[following], 1.0)
+        s = np.clip(self.t[here] + frac * (t_next - self.t[here]), 0.0, 1.0)
+        return self.segment[here], np.where(frac > 0, s, self.t[here])
 
 
 _LONGEST_PART = 2.0
@@ -467,16 +501,6 @@ less than two units of τ can still be 2.9 r long, and the graded sampler, which
 samples out of a chord's lens, cannot cover beside it."""
 
 _MAX_HALVINGS = 8
-
-
-def _tau_to_chain(at, tau, segment, t):
-    """Positions ``at`` in τ along a densified chain as (segment, fraction) pairs."""
-    j = np.clip(np.searchsorted(tau, at, side="right") - 1, 0, len(segment) - 1)
-    frac = (at - tau[j]) / np.maximum(tau[j + 1] - tau[j], 1e-300)
-    following = (j + 1) % len(segment)
-    t_next = np.where(segment[following] == segment[j], t[following], 1.0)
-    s = np.clip(t[j] + frac * (t_next - t[j]), 0.0, 1.0)
-    return segment[j], np.where(frac > 0, s, t[j])
 
 
 def _junction_angle(vertex, neighbour, angle) -> float:
