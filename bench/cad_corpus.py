@@ -171,7 +171,8 @@ def _tolerance_pass_seconds(region) -> float:
     return max(0.0, fastest(region.tolerance) - fastest(0.0)) if region.tolerance else 0.0
 
 
-_WARNINGS = (("over the budget", "alpha kept above a feature by the sample budget"),)
+_WARNINGS = (("over the budget", "alpha kept above a feature by the sample budget"),
+             ("beyond its limit", "alpha kept above a feature by the sampling grid's limit"))
 
 
 def _warning_class(message: str) -> str:

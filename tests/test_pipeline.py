@@ -144,6 +144,23 @@ def test_suggest_alpha_is_half_the_lfs_and_respects_the_budget():
     assert suggest_alpha(plate) == pytest.approx(0.5 / 4, rel=1e-12)
 
 
+def test_auto_keeps_the_sampling_grid_within_its_limit():
+    """Two thin strips far apart across a wide, tall box (a tilted plane through a
+    plate): the feature size asks for an alpha whose sampling grid over the bounding box
+    has more cells than the limit. "auto" used to raise BudgetError there (a held-out
+    corpus section); now it takes the smallest alpha the grid allows, says so, and
+    meshes."""
+    from pds_plugin.sampling import _MAX_GRID_CELLS, DEFAULT_MAX_SAMPLES
+
+    strips = region(box(0, 0, 2000, 0.02).union(box(0, 1999.98, 2000, 2000)))
+    assert estimate_samples(strips, 0.005) < DEFAULT_MAX_SAMPLES
+    with pytest.warns(UserWarning, match="sampling grid .* beyond its limit"):
+        alpha = suggest_alpha(strips)
+    assert alpha > 0.005
+    cells = (2000 / (alpha / math.sqrt(2)) + 3) ** 2
+    assert 0.98 * _MAX_GRID_CELLS < cells <= _MAX_GRID_CELLS
+
+
 def test_no_warning_within_the_budget():
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -209,9 +209,9 @@ def suggest_alpha(region: Region, max_samples: int | None = None,
     size = _usable_feature_size(region, conforming)
     alpha = size.lfs / 2
     budget = _budget(max_samples)
-    if estimate_samples(region, alpha) <= budget:
-        return alpha
     capped = largest_alpha(region, budget)
+    if alpha >= capped:
+        return alpha
     _warn_over_budget(region, size, budget, capped)
     return capped
 
@@ -219,10 +219,12 @@ def suggest_alpha(region: Region, max_samples: int | None = None,
 def _warn_over_budget(region: Region, size: FeatureSize, budget: int, used: float) -> None:
     """Say that the budget keeps alpha above what the narrowest feature needs."""
     needed = size.lfs / 2
-    warnings.warn(f"alpha {needed:.6g} needed for the {size} would take about "
-                  f"{estimate_samples(region, needed):.3g} samples, over the budget of "
-                  f"{budget}; using alpha {used:.6g}, which may lose that feature (raise "
-                  f"max_samples to keep it)", stacklevel=3)
+    samples = estimate_samples(region, needed)
+    over = (f"about {samples:.3g} samples, over the budget of {budget}" if samples > budget
+            else "a sampling grid over the region's bounding box beyond its limit")
+    warnings.warn(f"alpha {needed:.6g} needed for the {size} would take {over}; using alpha "
+                  f"{used:.6g}, which may lose that feature (raise max_samples, or mesh the "
+                  f"far-apart parts separately, to keep it)", stacklevel=3)
 
 
 def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,

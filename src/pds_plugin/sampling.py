@@ -137,7 +137,9 @@ def estimate_samples(region: Region, alpha: float) -> float:
 
 def largest_alpha(region: Region, max_samples: int) -> float:
     """The alpha at which :func:`estimate_samples` equals ``max_samples``: the smallest
-    radius a sample budget allows.
+    radius a sample budget allows; or, if larger, the smallest whose sampling grid over
+    the region's bounding box stays within the grid's limit (a thin part across a wide
+    box, as a tilted plane through a plate gives).
 
     Parameters
     ----------
@@ -156,7 +158,12 @@ def largest_alpha(region: Region, max_samples: int) -> float:
     7400
     """
     a, p = 0.7 * region.area, region.perimeter
-    return (p + math.sqrt(p * p + 4 * max_samples * a)) / (2 * max_samples)
+    samples = (p + math.sqrt(p * p + 4 * max_samples * a)) / (2 * max_samples)
+    # (w / s + 3) (h / s + 3) cells of side s = alpha / √2 at most, 1 % to spare
+    xmin, ymin, xmax, ymax = region.bounds
+    w, h, cells = xmax - xmin, ymax - ymin, 0.99 * _MAX_GRID_CELLS
+    per_side = (-3 * (w + h) + math.sqrt(9 * (w + h) ** 2 + 4 * w * h * (cells - 9))) / (2 * w * h)
+    return max(samples, math.sqrt(2) / per_side * (1 + 1e-9))
 
 
 def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
@@ -307,7 +314,7 @@ def corner_clearance(angle, alpha):
 
 
 def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
-                 kinks_apart=_INFLECTION_APART) -> np.ndarray:
+                 kinks_apart=_INFLECTION_APART, kinks_only=False) -> np.ndarray:
     """Arc positions where a ring's boundary changes the way it bends between two sharp
     corners (an S-curve's inflection), to be sampled like corners, so that the arc
     between consecutive samples bends one way only and lies on one side of its chord
@@ -328,7 +335,8 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     Kinks are kept first, ``kinks_apart`` apart (there ``_NOISY_KINK_APART``, 1: just
     separated), and the other inflections then clear of them: a kink left unsampled
     hides the region just past it from the chord end before it, while the inflection of
-    a long arc between two opposite turns may fall anywhere on that arc.
+    a long arc between two opposite turns may fall anywhere on that arc. ``kinks_only``
+    leaves the other inflections out.
 
     Examples
     --------
@@ -362,6 +370,8 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     single = flips & ~kink & ~np.roll(kink, -1)
     kinks = _thinned(_clear_of(np.sort(at[kink] % length), corners, apart * alpha, length),
                      kinks_apart * alpha, length)
+    if kinks_only:
+        return kinks
     singles = np.sort((at[single] + 0.5 * span[single]) % length)
     blocking = np.sort(np.concatenate([corners, kinks]))
     singles = _thinned(_clear_of(singles, blocking, apart * alpha, length), apart * alpha, length)
