@@ -3,7 +3,8 @@
 For each part (the shared STL files in ../shared/data when present, and generated
 manifold3d parts with holes and pockets written as float32 STL), in one process:
 
-- pds: ``pds.remesh(path, "auto")`` (alpha = bounding-box diagonal / 100);
+- pds: ``pds.remesh(path, "auto")`` (alpha = bounding-box diagonal / 100; graded
+  patches, the default, or with ``--uniform`` one radius);
 - MeshLab: ``meshing_isotropic_explicit_remeshing`` with ``targetlen`` = the mean edge
   length of the pds mesh (an equal edge length) and ``iterations=5`` (the issue's
   setting), on the same file read by pymeshlab; and again with the edge length scaled by
@@ -18,7 +19,7 @@ from the output to the input surface / bounding-box diagonal (pymeshlab's
 watertight. For pds also the smallest
 angle and 1st percentile on the remeshed patches only, and the certificate's verdict.
 
-Run: ``python bench/remesh_vs_meshlab.py [--repeats N]``.
+Run: ``python bench/remesh_vs_meshlab.py [--uniform]``.
 """
 
 from __future__ import annotations
@@ -98,13 +99,13 @@ def row(name, vertices, faces, seconds, source, meshset, output_id, diagonal) ->
             "watertight": mesh.is_watertight}
 
 
-def run(path: Path) -> list[dict]:
+def run(path: Path, graded: bool = True) -> list[dict]:
     import pymeshlab
 
     source = trimesh.load_mesh(path)
     diagonal = float(np.linalg.norm(np.ptp(source.vertices, axis=0)))
     start = time.process_time()
-    result = pds.remesh(path, "auto")
+    result = pds.remesh(path, "auto", graded=graded)
     pds_seconds = time.process_time() - start
     start = time.process_time()
     certified = result.ok_with_exceptions          # the patch certificates, measured now
@@ -150,13 +151,15 @@ def run(path: Path) -> list[dict]:
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.parse_args(argv)
+    parser.add_argument("--uniform", action="store_true",
+                        help="remesh with one radius (pds.remesh(graded=False))")
+    args = parser.parse_args(argv)
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         paths = [DATA / name for name in SHARED if (DATA / name).is_file()]
         paths += generated_parts(Path(folder))
         for path in paths:
-            rows += run(path)
+            rows += run(path, graded=not args.uniform)
     print("| part / mesher | CPU s | certify s | vertices | min angle | 1st pct | remeshed min / 1st pct "
           "| volume error | Hausdorff / diag | watertight | certificate |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")

@@ -105,6 +105,51 @@ def test_meshio_round_trip_keeps_points_triangles_and_both_tags(plate, tmp_path,
             **{n: (t, 1) for n, t in plate.boundary_tags.names.items()}}
 
 
+@pytest.fixture(scope="module")
+def composite():
+    """Steel core in a concrete section: one interface ring, graded."""
+    core, shell = box(1, 1, 2, 2), box(0, 0, 3, 3).difference(box(1, 1, 2, 2))
+    return pds.mesh_regions({"steel": core, "concrete": shell}, 0.3, graded=True)
+
+
+@pytest.mark.parametrize("suffix", [".msh", ".vtu"])
+def test_composite_round_trip_keeps_the_interface_lines_and_their_tags(composite, tmp_path,
+                                                                       suffix):
+    path = tmp_path / f"composite{suffix}"
+    composite.export(path)
+    back = meshio.read(path)
+    boundary, interface = composite.boundary_edges, composite.interface_edges
+    lines = back.cells_dict["line"]
+    np.testing.assert_array_equal(lines, np.concatenate([boundary, interface]))
+    key = "gmsh:physical" if suffix == ".msh" else "boundary"
+    tags = back.cell_data_dict[key]["line"]
+    offset = max(composite.boundary_tags.names.values())
+    np.testing.assert_array_equal(tags[:len(boundary)], composite.boundary_tags.values)
+    np.testing.assert_array_equal(tags[len(boundary):], composite.interface_tags.values + offset)
+    regions = back.cell_data_dict["gmsh:physical" if suffix == ".msh" else "region"]["triangle"]
+    np.testing.assert_array_equal(regions, composite.region_tags.values)
+    if suffix == ".msh":                       # the interface is a named physical group
+        assert tuple(back.field_data["steel|concrete"]) == (offset + 1, 1)
+    # every interface line is an inner edge: two triangles, one of each material
+    faces = back.cells_dict["triangle"]
+    for a, b in lines[len(boundary):].tolist():
+        sides = np.flatnonzero(np.isin(faces, [a, b]).sum(axis=1) == 2)
+        assert sorted(regions[sides].tolist()) == [1, 2]
+
+
+def test_composite_interfaces_go_out_quadratic_and_to_skfem(composite):
+    m = composite.to_meshio(order=2)
+    q = composite.quadratic()
+    lines = m.cells[1].data
+    inner = lines[len(composite.boundary_edges):]
+    middle = q.points[inner[:, 2]]
+    np.testing.assert_allclose(middle, q.points[inner[:, :2]].mean(axis=1), atol=1e-14)
+    fem = composite.to_skfem()
+    facets = fem.boundaries["steel|concrete"]
+    assert len(facets) == len(composite.interface_edges)
+    assert not set(facets.tolist()) & set(fem.boundary_facets().tolist())    # inner facets
+
+
 def test_abaqus_keeps_the_tags_as_element_sets(plate, tmp_path):
     plate.export(tmp_path / "plate.inp")
     back = meshio.read(tmp_path / "plate.inp")
@@ -112,6 +157,13 @@ def test_abaqus_keeps_the_tags_as_element_sets(plate, tmp_path):
     sizes = {name: sum(len(m) for m in members) for name, members in back.cell_sets.items()}
     assert sizes["hole_0.1"] == np.count_nonzero(plate.boundary_tags.values == 3)
     assert sizes["component_1"] == np.count_nonzero(plate.region_tags.values == 2)
+
+
+def test_abaqus_names_an_interface_set_with_letters_and_underscores(composite, tmp_path):
+    composite.export(tmp_path / "composite.inp")
+    back = meshio.read(tmp_path / "composite.inp")
+    sizes = {name: sum(len(m) for m in members) for name, members in back.cell_sets.items()}
+    assert sizes["steel_concrete"] == len(composite.interface_edges)
 
 
 def test_ply_and_obj_keep_their_exact_writers(plate, tmp_path):

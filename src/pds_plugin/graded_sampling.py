@@ -32,8 +32,8 @@ from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
-from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _guards,
-                       _inflections, _joined, _onto_curves, check_rings_apart,
+from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _given_boundary,
+                       _guards, _inflections, _joined, _onto_curves, check_rings_apart,
                        corner_clearance)
 from .sizing import RadiusField
 
@@ -52,7 +52,7 @@ _MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per a
 
 def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
                         max_samples: int = DEFAULT_MAX_SAMPLES,
-                        feature_angle: float = 30.0) -> Samples:
+                        feature_angle: float = 30.0, boundary_samples=None) -> Samples:
     """Maximal Poisson disc sampling of ``region`` with the radius field ``field``,
     conforming and constrained (see the module docstring).
 
@@ -68,6 +68,13 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
         more samples, or need more refinement boxes than a few per sample.
     feature_angle : float
         Vertices turning by at least this many degrees are sharp corners (samples).
+    boundary_samples : sequence of (k, 2) array_like, optional
+        The boundary samples of each ring of ``region.rings``, in order along it, given
+        instead of drawn (guards and interior as usual), as for
+        :func:`pds_plugin.poisson_disc`: :mod:`pds_plugin.partition` gives them so that a
+        boundary chain shared by two regions gets the same samples on both sides. They
+        should be at least ``min(r(p), r(q))`` apart where consecutive (the certificate
+        checks it).
 
     Returns
     -------
@@ -91,9 +98,11 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     """
     max_samples = check_positive_int(max_samples, "max_samples")
     check_rings_apart(region)
+    if boundary_samples is not None:
+        boundary_samples = _given_boundary(region, boundary_samples, True)
     rng = np.random.default_rng(seed)
     sampler = _GradedSampler(region, field, max_samples)
-    n_boundary = sampler.add_boundary(feature_angle, rng)
+    n_boundary = sampler.add_boundary(feature_angle, rng, boundary_samples)
     sampler.add_interior(rng)
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
@@ -482,10 +491,13 @@ class _GradedSampler:
             raise BudgetError(f"the graded sampling made more than max_samples="
                               f"{self.max_samples} samples; {self._what_to_do()}")
 
-    def add_boundary(self, feature_angle: float, rng) -> int:
+    def add_boundary(self, feature_angle: float, rng, given=None) -> int:
         """Sample every ring (sharp corners, then the pieces between them in normalized
-        arc length), join consecutive samples by chords, bin the chords by their reach
-        and add guards. Returns the number of boundary samples."""
+        arc length; or take the ``given`` samples of each ring), join consecutive samples
+        by chords, bin the chords by their reach and add guards. Returns the number of
+        boundary samples."""
+        if given is not None:
+            return self._place_boundary(given)
         L = self.field.grading
         unit = _TAU_MARGIN / (1.0 - 0.5 * L)
         ring_xy = []
@@ -506,6 +518,11 @@ class _GradedSampler:
                                                           before > unit),
                                       ring, tau[:-1][first], tau[-1], self.field))
         ring_xy, self.sampled_region = _onto_curves(self.region, ring_xy, self.field, np.inf)
+        return self._place_boundary(ring_xy)
+
+    def _place_boundary(self, ring_xy) -> int:
+        """Place the samples of each ring (``ring_xy``, in order along it), join them by
+        chords, bin the chords and add guards; returns the number of boundary samples."""
         boundary, self.rings = _joined(ring_xy)
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())

@@ -42,11 +42,14 @@ from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
 from .region import Region, turning_angles
+from .graded_sampling import _TAU_MARGIN, _cleared_piece, _leg, _positions, _side
 from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_clearance
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
-           "ChainSamples", "mesh_part", "interface_report", "InterfaceReport"]
+           "graded_sample_chains", "junction_fields", "chain_sample_radii", "with_sample_cones",
+           "ChainSamples",
+           "mesh_part", "interface_report", "InterfaceReport"]
 
 _ON_SEGMENT = 1e-12
 """How close (relative to the extent) a vertex of one ring must be to a segment of
@@ -169,6 +172,14 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     owner, angle = _edge_owners(rings, frames)
     junction = _junctions(owner, pinned)
     chains = _chains(rings, owner, junction)
+    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
+                                 junction, _spikes(rings, frames, junction))
+    return _assembled(rings, owner, junction, chains, positions)
+
+
+def _assembled(rings, owner, junction, chains, positions) -> ChainSamples:
+    """The :class:`ChainSamples` of ``chains`` from each chain's (segment, fraction)
+    positions, junctions numbered once."""
     sample_u, sample_v, sample_t = [], [], []
     index = {}                             # junction vertex -> its sample number
 
@@ -180,8 +191,6 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
             sample_t.append(0.0)
         return index[vertex]
 
-    positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
-                                 junction, _spikes(rings, frames, junction))
     chain_samples = []
     for (vertices, closed), (segment, t) in zip(chains, positions):
         ids = []
@@ -202,6 +211,417 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
                         [bool(c[1]) for c in chains],
                         [tuple(sorted(set(owner[_key(c[0][0], c[0][1])])))
                          for c in chains], chain_samples)
+
+
+def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, seed: int = 0,
+                         pinned=()) -> ChainSamples:
+    """Sample the boundary chains of regions that share them, each chain once, for
+    graded meshes: by the graded sampler's rules (:mod:`pds_plugin.graded_sampling`) with
+    the radius r = the smallest of the fields of the regions the chain bounds.
+
+    Each chain is densified and measured in normalized arc length ``τ = ∫ dt / r``; its
+    junctions and its vertices turning by at least ``feature_angle`` are corners (a
+    junction with the clearance of the sharpest angle a region has there, a vertex
+    with its convex side's), and each piece between corners is cut into equal parts of
+    τ in ``[a, 2 a)``, ``a = 1.02 / (1 - L/2)``, or by the corners' clearances, as the
+    graded sampler cuts a ring's pieces; a chain without junction is a ring to it.
+    Samples are then ``min(r(p), r(q))`` apart along the chain in every region's frame,
+    so the regions' own samplers take them as given (``boundary_samples``) once their
+    fields agree on the chain (:func:`chain_sample_radii`).
+
+    Parameters
+    ----------
+    rings, frames, feature_angle, seed, pinned
+        As for :func:`sample_chains`.
+    fields : list of RadiusField
+        Per region, its radius field in its own frame (all of one grading L).
+
+    Returns
+    -------
+    ChainSamples
+
+    Raises
+    ------
+    RegionError
+        As :func:`sample_chains`.
+
+    Examples
+    --------
+    >>> from pds_plugin.sizing import RadiusField
+    >>> xy = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]], float)
+    >>> left, right = [np.array([0, 1, 4, 5])], [np.array([1, 2, 3, 4])]
+    >>> field = RadiusField([[0, 0]], [0.05], grading=0.2, cap=0.4)
+    >>> chains = graded_sample_chains([left, right], [xy, xy], [field, field])
+    >>> shared = [c for c, sides in zip(chains.chain_samples, chains.sides) if len(sides) == 2]
+    >>> p = chains.points(xy)[shared[0]]                  # the interface x = 1
+    >>> r = field(p)
+    >>> bool(np.all(np.hypot(*np.diff(p, axis=0).T) >= np.minimum(r[:-1], r[1:])))
+    True
+    """
+    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+    owner, angle = _edge_owners(rings, frames)
+    junction = _junctions(owner, pinned)
+    chains = _chains(rings, owner, junction)
+    if not chains:
+        return _assembled(rings, owner, junction, chains, [])
+    grading = max(field.grading for field in fields)
+    unit = _TAU_MARGIN / (1.0 - 0.5 * grading)
+    sides = [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
+    chain_set = _ChainSet(chains, sides, frames, fields)
+    cid, segment, t = chain_set.dense(grading)
+    xy, radius = chain_set.evaluate(cid, segment, t)
+    bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
+    taus, positions, cleared = [], [], []
+    for c, (vertices, closed) in enumerate(chains):
+        part = slice(bounds[c], bounds[c + 1])
+        tau, at, clear = _graded_chain(vertices, closed, sides[c], angle, xy[part],
+                                       radius[part], segment[part], unit, feature_angle,
+                                       junction, _chain_rng(seed, vertices))
+        taus.append(tau)
+        positions.append(at)
+        cleared.append(clear)
+    chain, at = _halved(chain_set, taus, positions, cleared, segment, t, bounds)
+    along_segment, along_t = _FlatTau(taus, segment, t, bounds).to_chain(chain, at)
+    cut = np.cumsum(np.bincount(chain, minlength=len(chains)))[:-1]
+    return _assembled(rings, owner, junction, chains,
+                      list(zip(np.split(along_segment, cut), np.split(along_t, cut))))
+
+
+class _ChainSet:
+    """The chains of a partition as flat arrays, and their points (chain, segment,
+    fraction) read in each owner's frame, with the smallest of the owners' fields there
+    (one field call per region for all its chains' points)."""
+
+    def __init__(self, chains, sides, frames, fields):
+        self.count = np.array([len(vertices) for vertices, _ in chains], dtype=np.int64)
+        self.closed = np.array([closed for _, closed in chains], dtype=bool)
+        self.offset = np.concatenate([[0], np.cumsum(self.count)[:-1]])
+        self.vertex = np.concatenate([vertices for vertices, _ in chains])
+        side = np.array([[s[0], s[1] if len(s) > 1 else -1] for s in sides], dtype=np.int64)
+        self.side = side
+        self.frames, self.fields = frames, fields
+
+    def evaluate(self, cid, segment, t):
+        """The points in their chain's first owner's frame, and r there."""
+        following = np.where(self.closed[cid], (segment + 1) % self.count[cid],
+                             np.minimum(segment + 1, self.count[cid] - 1))
+        u = self.vertex[self.offset[cid] + segment]
+        v = self.vertex[self.offset[cid] + following]
+        point = np.concatenate([np.arange(len(cid)), np.flatnonzero(self.side[cid, 1] >= 0)])
+        region = np.concatenate([self.side[cid, 0], self.side[cid[point[len(cid):]], 1]])
+        order = np.argsort(region, kind="stable")
+        point, region = point[order], region[order]
+        starts = np.flatnonzero(np.diff(np.concatenate([[-1], region, [-2]])))
+        xy, radius = np.empty((len(cid), 2)), np.full(len(cid), np.inf)
+        for lo, hi in zip(starts[:-1], starts[1:]):
+            r, at = int(region[lo]), point[lo:hi]
+            frame = self.frames[r]
+            a, b = frame[u[at]], frame[v[at]]
+            p = a + t[at, None] * (b - a)
+            radius[at] = np.minimum(radius[at], self.fields[r](p))
+            first = self.side[cid[at], 0] == r
+            xy[at[first]] = p[first]
+        return xy, radius
+
+    def dense(self, grading):
+        """Every chain's points: its vertices, and midpoints inserted until every part
+        is at most 0.3 of the lowest r the field can have on it (as
+        ``graded_sampling._tau_rings`` densifies rings); an open chain's last vertex is
+        (n - 1, 0). Returns (chain, segment, fraction), chain by chain in order."""
+        cid = np.repeat(np.arange(len(self.count)), self.count)
+        segment = np.arange(len(cid)) - np.repeat(self.offset, self.count)
+        t = np.zeros(len(cid))
+        for _ in range(60):
+            xy, radius = self.evaluate(cid, segment, t)
+            last = np.append(cid[1:] != cid[:-1], True)
+            following = np.arange(1, len(cid) + 1)
+            first_of = np.flatnonzero(np.insert(cid[1:] != cid[:-1], 0, True))
+            following[last] = np.where(self.closed[cid[last]], first_of, np.flatnonzero(last))
+            step = np.hypot(*(xy[following] - xy).T)
+            low = np.minimum(radius, radius[following]) - 0.5 * grading * step
+            split = step > 0.3 * low
+            if not split.any():
+                break
+            k = np.flatnonzero(split)
+            t_end = np.where(segment[following[k]] == segment[k], t[following[k]], 1.0)
+            cid = np.insert(cid, k + 1, cid[k])
+            segment = np.insert(segment, k + 1, segment[k])
+            t = np.insert(t, k + 1, 0.5 * (t[k] + t_end))
+        return cid, segment, t
+
+
+def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
+                  feature_angle, junction, rng):
+    """One chain's τ along its dense points (an open chain closed by a chord back to its
+    start), its samples' positions in τ (an open chain's last end excluded), and the
+    positions of its corners whose clearance exceeds a unit (after, before): the parts
+    beside them are kept whole (:func:`_halved`). See :func:`graded_sample_chains`."""
+    n = len(vertices)
+    ring = np.vstack([dense, dense[:1]])
+    step = np.hypot(*np.diff(ring, axis=0).T)
+    inverse = 1.0 / np.append(radius, radius[0])
+    tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inverse[:-1] + inverse[1:]))])
+    at_vertex = np.flatnonzero(np.append(True, segment[1:] != segment[:-1]))   # t == 0
+    xy = dense[at_vertex]
+    turns = turning_angles(xy) if closed else np.concatenate([[0.0], _open_turns(xy), [0.0]])
+    corner_vertex = np.abs(turns) >= np.radians(feature_angle)
+    turn = np.abs(turns)                                # the convex side's clearance
+    for end in ([0] if closed else [0, n - 1]):
+        if int(vertices[end]) in junction:
+            neighbours = [vertices[(end + 1) % n] if closed or end == 0 else vertices[end - 1]]
+            if closed:
+                neighbours.append(vertices[-1])
+            sharpest = min(_junction_angle(vertices[end], other, angle) for other in neighbours)
+            corner_vertex[end] = True
+            turn[end] = np.pi - sharpest
+    corner = at_vertex[corner_vertex]
+    corner_turn = turn[corner_vertex]
+    if not closed and len(corner) == 2 and np.all(corner_clearance(np.pi - corner_turn, 1.0) <= 1):
+        span = tau[corner[1]]                   # one piece, no clearance: equal parts
+        parts = max(int(span // unit), 1)
+        return tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0))
+    after, before = _chain_clearance(dense, radius, tau, corner, corner_turn, unit)
+    clear = (tau[corner][after > unit], tau[corner][before > unit])
+    if closed:
+        return tau, _positions(tau, tau[corner], after, before, unit, rng), clear
+    pieces = [tau[corner[:-1]]]
+    for i in range(len(corner) - 1):
+        lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
+        first, last = after[i], before[i + 1]
+        if len(corner) == 2 and span < first + last:
+            continue             # a chain of two junctions, too short for both clearances:
+        if first > unit or last > unit:          # its ends alone (junction_fields)
+            pieces.append(_cleared_piece(lo, span, first, last, unit))
+        else:
+            parts = max(int(span // unit), 1)
+            pieces.append(lo + span * np.arange(1, parts) / parts)
+    return tau, np.sort(np.concatenate(pieces)), clear
+
+
+def _chain_clearance(dense, radius, tau, corner, turn, unit):
+    """The τ-lengths kept free of samples after and before each sharp corner of a chain,
+    by the graded sampler's rule (``graded_sampling._corner_clearance``): the part from
+    the corner c to its neighbour p ends where |p - c| first reaches 1.02 k r(p),
+    k = ``corner_clearance(π - turn, 1)``, ``unit`` where k <= 1. Unlike the ring
+    sampler, the legs are not shortened to keep a spike's tip triangle (which leaves the
+    tip's neighbours closer than their clearance, a pair the certificate cannot
+    explain): a patch whose tip chord the complex then drops is kept by
+    :func:`pds_plugin.remesh` instead, its solid the same."""
+    length = tau[-1]
+    k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
+    after, before = np.full(len(corner), unit), np.full(len(corner), unit)
+    for c in np.flatnonzero(k > 1.0):
+        for out, stop, step in ((after, corner[(c + 1) % len(corner)], 1),
+                                (before, corner[c - 1], -1)):
+            side = _side(dense, tau, corner[c], stop, step, length)
+            leg = _leg(dense, radius, side, k[c])
+            out[c] = side[1][-1] if leg is None else max(unit, leg[0])
+    return after, before
+
+
+def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
+    """The positions with every part longer than :data:`_LONGEST_PART` times the smaller
+    r at its ends halved in τ, again until none is (at most :data:`_MAX_HALVINGS`
+    rounds); a part that keeps a sharp corner's neighbour clear of it (``cleared``: per
+    chain, the positions of such corners, parts after and parts before them) only when
+    longer than that times the larger r (the neighbour's: r at the corner may be far
+    smaller, and halving there would undo the clearance). All chains at once; returns
+    the chain of each position and the positions, by chain and increasing."""
+    flat = _FlatTau(taus, segment, t, bounds)
+    chain = np.repeat(np.arange(len(positions)), [len(at) for at in positions])
+    at = np.concatenate(positions)
+    guarded = {c: clear for c, clear in enumerate(cleared) if len(clear[0]) or len(clear[1])}
+    todo = np.ones(len(positions), bool)
+    for _ in range(_MAX_HALVINGS):
+        pick = todo[chain]
+        if not pick.any():
+            break
+        c_in, a_in = chain[pick], at[pick]
+        last = np.flatnonzero(np.append(c_in[1:] != c_in[:-1], True))
+        first = np.append(0, last[:-1] + 1)
+        ids = c_in[last]
+        end = np.where(chain_set.closed[ids], a_in[first] + flat.length[ids], flat.before_end[ids])
+        c_e = np.insert(c_in, last + 1, ids)
+        e = np.insert(a_in, last + 1, end)
+        xy, radius = chain_set.evaluate(c_e, *flat.to_chain(c_e, e % flat.length[c_e]))
+        pair = np.flatnonzero(c_e[1:] == c_e[:-1])
+        chord = np.hypot(*(xy[pair + 1] - xy[pair]).T)
+        low, high = (f(radius[pair], radius[pair + 1]) for f in (np.minimum, np.maximum))
+        beside = np.zeros(len(pair), bool)
+        for c, (starts, stops) in guarded.items():
+            mine = c_e[pair] == c
+            beside[mine] = np.isin(e[pair][mine], starts) | np.isin(e[pair + 1][mine], stops)
+        long = chord > _LONGEST_PART * np.where(beside, high, low)
+        todo = np.zeros(len(positions), bool)
+        todo[c_e[pair[long]]] = True
+        middle = (0.5 * (e[pair] + e[pair + 1]))[long] % flat.length[c_e[pair[long]]]
+        chain = np.concatenate([chain, c_e[pair[long]]])
+        at = np.concatenate([at, middle])
+        order = np.lexsort((at, chain))
+        chain, at = chain[order], at[order]
+    return chain, at
+
+
+class _FlatTau:
+    """The τ of all chains' dense points in one array, to read positions in τ as
+    (segment, fraction) along their chains all at once: linear in τ between the dense
+    points, as ``graded_sampling._along`` reads a ring's."""
+
+    def __init__(self, taus, segment, t, bounds):
+        self.tau = np.concatenate(taus)
+        self.chain = np.repeat(np.arange(len(taus)), [len(tau) for tau in taus])
+        self.start = np.concatenate([[0], np.cumsum([len(tau) for tau in taus])[:-1]])
+        self.length = np.array([tau[-1] for tau in taus])
+        self.before_end = np.array([tau[-2] for tau in taus])      # an open chain's last end
+        self.segment, self.t, self.bounds = segment, t, bounds
+
+    def to_chain(self, chain, at):
+        """Positions ``at`` along chains ``chain`` as (segment, fraction) pairs."""
+        kind = np.concatenate([np.zeros(len(self.tau)), np.ones(len(at))])
+        order = np.lexsort((kind, np.concatenate([self.tau, at]),
+                            np.concatenate([self.chain, chain])))
+        is_tau = kind[order] == 0
+        before = np.empty(len(at), np.int64)         # the last τ <= at in its chain
+        before[order[~is_tau] - len(self.tau)] = np.cumsum(is_tau)[~is_tau] - 1
+        count = self.bounds[chain + 1] - self.bounds[chain]
+        j = np.clip(before - self.start[chain], 0, count - 1)
+        k = self.start[chain] + j
+        frac = (at - self.tau[k]) / np.maximum(self.tau[k + 1] - self.tau[k], 1e-300)
+        here = self.bounds[chain] + j
+        following = self.bounds[chain] + (j + 1) % count
+        t_next = np.where(self.segment[following] == self.segment[here], self.t[following], 1.0)
+        s = np.clip(self.t[here] + frac * (t_next - self.t[here]), 0.0, 1.0)
+        return self.segment[here], np.where(frac > 0, s, self.t[here])
+
+
+_LONGEST_PART = 2.0
+"""A chain's part longer than this many times the smaller r at its ends is halved (in
+τ): where r grows fast along it (beside a short edge between pinned vertices) a part of
+less than two units of τ can still be 2.9 r long, and the graded sampler, which keeps
+samples out of a chord's lens, cannot cover beside it."""
+
+_MAX_HALVINGS = 8
+
+
+def _junction_angle(vertex, neighbour, angle) -> float:
+    """The sharpest angle a region running the edge (vertex, neighbour) has at ``vertex``."""
+    angles = []
+    for a, b, at_start in ((vertex, neighbour, True), (neighbour, vertex, False)):
+        entry = angle.get((int(a), int(b)))
+        if entry is not None:
+            angles.append(float(entry[1] if at_start else entry[2]))
+    return min(angles)
+
+
+def junction_fields(rings, frames, fields, pinned=()) -> list:
+    """The regions' fields made to agree at the junctions of their chains (vertices
+    that must be samples: where the owners change, or ``pinned``), before
+    :func:`graded_sample_chains`.
+
+    At a junction v, r(v) becomes, in every region that has v, the smallest of: the
+    fields of those regions at v, and the distance from v to the other end w of each
+    chain leaving it over 1.02 k(w), k(w) >= 1 the clearance factor of the sharpest
+    corner a region has at w (``corner_clearance``): the ends of a chain too short to
+    be cut are consecutive samples, so r there must not exceed their distance, and v is
+    then w's neighbour, which must be clear of w's corner: a cone of that size at v is
+    added to each of their fields. The samples beside
+    a short edge then grade away from it instead of meeting it at the full radius, and
+    every chain leaving v starts from the same r (a chord many times r at one end
+    leaves the graded sampler no room to cover beside it).
+
+    Returns
+    -------
+    list of RadiusField
+        Per region, its field with the junctions' cones.
+
+    Examples
+    --------
+    >>> from pds_plugin.sizing import RadiusField
+    >>> xy = np.array([[0, 0], [1, 0], [1.01, 0], [2, 0], [2, 1], [0, 1]], float)
+    >>> field = RadiusField(np.zeros((0, 2)), [], grading=0.2, cap=0.5)
+    >>> [f(xy).round(3).tolist() for f in junction_fields([[np.arange(6)]], [xy], [field],
+    ...                                                   pinned=[1, 2])]
+    [[0.21, 0.01, 0.01, 0.208, 0.291, 0.293]]
+    """
+    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+    owner, angle = _edge_owners(rings, frames)
+    junctions = _junctions(owner, pinned)
+    junction = np.array(sorted(junctions), dtype=np.int64)
+    size = np.full(len(junction), np.inf)
+    held = []                                   # per region, its junctions (indices)
+    for r, region in enumerate(rings):
+        ids = np.unique(np.concatenate(region))
+        mine = ids[np.isin(ids, junction)]
+        index = np.searchsorted(junction, mine)
+        held.append(index)
+        np.minimum.at(size, index, fields[r](frames[r][mine]))
+    for vertices, closed in _chains(rings, owner, junctions):
+        if not closed:
+            frame = frames[owner[_key(vertices[0], vertices[1])][0]]
+            ends = np.array([vertices[0], vertices[-1]])
+            apart = math.hypot(*(frame[ends[1:]] - frame[ends[:1]])[0])
+            clearance = [max(1.0, _end_clearance(vertices[0], vertices[1], angle)),
+                         max(1.0, _end_clearance(vertices[-1], vertices[-2], angle))]
+            np.minimum.at(size, np.searchsorted(junction, ends),
+                          apart / (_TAU_MARGIN * np.array(clearance[::-1])))
+    return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
+            for r, index in enumerate(held)]
+
+
+def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
+    """The radius each region's field is given at each chain sample so that the regions
+    agree on their shared samples and keep them separated: at a sample s, the smallest
+    of the fields (after :func:`junction_fields`) of the regions whose rings hold it;
+    where two neighbours along those rings, or the two neighbours of a sample at a
+    corner of at least the ladder angle (33.56°; a sharper spike's pairs are the
+    certificate's exceptions, as in uniform meshes), are closer than both their radii (a part where r dips below its ends', a part halved
+    beside a sharp corner), the smaller radius is lowered to their distance, which
+    separates them and leaves the larger (a junction's, which other chains were cut
+    for) as it was.
+
+    A region's own field combined by min with cones of these sizes at its samples
+    (:func:`with_sample_cones`) equals them at every sample (a minimum of L-Lipschitz
+    fields is L-Lipschitz, so no cone undercuts another's sample), whichever region it
+    is read in.
+
+    Returns
+    -------
+    (S,) float ndarray
+    """
+    size = np.full(len(chains.u), np.inf)
+    points = []
+    for r, ring_ids in enumerate(chains.rings):
+        frame = frames[r]
+        ids = np.concatenate(ring_ids)
+        xy = frame[chains.u[ids]] + chains.t[ids, None] * (frame[chains.v[ids]] - frame[chains.u[ids]])
+        points.append(xy)
+        np.minimum.at(size, ids, fields[r](xy))
+    radius = size.copy()
+    for ring_ids, xy in zip(chains.rings, points):
+        lengths = np.cumsum([0] + [len(ids) for ids in ring_ids])
+        for ids, lo, hi in zip(ring_ids, lengths[:-1], lengths[1:]):
+            p = xy[lo:hi]
+            for step in (1, 2):            # neighbours, and the two of a corner
+                following = np.roll(ids, -step)
+                gap = np.hypot(*(np.roll(p, -step, axis=0) - p).T)
+                close = gap < np.minimum(radius[ids], radius[following])
+                if step == 2:              # not across a spike (its pairs are exceptions)
+                    a, b = p - np.roll(p, -1, axis=0), np.roll(p, -2, axis=0) - np.roll(p, -1, axis=0)
+                    corner = np.arctan2(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
+                                        (a * b).sum(axis=1))
+                    close &= corner >= _LADDER_ANGLE
+                lower = np.where(radius[ids] <= radius[following], ids, following)
+                np.minimum.at(size, lower[close], gap[close])
+    return size
+
+
+def with_sample_cones(field, points, sizes):
+    """``field`` combined by min with the cones ``sizes + L |x - points|`` (a
+    :class:`~pds_plugin.sizing.RadiusField` of the same grading, cap and sizing)."""
+    from .sizing import RadiusField
+    return RadiusField(np.concatenate([field.features, points]),
+                       np.concatenate([field.sizes, sizes]), field.grading, field.cap,
+                       field.sizing)
 
 
 def _key(a, b):
@@ -507,11 +927,19 @@ def _starts_chain(ring, k, along, chains) -> bool:
 
 # --- composite sections --------------------------------------------------------------
 
-def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
+def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool = False,
+                 grading: float | None = None, sizing=None, feature_angle: float = 30.0,
                  max_samples: int | None = None) -> "CompositeMesh":
     """Mesh regions that share boundaries (a composite section: several materials) as
     one conforming mesh: every shared boundary chain is sampled once, each region is
     meshed and certified on its own, and the meshes share the interfaces' vertices.
+
+    ``graded=True`` meshes with one radius field for the whole composite (as
+    :func:`pds_plugin.mesh_region` does for one region): the smallest of the regions'
+    own fields (each follows its walls, holes and corners, an interface being a wall of
+    both sides), combined by min with cones at the chains' samples that make both sides
+    of an interface read the same r there; the chains are sampled once with it
+    (:func:`graded_sample_chains`) and every region is meshed and certified against it.
 
     Parameters
     ----------
@@ -521,9 +949,18 @@ def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
         inserted into it.
     alpha : float or "auto"
         The disc radius of every region; "auto" takes the smallest of the regions'
-        :func:`pds_plugin.suggest_alpha`.
+        :func:`pds_plugin.suggest_alpha`. Graded: the field's cap; "auto" caps it by the
+        largest region's inradius only (the regions' walls and pieces bound it in the
+        smaller ones).
     seed : int
         The same seed gives the same mesh, bit for bit.
+    graded : bool
+        A graded mesh (default: uniform, as :func:`pds_plugin.mesh_region`).
+    grading : float, optional
+        With ``graded``, the Lipschitz constant L of the field, in (0, 1); default
+        :data:`pds_plugin.sizing.DEFAULT_GRADING`.
+    sizing : callable, optional
+        With ``graded``, a user radius ``sizing(x, y)`` on arrays, combined by min.
     feature_angle : float
         Boundary vertices turning by at least this many degrees are sampled as corners.
     max_samples : int, optional
@@ -555,28 +992,61 @@ def mesh_regions(regions, alpha, seed: int = 0, *, feature_angle: float = 30.0,
     (True, ['concrete', 'steel'])
     >>> round(float(mesh.quality().area[mesh.region_tags.where("steel")].sum()), 12)
     1.0
+    >>> graded = pds.mesh_regions({"steel": core, "concrete": shell}, "auto", graded=True)
+    >>> graded.certificate().ok_with_exceptions, len(graded.interface_edges) > 0
+    (True, True)
     """
     names, geometries, frame = _named_geometries(regions)
     check_seed(seed)
+    if not graded and (grading is not None or sizing is not None):
+        raise ArgumentError("grading and sizing apply to graded meshes; pass graded=True")
     _check_no_overlap(names, geometries)
     noded, xy = _noded(geometries)
     _check_near_misses(names, noded)
     parts = []
     for name, geometry in zip(names, noded):
         parts.append(Region.from_shapely(geometry, frame))
-    if isinstance(alpha, str):
-        if alpha != "auto":
-            raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
-        from .pipeline import suggest_alpha
-        alpha = min(suggest_alpha(part) for part in parts)
-    alpha = check_alpha(alpha)
+    if isinstance(alpha, str) and alpha != "auto":
+        raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
     lookup = {tuple(point): k for k, point in enumerate(xy.tolist())}
     rings = [[_ids_of(ring, lookup, name) for ring in part.rings]
              for name, part in zip(names, parts)]
-    chains = sample_chains(rings, [xy] * len(parts), alpha, feature_angle=feature_angle,
-                           seed=seed)
+    frames = [xy] * len(parts)
+    if graded:
+        field = _composite_field(parts, alpha, grading, sizing, feature_angle)
+        joined = junction_fields(rings, frames, [field] * len(parts))     # one frame:
+        field = with_sample_cones(field, np.concatenate([f.features for f in joined]),
+                                  np.concatenate([f.sizes for f in joined]))  # one field
+        chains = graded_sample_chains(rings, frames, [field] * len(parts),
+                                      feature_angle=feature_angle, seed=seed)
+        points = chains.points(xy)
+        field = with_sample_cones(field, points,
+                                  chain_sample_radii(chains, frames, [field] * len(parts)))
+        return _joined_mesh(names, parts, chains, points, field.cap, seed, feature_angle,
+                            max_samples, frame, field)
+    if isinstance(alpha, str):
+        from .pipeline import suggest_alpha
+        alpha = min(suggest_alpha(part) for part in parts)
+    alpha = check_alpha(alpha)
+    chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed)
     return _joined_mesh(names, parts, chains, chains.points(xy), alpha, seed, feature_angle,
                         max_samples, frame)
+
+
+def _composite_field(parts, alpha, grading, sizing, feature_angle):
+    """The radius field of a composite: the smallest of its regions' own fields
+    (:func:`pds_plugin.sizing.radius_field`, each capped by ``alpha`` or, for "auto", by
+    its inradius), capped by ``alpha`` or the largest inradius."""
+    from .sizing import DEFAULT_GRADING, RadiusField, inradius, radius_field
+
+    grading = DEFAULT_GRADING if grading is None else grading
+    caps = ([inradius(part) for part in parts] if isinstance(alpha, str)
+            else [check_alpha(alpha)] * len(parts))
+    fields = [radius_field(part, grading, cap, sizing, feature_angle)
+              for part, cap in zip(parts, caps)]
+    return RadiusField(np.concatenate([f.features for f in fields]),
+                       np.concatenate([f.sizes for f in fields]), fields[0].grading,
+                       max(caps), sizing)
 
 
 def _named_geometries(regions):
@@ -694,15 +1164,17 @@ def _ids_of(ring, lookup, name):
 
 
 def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, max_samples,
-                 frame):
-    """Mesh every part with its chains' samples, and join the meshes by sample number."""
+                 frame, field=None):
+    """Mesh every part with its chains' samples (graded with ``field``, one field for
+    all), and join the meshes by sample number."""
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
         options["max_samples"] = max_samples
     points, faces, part_of_face, maps, meshes = [boundary_xy], [], [], [], []
     count = len(boundary_xy)
     for r, (part, ring_ids) in enumerate(zip(parts, chains.rings)):
-        mesh, _ = mesh_part(part, alpha, [boundary_xy[ids] for ids in ring_ids], seed, **options)
+        mesh, _ = mesh_part(part, alpha, [boundary_xy[ids] for ids in ring_ids], seed,
+                            field=field, **options)
         given = np.concatenate(ring_ids)
         extra = len(mesh.vertices) - len(given)
         to_global = np.concatenate([given, count + np.arange(extra)])
@@ -720,7 +1192,7 @@ def _joined_mesh(names, parts, chains, boundary_xy, alpha, seed, feature_angle, 
     return CompositeMesh(np.concatenate(points), np.concatenate(faces), outer, union, alpha,
                          parts=tuple(meshes), names=tuple(names),
                          part_of_face=np.concatenate(part_of_face), vertex_maps=tuple(maps),
-                         chains=chains)
+                         chains=chains, field=field)
 
 
 ATTEMPTS = 3
@@ -728,9 +1200,11 @@ ATTEMPTS = 3
 are exactly the chords between its given samples."""
 
 
-def mesh_part(region: Region, alpha: float, given, seed: int, **options):
+def mesh_part(region: Region, alpha: float, given, seed: int, *, field=None, **options):
     """Mesh one part of a partition with its ``given`` ring samples, drawing its interior
     again from the next seeds (up to :data:`ATTEMPTS`) while a chord is not a mesh edge.
+    With a radius ``field`` the part is graded (the graded sampler and complex with
+    that field, which the certificate then measures against; ``alpha`` is unused).
 
     The chords' proof (docs/conforming.md, "Why consecutive boundary samples are mesh
     edges") assumes no small feature near the chord; beside a short piece a chord may be
@@ -759,11 +1233,27 @@ def mesh_part(region: Region, alpha: float, given, seed: int, **options):
     chords = np.unique(np.concatenate([np.column_stack([np.arange(a, b), np.roll(np.arange(a, b), -1)])
                                        for a, b in zip(local[:-1], local[1:])]), axis=0)
     for attempt in range(ATTEMPTS):
-        mesh = mesh_region(region, alpha, seed=seed + attempt, boundary_samples=given, **options)
+        if field is None:
+            mesh = mesh_region(region, alpha, seed=seed + attempt, boundary_samples=given,
+                               **options)
+        else:
+            mesh = _graded_part(region, field, given, seed + attempt, options)
         boundary = mesh.boundary_edges
         if len(boundary) == len(chords) and np.array_equal(np.unique(boundary, axis=0), chords):
             return mesh, True
     return mesh, False
+
+
+def _graded_part(region, field, given, seed, options) -> PlanarMesh:
+    """The graded mesh of ``region`` with its ring samples ``given`` and radius ``field``."""
+    from .graded_complex import graded_alpha_complex
+    from .graded_sampling import graded_poisson_disc
+
+    samples = graded_poisson_disc(region, field, seed, boundary_samples=given, **options)
+    faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
+                                 boundary=samples.rings)
+    return PlanarMesh(samples.points, faces, samples.on_boundary, region, field.cap, True,
+                      field=field)
 
 
 class CompositeMesh(PlanarMesh):
@@ -787,8 +1277,9 @@ class CompositeMesh(PlanarMesh):
     """
 
     def __init__(self, vertices, faces, on_boundary, region, alpha, *, parts, names,
-                 part_of_face, vertex_maps, chains):
-        super().__init__(vertices, faces, on_boundary, region, alpha, conforming=True)
+                 part_of_face, vertex_maps, chains, field=None):
+        super().__init__(vertices, faces, on_boundary, region, alpha, conforming=True,
+                         field=field)
         self.parts, self.names = parts, names
         self.part_of_face = np.asarray(part_of_face, dtype=np.int64)
         self.vertex_maps = vertex_maps

@@ -35,7 +35,8 @@ commands:
   pds-mesh batch MANIFEST -o DIR [--scheduler ADDRESS | --workers N]
                                                     many parts and planes, locally or on
                                                     a Dask cluster; resumable
-  pds-mesh remesh IN -o OUT [--alpha A|auto]        remesh every planar face of a mesh
+  pds-mesh remesh IN -o OUT [--alpha A|auto] [--uniform]
+                                                    remesh every planar face of a mesh
                                                     file, the solid kept
 
 Run 'pds-mesh demo' first, and 'pds-mesh mesh --help' for the options."""
@@ -149,8 +150,10 @@ def parser() -> argparse.ArgumentParser:
     _remesh_arguments(commands.add_parser(
         "remesh", help="re-triangulate every planar face of a mesh file, the solid kept",
         description="Re-triangulate every planar face (patch of coplanar triangles) of a "
-                    "mesh file with certified triangles (angles >= 30 degrees but at the "
-                    "input's small features): each patch boundary is sampled once for both "
+                    "mesh file with certified triangles, graded towards each patch's small "
+                    "features (angles >= 23.6 degrees but at sharp input corners; "
+                    "--uniform: one radius, >= 30 degrees but at the input's small "
+                    "features): each patch boundary is sampled once for both "
                     "patches, so the result is the same closed solid. Faces of curved "
                     "surfaces narrower than alpha are kept, split where samples fall on "
                     "their edges (docs/remesh.md)."))
@@ -164,6 +167,8 @@ def _remesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--alpha", type=_alpha, default="auto",
                         help="disc radius in the input's units, or 'auto' (default): the "
                              "bounding box's diagonal / 100")
+    parser.add_argument("--uniform", action="store_true",
+                        help="one radius alpha on every patch instead of graded patches")
     parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
     parser.add_argument("--report", metavar="JSON", type=Path,
                         help="write every patch certificate and the solid's checks here")

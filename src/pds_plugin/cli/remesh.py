@@ -19,7 +19,8 @@ def run(args) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        ``input``, ``output``, ``alpha``, ``seed`` and ``report`` (a path or None).
+        ``input``, ``output``, ``alpha``, ``uniform``, ``seed`` and ``report`` (a path
+        or None).
 
     Returns
     -------
@@ -39,7 +40,7 @@ def run(args) -> int:
     remesh ok: ...
     0
     """
-    result = remesh(args.input, args.alpha, seed=args.seed)
+    result = remesh(args.input, args.alpha, graded=not args.uniform, seed=args.seed)
     with atomic_path(args.output) as partial:
         result.mesh.export(partial)
     print(f"pds-mesh remesh: {args.input} -> {args.output}")

@@ -46,8 +46,10 @@ def _order(order) -> int:
 
 
 def _tagged(mesh: PlanarMesh, order: int, boundary: str):
-    """Points, triangles, boundary lines, and the tags of both, for ``order``."""
-    from ..tags import boundary_tags
+    """Points, triangles, lines, and the tags of both, for ``order``: the lines are the
+    boundary edges, then a composite mesh's interface edges (tagged after the boundary
+    tags, named ``"a|b"``, :class:`pds_plugin.partition.CompositeMesh`)."""
+    from ..tags import Tags, boundary_tags
 
     check_has_triangles(mesh, "for finite elements")
     if order == 1:
@@ -57,6 +59,21 @@ def _tagged(mesh: PlanarMesh, order: int, boundary: str):
         points, triangles, lines = q.points, q.triangles, q.boundary_lines
     regions = mesh.region_tags
     boundaries = mesh.boundary_tags if boundary == "ring" else boundary_tags(mesh, boundary)
+    interfaces = getattr(mesh, "interface_edges", None)
+    if interfaces is not None and len(interfaces):
+        if order == 2:                # the mid node of each edge, in the order of mesh.edges
+            count = len(mesh.vertices)
+            keys = np.sort(mesh.edges, axis=1) @ np.array([count, 1])
+            order_keys = np.argsort(keys)
+            wanted = np.sort(interfaces, axis=1) @ np.array([count, 1])
+            edge = order_keys[np.searchsorted(keys, wanted, sorter=order_keys)]
+            interfaces = np.column_stack([interfaces, count + edge])
+        offset = max(boundaries.names.values(), default=0)
+        tags = mesh.interface_tags
+        lines = np.concatenate([lines, interfaces])
+        boundaries = Tags(np.concatenate([boundaries.values, tags.values + offset]),
+                          {**boundaries.names,
+                           **{name: tag + offset for name, tag in tags.names.items()}})
     return points, triangles, lines, regions, boundaries
 
 
@@ -74,9 +91,11 @@ def to_meshio(mesh: PlanarMesh, order: int = 1, boundary: str = "ring") -> meshi
     Returns
     -------
     meshio.Mesh
-        ``points`` (2D), cells ``[triangles, boundary lines]``; cell data ``"region"``
-        (a line's is its triangle's) and ``"boundary"`` (0 on triangles);
-        ``field_data`` ``{name: [tag, dimension]}``.
+        ``points`` (2D), cells ``[triangles, lines]``: the lines are the boundary
+        edges, then a composite mesh's interface edges (:func:`pds_plugin.mesh_regions`);
+        cell data ``"region"`` (a line's is its triangle's, an interface's the first
+        side's) and ``"boundary"`` (0 on triangles; interfaces numbered after the
+        boundaries, named ``"a|b"``); ``field_data`` ``{name: [tag, dimension]}``.
 
     Raises
     ------
@@ -101,7 +120,7 @@ def to_meshio(mesh: PlanarMesh, order: int = 1, boundary: str = "ring") -> meshi
     meshio = import_optional("meshio", "fem", "meshio meshes and FEM file formats")
     order = _order(order)
     points, triangles, lines, regions, boundaries = _tagged(mesh, order, boundary)
-    line_region = regions.values[_face_of(mesh)]
+    line_region = regions.values[_face_of(mesh, lines[:, :2])]
     cell_data = {"region": [regions.values, line_region],
                  "boundary": [np.zeros(len(triangles), np.int64), boundaries.values]}
     field_data = {**{name: np.array([tag, 2]) for name, tag in regions.names.items()},
@@ -112,15 +131,21 @@ def to_meshio(mesh: PlanarMesh, order: int = 1, boundary: str = "ring") -> meshi
                        cell_data=cell_data, field_data=field_data)
 
 
-def _face_of(mesh: PlanarMesh) -> np.ndarray:
-    """The triangle of each boundary edge (directed as in it)."""
+def _face_of(mesh: PlanarMesh, edges) -> np.ndarray:
+    """The triangle that runs each of ``edges`` (a boundary edge, or an interface edge in
+    its chain's direction) the way it is given, else the other way."""
     faces, count = mesh.faces, len(mesh.vertices)
     directed = np.stack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]], axis=1)
     keys = (directed[..., 0] * count + directed[..., 1]).ravel()
     order = np.argsort(keys)
-    edges = mesh.boundary_edges
-    found = order[np.searchsorted(keys, edges[:, 0] * count + edges[:, 1], sorter=order)]
-    return found // 3
+
+    def find(wanted):
+        at = np.minimum(np.searchsorted(keys, wanted, sorter=order), len(keys) - 1)
+        return order[at], keys[order[at]] == wanted
+
+    found, ok = find(edges[:, 0] * count + edges[:, 1])
+    back, _ = find(edges[:, 1] * count + edges[:, 0])
+    return np.where(ok, found, back) // 3
 
 
 def write_meshio(mesh: PlanarMesh, path, suffix: str) -> None:
@@ -128,9 +153,10 @@ def write_meshio(mesh: PlanarMesh, path, suffix: str) -> None:
 
     The tags go where the format keeps them: as cell data ``region`` and ``boundary``
     (VTU, VTK, XDMF), as gmsh physical groups with their names (``.msh``, gmsh 2.2), as
-    Abaqus element sets named after the tags (``.inp``, spaces made underscores; meshio
-    types the elements ``R3D3`` and ``B31H``, retype them for your analysis). XDMF is
-    written with its data inline (XML), in one file.
+    Abaqus element sets named after the tags (``.inp``, spaces and ``|`` made
+    underscores; meshio types the elements ``R3D3`` and ``B31H``, retype them for your
+    analysis). XDMF is written with its data inline (XML), in one file. A composite
+    mesh's interface edges go out as lines with their tags (:func:`to_meshio`).
 
     Parameters
     ----------
@@ -226,14 +252,15 @@ def write_dolfinx(mesh: PlanarMesh, path, order: int = 1, boundary: str = "ring"
 
 
 def _element_sets(tagged) -> dict:
-    """``{name: [triangles, lines]}`` of each tag, spaces in names made underscores."""
+    """``{name: [triangles, lines]}`` of each tag, spaces and an interface's ``|`` in
+    names made underscores (Abaqus names are letters, digits and underscores)."""
     sets = {}
     for name, (tag, dimension) in tagged.field_data.items():
         block = 0 if dimension == 2 else 1
         values = tagged.cell_data["region" if dimension == 2 else "boundary"][block]
         members = [np.zeros(0, np.int64), np.zeros(0, np.int64)]
         members[block] = np.flatnonzero(values == tag)
-        sets[name.replace(" ", "_")] = members
+        sets[name.replace(" ", "_").replace("|", "_")] = members
     return sets
 
 
@@ -252,7 +279,8 @@ def to_skfem(mesh: PlanarMesh, order: int = 1, boundary: str = "ring") -> skfem.
     Returns
     -------
     skfem.MeshTri1 or skfem.MeshTri2
-        ``boundaries[name]``: the facet indices of each boundary tag;
+        ``boundaries[name]``: the facet indices of each boundary tag, and of each
+        interface of a composite mesh (``"a|b"``, inner facets);
         ``subdomains[name]``: the element indices of each region tag. Only the mesh's
         triangles' vertices are kept (isolated samples would be unknowns of no element).
 
