@@ -418,6 +418,21 @@ def test_a_kink_is_sampled_before_a_nearby_inflection():
     assert np.isclose(kept, kink).any(), (kept, kink)
 
 
+def test_a_side_too_short_for_its_corners_clearances_is_still_joined():
+    """A small triangle (a held-out bracket section's component at "auto"): its sides of
+    2.39 and 2.67 alpha beside a 32.5° corner are shorter than the clearances of their two
+    corners, and were left whole: chords over 2 alpha, which no triangle of circumradius
+    <= alpha has, left the tip's sample isolated and 60 % of the area unmeshed. They are
+    halved now; the mesh is the whole triangle, every boundary sample joined."""
+    t = np.radians(32.5)
+    triangle = Polygon([(0, 0), (2.39, 0), (2.67 * np.cos(t), 2.67 * np.sin(t))])
+    for seed in range(3):
+        mesh = pds.mesh_region(pds.Region.from_shapely(triangle), 1.0, seed=seed)
+        cert = mesh.certificate()
+        assert cert.conforming and cert.isolated_samples == 0, str(cert)
+        assert outline(mesh).area == pytest.approx(triangle.area, rel=1e-12)
+
+
 def test_kinks_of_a_noisy_boundary_are_sampled_one_alpha_apart():
     """A tessellated curve cut by a plane: a gentle bend with a kink (a right turn) every
     1.2 alpha. On a boundary known up to a tolerance every kink is sampled; at 1.5 alpha

@@ -481,7 +481,25 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng,
         gaps = np.diff(np.append(at, at[0] + length))
         k = int(np.argmax(gaps))
         at = np.sort(np.append(at, (at[k] + 0.5 * gaps[k]) % length))
-    return at, cum, closed
+    return _halved_long_chords(at, cum, closed, alpha), cum, closed
+
+
+def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
+    """The positions ``at`` with the middle of every piece added whose chord is 2 alpha or
+    longer: no triangle of circumradius <= alpha has such an edge, and the sample at its
+    end was left isolated. A piece too short for the clearances of the sharp corners at
+    both its ends (at most 2√3 alpha: a small triangle of a section, a spike's side) is
+    left whole by the split; its halves are at most √3 alpha, their ends closer than the
+    clearances (an exception the certificate itemises, where a whole chord broke the
+    mesh)."""
+    length = cum[-1]
+    ends = np.append(at, at[0] + length)
+    xy = np.column_stack([np.interp(ends % length, cum, closed[:, 0]),
+                          np.interp(ends % length, cum, closed[:, 1])])
+    long = np.flatnonzero(np.hypot(*np.diff(xy, axis=0).T) >= 2 * alpha * (1 - 1e-9))
+    if not len(long):
+        return at
+    return np.sort(np.append(at, (at[long] + 0.5 * np.diff(ends)[long]) % length))
 
 
 def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
