@@ -310,10 +310,10 @@ def _tip_kept(dense, radius, sides, legs, k, grading):
 
     def too_big(legs):
         p, q = legs[0][1], legs[1][1]
-        sides_pq = math.hypot(*(p - q)) * math.hypot(*(p - c)) * math.hypot(*(q - c))
+        edges = math.hypot(*(p - q)) * math.hypot(*(p - c)) * math.hypot(*(q - c))
         area = abs((p[0] - c[0]) * (q[1] - c[1]) - (p[1] - c[1]) * (q[0] - c[0])) / 2
         r = [np.interp(leg[0], side[1], radius[side[0]]) for side, leg in zip(sides, legs)]
-        return sides_pq > 4 * area * min(rc, *r) / (1 - grading) / _TAU_MARGIN
+        return edges > 4 * area * min(rc, *r) / (1 - grading) / _TAU_MARGIN
 
     if not too_big(legs):
         return legs
