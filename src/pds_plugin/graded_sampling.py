@@ -33,14 +33,12 @@ from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
 from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _given_boundary,
-                       _guards, _inflections, _joined, _onto_curves, check_rings_apart,
-                       corner_clearance)
+                       _guards, _joined, _onto_curves, check_rings_apart, corner_clearance)
 from .sizing import RadiusField
 
 __all__ = ["graded_poisson_disc"]
 
 _PASSES = 3
-_KINKS_APART = 2.5     # kinks of a boundary known up to a tolerance, apart (units of τ)
 _TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
 _MAX_BINS = 4_000_000
 _MAX_CHORD_ENTRIES = 1_000_000
@@ -216,21 +214,6 @@ def _cleared_piece(lo, span, first, last, unit):
         if size < low and parts > 2:
             size = (span - first - last) / (parts - 2)
     return lo + max(first, size) + size * np.arange(parts - 1)
-
-
-def _kinks(turns, sharp, tau, first, unit) -> np.ndarray:
-    """Which vertices of a ring known up to a tolerance are kinks to sample like corners
-    (a unit clear): vertices turning against both neighbours, where a plane crosses a
-    tessellation's seam, found as the uniform sampler finds them
-    (:func:`pds_plugin.sampling._inflections`, in τ), at least ``_KINKS_APART`` units
-    from sharp corners and from each other, the shortest piece the field otherwise
-    guarantees (one unit apart, as the uniform sampler keeps them, left pieces too short
-    for the complex to join: the angle_block section's wiggle). A sample that falls just
-    before an unsampled kink cannot see the region just past it (a torus section's was
-    1.08 r from every sample it saw)."""
-    cum = np.append(tau[:-1][first], tau[-1])
-    at = _inflections(cum, turns, sharp, unit, _KINKS_APART, _KINKS_APART, kinks_only=True)
-    return np.isin(cum[:-1], at)
 
 
 def _corner_clearance(dense, radius, tau, corner, turn, unit, vertex, grading):
@@ -505,13 +488,11 @@ class _GradedSampler:
         for ring, (dense, radius, first, tau) in zip(rings, _tau_rings(rings, self.field, L)):
             turns = turning_angles(ring)
             sharp_vertex = np.abs(turns) >= np.radians(feature_angle)
-            kinks = (_kinks(turns, sharp_vertex, tau, first, unit) if self.region.tolerance
-                     else np.zeros(len(ring), bool))
             sharp = np.zeros(len(dense), bool)
-            sharp[first] = sharp_vertex | kinks
+            sharp[first] = sharp_vertex
             corner = np.flatnonzero(sharp)
-            turn = np.where(kinks, 0.0, turns)[sharp_vertex | kinks]   # kinks: a unit clear
-            after, before = _corner_clearance(dense, radius, tau, corner, turn, unit, first, L)
+            after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
+                                              unit, first, L)
             at = _positions(tau, tau[corner], after, before, unit, rng)
             samples = _along(at, tau, np.vstack([dense, dense[:1]]))
             ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,

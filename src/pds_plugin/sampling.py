@@ -314,7 +314,7 @@ def corner_clearance(angle, alpha):
 
 
 def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
-                 kinks_apart=_INFLECTION_APART, kinks_only=False) -> np.ndarray:
+                 kinks_apart=_INFLECTION_APART) -> np.ndarray:
     """Arc positions where a ring's boundary changes the way it bends between two sharp
     corners (an S-curve's inflection), to be sampled like corners, so that the arc
     between consecutive samples bends one way only and lies on one side of its chord
@@ -335,8 +335,7 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     Kinks are kept first, ``kinks_apart`` apart (there ``_NOISY_KINK_APART``, 1: just
     separated), and the other inflections then clear of them: a kink left unsampled
     hides the region just past it from the chord end before it, while the inflection of
-    a long arc between two opposite turns may fall anywhere on that arc. ``kinks_only``
-    leaves the other inflections out.
+    a long arc between two opposite turns may fall anywhere on that arc.
 
     Examples
     --------
@@ -370,8 +369,6 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     single = flips & ~kink & ~np.roll(kink, -1)
     kinks = _thinned(_clear_of(np.sort(at[kink] % length), corners, apart * alpha, length),
                      kinks_apart * alpha, length)
-    if kinks_only:
-        return kinks
     singles = np.sort((at[single] + 0.5 * span[single]) % length)
     blocking = np.sort(np.concatenate([corners, kinks]))
     singles = _thinned(_clear_of(singles, blocking, apart * alpha, length), apart * alpha, length)
