@@ -24,6 +24,12 @@ from _hostile import betti, mesh_union  # noqa: E402
 @pytest.mark.parametrize("name, mode", FAST_SLICE)
 def test_sections_of_cad_exports_are_certified(name, mode):
     shared_file(name.rsplit(" ", 1)[0])
+    assert_certified(name, mode)
+
+
+def assert_certified(name, mode):
+    """The corpus case ``name`` meshed the ``mode`` way is certified, and the union of its
+    triangles has the section's components and holes."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")   # what the section repaired, what "auto" gave up
         region = case(name).region()
@@ -43,13 +49,7 @@ def test_sections_of_cad_exports_are_certified(name, mode):
     # than the graded complex keeps, leaving the tip sample isolated
     ("g18-cross-drilled-block p2", "graded auto"), ("g18-cross-drilled-block p4", "graded auto")])
 def test_generated_sections_that_failed_are_certified(name, mode):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        region = case(name).region()
-        result = mesh(region, mode)
-    cert = result.certificate()
-    assert cert.ok_with_exceptions, f"{name} / {mode}:\n{cert}"
-    assert betti(mesh_union(result.vertices, result.faces)) == betti(region.geometry)
+    assert_certified(name, mode)
 
 
 @pytest.mark.parametrize("seed, name, mode", [
@@ -65,7 +65,7 @@ def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mo
     monkeypatch.setattr(_cad_corpus, "GENERATED_SEED", seed)
     forget()
     try:
-        test_generated_sections_that_failed_are_certified(name, mode)
+        assert_certified(name, mode)
     finally:
         forget()
 
