@@ -254,20 +254,20 @@ def test_bad_grading_is_a_usage_error(part_stl, tmp_path, capsys, grading):
     assert "grading must be a number in (0, 1)" in one_error_line(capsys.readouterr().err)
 
 
-def test_a_spike_thinner_than_alpha_is_named_as_the_boundary_failure(tmp_path, capsys):
+def test_a_spike_thinner_than_alpha_is_named_as_what_failed(tmp_path, capsys):
     """A 20-unit square with a 20° spike 6 long at alpha 3: its sides are too short to
-    split beside the tip and too long for one chord, and no guard fits inside, so the
-    uniform mesh cannot join the spike's samples. The warning says the boundary failed,
-    where, and what keeps the spike."""
+    split beside the tip's clearance and too long for one chord. They are halved (before,
+    the spike's samples were left unjoined), so the mesh conforms, but the halves' samples
+    face each other across the spike closer than alpha: the warning says what failed
+    and where, one line each."""
     drawing = tmp_path / "spike.svg"
     drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 40 40">'
                        '<path d="M0 0H20V8.942L26 10L20 11.058V20H0Z"/></svg>')
     assert main([drawing, "-o", tmp_path / "u.ply", "--alpha", "3"]) == 0
     failed, *problems = capsys.readouterr().err.splitlines()
-    assert failed.startswith(f"pds-mesh: warning: {tmp_path / 'u.ply'}: certificate FAILED (")
-    assert "boundary" in failed
-    assert any("not joined by a mesh edge" in p for p in problems)
-    assert "a graded mesh (--alpha auto) or a smaller alpha keeps them" in problems[-1]
+    assert failed == f"pds-mesh: warning: {tmp_path / 'u.ply'}: certificate FAILED (sampling, quality)"
+    assert not any("not joined by a mesh edge" in p for p in problems)
+    assert any("closer than alpha" in p and "at (23, 30)" in p for p in problems)
 
 
 def test_too_large_alpha_warns_which_hole_is_lost_and_the_alpha_to_keep_it(part_stl,
