@@ -265,7 +265,8 @@ def test_a_spike_thinner_than_alpha_is_named_as_what_failed(tmp_path, capsys):
                        '<path d="M0 0H20V8.942L26 10L20 11.058V20H0Z"/></svg>')
     assert main([drawing, "-o", tmp_path / "u.ply", "--alpha", "3"]) == 0
     failed, *problems = capsys.readouterr().err.splitlines()
-    assert failed == f"pds-mesh: warning: {tmp_path / 'u.ply'}: certificate FAILED (sampling, quality)"
+    assert failed == (f"pds-mesh: warning: {tmp_path / 'u.ply'}: "
+                      "certificate FAILED (sampling, quality)")
     assert not any("not joined by a mesh edge" in p for p in problems)
     assert any("closer than alpha" in p and "at (23, 30)" in p for p in problems)
 
