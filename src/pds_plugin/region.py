@@ -70,7 +70,10 @@ class Region:
         exactly); where the simplified rings would not make the same valid region, the
         input is kept as it is. Components that touch at a point (two parts of an assembly
         sharing an edge, cut across it) are moved apart there first, by half the tolerance
-        or 1e-7 of the extent (``PINCH_STEP``), the tolerance raised to that if smaller.
+        or 1e-7 of the extent (``PINCH_STEP``), the tolerance raised to that if smaller;
+        and cracks thinner than half the tolerance (slits into the material, the seams
+        of bodies an export left unmerged) are closed, which grows the region by at most
+        their width.
 
         Parameters
         ----------
