@@ -36,11 +36,10 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
-from .certificate import (COVERAGE_TOL, QUALITY_TOL, SEPARATION_TOL, Certificate,
-                          _nonmanifold_vertices, _sees, _visibility_route_fails, curve_deviation)
+from .certificate import (COVERAGE_TOL, QUALITY_TOL, SEPARATION_TOL, Certificate, assemble, sees,
+                          visibility_route_fails)
 from .conformity import SampledBoundary, boundary_report
 from .small_features import small_feature_exceptions
-from .topology import topology_report
 
 if TYPE_CHECKING:
     from ..mesh import PlanarMesh
@@ -177,7 +176,7 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, field.cap, faces, field)
     boundary = boundary_report(mesh, sampled)
     problems = list(boundary.problems)
-    why_not = _visibility_route_fails(mesh, boundary, sampled)
+    why_not = visibility_route_fails(mesh, boundary, sampled)
     if why_not:
         problems.append(f"coverage not measured with the visibility rule: {why_not}")
     gap, gap_at, lens, lens_at = _relative_coverage(points, faces, field, sampled)
@@ -185,29 +184,12 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     angles = quality.angles.reshape(-1, 3)
     low = np.flatnonzero(angles.min(axis=1, initial=180.0) < proven * (1 - QUALITY_TOL))
     separation, close = _relative_separation(mesh, radius, sampled)
-    exceptions, excused, unexplained = small_feature_exceptions(
-        mesh, quality, sampled, close, radius=radius, grading=field.grading)
-    used = np.zeros(len(points), bool)
-    used[faces.ravel()] = True
-    return GradedCertificate(
-        alpha=field.cap, samples=len(points), triangles=len(faces),
-        min_separation=separation,
-        coverage_gap=gap, coverage_gap_at=tuple(float(v) for v in gap_at),
-        max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
-        min_angle=float(quality.angles.min(initial=180.0)),
-        max_angle=float(quality.angles.max(initial=0.0)),
-        isolated_samples=int(np.count_nonzero(~used)),
-        nonmanifold_vertices=_nonmanifold_vertices(mesh.boundary_edges, len(points)),
-        area_ratio=float(quality.area.sum() / mesh.region.area),
-        outside_area_ratio=boundary.outside_area_ratio,
-        missing_area_ratio=boundary.missing_area_ratio,
-        boundary_deviation=boundary.boundary_deviation,
-        conforming=boundary.conforming, sampled_outline=boundary.sampled_outline,
-        claims_conforming=True, visibility=not why_not,
-        boundary_problems=tuple(problems), topology=topology_report(mesh),
-        exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
-        tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
-        curve_deviation=curve_deviation(mesh),
+    features = small_feature_exceptions(mesh, quality, sampled, close, radius=radius,
+                                        grading=field.grading)
+    return assemble(
+        GradedCertificate, mesh, faces, quality, boundary, alpha=field.cap,
+        separation=separation, gap=gap, gap_at=gap_at, claims_conforming=True,
+        visibility=not why_not, problems=problems, features=features,
         grading=field.grading, proven_angle=proven,
         below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
                           for k in low[:_MAX_LOCATED]),
@@ -241,7 +223,7 @@ def _relative_separation(mesh, radius, sampled):
     close = ratio < max(best, 1 - SEPARATION_TOL)
     if not close.any():
         return best, short_edges
-    seen = _sees(shapely.union(mesh.region.geometry, sampled.polygon()),
+    seen = sees(shapely.union(mesh.region.geometry, sampled.polygon()),
                  np.stack([points[p[close]], points[q[close]]], axis=1), mesh.alpha)
     below = seen & (ratio[close] < 1 - SEPARATION_TOL)
     pairs = np.column_stack([p[close][below], q[close][below]])
