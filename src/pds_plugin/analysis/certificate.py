@@ -64,8 +64,8 @@ from .topology import TopologyReport, topology_report
 if TYPE_CHECKING:
     from ..mesh import PlanarMesh
 
-__all__ = ["Certificate", "certify", "assemble", "visibility_route_fails", "sees",
-           "curve_deviation", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
+__all__ = ["Certificate", "certify", "assemble", "coverage_peaks", "visibility_route_fails",
+           "sees", "curve_deviation", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
 
 _LISTED = 5              # exceptions printed by str(certificate); all are in .exceptions
 
@@ -638,17 +638,64 @@ def _visible_coverage(points, faces, quality, sampled):
 
 def _triangles_reach(points, faces, lengths):
     """The farthest any point of these triangles is from its nearest corner, and where
-    (see :func:`_visible_coverage`)."""
+    (see :func:`_visible_coverage`; the points of :func:`coverage_peaks`)."""
+    peaks, reach, obtuse = coverage_peaks(points, faces, lengths)
+    value = np.where(obtuse, -np.inf, reach[:, 0])
+    best = int(np.argmax(value))
+    gap, at = float(value[best]), peaks[best, 0]
+    k = np.flatnonzero(obtuse)            # below their circumradius: only beat a larger one
+    if len(k):
+        farther = reach[k].max(axis=1)
+        j = int(np.argmax(farther))
+        if farther[j] > gap:
+            gap = float(farther[j])
+            at = peaks[k[j], 0] if reach[k[j], 0] >= reach[k[j], 1] else peaks[k[j], 1]
+    return gap, at
+
+
+def coverage_peaks(points, faces, lengths):
+    """Where the distance from a point of each triangle to the triangle's nearest corner
+    peaks, and that distance: the geometry of both kinds of certificate's coverage.
+
+    When no angle is obtuse, at the circumcentre (distance R); else at one of the two
+    points of the longest edge AB equidistant from C and A (at ``|AC|²|AB| / (2 AB·AC)``
+    from A) or from C and B, both closer than R.
+
+    Parameters
+    ----------
+    points : (N, 2) float ndarray
+    faces : (M, 3) int ndarray
+    lengths : (M, 3) float ndarray
+        Each triangle's edge lengths, edge k opposite corner k (``Quality.edge_lengths``).
+
+    Returns
+    -------
+    peaks : (M, 2, 2) float ndarray
+        Two places per triangle (the circumcentre twice when it is not obtuse).
+    reach : (M, 2) float ndarray
+        Their distances to the triangle's nearest corner.
+    obtuse : (M,) bool ndarray
+
+    Examples
+    --------
+    >>> from pds_plugin.analysis.quality import triangle_quality
+    >>> points = np.array([[0, 0], [4, 0], [2, 1], [2, 3]], float)
+    >>> faces = np.array([[0, 1, 2], [0, 1, 3]])
+    >>> peaks, reach, obtuse = coverage_peaks(points, faces,
+    ...                                       triangle_quality(points, faces).edge_lengths)
+    >>> obtuse.tolist(), peaks[0].round(6).tolist(), reach[0].round(6).tolist()
+    ([True, False], [[1.25, 0.0], [2.75, 0.0]], [1.25, 1.25])
+    >>> peaks[1, 0].round(6).tolist(), round(float(reach[1, 0]), 6)   # R = 13/6
+    ([2.0, 0.833333], 2.166667)
+    """
     centre, radius = circumcircles(points, faces)
     squared = lengths ** 2                                     # edge k opposite corner k
     longest = np.argmax(squared, axis=1)
     rows = np.arange(len(faces))
     obtuse = 2 * squared[rows, longest] > squared.sum(axis=1)
-    value = np.where(obtuse, -np.inf, radius)
-    best = int(np.argmax(value))
-    gap, at = float(value[best]), centre[best]
-    # obtuse triangles can only beat the best where their circumradius does
-    k = np.flatnonzero(obtuse & (radius > gap))
+    peaks = np.repeat(centre[:, None, :], 2, axis=1)
+    reach = np.repeat(radius[:, None], 2, axis=1)
+    k = np.flatnonzero(obtuse)
     if len(k):
         c = faces[k, longest[k]]
         a = faces[k, (longest[k] + 1) % 3]
@@ -659,12 +706,10 @@ def _triangles_reach(points, faces, lengths):
         unit = ab / length[:, None]
         from_a = squared[k, (longest[k] + 2) % 3] * length / (2 * np.einsum("ij,ij->i", ab, pc - pa))
         from_b = squared[k, (longest[k] + 1) % 3] * length / (2 * np.einsum("ij,ij->i", -ab, pc - pb))
-        reach = np.maximum(from_a, from_b)
-        j = int(np.argmax(reach))
-        if reach[j] > gap:
-            gap = float(reach[j])
-            at = pa[j] + unit[j] * from_a[j] if from_a[j] >= from_b[j] else pb[j] - unit[j] * from_b[j]
-    return gap, at
+        peaks[k, 0] = pa + unit * from_a[:, None]
+        peaks[k, 1] = pb - unit * from_b[:, None]
+        reach[k, 0], reach[k, 1] = from_a, from_b
+    return peaks, reach, obtuse
 
 
 def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:
