@@ -11,7 +11,7 @@ pyramid: only the pages of bins that get samples are ever written), ``nxt[q]`` t
 sample before q (-1: none). A sample q only matters within r(q) <= 2 hs[l], so a query looks at 5 x 5 bins
 per level at most, whatever the radii around it. The radius field is evaluated outside
 (sizing.py, ``_sizing_kernels``); the kernels get its values. Visibility is that of ``_visibility_kernels``
-(a ``vis`` bundle), with chords binned by their own reach (:func:`bin_chords_by_reach`).
+(a ``ChordBundle``), with chords binned by their own reach (:func:`bin_chords_by_reach`).
 
 Conventions of the kernel modules: see ``_parallel.pyx``.
 """

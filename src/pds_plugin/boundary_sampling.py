@@ -67,7 +67,14 @@ def given_boundary(region: Region, boundary_samples, conforming: bool) -> list:
 
 def along(at, cum, closed) -> np.ndarray:
     """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
-    are at positions ``cum`` (arc length, or any increasing measure along it)."""
+    are at positions ``cum`` (arc length, or any increasing measure along it).
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], float)
+    >>> along([0.5, 1.5, 3.75], np.arange(5.0), square).tolist()
+    [[0.5, 0.0], [1.0, 0.5], [0.0, 0.25]]
+    """
     return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
 
 
@@ -89,7 +96,14 @@ def onto_curves(region: Region, ring_xy, lower, upper):
 
 
 def joined(ring_xy):
-    """The boundary samples of every ring in one array, and each ring's indices in it."""
+    """The boundary samples of every ring in one array, and each ring's indices in it.
+
+    Examples
+    --------
+    >>> points, rings = joined([np.zeros((3, 2)), np.ones((4, 2))])
+    >>> len(points), [ring.tolist() for ring in rings]
+    (7, [[0, 1, 2], [3, 4, 5, 6]])
+    """
     sizes = [len(xy) for xy in ring_xy]
     ends = np.cumsum(sizes)
     return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))

@@ -522,9 +522,9 @@ class _GradedSampler:
         on the sampler's grid, and each chord's bound min r / (1 - L) over its ends."""
         L = self.field.grading
         a, b = chord_ends(self.rings)
-        self.vis = graded_chords(boundary, self.rings, chord_reach(boundary, self.rings, radius, L),
-                                 len(self.points), self.x0, self.y0, self.width, self.height,
-                                 self.h)
+        reach = chord_reach(boundary, self.rings, radius, L)
+        self.vis = graded_chords(boundary, self.rings, reach, len(self.points), self.x0,
+                                 self.y0, self.width, self.height, self.h)
         self.chord_bound = np.minimum(radius[a], radius[b]) / (1.0 - L)
 
     def add_interior(self, rng):
