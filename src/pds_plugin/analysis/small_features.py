@@ -18,7 +18,9 @@ feature of the region that keeps them apart by a proven distance d (docs/conform
   f = ``corner_clearance(θ)`` from the corner are at least d = 2 f sin(θ/2) apart (the
   squared distance d1² + d2² − 2 d1 d2 cos θ is convex and increasing in d1 and d2 from
   (f, f) on when θ < 90°). A side shorter than f holds no sample but the vertex ending
-  it, at its fixed distance: d is then the least distance with that one fixed.
+  it, at its fixed distance: d is then the least distance with that one fixed; a side
+  too short for the clearances at both its ends but with a chord of 2 alpha or more is
+  halved, its middle alpha or more from the corner: f is alpha for that sample.
 - **thin wall**: samples seeing each other across material narrower than alpha, on two
   boundary segments d > 0 apart.
 
@@ -324,12 +326,15 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
     into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
     angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
                                np.einsum("ij,ij->i", into, out))
+    at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
     if scales is None:
-        clear_a = clear_b = corner_clearance(angle, alpha)
+        clear = corner_clearance(angle, alpha)
+        # a side too short for the clearances at both its ends, with a chord of 2 alpha
+        # or more, is halved (sampling._halved_long_chords): its middle is alpha away
+        clear_a, clear_b = (np.where(at < clear * (1 - _TOL), alpha, clear) for at in (at_a, at_b))
     else:
         c = corner_clearance(angle, 1.0)
         clear_a, clear_b = c * scales[0], c * scales[1]
-    at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
     fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
     fixed_b = np.hypot(*(b - second[:, 1]).T) <= tol
     # two free samples are alpha apart beside a corner of 60° or more: only sharper
