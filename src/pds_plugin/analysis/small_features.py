@@ -43,7 +43,7 @@ import shapely
 
 from ..sampling import corner_clearance
 from ..sizing import angle_bound
-from .conformity import ON_BOUNDARY_TOL, SampledBoundary, _keys, _xy, say_located
+from .conformity import ON_BOUNDARY_TOL, SampledBoundary, edge_keys, point_text, say_located
 from .quality import ASPECT_BOUND
 
 __all__ = ["ExceptionalTriangle", "small_feature_exceptions", "CAUSES"]
@@ -134,7 +134,7 @@ class ExceptionalTriangle:
         return values
 
     def __str__(self) -> str:
-        return (f"triangle {self.triangle} at {_xy(self.place)}: {self.describe_feature()}; "
+        return (f"triangle {self.triangle} at {point_text(self.place)}: {self.describe_feature()}; "
                 f"angles [{self.min_angle:.3g}°, {self.max_angle:.3g}°] >= "
                 f"{self.proven_angle:.3g}°, aspect ratio {self.aspect_ratio:.3g} <= "
                 f"{self.proven_aspect_ratio:.3g} {'ok' if self.meets_bound else 'FAILED'}")
@@ -211,8 +211,8 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
                                         else ASPECT_BOUND) * (1 + _TOL)))
     rows = np.flatnonzero(below)
     opposite = np.stack([faces[rows][:, [1, 2, 0]], faces[rows][:, [2, 0, 1]]], axis=2)  # (k, 3, 2)
-    keys = _keys(opposite[..., 0], opposite[..., 1], n)
-    pair_keys = _keys(pairs[:, 0], pairs[:, 1], n)
+    keys = edge_keys(opposite[..., 0], opposite[..., 1], n)
+    pair_keys = edge_keys(pairs[:, 0], pairs[:, 1], n)
     at = np.minimum(np.searchsorted(pair_keys, keys), max(len(pairs) - 1, 0))
     found = (pair_keys[at] == keys) & excused[at] if len(pairs) else np.zeros(keys.shape, bool)
     short = edges[rows] < scale[opposite].min(axis=2) * (1 - _TOL)
@@ -262,8 +262,8 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     distance = np.hypot(*(points[q] - points[p]).T)
     both = on_boundary[p] & on_boundary[q]
     # chords: consecutive samples of a ring
-    keys = _keys(p, q, len(points))
-    chord_keys = _keys(sampled.a, sampled.b, len(points))
+    keys = edge_keys(p, q, len(points))
+    chord_keys = edge_keys(sampled.a, sampled.b, len(points))
     order = np.argsort(chord_keys)
     chord = order[np.minimum(np.searchsorted(chord_keys[order], keys), len(order) - 1)] \
         if len(order) else np.zeros(k, np.int64)
