@@ -13,6 +13,7 @@ from shapely.geometry import MultiPolygon, Point, Polygon, box
 
 from pds_plugin import Region, feature_size, suggest_alpha
 from pds_plugin.analysis.feature import ADJACENT_TURNING
+from pds_plugin.sampling import LADDER_ANGLE
 
 
 def region(geometry):
@@ -173,13 +174,15 @@ def test_bad_input():
 
 def brute_force(reg, walls_only=False):
     """Minimum distance over all non-adjacent segment pairs, straight from the rule; with
-    ``walls_only`` over the pairs whose closest points are joined through the region."""
+    ``walls_only`` over the pairs whose closest points are joined through the region, a
+    spike's tip (a convex corner sharper than LADDER_ANGLE) turning by nothing."""
     rings = []
     for ring in reg.rings:
         into, out = ring - np.roll(ring, 1, 0), np.roll(ring, -1, 0) - ring
         turn = np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0], (into * out).sum(1))
         keep = np.abs(turn) > 1e-7
-        rings.append((ring[keep], np.abs(turn[keep])))
+        counted = np.where(walls_only & (turn > math.pi - LADDER_ANGLE), 0.0, np.abs(turn))
+        rings.append((ring[keep], counted[keep]))
     best = math.inf
     segments = [(r, k) for r, (ring, _) in enumerate(rings) for k in range(len(ring))]
     for (r1, i), (r2, j) in itertools.combinations(segments, 2):
@@ -289,3 +292,22 @@ def test_dense_arcs_are_measured_exactly_and_fast():
     fs = feature_size(disc)
     assert fs.kind == "wall"
     assert fs.value == pytest.approx(20 * math.sin(math.radians(75)), rel=1e-3)
+
+
+def test_a_spike_is_one_feature_for_conforming_meshes():
+    """Two bores overlapping by a hair leave two 19.7° spikes of material between them,
+    their sides tessellated arcs (as where cross-drilled holes meet in a CAD section).
+    A spike thins to nothing at its tip at any alpha, and a conforming mesh samples its
+    sides in mirror pairs: the width near a kink of its sides (0.015 here) asked
+    "auto" for alpha 1/5000 of the part (a held-out cross-drilled block: 5 million
+    samples, 78 s). For conforming meshes the spike is one feature; the paper's complex,
+    which would bridge it, still counts it."""
+    import pds_plugin as pds
+
+    bores = Point(-2.95, 0).buffer(3, quad_segs=32).union(Point(2.95, 0).buffer(3, quad_segs=32))
+    region = Region.from_shapely(box(-10, -10, 10, 10).difference(bores))
+    size = feature_size(region)
+    assert size.kind == "wall" and size.value == pytest.approx(4.05)   # bore to outline
+    assert feature_size(region, conforming=False).value < 0.02
+    mesh = pds.mesh_region(region, "auto", seed=0)
+    assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 1000

@@ -33,6 +33,15 @@ sides are a gap). The paper's solid alpha-complex bridges a gap narrower than ab
 joins only samples that see each other through the region: it keeps every gap open at any
 alpha, and only material thinner than alpha limits alpha. With ``conforming=True`` (the
 default, like :func:`pds_plugin.mesh_region`) ``d`` is therefore the thinnest wall.
+
+**Spikes are one feature for conforming meshes.** A convex corner sharper than 33.56°
+(``sampling.LADDER_ANGLE``: the conforming sampler puts the samples along its sides in
+mirror pairs, docs/conforming.md "Spikes") thins to nothing at its tip, at any alpha:
+its width near the tip limits no alpha, and measuring it made ``"auto"`` follow the
+tessellation (a spike where two drilled holes meet, its sides tessellated arcs, asked
+for alpha 1/20000 of the part, 5 million samples). With ``conforming=True`` the tip
+turns by nothing, so the spike's two sides are adjacent as far as the rest of the
+ring turns by less than 150°.
 """
 
 from __future__ import annotations
@@ -46,6 +55,7 @@ import shapely
 from .. import _feature_kernels as kern
 from .. import _sizing_kernels as _tree_kernels
 from ..region import Region, require_region, turning_angles
+from ..sampling import LADDER_ANGLE
 
 __all__ = ["ADJACENT_TURNING", "BoundaryFeature", "FeatureSize", "feature_size"]
 
@@ -173,7 +183,7 @@ def feature_size(region: Region, conforming: bool = True) -> FeatureSize:
     (1.0, 'wall')
     """
     require_region(region, "feature_size")
-    boundary = _Boundary(region)
+    boundary = _Boundary(region, spikes_whole=bool(conforming))
     found = boundary.closest_nonadjacent(walls_only=bool(conforming))
     if found is None:
         found = boundary.smallest_altitude()
@@ -194,7 +204,7 @@ class _Boundary:
     vertex of its ring, and vertex k is where segment k-1 turns into segment k.
     """
 
-    def __init__(self, region: Region):
+    def __init__(self, region: Region, spikes_whole: bool = False):
         self.original = region.rings
         self.kept = [np.flatnonzero(np.abs(turning_angles(r)) > _COLLINEAR) for r in region.rings]
         rings = [r[k] for r, k in zip(region.rings, self.kept)]
@@ -203,7 +213,10 @@ class _Boundary:
         self.ring_of = np.repeat(np.arange(len(rings)), sizes)
         self.local = np.arange(self.start[-1]) - self.start[self.ring_of]
         self.size = sizes[self.ring_of]
-        turning = np.abs(np.concatenate([turning_angles(r) for r in rings]))
+        turning = np.concatenate([turning_angles(r) for r in rings])
+        if spikes_whole:            # a spike's tip turns by nothing between its two sides
+            turning[turning > np.pi - LADDER_ANGLE] = 0.0
+        turning = np.abs(turning)
         self.cumulative = np.concatenate([[0.0], np.cumsum(turning)])
         self.total = (self.cumulative[self.start[1:]] - self.cumulative[self.start[:-1]])[self.ring_of]
         self.p0 = np.concatenate(rings)
