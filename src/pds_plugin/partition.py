@@ -1405,19 +1405,26 @@ def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport
     outer = np.asarray(outer, dtype=bool)
     interface = np.sort(np.asarray(interface_edges, dtype=np.int64).reshape(-1, 2), axis=1)
     problems = []
-    _, first, repeats = np.unique(vertices, axis=0, return_index=True, return_counts=True)
-    duplicate = int(np.sum(repeats - 1))
-    for k in first[repeats > 1][:3]:
+    # rows sorted by every coordinate (np.unique(axis=0) is ten times slower)
+    order = np.lexsort(vertices.T[::-1]) if len(vertices) else np.zeros(0, np.int64)
+    same = np.all(vertices[order[1:]] == vertices[order[:-1]], axis=1)
+    duplicate = int(np.count_nonzero(same))
+    starts = np.flatnonzero(same & np.r_[True, ~same[:-1]])
+    for k in np.sort(order[starts])[:3]:
         problems.append(f"two vertices at {_where(vertices[k])}")
+    base = len(vertices) + 1                 # an edge (a, b) as the integer a base + b
     directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    runs, run_count = np.unique(directed, axis=0, return_counts=True)
-    for edge in runs[run_count > 1][:3]:
+    run_codes, run_count = np.unique(directed[:, 0] * base + directed[:, 1],
+                                     return_counts=True)
+    for code in run_codes[run_count > 1][:3]:
+        edge = np.array(divmod(int(code), base))
         problems.append(f"two triangles run the edge at {_where(vertices[edge].mean(axis=0))} "
                         "the same way")
-    edges, uses = np.unique(np.sort(directed, axis=1), axis=0, return_counts=True)
+    undirected = np.sort(directed, axis=1)
+    edge_code, uses = np.unique(undirected[:, 0] * base + undirected[:, 1], return_counts=True)
+    edges = np.column_stack([edge_code // base, edge_code % base])
     for edge in edges[uses > 2][:3]:
         problems.append(f"the edge at {_where(vertices[edge].mean(axis=0))} has {uses.max()} triangles")
-    edge_code = edges[:, 0] * (len(vertices) + 1) + edges[:, 1]
     interface_code = interface[:, 0] * (len(vertices) + 1) + interface[:, 1]
     position = np.searchsorted(edge_code, interface_code)
     found = position < len(edge_code)

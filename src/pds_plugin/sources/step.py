@@ -765,13 +765,14 @@ def _bezier_pieces(curve, kind, first, last):
         bezier = curve.Bezier()
         if bezier.IsRational():
             return None
-        return [np.array([_xy(bezier.Pole(i)) for i in range(1, bezier.NbPoles() + 1)])]
+        return [np.array([bezier.Pole(i).Coord()[:2] for i in range(1, bezier.NbPoles() + 1)])]
     spline = curve.BSpline()
     if spline.IsRational():
         return None
     split = GeomConvert_BSplineCurveToBezierCurve(spline, first, last, 1e-12)
     arcs = [split.Arc(i) for i in range(1, split.NbArcs() + 1)]
-    return [np.array([_xy(arc.Pole(i)) for i in range(1, arc.NbPoles() + 1)]) for arc in arcs]
+    return [np.array([arc.Pole(i).Coord()[:2] for i in range(1, arc.NbPoles() + 1)])
+            for arc in arcs]
 
 
 def section_curves(solid, plane_origin, plane_normal, *, on_face=None,
