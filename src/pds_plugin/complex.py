@@ -23,7 +23,6 @@ grid, only near the boundary.
 
 from __future__ import annotations
 
-from fractions import Fraction
 
 import numpy as np
 
@@ -216,13 +215,19 @@ def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis, radius=No
     uy = a[1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
     ix, iy = int(np.floor((ux - x0) / h)), int(np.floor((uy - y0) / h))
     cells = 1 if radius is None else int(np.ceil(radius / h)) + 1
+    rows = np.arange(max(iy - cells, 0), min(iy + cells + 1, ny))
+    first = rows[:, None] * nx + np.arange(max(ix - cells, 0), min(ix + cells + 1, nx))
+    lo, hi = start[first.ravel()], start[first.ravel() + 1]
+    candidates = np.concatenate([np.arange(a, b) for a, b in zip(lo.tolist(), hi.tolist())]
+                                or [np.zeros(0, np.int64)])
+    candidates = candidates[~np.isin(candidates, face)]
+    # the floating-point filter for all of them at once, exact where it cannot decide
+    sign = _incircle_signs_filtered(a, b, c, binned[candidates])
     corners = [(binned[v], int(order[v])) for v in face]
-    for jy in range(max(iy - cells, 0), min(iy + cells + 1, ny)):
-        for jx in range(max(ix - cells, 0), min(ix + cells + 1, nx)):
-            for m in range(start[jy * nx + jx], start[jy * nx + jx + 1]):
-                if (m not in face and _inside_perturbed(*corners, (binned[m], int(order[m])))
-                        and kern.seen_by_triangle(binned, *face, m, vis)):
-                    return False
+    for m, decided in zip(candidates[sign >= 0].tolist(), sign[sign >= 0].tolist()):
+        if ((decided or _inside_perturbed(*corners, (binned[m], int(order[m]))))
+                and kern.seen_by_triangle(binned, *face, m, vis)):
+            return False
     return True
 
 
@@ -233,7 +238,8 @@ def _inside_perturbed(a, b, c, d) -> bool:
     sign = _incircle_sign_filtered(a[0], b[0], c[0], d[0])
     if sign:
         return sign > 0
-    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = ((tuple(map(Fraction, xy)), i) for xy, i in (a, b, c, d))
+    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = zip(_as_integers((a[0], b[0], c[0], d[0])),
+                                                  (a[1], b[1], c[1], d[1]))
     adx, ady = pa[0] - pd[0], pa[1] - pd[1]
     bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
     cdx, cdy = pc[0] - pd[0], pc[1] - pd[1]
@@ -248,9 +254,43 @@ def _inside_perturbed(a, b, c, d) -> bool:
     return next(coefficient[i] > 0 for i in sorted(coefficient) if coefficient[i] != 0)
 
 
+def _as_integers(points) -> list[tuple[int, int]]:
+    """The points' coordinates as integers, all scaled by one power of two: every float
+    is an integer over a power of two, so this is exact, and signs of polynomials
+    homogeneous in the coordinates' differences are those of the floats (Python's
+    integers are exact and several times faster than ``Fraction``, which reduces by a
+    gcd at every step).
+
+    >>> _as_integers([(0.5, 3.0), (0.25, -1.0)])
+    [(2, 12), (1, -4)]
+    """
+    ratios = [tuple(float(v).as_integer_ratio() for v in xy) for xy in points]
+    scale = max(denominator for xy in ratios for _, denominator in xy)
+    return [tuple(numerator * (scale // denominator) for numerator, denominator in xy)
+            for xy in ratios]
+
+
 _INCIRCLE_BOUND = (10 + 96 * 2.0 ** -53) * 2.0 ** -53
 """Shewchuk's error bound A of the floating-point incircle determinant, relative to its
 permanent (Adaptive Precision Floating-Point Arithmetic, 1997: ``iccerrboundA``)."""
+
+
+def _incircle_signs_filtered(pa, pb, pc, points) -> np.ndarray:
+    """:func:`_incircle_sign_filtered` of the circle through ``pa, pb, pc`` and each of
+    ``points`` (m, 2) at once: 1 inside, -1 outside, 0 where the error bound does not
+    decide (the same arithmetic, element by element)."""
+    d = np.asarray(points, dtype=float).reshape(-1, 2)
+    adx, ady = pa[0] - d[:, 0], pa[1] - d[:, 1]
+    bdx, bdy = pb[0] - d[:, 0], pb[1] - d[:, 1]
+    cdx, cdy = pc[0] - d[:, 0], pc[1] - d[:, 1]
+    bc, cb = bdx * cdy, cdx * bdy
+    ca, ac = cdx * ady, adx * cdy
+    ab, ba = adx * bdy, bdx * ady
+    alift, blift, clift = adx * adx + ady * ady, bdx * bdx + bdy * bdy, cdx * cdx + cdy * cdy
+    det = alift * (bc - cb) + blift * (ca - ac) + clift * (ab - ba)
+    permanent = (alift * (np.abs(bc) + np.abs(cb)) + blift * (np.abs(ca) + np.abs(ac))
+                 + clift * (np.abs(ab) + np.abs(ba)))
+    return np.where(np.abs(det) > _INCIRCLE_BOUND * permanent, np.sign(det), 0).astype(np.int64)
 
 
 def _incircle_sign_filtered(pa, pb, pc, pd) -> int:
