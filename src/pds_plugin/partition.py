@@ -271,12 +271,13 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     cid, segment, t = chain_set.dense(grading)
     xy, radius = chain_set.evaluate(cid, segment, t)
     bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
+    single = _single_edges(chains, bounds, xy, radius, angle, junction, unit)
     taus, positions, cleared = [], [], []
     for c, (vertices, closed) in enumerate(chains):
         part = slice(bounds[c], bounds[c + 1])
-        tau, at, clear = _graded_chain(vertices, closed, sides[c], angle, xy[part],
-                                       radius[part], segment[part], unit, feature_angle,
-                                       junction, _chain_rng(seed, vertices))
+        tau, at, clear = single.get(c) or _graded_chain(
+            vertices, closed, sides[c], angle, xy[part], radius[part], segment[part], unit,
+            feature_angle, junction, _chain_rng(seed, vertices) if closed else None)
         taus.append(tau)
         positions.append(at)
         cleared.append(clear)
@@ -348,6 +349,38 @@ class _ChainSet:
             segment = np.insert(segment, k + 1, segment[k])
             t = np.insert(t, k + 1, 0.5 * (t[k] + t_end))
         return cid, segment, t
+
+
+def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
+    """What :func:`_graded_chain` gives the open chains of one edge between two junctions
+    whose angles ask no clearance (most chains of a remeshed CAD part: its faces meet
+    kept tessellations, pinned at every vertex), all at once: by chain, its τ and its
+    equal parts. The same arithmetic, element by element; the other chains are left out.
+    """
+    simple = [c for c, (vertices, closed) in enumerate(chains)
+              if not closed and len(vertices) == 2 and int(vertices[0]) in junction
+              and int(vertices[1]) in junction]
+    if not simple:
+        return {}
+    ends = np.array([chains[c][0] for c in simple], dtype=np.int64)
+    sharpest = np.array([[_junction_angle(a, b, angle), _junction_angle(b, a, angle)]
+                         for a, b in ends.tolist()])
+    easy = np.all(corner_clearance(np.pi - (np.pi - sharpest), 1.0) <= 1, axis=1)
+    # τ increments along every chain's dense points, closed by its chord back
+    cid = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
+    following = np.arange(1, len(cid) + 1)
+    following[bounds[1:][np.diff(bounds) > 0] - 1] = bounds[:-1][np.diff(bounds) > 0]
+    step = np.hypot(*(dense[following] - dense).T)
+    inverse = 1.0 / radius
+    increment = 0.5 * step * (inverse + inverse[following])
+    out = {}
+    for c in np.asarray(simple)[easy].tolist():
+        lo, hi = bounds[c], bounds[c + 1]
+        tau = np.concatenate([[0.0], np.cumsum(increment[lo:hi])])
+        span = tau[hi - lo - 1]                 # the far end: the chain's last dense point
+        parts = max(int(span // unit), 1)
+        out[c] = (tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0)))
+    return out
 
 
 def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
@@ -555,15 +588,24 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
         index = np.searchsorted(junction, mine)
         held.append(index)
         np.minimum.at(size, index, fields[r](frames[r][mine]))
-    for vertices, closed in _chains(rings, owner, junctions):
-        if not closed:
-            frame = frames[owner[_key(vertices[0], vertices[1])][0]]
-            ends = np.array([vertices[0], vertices[-1]])
-            apart = math.hypot(*(frame[ends[1:]] - frame[ends[:1]])[0])
-            clearance = [max(1.0, _end_clearance(vertices[0], vertices[1], angle)),
-                         max(1.0, _end_clearance(vertices[-1], vertices[-2], angle))]
-            np.minimum.at(size, np.searchsorted(junction, ends),
-                          apart / (_TAU_MARGIN * np.array(clearance[::-1])))
+    # each open chain: its ends' distance (in its first owner's frame) over the
+    # clearance of the other end, all chains at once
+    chains = [vertices for vertices, closed in _chains(rings, owner, junctions) if not closed]
+    if chains:
+        ends = np.array([[vertices[0], vertices[-1]] for vertices in chains], dtype=np.int64)
+        region = np.array([owner[_key(vertices[0], vertices[1])][0] for vertices in chains])
+        apart = np.empty(len(chains))
+        for r in np.unique(region).tolist():
+            mine = np.flatnonzero(region == r)
+            xy = frames[r][ends[mine].ravel()].reshape(-1, 2, 2)
+            apart[mine] = [math.hypot(*d) for d in (xy[:, 1] - xy[:, 0]).tolist()]
+        clearance = np.maximum(1.0, _end_clearances(
+            [(vertices[0], vertices[1]) for vertices in chains]
+            + [(vertices[-1], vertices[-2]) for vertices in chains], angle)).reshape(2, -1)
+        np.minimum.at(size, np.searchsorted(junction, ends[:, 0]),
+                      apart / (_TAU_MARGIN * clearance[1]))
+        np.minimum.at(size, np.searchsorted(junction, ends[:, 1]),
+                      apart / (_TAU_MARGIN * clearance[0]))
     return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
             for r, index in enumerate(held)]
 
@@ -827,6 +869,22 @@ def _end_clearance(vertex, neighbour, angle) -> float:
         if entry is not None:
             clearances.append(float(corner_clearance(entry[1] if at_start else entry[2], 1.0)))
     return max(clearances)
+
+
+def _end_clearances(pairs, angle) -> np.ndarray:
+    """:func:`_end_clearance` of every (vertex, neighbour) pair, with one call of
+    ``corner_clearance``."""
+    found, owner = [], []
+    for k, (vertex, neighbour) in enumerate(pairs):
+        for a, b, at_start in ((vertex, neighbour, True), (neighbour, vertex, False)):
+            entry = angle.get((int(a), int(b)))
+            if entry is not None:
+                found.append(entry[1] if at_start else entry[2])
+                owner.append(k)
+    out = np.full(len(pairs), -np.inf)
+    np.maximum.at(out, np.array(owner, dtype=np.int64),
+                  corner_clearance(np.array(found, dtype=float), 1.0))
+    return out
 
 
 def _is_straight(xy) -> bool:
