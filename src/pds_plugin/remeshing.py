@@ -50,8 +50,9 @@ AUTO_DIVISIONS = 100
 defaults to about 1 % of it as well)."""
 
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
-_CHECKED_CORNER = np.pi / 3     # patches with a sharper corner are certified as they are
-                                # meshed, and kept if not certified
+_CHECKED_CORNER = 2 * np.arcsin(1 / (2 * np.sqrt(3)))  # 33.56°, the spikes that rings get
+# mirror pairs at (sampling.py) and graded chains do not: a patch with a sharper corner
+# is certified as it is meshed, and kept if its certificate does not hold
 
 KEEP_NARROWER = 1.0
 """A patch narrower than this many alpha (twice its area over its perimeter: a strip's
@@ -292,7 +293,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                   for k, patch in enumerate(remeshed)]
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
-        # so is a patch with a corner sharper than 60° whose certificate does not hold
+        # so is a patch with a corner sharper than 33.56° whose certificate does not hold
         # (a spike where three faces meet: its legs' samples closer than the clearance)
         joined = [mesh is not None and (not patch.sharp or mesh.certificate().ok_with_exceptions)
                   for patch, mesh in zip(remeshed, meshes)]
