@@ -127,9 +127,8 @@ def _local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None
                           f"slightly or use a smaller alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis,
-                                       None if bound is None else float(bound[f].max()))
-                        for f in faces[unsure]]
+        keep[unsure] = _exactly_empty(binned, order, faces[unsure], start, x0, y0, h, nx, ny,
+                                      vis, None if bound is None else bound[faces[unsure]].max(axis=1))
         faces = faces[keep]
     return faces
 
@@ -201,34 +200,49 @@ def _check_distinct(binned, order, start):
                          "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 
 
-def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis, radius=None) -> bool:
-    """The empty-circle test of one counter-clockwise face (positions in ``binned``), in
+def _exactly_empty(binned, order, faces, start, x0, y0, h, nx, ny, vis, radius=None):
+    """The empty-circle test of counter-clockwise faces (positions in ``binned``), in
     exact arithmetic, ties broken by the points' original indices ``order``; only the
-    points that see the face count (``vis``). The circumradius is at most ``h`` (the
-    cells around the circumcentre's hold every point in the circle), or at most
-    ``radius`` when given (graded complexes: as many cells as that takes)."""
-    a, b, c = (binned[v] for v in face)
-    # circumcentre (floating point is fine here: it only selects the cells to look in)
-    bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
+    points that see a face count (``vis``). A circumradius is at most ``h`` (the cells
+    around the circumcentre's hold every point in the circle), or at most its face's
+    ``radius`` when given (graded complexes: as many cells as that takes). Every face
+    and candidate point at once through the floating-point filter; the exact test and
+    the visibility only where it finds a point inside or cannot decide."""
+    a, b, c = binned[faces[:, 0]], binned[faces[:, 1]], binned[faces[:, 2]]
+    # circumcentres (floating point is fine here: they only select the cells to look in)
+    bx, by, cx, cy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1], c[:, 0] - a[:, 0], c[:, 1] - a[:, 1]
     cross = 2.0 * (bx * cy - by * cx)
-    ux = a[0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
-    uy = a[1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
-    ix, iy = int(np.floor((ux - x0) / h)), int(np.floor((uy - y0) / h))
-    cells = 1 if radius is None else int(np.ceil(radius / h)) + 1
-    rows = np.arange(max(iy - cells, 0), min(iy + cells + 1, ny))
-    first = rows[:, None] * nx + np.arange(max(ix - cells, 0), min(ix + cells + 1, nx))
-    lo, hi = start[first.ravel()], start[first.ravel() + 1]
-    candidates = np.concatenate([np.arange(a, b) for a, b in zip(lo.tolist(), hi.tolist())]
-                                or [np.zeros(0, np.int64)])
-    candidates = candidates[~np.isin(candidates, face)]
-    # the floating-point filter for all of them at once, exact where it cannot decide
-    sign = _incircle_signs_filtered(a, b, c, binned[candidates])
-    corners = [(binned[v], int(order[v])) for v in face]
-    for m, decided in zip(candidates[sign >= 0].tolist(), sign[sign >= 0].tolist()):
-        if ((decided or _inside_perturbed(*corners, (binned[m], int(order[m]))))
+    ux = a[:, 0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
+    uy = a[:, 1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
+    ix, iy = np.floor((ux - x0) / h).astype(np.int64), np.floor((uy - y0) / h).astype(np.int64)
+    cells = (np.ones(len(faces), np.int64) if radius is None
+             else np.ceil(np.asarray(radius) / h).astype(np.int64) + 1)
+    low_x, high_x = np.maximum(ix - cells, 0), np.minimum(ix + cells + 1, nx)
+    low_y, high_y = np.maximum(iy - cells, 0), np.minimum(iy + cells + 1, ny)
+    wide, tall = np.maximum(high_x - low_x, 0), np.maximum(high_y - low_y, 0)
+    # every (face, cell) of the blocks, then every (face, point) of those cells
+    face_of_cell = np.repeat(np.arange(len(faces)), wide * tall)
+    k = np.arange(len(face_of_cell)) - np.repeat(np.cumsum(wide * tall) - wide * tall, wide * tall)
+    cell = ((low_y[face_of_cell] + k // wide[face_of_cell]) * nx
+            + low_x[face_of_cell] + k % wide[face_of_cell])
+    count = start[cell + 1] - start[cell]
+    face_of = np.repeat(face_of_cell, count)
+    point = (np.repeat(start[cell], count) + np.arange(count.sum())
+             - np.repeat(np.cumsum(count) - count, count))
+    other = np.all(faces[face_of] != point[:, None], axis=1)
+    face_of, point = face_of[other], point[other]
+    sign = _incircle_signs_filtered(a[face_of], b[face_of], c[face_of], binned[point])
+    empty = np.ones(len(faces), bool)
+    for f, m, decided in zip(face_of[sign >= 0].tolist(), point[sign >= 0].tolist(),
+                             sign[sign >= 0].tolist()):
+        if not empty[f]:
+            continue
+        face = faces[f]
+        if ((decided or _inside_perturbed(*[(binned[v], int(order[v])) for v in face],
+                                          (binned[m], int(order[m]))))
                 and kern.seen_by_triangle(binned, *face, m, vis)):
-            return False
-    return True
+            empty[f] = False
+    return empty
 
 
 def _inside_perturbed(a, b, c, d) -> bool:
@@ -275,14 +289,13 @@ _INCIRCLE_BOUND = (10 + 96 * 2.0 ** -53) * 2.0 ** -53
 permanent (Adaptive Precision Floating-Point Arithmetic, 1997: ``iccerrboundA``)."""
 
 
-def _incircle_signs_filtered(pa, pb, pc, points) -> np.ndarray:
-    """:func:`_incircle_sign_filtered` of the circle through ``pa, pb, pc`` and each of
-    ``points`` (m, 2) at once: 1 inside, -1 outside, 0 where the error bound does not
-    decide (the same arithmetic, element by element)."""
-    d = np.asarray(points, dtype=float).reshape(-1, 2)
-    adx, ady = pa[0] - d[:, 0], pa[1] - d[:, 1]
-    bdx, bdy = pb[0] - d[:, 0], pb[1] - d[:, 1]
-    cdx, cdy = pc[0] - d[:, 0], pc[1] - d[:, 1]
+def _incircle_signs_filtered(pa, pb, pc, pd) -> np.ndarray:
+    """:func:`_incircle_sign_filtered` of many quadruples at once, each argument (m, 2):
+    1 inside, -1 outside, 0 where the error bound does not decide (the same arithmetic,
+    element by element)."""
+    adx, ady = pa[:, 0] - pd[:, 0], pa[:, 1] - pd[:, 1]
+    bdx, bdy = pb[:, 0] - pd[:, 0], pb[:, 1] - pd[:, 1]
+    cdx, cdy = pc[:, 0] - pd[:, 0], pc[:, 1] - pd[:, 1]
     bc, cb = bdx * cdy, cdx * bdy
     ca, ac = cdx * ady, adx * cdy
     ab, ba = adx * bdy, bdx * ady
