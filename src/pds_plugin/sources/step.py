@@ -44,7 +44,7 @@ from ..boundary_curves import BoundaryCurves, curves_builder
 from ..errors import SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import bezier_points, checked_file, elliptic_points, steps
+from .curves import MAX_CHORDS, bezier_points, checked_file, elliptic_points, steps
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
@@ -746,7 +746,11 @@ def _bezier_chain(pieces, tolerance) -> np.ndarray:
         return np.concatenate([control[:, 0], control[-1:, -1]])
     second = control[:, 2:] - 2 * control[:, 1:-1] + control[:, :-2]
     bound = degree * (degree - 1) * np.linalg.norm(second, axis=2).max(axis=1)
-    counts = np.array([len(steps(b, tolerance)) for b in bound])
+    with np.errstate(all="ignore"):                             # steps' count, at once
+        counts = np.ceil(np.sqrt(bound / (8 * tolerance)))
+    if not np.all(counts <= MAX_CHORDS):
+        steps(bound.max(), tolerance)                           # raises, naming the limit
+    counts = np.maximum(counts, 1).astype(np.int64)
     piece = np.repeat(np.arange(len(control)), counts)
     t = ((np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + 1)
          / counts[piece])[:, None]
