@@ -37,6 +37,7 @@ from .partition import (Frame, InterfaceReport, chain_sample_radii, graded_sampl
                         interface_report, junction_fields, mesh_part, sample_chains,
                         with_sample_cones)
 from .region import check_tolerance, turning_angles
+from .sampling import LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
 
 if TYPE_CHECKING:
@@ -50,9 +51,9 @@ AUTO_DIVISIONS = 100
 defaults to about 1 % of it as well)."""
 
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
-_CHECKED_CORNER = 2 * np.arcsin(1 / (2 * np.sqrt(3)))  # 33.56°, the spikes that rings get
-# mirror pairs at (sampling.py) and graded chains do not: a patch with a sharper corner
-# is certified as it is meshed, and kept if its certificate does not hold
+_CHECKED_CORNER = LADDER_ANGLE  # 33.56°: spikes that rings get mirror pairs at and graded
+# chains do not; a patch with a sharper corner is certified as it is meshed, and kept if
+# its certificate does not hold
 
 KEEP_NARROWER = 1.0
 """A patch narrower than this many alpha (twice its area over its perimeter: a strip's
