@@ -23,9 +23,11 @@ curve it is:
 - any other curve (rational, offset) by OCCT's ``GCPnts_QuasiUniformDeflection`` to the
   same tolerance (OCCT's check, not a proof).
 
-The loops of each solid are assembled by :func:`.polygons.outline_geometry` (even-odd:
-holes, islands in holes) and the solids united, so assemblies and overlapping bodies give
-their union.
+The loops of each solid are the wires of the Common's faces (assembled by
+:func:`.polygons.outline_geometry`, even-odd, only where a wire does not close), and the
+solids' polygons are united, so assemblies and overlapping bodies give their union.
+Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
+B-splines too if :data:`SPLINE_AREA_ERROR` is set.
 """
 
 from __future__ import annotations
