@@ -5,7 +5,7 @@ Each point's triangles are found among its binned neighbours (``_complex_kernels
 .local_complex``, in parallel over the points), with no global Delaunay triangulation.
 
 The empty-circle test is exact. A floating-point test with a proven error bound settles
-almost every case; the rest are redone in rational arithmetic, and ties (four or more
+almost every case; the rest are redone in exact integer arithmetic, and ties (four or more
 cocircular points) are broken by symbolic perturbation (Edelsbrunner and Mücke's
 simulation of simplicity, a lifting perturbation that decreases with the point index).
 The result is always part of one Delaunay triangulation: no overlaps, every edge shared
@@ -22,8 +22,6 @@ the boundary.
 
 from __future__ import annotations
 
-from fractions import Fraction
-
 import numpy as np
 
 from . import _complex_kernels as kern
@@ -31,7 +29,7 @@ from .errors import ArgumentError, ArgumentTypeError, BudgetError
 
 __all__ = ["local_faces", "checked_points", "checked_rings", "check_distinct"]
 
-_MAX_UNSURE = 5000         # triangles left to the exact (rational) empty-circle test
+_MAX_UNSURE = 5000         # triangles left to the exact (integer) empty-circle test
 
 
 def local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None):
@@ -92,9 +90,8 @@ def local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None)
                           f"slightly or use a smaller alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis,
-                                       None if bound is None else float(bound[f].max()))
-                        for f in faces[unsure]]
+        keep[unsure] = _exactly_empty(binned, order, faces[unsure], start, x0, y0, h, nx, ny,
+                                      vis, None if bound is None else bound[faces[unsure]].max(axis=1))
         faces = faces[keep]
     return faces
 
@@ -139,28 +136,49 @@ def check_distinct(binned, order, start):
                          "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 
 
-def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis, radius=None) -> bool:
-    """The empty-circle test of one counter-clockwise face (positions in ``binned``), in
+def _exactly_empty(binned, order, faces, start, x0, y0, h, nx, ny, vis, radius=None):
+    """The empty-circle test of counter-clockwise faces (positions in ``binned``), in
     exact arithmetic, ties broken by the points' original indices ``order``; only the
-    points that see the face count (``vis``). The circumradius is at most ``h`` (the
-    cells around the circumcentre's hold every point in the circle), or at most
-    ``radius`` when given (graded complexes: as many cells as that takes)."""
-    a, b, c = (binned[v] for v in face)
-    # circumcentre (floating point is fine here: it only selects the cells to look in)
-    bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
+    points that see a face count (``vis``). A circumradius is at most ``h`` (the cells
+    around the circumcentre's hold every point in the circle), or at most its face's
+    ``radius`` when given (graded complexes: as many cells as that takes). Every face
+    and candidate point at once through the floating-point filter; the exact test and
+    the visibility only where it finds a point inside or cannot decide."""
+    a, b, c = binned[faces[:, 0]], binned[faces[:, 1]], binned[faces[:, 2]]
+    # circumcentres (floating point is fine here: they only select the cells to look in)
+    bx, by, cx, cy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1], c[:, 0] - a[:, 0], c[:, 1] - a[:, 1]
     cross = 2.0 * (bx * cy - by * cx)
-    ux = a[0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
-    uy = a[1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
-    ix, iy = int(np.floor((ux - x0) / h)), int(np.floor((uy - y0) / h))
-    cells = 1 if radius is None else int(np.ceil(radius / h)) + 1
-    corners = [(binned[v], int(order[v])) for v in face]
-    for jy in range(max(iy - cells, 0), min(iy + cells + 1, ny)):
-        for jx in range(max(ix - cells, 0), min(ix + cells + 1, nx)):
-            for m in range(start[jy * nx + jx], start[jy * nx + jx + 1]):
-                if (m not in face and _inside_perturbed(*corners, (binned[m], int(order[m])))
-                        and kern.seen_by_triangle(binned, *face, m, vis)):
-                    return False
-    return True
+    ux = a[:, 0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
+    uy = a[:, 1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
+    ix, iy = np.floor((ux - x0) / h).astype(np.int64), np.floor((uy - y0) / h).astype(np.int64)
+    cells = (np.ones(len(faces), np.int64) if radius is None
+             else np.ceil(np.asarray(radius) / h).astype(np.int64) + 1)
+    low_x, high_x = np.maximum(ix - cells, 0), np.minimum(ix + cells + 1, nx)
+    low_y, high_y = np.maximum(iy - cells, 0), np.minimum(iy + cells + 1, ny)
+    wide, tall = np.maximum(high_x - low_x, 0), np.maximum(high_y - low_y, 0)
+    # every (face, cell) of the blocks, then every (face, point) of those cells
+    face_of_cell = np.repeat(np.arange(len(faces)), wide * tall)
+    k = np.arange(len(face_of_cell)) - np.repeat(np.cumsum(wide * tall) - wide * tall, wide * tall)
+    cell = ((low_y[face_of_cell] + k // wide[face_of_cell]) * nx
+            + low_x[face_of_cell] + k % wide[face_of_cell])
+    count = start[cell + 1] - start[cell]
+    face_of = np.repeat(face_of_cell, count)
+    point = (np.repeat(start[cell], count) + np.arange(count.sum())
+             - np.repeat(np.cumsum(count) - count, count))
+    other = np.all(faces[face_of] != point[:, None], axis=1)
+    face_of, point = face_of[other], point[other]
+    sign = _incircle_signs_filtered(a[face_of], b[face_of], c[face_of], binned[point])
+    empty = np.ones(len(faces), bool)
+    for f, m, decided in zip(face_of[sign >= 0].tolist(), point[sign >= 0].tolist(),
+                             sign[sign >= 0].tolist()):
+        if not empty[f]:
+            continue
+        face = faces[f]
+        if ((decided or _inside_perturbed(*[(binned[v], int(order[v])) for v in face],
+                                          (binned[m], int(order[m]))))
+                and kern.seen_by_triangle(binned, *face, m, vis)):
+            empty[f] = False
+    return empty
 
 
 def _inside_perturbed(a, b, c, d) -> bool:
@@ -170,7 +188,8 @@ def _inside_perturbed(a, b, c, d) -> bool:
     sign = _incircle_sign_filtered(a[0], b[0], c[0], d[0])
     if sign:
         return sign > 0
-    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = ((tuple(map(Fraction, xy)), i) for xy, i in (a, b, c, d))
+    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = zip(_as_integers((a[0], b[0], c[0], d[0])),
+                                                  (a[1], b[1], c[1], d[1]))
     adx, ady = pa[0] - pd[0], pa[1] - pd[1]
     bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
     cdx, cdy = pc[0] - pd[0], pc[1] - pd[1]
@@ -185,9 +204,42 @@ def _inside_perturbed(a, b, c, d) -> bool:
     return next(coefficient[i] > 0 for i in sorted(coefficient) if coefficient[i] != 0)
 
 
+def _as_integers(points) -> list[tuple[int, int]]:
+    """The points' coordinates as integers, all scaled by one power of two: every float
+    is an integer over a power of two, so this is exact, and signs of polynomials
+    homogeneous in the coordinates' differences are those of the floats (Python's
+    integers are exact and several times faster than ``Fraction``, which reduces by a
+    gcd at every step).
+
+    >>> _as_integers([(0.5, 3.0), (0.25, -1.0)])
+    [(2, 12), (1, -4)]
+    """
+    ratios = [tuple(float(v).as_integer_ratio() for v in xy) for xy in points]
+    scale = max(denominator for xy in ratios for _, denominator in xy)
+    return [tuple(numerator * (scale // denominator) for numerator, denominator in xy)
+            for xy in ratios]
+
+
 _INCIRCLE_BOUND = (10 + 96 * 2.0 ** -53) * 2.0 ** -53
 """Shewchuk's error bound A of the floating-point incircle determinant, relative to its
 permanent (Adaptive Precision Floating-Point Arithmetic, 1997: ``iccerrboundA``)."""
+
+
+def _incircle_signs_filtered(pa, pb, pc, pd) -> np.ndarray:
+    """:func:`_incircle_sign_filtered` of many quadruples at once, each argument (m, 2):
+    1 inside, -1 outside, 0 where the error bound does not decide (the same arithmetic,
+    element by element)."""
+    adx, ady = pa[:, 0] - pd[:, 0], pa[:, 1] - pd[:, 1]
+    bdx, bdy = pb[:, 0] - pd[:, 0], pb[:, 1] - pd[:, 1]
+    cdx, cdy = pc[:, 0] - pd[:, 0], pc[:, 1] - pd[:, 1]
+    bc, cb = bdx * cdy, cdx * bdy
+    ca, ac = cdx * ady, adx * cdy
+    ab, ba = adx * bdy, bdx * ady
+    alift, blift, clift = adx * adx + ady * ady, bdx * bdx + bdy * bdy, cdx * cdx + cdy * cdy
+    det = alift * (bc - cb) + blift * (ca - ac) + clift * (ab - ba)
+    permanent = (alift * (np.abs(bc) + np.abs(cb)) + blift * (np.abs(ca) + np.abs(ac))
+                 + clift * (np.abs(ab) + np.abs(ba)))
+    return np.where(np.abs(det) > _INCIRCLE_BOUND * permanent, np.sign(det), 0).astype(np.int64)
 
 
 def _incircle_sign_filtered(pa, pb, pc, pd) -> int:

@@ -477,8 +477,11 @@ def _components_apart(geometry: MultiPolygon, step: float) -> MultiPolygon:
     polygons = np.array(geometry.geoms)
     if len(polygons) < 2:
         return geometry
-    first, second = shapely.STRtree(polygons).query(polygons, predicate="touches")
+    # boxes first, the predicate on the pairs only (not on each polygon with itself)
+    first, second = shapely.STRtree(polygons).query(polygons)
     i, j = first[first < second], second[first < second]
+    touching = shapely.touches(polygons[i], polygons[j])
+    i, j = i[touching], j[touching]
     if not len(i):
         return geometry
     contacts = shapely.get_coordinates(shapely.intersection(shapely.boundary(polygons[i]),
@@ -502,9 +505,10 @@ def _rings_opened(geometry: MultiPolygon, step: float) -> MultiPolygon:
         rings = np.array([polygon.exterior, *polygon.interiors])
         if len(rings) < 2:
             continue
-        first, second = shapely.STRtree(rings).query(rings, predicate="intersects")
-        pairs = first < second
-        contacts.extend(shapely.intersection(rings[first[pairs]], rings[second[pairs]]))
+        first, second = shapely.STRtree(rings).query(rings)      # boxes, then the pairs
+        first, second = first[first < second], second[first < second]
+        meet = shapely.intersects(rings[first], rings[second])
+        contacts.extend(shapely.intersection(rings[first[meet]], rings[second[meet]]))
     if not contacts:
         return geometry
     points = shapely.get_coordinates(np.array(contacts))

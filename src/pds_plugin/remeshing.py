@@ -36,7 +36,8 @@ from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (Frame, InterfaceReport, chain_sample_radii, graded_sample_chains,
                         interface_report, junction_fields, mesh_part, sample_chains,
                         with_sample_cones)
-from .region import check_tolerance
+from .region import check_tolerance, turning_angles
+from .sampling import LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
 
 if TYPE_CHECKING:
@@ -50,6 +51,9 @@ AUTO_DIVISIONS = 100
 defaults to about 1 % of it as well)."""
 
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
+_CHECKED_CORNER = LADDER_ANGLE  # 33.56°: spikes that rings get mirror pairs at and graded
+# chains do not; a patch with a sharper corner is certified as it is meshed, and kept if
+# its certificate does not hold
 
 KEEP_NARROWER = 1.0
 """A patch narrower than this many alpha (twice its area over its perimeter: a strip's
@@ -289,8 +293,11 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                               own[k] if graded else None, sizes)
                   for k, patch in enumerate(remeshed)]
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
-        # where no guard fits) is kept instead, and the chains sampled again without it
-        joined = [mesh is not None for mesh in meshes]
+        # where no guard fits) is kept instead, and the chains sampled again without it;
+        # so is a patch with a corner sharper than 33.56° whose certificate does not hold
+        # (a spike where three faces meet: its legs' samples closer than the clearance)
+        joined = [mesh is not None and (not patch.sharp or mesh.certificate().ok_with_exceptions)
+                  for patch, mesh in zip(remeshed, meshes)]
         if all(joined):
             break
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
@@ -386,6 +393,7 @@ class _Patch:
     frame: Frame
     region: object
     basis: tuple
+    sharp: bool = False
 
 
 def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
@@ -463,7 +471,8 @@ def _patch(vertices, faces, normals, areas, members, edges, Region):
                     for ring in region.rings]
     except KeyError:
         return None
-    return _Patch(members, ring_ids, frame, region, basis)
+    sharp = min(float(np.min(np.pi - turning_angles(ring))) for ring in region.rings)
+    return _Patch(members, ring_ids, frame, region, basis, sharp < _CHECKED_CORNER)
 
 
 def _manifold_patches(patches) -> list:

@@ -23,13 +23,16 @@ curve it is:
 - any other curve (rational, offset) by OCCT's ``GCPnts_QuasiUniformDeflection`` to the
   same tolerance (OCCT's check, not a proof).
 
-The loops of each solid are assembled by :func:`.polygons.outline_geometry` (even-odd:
-holes, islands in holes) and the solids united, so assemblies and overlapping bodies give
-their union.
+The loops of each solid are the wires of the Common's faces (assembled by
+:func:`.polygons.outline_geometry`, even-odd, only where a wire does not close), and the
+solids' polygons are united, so assemblies and overlapping bodies give their union.
+Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
+B-splines too if :data:`SPLINE_AREA_ERROR` is set.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import warnings
@@ -43,11 +46,12 @@ from ..boundary_curves import BoundaryCurves, curves_builder
 from ..errors import SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import bezier_points, checked_file, elliptic_points
+from .curves import MAX_CHORDS, bezier_points, checked_file, elliptic_points, steps
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
-__all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "AREA_ERROR", "ARC_REFINEMENT", "SectionCurve",
+__all__ = ["SUFFIXES", "RELATIVE_TOLERANCE", "AREA_ERROR", "SPLINE_AREA_ERROR",
+           "ARC_REFINEMENT", "SectionCurve",
            "accepts", "load", "section_curves", "StepSolid"]
 
 SUFFIXES = frozenset({".step", ".stp", ".iges", ".igs", ".brep", ".brp"})
@@ -57,8 +61,17 @@ RELATIVE_TOLERANCE = 1e-5
 AREA_ERROR = 0.5e-6
 """By default circles and ellipses are flattened finer, so that their chords miss at most
 this fraction of the section's area (see :data:`ARC_REFINEMENT`)."""
-ARC_REFINEMENT = 100
-"""At most this many times finer than the default tolerance (10 times the vertices)."""
+SPLINE_AREA_ERROR = None
+"""If set (a fraction, 0.5e-6 for the issue's 1e-6 with the arcs), B-splines are flattened
+finer too, so that their chords miss at most this fraction of the section's area (a
+proven bound, :func:`_splines_within`). Off by default: finer B-splines cost graded
+``"auto"`` meshes their certificate on featuretype.STEP at mid-height (a coverage gap of
+1.0-1.2 r where the B-spline bends both ways between two samples, measured by
+``analysis/conformity.py``'s sliver gap; docs/step.md)."""
+ARC_REFINEMENT = 300
+"""Circles, ellipses and B-splines are flattened at most this many times finer than the
+default tolerance (17 times the vertices): enough for the 5 mm shank of a 100 mm bolt
+(100 times finer missed 1.3e-6 of its area; docs/step.md)."""
 _ON_PLANE = 1e-9        # a planar face within this fraction of the solid's size is on the plane
 _STEP_OFF = 1e-6        # on_face moves the plane by this fraction of the solid's size
 
@@ -85,7 +98,11 @@ class SectionCurve:
         plane and the face (about 1e-7 for analytic faces, the approximation's error for
         free-form ones).
     start, sweep : float
-        Circles and ellipses: the parameter θ of the first point and its signed range.
+        Circles and ellipses: the parameter θ of the first point and its signed range
+        (the points run from θ = start over sweep).
+    bezier : tuple of (d + 1, 2) ndarray or None
+        Non-rational B-splines: the control points of their Bézier pieces, in the order
+        of the points (what the flattening is made from).
     face : str
         The face of the solid the edge was cut from: ``"face i"`` (``"solid k face i"``
         when the shape has several solids), ``i`` counting the solid's faces in
@@ -100,6 +117,7 @@ class SectionCurve:
     edge_tolerance: float = 0.0
     start: float = 0.0
     sweep: float = 0.0
+    bezier: tuple | None = None
     face: str = ""
 
 
@@ -270,22 +288,53 @@ class StepSolid:
         offset = float(origin @ normal)
         cuts = []                                   # each solid's faces and curves
         for number, solid in enumerate(self._moved(to_2d)):
-            faces, curves = self._cut_curves(solid, number, origin)
+            faces, curves = self._cut_curves(solid, number, origin,
+                                             arcs=None if self.adaptive else self.tolerance)
             if curves:
                 cuts.append((faces, curves))
-        # the area the arcs' tolerance is chosen for: one solid's from its wires, or the
-        # union's (the faces of several solids may overlap)
-        area = (_wire_area(*cuts[0]) if len(cuts) == 1
-                else self._polygons(cuts, offset, to_3d).area)
-        arcs = self._arc_tolerance(area, [c for _, curves in cuts for c in curves])
-        if arcs < self.tolerance:                   # the arcs again, finer
-            cuts = [(faces, [_finer(c, arcs) for c in curves]) for faces, curves in cuts]
+        if self.adaptive:
+            cuts = self._refined(cuts, offset, to_3d)
         geometry = self._polygons(cuts, offset, to_3d)
         if geometry.is_empty or geometry.area == 0:
             self._refuse_empty(to_2d, offset)
         pieces = [c for _, curves in cuts for c in curves]
         return Region.from_shapely(geometry, frame=to_3d,
                                    curves=_boundary_curves(pieces, self.tolerance))
+
+    def _refined(self, cuts, offset, to_3d) -> list:
+        """The cuts with their circles and ellipses flattened (they come as their two
+        ends), their chords missing at most :data:`AREA_ERROR` of the section's area, and
+        their B-splines flattened again if :data:`SPLINE_AREA_ERROR` is set, within it
+        (proven bounds), at most :data:`ARC_REFINEMENT` times finer than
+        :attr:`tolerance`.
+
+        The area is read before anything is flattened finer: exactly along circles and
+        ellipses (½∮(x dy - y dx) in closed form), along the other curves' default
+        flattening, from one solid's wires (or the polygons of several solids, which may
+        overlap)."""
+        if not cuts:
+            return cuts
+        if len(cuts) == 1:
+            area = _wire_area(*cuts[0])
+        else:
+            coarse = [(faces, [_finer(c, self.tolerance) for c in curves])
+                      for faces, curves in cuts]
+            area = self._polygons(coarse, offset, to_3d).area
+        curves = [c for _, cs in cuts for c in cs]
+        budget = AREA_ERROR * area
+        floor = self.tolerance / ARC_REFINEMENT
+        # an inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its
+        # arc's segment; an arc is at most its larger radius times |sweep| long (OCCT's
+        # radii u, v are perpendicular)
+        length = sum(float(np.hypot(*c.radii).max()) * abs(c.sweep) for c in curves
+                     if c.center is not None)
+        arcs = (self.tolerance if length == 0 else
+                min(self.tolerance, max(floor, 1.5 * budget / length)))
+        splines = ({} if SPLINE_AREA_ERROR is None else
+                   _splines_within([c for c in curves if c.bezier is not None],
+                                   SPLINE_AREA_ERROR * area, self.tolerance, floor))
+        return [(faces, [splines.get(id(c)) or _finer(c, arcs) for c in cs])
+                for faces, cs in cuts]
 
     def _polygons(self, cuts, offset, to_3d):
         """The union of the solids' sections, each from its faces' wires (or its curves
@@ -307,26 +356,13 @@ class StepSolid:
             return shapely.Polygon()
         return parts[0] if len(parts) == 1 else shapely.union_all(parts)
 
-    def _arc_tolerance(self, area, curves) -> float:
-        """The chord tolerance of circles and ellipses: by default the one that keeps their
-        flattening's area error within :data:`AREA_ERROR` of the section's ``area`` (an
-        inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its arc's
-        segment), between :data:`ARC_REFINEMENT` times finer than :attr:`tolerance` and
-        :attr:`tolerance` itself; a ``tolerance`` given is kept as it is."""
-        length = sum(float(np.hypot(*np.diff(c.points, axis=0).T).sum())
-                     for c in curves if c.kind in ("circle", "ellipse"))
-        if not self.adaptive or length == 0:
-            return self.tolerance
-        return min(self.tolerance, max(self.tolerance / ARC_REFINEMENT,
-                                       1.5 * AREA_ERROR * area / length))
-
     def curves(self, origin, normal, on_face=None) -> list[SectionCurve]:
         """The section's edges as :class:`SectionCurve` objects (see
         :func:`section_curves`)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d = _to_2d(origin, normal)
         curves = [curve for number, solid in enumerate(self._moved(to_2d))
-                  for curve in self._cut_curves(solid, number, origin)[1]]
+                  for curve in self._cut_curves(solid, number, origin, self.tolerance)[1]]
         if not curves:
             self._refuse_empty(to_2d, float(origin @ normal))
         return curves
@@ -341,14 +377,17 @@ class StepSolid:
         location = TopLoc_Location(transform)
         return [solid.Moved(location) for solid in self.solids]
 
-    def _cut_curves(self, solid, number, origin):
+    def _cut_curves(self, solid, number, origin, arcs=None):
         """The faces of the cut of one (moved) solid (:meth:`_common_faces`) and their
-        edges' curves, wire after wire, each labelled by the solid's face it lies on."""
+        edges' curves, wire after wire, each labelled by the solid's face it lies on;
+        circles and ellipses flattened within ``arcs``, or as their two ends if None
+        (:func:`_finer` flattens them later)."""
         faces = self._common_faces(solid, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
         labels = _face_labels(edges, solid, faces.common,
                               number if len(self.solids) > 1 else None)
-        curves = [_curve(edge, self.tolerance, reversed_, label) for label, (edge, reversed_)
+        curves = [_curve(edge, self.tolerance, arcs, reversed_, label)
+                  for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
         return faces, curves
 
@@ -484,17 +523,31 @@ def _listed(shapes) -> list:
 
 
 def _wire_area(faces, curves) -> float:
-    """The area of a cut's faces from their wires' points (shoelace; outer wire less
-    the others), before any polygon is built."""
+    """The area of a cut's faces from their wires (outer wire less the others), each
+    wire's the sum of its curves' :func:`_swept_area` (exact along circles and ellipses),
+    before any polygon is built."""
     area, at = 0.0, 0
     for face in faces:
         for number, wire in enumerate(face):
-            xy = np.concatenate([c.points for c in curves[at:at + len(wire)]])
+            ring = abs(sum(_swept_area(c) for c in curves[at:at + len(wire)]))
             at += len(wire)
-            ring = abs(float(np.dot(xy[:, 0], np.roll(xy[:, 1], -1))
-                             - np.dot(xy[:, 1], np.roll(xy[:, 0], -1)))) / 2
             area += ring if number == 0 else -ring
     return area
+
+
+def _swept_area(curve) -> float:
+    """½∫(x dy - y dx) along the curve, as its points run: in closed form along a circle
+    or an ellipse (``center + u cos θ + v sin θ`` gives ½ (c × (P(θ1) - P(θ0)) + (u × v)
+    sweep)), along the chords otherwise."""
+    if curve.center is not None:
+        (ux, vx), (uy, vy) = curve.radii
+        theta = curve.start + np.array([0.0, curve.sweep])
+        chord = np.column_stack([np.cos(theta), np.sin(theta)]) @ curve.radii.T
+        cx, cy = curve.center
+        dx, dy = chord[1] - chord[0]
+        return 0.5 * float(cx * dy - cy * dx + (ux * vy - uy * vx) * curve.sweep)
+    x, y = curve.points.T
+    return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1])
 
 
 def _face_polygons(faces, curves, join):
@@ -543,17 +596,21 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
 
 
 def _planar_faces(solids) -> tuple[np.ndarray, np.ndarray]:
-    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the solids' planar faces."""
-    from OCP.BRepAdaptor import BRepAdaptor_Surface
-    from OCP.GeomAbs import GeomAbs_SurfaceType
+    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the solids' planar faces
+    (read off each face's surface, with its location: a third of the time of
+    ``BRepAdaptor_Surface``)."""
+    from OCP.BRep import BRep_Tool
+    from OCP.Geom import Geom_Plane, Geom_RectangularTrimmedSurface
     from OCP.TopoDS import TopoDS
 
     facing, offsets = [], []
     for solid in solids:
         for face in _explore(solid, "FACE"):
-            surface = BRepAdaptor_Surface(TopoDS.Face(face))
-            if surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Plane:
-                plane = surface.Plane()
+            surface = BRep_Tool.Surface_s(TopoDS.Face(face))
+            if isinstance(surface, Geom_RectangularTrimmedSurface):
+                surface = surface.BasisSurface()
+            if isinstance(surface, Geom_Plane):
+                plane = surface.Pln()
                 direction, location = plane.Axis().Direction(), plane.Location()
                 normal = np.array([direction.X(), direction.Y(), direction.Z()])
                 facing.append(normal)
@@ -583,27 +640,59 @@ def _xy(point) -> np.ndarray:
     return np.array([point.X(), point.Y()])
 
 
-def _curve(edge, tolerance, reversed_=False, face="") -> SectionCurve:
-    """One edge of a cut by z = 0, flattened within ``tolerance``; its points run the
-    other way if ``reversed_`` (the edge's orientation in its wire)."""
-    curve = _flattened(edge, tolerance)
-    return replace(curve, points=curve.points[::-1] if reversed_ else curve.points, face=face)
+def _curve(edge, tolerance, arcs, reversed_=False, face="") -> SectionCurve:
+    """One edge of a cut by z = 0, flattened within ``tolerance`` (circles and ellipses
+    within ``arcs``, or as their two ends if None); it runs the other way if
+    ``reversed_`` (the edge's orientation in its wire)."""
+    curve = _flattened(edge, tolerance, arcs)
+    if reversed_:
+        curve = replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
+                        sweep=-curve.sweep, bezier=None if curve.bezier is None else
+                        tuple(control[::-1] for control in curve.bezier[::-1]))
+    return replace(curve, face=face)
 
 
 def _finer(curve, tolerance) -> SectionCurve:
-    """A circle or ellipse flattened again within ``tolerance``, the same way round and
-    closed if it was; other curves as they are."""
-    if curve.kind not in ("circle", "ellipse"):
+    """A circle or ellipse flattened (again) within ``tolerance``, closed if it was;
+    other curves as they are."""
+    if curve.center is None:
         return curve
     points = elliptic_points(curve.center, curve.radii, curve.start, curve.sweep, tolerance)
     if np.array_equal(curve.points[0], curve.points[-1]):
         points[-1] = points[0]
-    forward = np.hypot(*(curve.points[1] - points[1])) <= np.hypot(*(curve.points[1] - points[-2]))
-    return replace(curve, points=points if forward else points[::-1])
+    return replace(curve, points=points)
 
 
-def _flattened(edge, tolerance) -> SectionCurve:
-    """One edge of a cut by z = 0, flattened within ``tolerance``."""
+def _splines_within(splines, budget, tolerance, floor) -> dict:
+    """The B-splines flattened again so that their chords miss at most ``budget`` of
+    area in all, within ``tolerance`` at most and ``floor`` at least, by ``id`` of the
+    curve (those already within it are left out).
+
+    A chord of length c whose curve piece B stays within s of it (B - L = D, |D| <= s)
+    bounds with it the area ∫ D × L' + ½ ∫ D × D', at most s c + ½ s ∫|D'|; on a
+    Bézier piece flattened by :func:`.curves.steps` (s = M h² / 8, M >= |B''|) |D'| <=
+    M h, so ½ s ∫|D'| <= 4 s². The chords then miss at most t (C + 4 n t) in all, for
+    n chords of total length C at tolerance t: t shrinks until that is within budget."""
+    def flattened(curve, t):
+        return replace(curve, points=_bezier_chain(curve.bezier, t))
+
+    def missed(curves, t):
+        return t * sum(float(np.hypot(*np.diff(c.points, axis=0).T).sum())
+                       + 4 * t * (len(c.points) - 1) for c in curves)
+
+    if not splines or missed(splines, tolerance) <= budget:
+        return {}
+    t = min(tolerance, max(floor, 0.99 * budget * tolerance / missed(splines, tolerance)))
+    while True:
+        finer = [flattened(c, t) for c in splines]
+        if t == floor or missed(finer, t) <= budget:
+            return {id(c): f for c, f in zip(splines, finer)}
+        t = max(floor, t / 1.5)
+
+
+def _flattened(edge, tolerance, arcs=None) -> SectionCurve:
+    """One edge of a cut by z = 0, flattened within ``tolerance`` (circles and ellipses
+    within ``arcs``, or as their two ends if None)."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_CurveType as Kind
@@ -624,7 +713,9 @@ def _flattened(edge, tolerance) -> SectionCurve:
         frame = conic.Position()
         center = _xy(frame.Location())
         radii = np.column_stack([major * _xy(frame.XDirection()), minor * _xy(frame.YDirection())])
-        points = elliptic_points(center, radii, first, last - first, tolerance)
+        points = (elliptic_points(center, radii, first, last - first, arcs) if arcs else
+                  center + np.array([[np.cos(first), np.sin(first)],
+                                     [np.cos(last), np.sin(last)]]) @ radii.T)
         if BRep_Tool.IsClosed_s(edge):
             points[-1] = points[0]           # a whole turn ends where it starts
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
@@ -632,9 +723,8 @@ def _flattened(edge, tolerance) -> SectionCurve:
     if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
         pieces = _bezier_pieces(curve, kind, first, last)
         if pieces is not None:
-            flat = [bezier_points(control, tolerance) for control in pieces]
-            points = np.concatenate([flat[0]] + [piece[1:] for piece in flat[1:]])
-            return SectionCurve("bspline", points, edge_tolerance=bound)
+            return SectionCurve("bspline", _bezier_chain(pieces, tolerance),
+                                edge_tolerance=bound, bezier=tuple(pieces))
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
 
     sampler = GCPnts_QuasiUniformDeflection(curve, tolerance, first, last)
@@ -643,6 +733,33 @@ def _flattened(edge, tolerance) -> SectionCurve:
                           "larger tolerance or move the plane")
     points = np.array([_xy(sampler.Value(i)) for i in range(1, sampler.NbPoints() + 1)])
     return SectionCurve("adaptive", points, edge_tolerance=bound)
+
+
+def _bezier_chain(pieces, tolerance) -> np.ndarray:
+    """The Bézier pieces (each (d + 1, 2) control points, end to end) flattened within
+    ``tolerance``, as :func:`.curves.bezier_points` flattens each (the same bound,
+    d (d - 1) max|ΔΔP| >= max|B''|, and uniform steps), all pieces of one degree at once."""
+    if len({len(control) for control in pieces}) > 1:
+        flat = [bezier_points(control, tolerance) for control in pieces]
+        return np.concatenate([flat[0]] + [piece[1:] for piece in flat[1:]])
+    control = np.asarray(pieces, dtype=float)                   # (k, d + 1, 2)
+    degree = control.shape[1] - 1
+    if degree < 2:
+        return np.concatenate([control[:, 0], control[-1:, -1]])
+    second = control[:, 2:] - 2 * control[:, 1:-1] + control[:, :-2]
+    bound = degree * (degree - 1) * np.linalg.norm(second, axis=2).max(axis=1)
+    with np.errstate(all="ignore"):                             # steps' count, at once
+        counts = np.ceil(np.sqrt(bound / (8 * tolerance)))
+    if not np.all(counts <= MAX_CHORDS):
+        steps(bound.max(), tolerance)                           # raises, naming the limit
+    counts = np.maximum(counts, 1).astype(np.int64)
+    piece = np.repeat(np.arange(len(control)), counts)
+    t = ((np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + 1)
+         / counts[piece])[:, None]
+    power = np.arange(degree + 1)
+    choose = np.array([math.comb(degree, i) for i in power], dtype=float)
+    basis = choose * t**power * (1 - t) ** (degree - power)      # (m, d + 1)
+    return np.concatenate([control[:1, 0], np.einsum("md,mdx->mx", basis, control[piece])])
 
 
 def _bezier_pieces(curve, kind, first, last):
@@ -655,13 +772,14 @@ def _bezier_pieces(curve, kind, first, last):
         bezier = curve.Bezier()
         if bezier.IsRational():
             return None
-        return [np.array([_xy(bezier.Pole(i)) for i in range(1, bezier.NbPoles() + 1)])]
+        return [np.array([bezier.Pole(i).Coord()[:2] for i in range(1, bezier.NbPoles() + 1)])]
     spline = curve.BSpline()
     if spline.IsRational():
         return None
     split = GeomConvert_BSplineCurveToBezierCurve(spline, first, last, 1e-12)
     arcs = [split.Arc(i) for i in range(1, split.NbArcs() + 1)]
-    return [np.array([_xy(arc.Pole(i)) for i in range(1, arc.NbPoles() + 1)]) for arc in arcs]
+    return [np.array([arc.Pole(i).Coord()[:2] for i in range(1, arc.NbPoles() + 1)])
+            for arc in arcs]
 
 
 def section_curves(solid, plane_origin, plane_normal, *, on_face=None,
