@@ -781,6 +781,9 @@ class TiledCertificate:
     coverage_gap_at : tuple of float
     max_aspect_ratio, min_angle, max_angle : float
     isolated_samples, nonmanifold_vertices : int
+    stray_triangles : int
+        Stored triangles with a vertex farther than 2 alpha from the tile that owns them
+        (no triangle of circumradius <= alpha has one); 0 on a correct mesh.
     area_ratio : float
     betti_mesh, betti_region : tuple of int
     """
@@ -796,6 +799,7 @@ class TiledCertificate:
     max_angle: float
     isolated_samples: int
     nonmanifold_vertices: int
+    stray_triangles: int
     area_ratio: float
     betti_mesh: tuple
     betti_region: tuple
@@ -820,9 +824,11 @@ class TiledCertificate:
 
     @property
     def ok(self) -> bool:
-        """Sampling, quality, the region's Betti numbers, no isolated sample, manifold."""
+        """Sampling, quality, the region's Betti numbers, no isolated sample, manifold,
+        no stray triangle."""
         return (self.sampling_ok and self.quality_ok and self.betti_mesh == self.betti_region
-                and self.isolated_samples == 0 and self.nonmanifold_vertices == 0)
+                and self.isolated_samples == 0 and self.nonmanifold_vertices == 0
+                and self.stray_triangles == 0)
 
 
 def _certificate_task(task: _Task) -> dict:
@@ -850,20 +856,23 @@ def _certificate_task(task: _Task) -> dict:
                            alpha)
         gap, at = _coverage_gap(local, local.faces, local.boundary_edges, grid)
         out["gap"], out["gap_at"] = gap, [float(v) for v in at]
-    owned = _owned(points, faces, task.tiling, task.i, task.j)
+    # the rest measures the stored triangles: the tile's own, and those of the 3 x 3
+    # tiles around it at an own vertex (its star: circumcentres within alpha of it)
+    owned, star = _stored_faces(task, index, ids, own)
     out["triangles"] = len(owned)
+    out["strays"] = int(np.count_nonzero((owned < 0).any(axis=1)))
+    owned, star = owned[(owned >= 0).all(axis=1)], star[(star >= 0).all(axis=1)]
     if len(owned):
         quality = triangle_quality(points, owned)
         out.update(aspect=float(quality.aspect_ratio.max()), low=float(quality.angles.min()),
                    high=float(quality.angles.max()), area=float(quality.area.sum()))
-    # the triangles at an own vertex are exactly the whole mesh's (its star lies within
-    # 2 alpha), so are the edges with an own end
-    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    # the edges with an own end are all in that star
+    edges = np.sort(np.concatenate([star[:, [0, 1]], star[:, [1, 2]], star[:, [2, 0]]]), axis=1)
     edges, uses = np.unique(edges, axis=0, return_counts=True)
     exact = own[edges[:, 0]] | own[edges[:, 1]]
     edges, uses = edges[exact], uses[exact]
     used = np.zeros(len(points), bool)
-    used[faces.ravel()] = True
+    used[star.ravel()] = True
     rim_count = np.bincount(edges[uses == 1].ravel(), minlength=len(points))
     out.update(isolated=int(np.count_nonzero(own & ~used)),
                nonmanifold=int(np.count_nonzero(own & (rim_count > 2))),
@@ -881,6 +890,28 @@ def _certificate_task(task: _Task) -> dict:
     out["components"] = first[present].tolist()
     out["links"] = np.column_stack([first[label[shared]], ids[shared]]).tolist()
     return out
+
+
+def _stored_faces(task: _Task, index: dict, ids, own):
+    """The stored triangles of the tile, and those of the tiles around it with a vertex
+    of the tile, as indices into ``ids`` (-1 for an id not among them: a triangle
+    reaching farther than 2 alpha, which a correct mesh does not have)."""
+    record = index["tiles"][f"{task.i},{task.j}"]
+    first, last = record["first"], record["first"] + sum(record["counts"])
+    owned, star = None, []
+    for a, b in task.tiling.neighbours(task.i, task.j):
+        if f"{a},{b}" not in index["tiles"]:
+            continue
+        faces = np.load(_faces_path(task.store, a, b))
+        if (a, b) == (task.i, task.j):
+            owned = faces
+        star.append(faces[((faces >= first) & (faces < last)).any(axis=1)])
+    star = np.concatenate(star)
+
+    def local(faces):
+        at = np.minimum(np.searchsorted(ids, faces), len(ids) - 1)
+        return np.where(ids[at] == faces, at, -1)
+    return local(owned), local(star)
 
 
 def _reduced(parts: list, mesh: TiledMesh) -> TiledCertificate:
@@ -915,5 +946,6 @@ def _reduced(parts: list, mesh: TiledMesh) -> TiledCertificate:
         max_angle=max((p["high"] for p in with_faces), default=0.0),
         isolated_samples=sum(p.get("isolated", 0) for p in parts),
         nonmanifold_vertices=sum(p.get("nonmanifold", 0) for p in parts),
+        stray_triangles=sum(p.get("strays", 0) for p in parts),
         area_ratio=sum(p.get("area", 0.0) for p in with_faces) / region.area,
         betti_mesh=(b0, b0 - chi), betti_region=region.betti)
