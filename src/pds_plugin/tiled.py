@@ -243,7 +243,7 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     for stage in range(len(STAGES)):
         for phase in range(4):
             specs = [_Task(str(store), tiling, i, j, stage, alpha, seed, float(feature_angle),
-                           near[i, j], run)
+                           near[i, j], run, tuple(t for t in tiling.neighbours(i, j) if t in near))
                      for (i, j) in near if tiling.phase(i, j) == phase]
             for spec, made in zip(specs, _run(_sample_task, specs, executor)):
                 counts[spec.i, spec.j, stage] = made
@@ -346,6 +346,7 @@ class _Task:
     feature_angle: float
     near: bytes         # WKB of the region within 2 alpha of the tile
     run: str
+    neighbours: tuple = ()  # the tiles of the 3 x 3 block around it that have a task
 
 
 def _stage_path(store, i, j, stage, what="points") -> Path:
@@ -385,12 +386,10 @@ def _halo(task: _Task) -> np.ndarray:
             if stage == task.stage and tiling.phase(a, b) >= tiling.phase(*here):
                 continue
             path = _stage_path(task.store, a, b, stage)
-            if not path.exists():       # a tile with no region in it
+            if (a, b) not in task.neighbours:          # a tile with no region in it
                 continue
-            xy = np.load(path)
-            if (a, b) != here:
-                xy = xy[np.load(_stage_path(task.store, a, b, stage, "rim"))]
-            parts.append(xy)
+            parts.append(np.load(path if (a, b) == here else
+                                 _stage_path(task.store, a, b, stage, "rimxy")))
     xy = np.concatenate(parts) if parts else np.empty((0, 2))
     return xy[_distance_to_box(xy, tiling.box(task.i, task.j)) <= HALO * task.alpha]
 
@@ -399,12 +398,12 @@ def _sample_task(task: _Task) -> dict:
     """Run one sweep of the sampler on one tile, its halo fixed; write its new samples
     and their rim. Returns their count and bounding box."""
     path = _stage_path(task.store, task.i, task.j, task.stage)
-    if not path.exists() or not _stage_path(task.store, task.i, task.j, task.stage, "rim").exists():
+    if not path.exists():
         new = _sample_tile(task)
-        rect = task.tiling.box(task.i, task.j)
-        _save(_stage_path(task.store, task.i, task.j, task.stage, "rim"),
-              _rim(new, rect, HALO * task.alpha))
-        _save(path, new)
+        rim = _rim(new, task.tiling.box(task.i, task.j), HALO * task.alpha)
+        _save(_stage_path(task.store, task.i, task.j, task.stage, "rim"), rim)
+        _save(_stage_path(task.store, task.i, task.j, task.stage, "rimxy"), new[rim])
+        _save(path, new)              # last: its presence says the sweep is done
     new = np.load(path)
     if not len(new):
         return {"count": 0}
@@ -526,7 +525,7 @@ def _gathered(task: _Task, index: dict):
         start = record["first"]
         for stage, count in enumerate(record["counts"]):
             rim = np.load(_stage_path(task.store, a, b, stage, "rim"))
-            xy = np.load(_stage_path(task.store, a, b, stage))[rim]
+            xy = np.load(_stage_path(task.store, a, b, stage, "rimxy"))
             near = _distance_to_box(xy, reach) <= HALO * task.alpha
             points.append(xy[near])
             ids.append(start + rim[near])
