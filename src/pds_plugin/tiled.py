@@ -555,13 +555,11 @@ def _exact_complex(points, ids, alpha: float, low, high) -> np.ndarray:
     cell = (np.minimum(((points[:, 1] - low[1]) / h).astype(np.int64), ny - 1) * nx
             + np.minimum(((points[:, 0] - low[0]) / h).astype(np.int64), nx - 1))
     rank = np.empty(len(points), np.int64)
-    rank[np.lexsort((ids, cell))] = np.arange(len(points))
-    first, second, third = np.sort(rank[faces], axis=1).T
-    by_rank = np.empty(len(points), np.int64)
-    by_rank[rank] = np.arange(len(points))
-    p, q, r = (points[by_rank[k]] for k in (first, second, third))
-    bx, by = q[:, 0] - p[:, 0], q[:, 1] - p[:, 1]
-    cx, cy = r[:, 0] - p[:, 0], r[:, 1] - p[:, 1]
+    rank[np.argsort(cell, kind="stable")] = np.arange(len(points))     # ids ascend already
+    by_rank = np.take_along_axis(faces, np.argsort(rank[faces], axis=1), axis=1)
+    corner = points[by_rank]                     # (M, 3, 2): the kernel's i, j, k
+    bx, by = corner[:, 1, 0] - corner[:, 0, 0], corner[:, 1, 1] - corner[:, 0, 1]
+    cx, cy = corner[:, 2, 0] - corner[:, 0, 0], corner[:, 2, 1] - corner[:, 0, 1]
     cross = bx * cy - by * cx
     b2 = bx * bx + by * by
     c2 = cx * cx + cy * cy
@@ -574,7 +572,8 @@ def _exact_complex(points, ids, alpha: float, low, high) -> np.ndarray:
 def _owned(points, faces, tiling: Tiling, i: int, j: int) -> np.ndarray:
     """The faces (vertices in global id order) whose circumcentre tile ``(i, j)`` owns;
     the circumcentre is computed from the vertices in id order, the same in every tile."""
-    a, b, c = (points[k] for k in np.sort(faces, axis=1).T)
+    corner = points[np.sort(faces, axis=1)]
+    a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
     bx, by, cx, cy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1], c[:, 0] - a[:, 0], c[:, 1] - a[:, 1]
     cross = 2.0 * (bx * cy - by * cx)
     ux = a[:, 0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
@@ -583,13 +582,13 @@ def _owned(points, faces, tiling: Tiling, i: int, j: int) -> np.ndarray:
     return faces[(owner[:, 0] == i) & (owner[:, 1] == j)]
 
 
-def _canonical(faces) -> np.ndarray:
-    """Faces rotated to start at their smallest id (orientation kept), rows sorted."""
+def _canonical(faces, sort: bool = True) -> np.ndarray:
+    """Faces rotated to start at their smallest id (orientation kept), and the rows
+    sorted unless ``sort`` is False."""
     faces = np.asarray(faces, np.int64).reshape(-1, 3)
     shift = np.argmin(faces, axis=1)
-    rows = np.arange(len(faces))[:, None]
-    faces = faces[rows, (shift[:, None] + np.arange(3)) % 3]
-    return faces[np.lexsort(faces.T[::-1])]
+    faces = np.take_along_axis(faces, (shift[:, None] + np.arange(3)) % 3, axis=1)
+    return faces[np.lexsort(faces.T[::-1])] if sort else faces
 
 
 def _faces_path(store, i, j) -> Path:
@@ -603,7 +602,8 @@ def _complex_task(task: _Task) -> int:
         index = _index_of(task.store)
         points, ids, _ = _gathered(task, index)
         faces = _exact_complex(points, ids, task.alpha, index["low"], index["high"])
-        _save(path, _canonical(ids[_owned(points, faces, task.tiling, task.i, task.j)]))
+        owned = _owned(points, faces, task.tiling, task.i, task.j)
+        _save(path, _canonical(ids[owned], sort=False))    # in the kernel's order
     return int(np.load(path, mmap_mode="r").shape[0])
 
 
