@@ -21,7 +21,9 @@ from pds_plugin.tiled import HALO, Tiling, _canonical
 PLATE = box(0, 0, 4, 2).difference(Point(2, 1).buffer(0.5))          # the hole on a tile corner
 PARTS = MultiPolygon([box(0, 0, 3, 3).difference(box(1.2, 0.9, 1.8, 2.1)),  # a hole across a seam
                       Polygon([(3.4, 0), (5, 0), (5, 3), (3.4, 2.5)])])      # a second part
-CASES = [(PLATE, 0.06, (4, 2)), (PARTS, 0.07, (3, 3)), (box(0, 0, 1, 1), 0.05, (3, 2))]
+FRAME = box(-1.5, -1.5, 1.5, 1.5).difference(box(-0.55, -0.55, 0.55, 0.55))  # no region in the
+CASES = [(PLATE, 0.06, (4, 2)), (PARTS, 0.07, (3, 3)), (box(0, 0, 1, 1), 0.05, (3, 2)),  # middle
+         (FRAME, 0.1, (3, 3))]                                 # tile, which owns triangles
 
 
 def _files(store: Path) -> dict:
@@ -29,7 +31,7 @@ def _files(store: Path) -> dict:
             if p.is_file()}
 
 
-@pytest.fixture(scope="module", params=range(len(CASES)), ids=["plate", "parts", "square"])
+@pytest.fixture(scope="module", params=range(len(CASES)), ids=["plate", "parts", "square", "frame"])
 def case(request, tmp_path_factory):
     geometry, alpha, tiles = CASES[request.param]
     region = pds.Region.from_shapely(geometry)

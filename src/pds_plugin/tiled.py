@@ -237,7 +237,9 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
         xmin, ymin, xmax, ymax = tiling.box(i, j)
         grown = box(xmin - HALO * alpha, ymin - HALO * alpha, xmax + HALO * alpha,
                     ymax + HALO * alpha)
-        if region.geometry.intersects(box(xmin, ymin, xmax, ymax)):
+        # a tile within 2 alpha of the region may own triangles (a circumcentre lies
+        # outside the region, up to alpha from it) even if it samples nothing
+        if region.geometry.intersects(grown):
             near[i, j] = shapely.to_wkb(region.geometry.intersection(grown))
     counts = {}
     for stage in range(len(STAGES)):
