@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import secrets
 from dataclasses import dataclass
 from pathlib import Path
@@ -351,8 +352,8 @@ class _Task:
     neighbours: tuple = ()  # the tiles of the 3 x 3 block around it that have a task
 
 
-def _stage_path(store, i, j, stage, what="points") -> Path:
-    return Path(store) / "samples" / f"{i}_{j}_{STAGES[stage]}_{what}.npy"
+def _stage_path(store, i, j, stage, what="points") -> str:
+    return os.path.join(store, "samples", f"{i}_{j}_{STAGES[stage]}_{what}.npy")
 
 
 def _save(path: Path, array) -> None:
@@ -387,11 +388,10 @@ def _halo(task: _Task) -> np.ndarray:
         for stage in range(task.stage + 1):
             if stage == task.stage and tiling.phase(a, b) >= tiling.phase(*here):
                 continue
-            path = _stage_path(task.store, a, b, stage)
             if (a, b) not in task.neighbours:          # a tile with no region in it
                 continue
-            parts.append(np.load(path if (a, b) == here else
-                                 _stage_path(task.store, a, b, stage, "rimxy")))
+            parts.append(np.load(_stage_path(task.store, a, b, stage)) if (a, b) == here
+                         else np.load(_stage_path(task.store, a, b, stage, "rim"))[:, :2])
     xy = np.concatenate(parts) if parts else np.empty((0, 2))
     return xy[_distance_to_box(xy, tiling.box(task.i, task.j)) <= HALO * task.alpha]
 
@@ -400,11 +400,12 @@ def _sample_task(task: _Task) -> dict:
     """Run one sweep of the sampler on one tile, its halo fixed; write its new samples
     and their rim. Returns their count and bounding box."""
     path = _stage_path(task.store, task.i, task.j, task.stage)
-    if not path.exists():
+    if not os.path.exists(path):
         new = _sample_tile(task)
         rim = _rim(new, task.tiling.box(task.i, task.j), HALO * task.alpha)
-        _save(_stage_path(task.store, task.i, task.j, task.stage, "rim"), rim)
-        _save(_stage_path(task.store, task.i, task.j, task.stage, "rimxy"), new[rim])
+        # the rim: x, y and the index in the sweep's samples (exact as a float)
+        _save(_stage_path(task.store, task.i, task.j, task.stage, "rim"),
+              np.column_stack([new[rim], rim.astype(float)]))
         _save(path, new)              # last: its presence says the sweep is done
     new = np.load(path)
     if not len(new):
@@ -527,7 +528,7 @@ def _gathered(task: _Task, index: dict):
         start = record["first"]
         for stage, count in enumerate(record["counts"]):
             rim = np.load(_stage_path(task.store, a, b, stage, "rim"))
-            xy = np.load(_stage_path(task.store, a, b, stage, "rimxy"))
+            xy, rim = np.ascontiguousarray(rim[:, :2]), rim[:, 2].astype(np.int64)
             near = _distance_to_box(xy, reach) <= HALO * task.alpha
             points.append(xy[near])
             ids.append(start + rim[near])
@@ -593,14 +594,14 @@ def _canonical(faces, sort: bool = True) -> np.ndarray:
     return faces[np.lexsort(faces.T[::-1])] if sort else faces
 
 
-def _faces_path(store, i, j) -> Path:
-    return Path(store) / "tiles" / f"{i}_{j}_faces.npy"
+def _faces_path(store, i, j) -> str:
+    return os.path.join(store, "tiles", f"{i}_{j}_faces.npy")
 
 
 def _complex_task(task: _Task) -> int:
     """Write the triangles tile ``(i, j)`` owns, in global ids; return their count."""
     path = _faces_path(task.store, task.i, task.j)
-    if not path.exists():
+    if not os.path.exists(path):
         index = _index_of(task.store)
         points, ids, _ = _gathered(task, index)
         faces = _exact_complex(points, ids, task.alpha, index["low"], index["high"])
