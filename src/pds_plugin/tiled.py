@@ -55,7 +55,7 @@ from shapely.geometry import MultiPolygon, box
 
 from . import _sampling_kernels as kern
 from ._atomic import atomic_path
-from ._checks import check_alpha, check_seed
+from ._checks import check_alpha, check_positive, check_seed
 from .complex import solid_alpha_complex
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, require_region, turning_angles
@@ -223,10 +223,10 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
                             "split across tiles yet; leave conforming=False, or use "
                             "mesh_region(region, alpha) (conforming) for a region that fits "
                             "one process")
+    feature_angle = check_positive(feature_angle, "feature_angle")
     tiling = _tiling(region, alpha, tiles, tile_size)
-    store = Path(store)
-    params = {"format": _FORMAT, "alpha": alpha, "seed": seed,
-              "feature_angle": float(feature_angle),
+    store = Path(os.path.abspath(store))     # the workers may run elsewhere
+    params = {"format": _FORMAT, "alpha": alpha, "seed": seed, "feature_angle": feature_angle,
               "tiling": [tiling.x0, tiling.y0, tiling.x1, tiling.y1, tiling.nx, tiling.ny],
               "region": shapely.to_wkb(region.geometry, hex=True),
               "frame": region.frame.tolist()}
@@ -245,7 +245,7 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     counts = {}
     for stage in range(len(STAGES)):
         for phase in range(4):
-            specs = [_Task(str(store), tiling, i, j, stage, alpha, seed, float(feature_angle),
+            specs = [_Task(str(store), tiling, i, j, stage, alpha, seed, feature_angle,
                            near[i, j], run, tuple(t for t in tiling.neighbours(i, j) if t in near))
                      for (i, j) in near if tiling.phase(i, j) == phase]
             for spec, made in zip(specs, _run(_sample_task, specs, executor)):
@@ -253,8 +253,8 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     index = _index(tiling, counts, near)
     with atomic_path(store / "index.json") as partial:
         partial.write_text(json.dumps(index), encoding="utf-8")
-    specs = [_Task(str(store), tiling, i, j, -1, alpha, seed, float(feature_angle),
-                   near[i, j], run) for (i, j) in near]
+    specs = [_Task(str(store), tiling, i, j, -1, alpha, seed, feature_angle, near[i, j], run)
+             for (i, j) in near]
     list(_run(_complex_task, specs, executor))
     return TiledMesh(store)
 
@@ -284,8 +284,8 @@ def _tiling(region: Region, alpha: float, tiles, tile_size) -> Tiling:
     tiling = Tiling(float(xmin), float(ymin), float(xmax), float(ymax), nx, ny)
     narrowest = min(tiling.width if nx > 1 else math.inf, tiling.height if ny > 1 else math.inf)
     if narrowest <= HALO * alpha * (1 + 1e-6):
-        most = (max(1, int((xmax - xmin) / (HALO * alpha * (1 + 1e-6))) - 0),
-                max(1, int((ymax - ymin) / (HALO * alpha * (1 + 1e-6)))))
+        most = [max(1, math.ceil(span / (HALO * alpha * (1 + 1e-6))) - 1)
+                for span in (xmax - xmin, ymax - ymin)]
         raise ArgumentError(f"tiles of {tiling.width:.6g} x {tiling.height:.6g} are not wider "
                             f"than 2 alpha = {2 * alpha:.6g}: tiles of one phase would "
                             f"interact; use at most {most[0]} x {most[1]} tiles (or a larger "
