@@ -70,7 +70,10 @@ class Region:
         exactly); where the simplified rings would not make the same valid region, the
         input is kept as it is. Components that touch at a point (two parts of an assembly
         sharing an edge, cut across it) are moved apart there first, by half the tolerance
-        or 1e-7 of the extent (``PINCH_STEP``), the tolerance raised to that if smaller.
+        or 1e-7 of the extent (``PINCH_STEP``), the tolerance raised to that if smaller;
+        and cracks thinner than half the tolerance (slits into the material, the seams
+        of bodies an export left unmerged) are closed, which grows the region by at most
+        their width.
 
         Parameters
         ----------
@@ -138,24 +141,24 @@ class Region:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(MultiPolygon(polygons))
         _check_scale(geometry)
-        opened, step = _pinches_opened(geometry, tolerance)
-        tolerance = max(tolerance, step)
-        region = cls(_within_tolerance(opened, tolerance - step), _checked_frame(frame),
+        healed, moved = _healed(geometry, tolerance)
+        tolerance = max(tolerance, moved)
+        region = cls(_within_tolerance(healed, tolerance - moved), _checked_frame(frame),
                      tolerance, geometry, curves)
-        region._pinch_step = step
+        if moved:
+            region._healed = healed, moved
         return region
 
-    _pinch_step = 0.0     # how far touching components were moved apart (_pinches_opened)
+    _healed = None     # (the input healed, how far it moved): see _healed
 
     @cached_property
     def source_deviation(self) -> float:
-        """The Hausdorff distance between the boundaries of :attr:`geometry` and
-        :attr:`source`: measured exactly (see :func:`source_deviation`), plus the step
-        by which touching components were moved apart, if they were."""
-        if not self._pinch_step:
-            return source_deviation(self.geometry, self.source)
-        opened, step = _pinches_opened(self.source, self.tolerance)
-        return source_deviation(self.geometry, opened) + step
+        """How far :attr:`geometry` lies from :attr:`source`: the Hausdorff distance
+        between the boundaries, measured exactly (see :func:`source_deviation`), plus, if
+        the input was healed first, how far that moved it (touching components moved
+        apart, cracks thinner than the tolerance closed; see :func:`_healed`)."""
+        healed, moved = self._healed or (self.source, 0.0)
+        return source_deviation(self.geometry, healed) + moved
 
     @cached_property
     def rings(self) -> list[np.ndarray]:
@@ -333,6 +336,100 @@ PINCH_STEP = 1e-7
 moved into their own component when the tolerance is smaller (see :func:`_pinches_opened`):
 well above the rounding that the feature size allows for (1e-9 of the largest
 coordinate), so that the gap it leaves is a gap."""
+
+
+def _healed(geometry: MultiPolygon, tolerance: float):
+    """``geometry`` with its pinch points opened (:func:`_pinches_opened`) and its cracks
+    thinner than half the tolerance closed (:func:`_cracks_closed`), and a bound on how
+    far that moved it (the Hausdorff distance between the regions, and between their
+    boundaries away from the closed cracks, whose sides are at most that far apart)."""
+    opened, step = _pinches_opened(geometry, tolerance)
+    closed, width = _cracks_closed(opened, tolerance / 2)
+    return closed, step + width
+
+
+def _cracks_closed(geometry: MultiPolygon, width: float):
+    """``geometry`` with every crack of its rings thinner than ``width`` closed, and the
+    largest width closed (0.0 and ``geometry`` itself if none is).
+
+    A crack is a slit into the material whose two sides run within ``width`` of each
+    other to a tip where the ring turns back (a reflex spike): the seam between two
+    bodies of an assembly or the two legs of a bracket that an export left unmerged,
+    cut by the plane. Such a region is valid, but no sample sees across the slit and
+    nothing between its sides is material to mesh. The tip of a crack (where the ring
+    turns right and goes back) goes when the triangle it makes with its neighbours is
+    thinner than ``width`` (its smallest altitude); the ring then runs straight from one
+    neighbour to the other, and the same is tried at both, so a crack along a polyline
+    closes vertex by vertex up to its mouth. Every point added lies within the
+    triangle's altitude of its two sides, which lie within the widths closed before them
+    of the input, so the region grows by at most the returned width (the Hausdorff
+    distance between the regions). Spikes of material are never cut (that would move the boundary by
+    their length), nor gaps between different rings (closing them would change the
+    topology). The input is returned unchanged when the result would not be valid.
+
+    Examples
+    --------
+    >>> slit = Polygon([(0, 0), (4, 0), (4, 2), (3, 2), (1, 1), (3, 2 + 1e-6), (0, 2)])
+    >>> closed, width = _cracks_closed(MultiPolygon([slit]), 1e-4)
+    >>> closed.geoms[0].exterior.coords[:-1], round(width, 9)    # the tip (1, 1) is gone
+    ([(0.0, 0.0), (4.0, 0.0), (4.0, 2.0), (3.0, 2.000001), (0.0, 2.0)], 1.894e-06)
+    """
+    if width <= 0:
+        return geometry, 0.0
+    polygons, widest = [], 0.0
+    for polygon in geometry.geoms:
+        rings = []
+        for ring in (polygon.exterior, *polygon.interiors):
+            xy, closed = _ring_cracks_closed(shapely.get_coordinates(ring)[:-1], width)
+            rings.append(xy)
+            widest = max(widest, closed)
+        polygons.append(Polygon(rings[0], rings[1:]))
+    if not widest:
+        return geometry, 0.0
+    healed = MultiPolygon(polygons)
+    if not healed.is_valid or len(healed.geoms) != len(geometry.geoms):
+        return geometry, 0.0
+    return healed, float(widest)
+
+
+def _ring_cracks_closed(xy: np.ndarray, width: float):
+    """One ring (region on its left) with its cracks thinner than ``width`` closed (see
+    :func:`_cracks_closed`), and the largest width closed."""
+    p, q = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
+    tip = ((xy - p) * (q - xy)).sum(axis=1) < 0              # the ring goes back there
+    todo = list(np.flatnonzero(tip & (_thinness(p, xy, q) <= width))[::-1])
+    if not todo:
+        return xy, 0.0
+    n = len(xy)
+    before, after = (np.arange(n) - 1) % n, (np.arange(n) + 1) % n
+    off = np.zeros(n)          # how far segment k (from vertex k) may lie from the input
+    kept, widest = n, 0.0
+    while todo and kept > 3:
+        t = todo.pop()
+        if before[t] < 0:
+            continue                            # removed already
+        p, q = before[t], after[t]
+        w = _thinness(xy[p][None], xy[t][None], xy[q][None])[0]
+        if not w <= width:
+            continue
+        off[p] = w + max(off[p], off[t])        # the new segment p -> q
+        widest = max(widest, off[p])
+        after[p], before[q], before[t] = q, p, -1
+        kept -= 1
+        todo += [p, q]                          # the crack may go on past them
+    return xy[before >= 0], widest
+
+
+def _thinness(p, t, q) -> np.ndarray:
+    """For rows of three consecutive ring vertices p, t, q (region on its left): the
+    smallest altitude of the triangle p t q where the ring turns right at t (every point
+    of the triangle is that near the sides p t and t q), infinity where it turns left
+    (cutting the corner off would take material away)."""
+    u, v = t - p, q - t
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    longest = np.maximum(np.maximum(np.hypot(*u.T), np.hypot(*v.T)), np.hypot(*(u + v).T))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where((cross <= 0) & (longest > 0), -cross / longest, np.inf)
 
 
 def _pinches_opened(geometry: MultiPolygon, tolerance: float):

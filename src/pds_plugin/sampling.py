@@ -57,7 +57,7 @@ _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
 _RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
 _CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is below alpha
-_REFINEMENT_BOXES = 2   # conforming refinement stops above this many boxes per grid cell
+_CROWDED_CELL = 256  # conforming refinement stops in a boundary cell with more open boxes
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
 _STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
@@ -715,18 +715,12 @@ class _Sampler:
             n_split = kern.split_uncovered(parent, sub_x, sub_y, bx, by, size, before, self.grid,
                                            self.nxt, self.points, self.alpha, self.vis, *children,
                                            self.work)
-            if not self.one_per_cell and n_split > _REFINEMENT_BOXES * self.nx * self.ny:
-                # the boxes left uncovered are at most about a fifth of the cells at the
-                # first level, then the few around each boundary vertex, or along a slot
-                # narrower than alpha until they are narrower than it; where the
-                # (conservative) visible-coverage test fails over a whole area they
-                # would multiply by four per level, to gigabytes: stop (the certificate
-                # measures the coverage that is left)
-                break
             if size / 2 < _RESOLUTION * self.alpha:
                 break
             level += 1
             parent, sub_x, sub_y = (a[:4 * n_split] for a in children)
+            if not self.one_per_cell:
+                parent, sub_x, sub_y = _uncrowded(parent, sub_x, sub_y, self.status)
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
@@ -739,6 +733,36 @@ class _Sampler:
         kern.place_all(darts[kept], self.grid, self.nxt, self.covered, self.points, self.count,
                        self.alpha, self.x0, self.y0, self.s, self.vis)
         self.count += len(kept)
+
+
+def _uncrowded(parent, sub_x, sub_y, status):
+    """The refinement boxes (as in ``_sampling_kernels.open_boxes``; ``parent`` sorted)
+    but those of level-0 cells on the region's boundary (``status``) that hold more than
+    :data:`_CROWDED_CELL` of them.
+
+    A conforming sampling leaves open, at each level, the boxes that no single sample
+    sees whole within alpha: a few around each chord vertex, along the arcs where discs
+    meet until they are inside one, along a slot narrower than alpha until they are
+    narrower than it. Their number in a cell grows for a few levels at most. Along a
+    crack (a slit thinner than any box, whose two sides no sample sees both of) it
+    doubles at every level, and where the conservative visibility test fails over an
+    area it quadruples: such boundary cells are left as they are (the certificate
+    measures the coverage there), and the refinement goes on everywhere else.
+
+    Examples
+    --------
+    >>> status = np.full((1, 8), kern.BOUNDARY, np.int8)
+    >>> boxes = np.repeat([3, 5], [2, _CROWDED_CELL + 1]), np.zeros(259, int), np.zeros(259, int)
+    >>> _uncrowded(*boxes, status)[0]
+    array([3, 3])
+    """
+    first = np.flatnonzero(np.diff(parent, prepend=-1))
+    counts = np.diff(first, append=len(parent))
+    crowded = (counts > _CROWDED_CELL) & (status.ravel()[parent[first]] == kern.BOUNDARY)
+    if not crowded.any():
+        return parent, sub_x, sub_y
+    keep = np.repeat(~crowded, counts)
+    return parent[keep], sub_x[keep], sub_y[keep]
 
 
 def domain_of_rings(rings, alpha: float) -> tuple:
