@@ -159,11 +159,13 @@ def test_export_streams_the_mesh(case, tmp_path):
     ({"tiles": (2, 2), "tile_size": 0.5}, "exactly one"),
     ({}, "exactly one"),
     ({"tile_size": -1.0}, "positive"),
+    ({"tiles": (1, 1), "alpha": 1e-4}, "use at least 3 x 3 tiles"),
 ])
 def test_refusals(tmp_path, options, message):
     region = pds.Region.from_shapely(box(0, 0, 1, 1))
+    options = {"alpha": 0.1, **options}
     with pytest.raises(ArgumentError, match=message):
-        pds.mesh_tiled(region, 0.1, store=tmp_path, **options)
+        pds.mesh_tiled(region, store=tmp_path, **options)
 
 
 def test_store_must_be_new_or_a_tiled_mesh(tmp_path):
@@ -200,3 +202,14 @@ def test_circumradius_ties_decided_as_the_non_tiled_complex():
             assert np.array_equal(_canonical(whole), _canonical(tiles))
             checked += 1
     assert checked >= 30
+
+
+def test_one_tile_and_a_relative_store(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    region = pds.Region.from_shapely(PLATE)
+    tiled = pds.mesh_tiled(region, 0.1, tile_size=10.0, store="one")
+    assert (tiled.tiling.nx, tiled.tiling.ny) == (1, 1) and tiled.store.is_absolute()
+    mesh = tiled.to_mesh()
+    assert tiled.certificate().ok and mesh.certificate().ok
+    whole = pds.solid_alpha_complex(mesh.vertices, 0.1)
+    assert np.array_equal(_canonical(whole), _canonical(mesh.faces))

@@ -59,7 +59,7 @@ from ._checks import check_alpha, check_positive, check_seed
 from .complex import solid_alpha_complex
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, require_region, turning_angles
-from .sampling import _RESOLUTION, _Sampler
+from .sampling import _MAX_GRID_CELLS, _RESOLUTION, _Sampler
 
 __all__ = ["mesh_tiled", "TiledMesh", "TiledCertificate", "Tiling"]
 
@@ -290,6 +290,16 @@ def _tiling(region: Region, alpha: float, tiles, tile_size) -> Tiling:
                             f"than 2 alpha = {2 * alpha:.6g}: tiles of one phase would "
                             f"interact; use at most {most[0]} x {most[1]} tiles (or a larger "
                             "tile_size)")
+    side = alpha / math.sqrt(2)                  # the sampler's cells, as in _Sampler
+    cells = ((tiling.width + 2 * HALO * alpha) / side + 3) * ((tiling.height + 2 * HALO * alpha) / side + 3)
+    if cells > _MAX_GRID_CELLS:
+        need = [math.ceil(span / (math.sqrt(_MAX_GRID_CELLS) * side * 0.9))
+                for span in (xmax - xmin, ymax - ymin)]
+        raise ArgumentError(f"tiles of {tiling.width:.6g} x {tiling.height:.6g} hold about "
+                            f"{0.7 * tiling.width * tiling.height / alpha ** 2:.3g} samples each at "
+                            f"alpha={alpha:.6g}, more than one "
+                            f"task's sampling grid allows; use at least {need[0]} x {need[1]} "
+                            "tiles (or a smaller tile_size)")
     return tiling
 
 
