@@ -160,6 +160,7 @@ def test_export_streams_the_mesh(case, tmp_path):
     ({}, "exactly one"),
     ({"tile_size": -1.0}, "positive"),
     ({"tiles": (1, 1), "alpha": 1e-4}, "use at least 3 x 3 tiles"),
+    ({"tiles": (2, 2), "alpha": "auto"}, "suggest_alpha"),
 ])
 def test_refusals(tmp_path, options, message):
     region = pds.Region.from_shapely(box(0, 0, 1, 1))

@@ -211,6 +211,10 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     True
     """
     require_region(region, "mesh_tiled")
+    if isinstance(alpha, str):
+        raise ArgumentError(f"mesh_tiled takes alpha as a number, got {alpha!r}; choose it "
+                            "with pds.suggest_alpha(region) (alpha='auto' meshes the region "
+                            "more than once, which tiles do not)")
     alpha = check_alpha(alpha)
     seed = check_seed(seed)
     if graded:
