@@ -10,21 +10,28 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-_SECTION = re.compile(r"<!-- section: (?P<name>[\w./-]+) -->\n.*?<!-- /section: (?P=name) -->\n",
+# a name is one line of text without ">": "speed targets", "bench/batch.py"
+_SECTION = re.compile(r"<!-- section: (?P<name>[^\n>]+?) -->\n.*?<!-- /section: (?P=name) -->\n",
                       re.DOTALL)
 
 
 def put_section(path: Path, name: str, text: str) -> None:
-    """Replace section ``name`` of the file at ``path`` by ``text`` (append it if new)."""
+    """Replace section ``name`` of the file at ``path`` by ``text`` (append it if new);
+    further copies of the section, with the blank lines before them, are dropped."""
+    if not _SECTION.fullmatch(f"<!-- section: {name} -->\n<!-- /section: {name} -->\n"):
+        raise ValueError(f"a section name is one line without '>': {name!r}")
     block = f"<!-- section: {name} -->\n{text.rstrip()}\n<!-- /section: {name} -->\n"
     old = path.read_text() if path.exists() else ""
-    current = {m.group("name"): m for m in _SECTION.finditer(old)}
-    if name in current:
-        match = current[name]
-        new = old[:match.start()] + block + old[match.end():]
-    else:
-        new = old.rstrip("\n") + ("\n\n" if old else "") + block
-    path.write_text(new)
+    copies = [m for m in _SECTION.finditer(old) if m.group("name") == name]
+    if not copies:
+        path.write_text(old.rstrip("\n") + ("\n\n" if old else "") + block)
+        return
+    new = old[:copies[0].start()] + block
+    end = copies[0].end()
+    for match in copies[1:]:
+        new += old[end:match.start()].rstrip("\n") + "\n"
+        end = match.end()
+    path.write_text(new.rstrip("\n") + "\n" + old[end:])
 
 
 def kept_sections(path: Path) -> str:

@@ -105,7 +105,6 @@ def mesh_here(job):
 
 @pytest.mark.parametrize("job, message", [
     ({"axis": "z", "alpha": 0.1}, "no input"),
-    ({"input": "p.stl", "axis": "z"}, "no alpha"),
     ({"input": "p.stl", "axis": "z", "alpha": -1}, "alpha must be a positive number"),
     ({"input": "p.stl", "axis": "z", "alpha": "fine"}, "alpha must be a positive number"),
     ({"input": "p.stl", "axis": "w", "alpha": 0.1}, "axis must be one of x, y, z"),
@@ -140,6 +139,28 @@ def test_text_values_mean_the_same_as_typed_values(tmp_path):
     default = parse_job({"input": "p.stl", "axis": "z", "alpha": 0.25}, 0, tmp_path)
     assert dict(default.options)["conforming"] is True
     assert len(typed.outputs) == 2 and typed.outputs[0].endswith("_000.ply")
+
+
+@pytest.mark.parametrize("options, command_line", [
+    ({}, []),
+    ({"graded": False}, ["--uniform"]),
+    ({"alpha": 0.2}, ["--alpha", "0.2"]),
+    ({"alpha": 0.2, "graded": True}, ["--alpha", "0.2", "--graded"]),
+    ({"conforming": False}, ["--no-conforming"]),
+])
+def test_a_job_takes_alpha_and_grading_as_pds_mesh_does(options, command_line, tmp_path):
+    """A manifest row without alpha is meshed at alpha auto, graded, as pds-mesh is; with
+    any options the job is graded exactly when pds-mesh with the same options is."""
+    from pds_plugin.cli.arguments import parser, wants_graded
+
+    manifest = tmp_path / "jobs.csv"
+    manifest.write_text(",".join(["input", "axis", *options]) + "\n"
+                        + ",".join(["p.stl", "z", *map(str, options.values())]) + "\n")
+    settings = parse_job(read_manifest(manifest)[0], 0, tmp_path).settings
+    args = parser().parse_args(["mesh", "p.stl", "-o", "c.ply", "--axis", "z", *command_line])
+    assert settings["alpha"] == args.alpha
+    assert settings["graded"] is wants_graded(args)
+    assert settings["graded"] is (not options or options == {"alpha": 0.2, "graded": True})
 
 
 def test_manifests_in_json_lines_and_csv_give_the_same_jobs(tmp_path):

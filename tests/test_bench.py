@@ -27,6 +27,7 @@ import _metrics  # noqa: E402
 import _regions  # noqa: E402
 import _rows  # noqa: E402
 import _runners  # noqa: E402
+import _sections  # noqa: E402
 import _targets  # noqa: E402
 import peers  # noqa: E402
 
@@ -210,3 +211,22 @@ def test_speed_targets_drawing_is_the_373_hole_sheet_and_verdicts_follow_the_rat
     assert "**misses** by wall, **holds** by CPU" in verdicts  # 0.9 s wall, 0.45 s CPU
     assert "| 3.00× | **misses** |" in verdicts                # 300 / 100 vertices > 2×
     assert "2.00× CPU" in verdicts and "**misses**" in verdicts.splitlines()[-1]
+
+
+def test_a_section_is_replaced_not_appended(tmp_path):
+    """A script's section, its name with a space or a slash, is written once however often
+    the script runs; copies left by earlier runs go, and the rest of the file stays."""
+    page = tmp_path / "benchmarks.md"
+    page.write_text("# Benchmarks\n\ntext\n")
+    for run in range(3):
+        _sections.put_section(page, "speed targets", f"## Speed\n\nrun {run}")
+        _sections.put_section(page, "bench/batch.py", f"batch {run}")
+    text = page.read_text()
+    assert text.count("## Speed") == 1 and "run 2" in text and "run 1" not in text
+    assert text.count("batch ") == 1 and text.startswith("# Benchmarks\n\ntext\n\n")
+    speed = text[text.index("<!-- section: speed"):text.index("<!-- section: bench")]
+    page.write_text(text + "\n" + speed)                   # two copies, as the old writer left
+    _sections.put_section(page, "speed targets", "## Speed\n\nrun 3")
+    again = page.read_text()
+    assert again.count("## Speed") == 1 and "run 3" in again and again.count("batch 2") == 1
+    assert _sections.kept_sections(page).count("<!-- section:") == 2

@@ -57,7 +57,10 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     (22, "g05-torus-ring p3", "uniform auto"),
     # two cracks 1e-7 wide where the bracket's fillet met its legs: alpha 1/5000 of the
     # part, 23 GB of refinement boxes along the cracks, FAILED (tests/test_tolerance.py)
-    (24, "g14-bracket p1", "uniform auto")])
+    (24, "g14-bracket p1", "uniform auto"),
+    # read into a Trimesh, the export's float32 noise was taken for float64: every plane
+    # bent both ways between samples (tests/test_tolerance.py)
+    (24, "g18-cross-drilled-block p0", "graded auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

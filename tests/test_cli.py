@@ -254,21 +254,21 @@ def test_bad_grading_is_a_usage_error(part_stl, tmp_path, capsys, grading):
     assert "grading must be a number in (0, 1)" in one_error_line(capsys.readouterr().err)
 
 
-def test_a_spike_thinner_than_alpha_is_named_as_what_failed(tmp_path, capsys):
+def test_a_spike_thinner_than_alpha_is_an_exception_with_its_bound(tmp_path, capsys):
     """A 20-unit square with a 20° spike 6 long at alpha 3: its sides are too short to
     split beside the tip's clearance and too long for one chord. They are halved (before,
-    the spike's samples were left unjoined), so the mesh conforms, but the halves' samples
-    face each other across the spike closer than alpha: the warning says what failed
-    and where, one line each."""
+    the spike's samples were left unjoined), so the mesh conforms; the halves' samples,
+    alpha from the tip, face each other across it closer than alpha, which the
+    certificate now proves (before, it called them unexplained and FAILED): the warning
+    names the exception and its bound, and nothing failed."""
     drawing = tmp_path / "spike.svg"
     drawing.write_text('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 40 40">'
                        '<path d="M0 0H20V8.942L26 10L20 11.058V20H0Z"/></svg>')
     assert main([drawing, "-o", tmp_path / "u.ply", "--alpha", "3"]) == 0
-    failed, *problems = capsys.readouterr().err.splitlines()
-    assert failed == (f"pds-mesh: warning: {tmp_path / 'u.ply'}: "
-                      "certificate FAILED (sampling, quality)")
-    assert not any("not joined by a mesh edge" in p for p in problems)
-    assert any("closer than alpha" in p and "at (23, 30)" in p for p in problems)
+    warning, = capsys.readouterr().err.splitlines()
+    assert warning.startswith(f"pds-mesh: warning: {tmp_path / 'u.ply'}: 2 triangles below "
+                              "Theorem 1 at small features, each within its proven bound")
+    assert "sharp corner at (26, 30)" in warning and "FAILED" not in warning
 
 
 def test_too_large_alpha_warns_which_hole_is_lost_and_the_alpha_to_keep_it(part_stl,

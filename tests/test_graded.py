@@ -190,7 +190,8 @@ def test_a_user_sizing_is_combined_by_min():
 @pytest.mark.parametrize("options, error, message", [
     ({"grading": 1.0}, ArgumentError, "grading must lie in"),
     ({"grading": "steep"}, ArgumentTypeError, "grading must be a number"),
-    ({"sizing": 3.0}, ArgumentTypeError, "sizing must be a callable"),
+    ({"sizing": "fine"}, ArgumentTypeError, "sizing must be a number"),
+    ({"sizing": -3.0}, ArgumentError, "sizing must be a positive finite number"),
     ({"sizing": lambda x, y: -1 + 0 * x}, ArgumentError, "positive finite radii"),
     ({"conforming": False}, ArgumentError, "always conforming"),
     ({"refine": 0.5}, ArgumentError, "no option 'refine'"),
@@ -201,10 +202,26 @@ def test_bad_graded_options_are_named(options, error, message):
         pds.mesh_region(region, "auto", graded=True, **options)
 
 
-def test_grading_without_graded_is_refused():
-    region = pds.Region.from_shapely(box(0, 0, 4, 1))
-    with pytest.raises(ArgumentError, match="pass graded=True"):
-        pds.mesh_region(region, 0.5, grading=0.2)
+def test_a_sizing_or_a_grading_makes_the_mesh_graded_and_graded_false_refuses_them():
+    """graded=True is redundant beside a sizing or a grading: the same mesh, bit for bit,
+    with or without it; a number sizing is the largest radius, as alpha."""
+    region = pds.Region.from_shapely(box(0, 0, 4, 1).difference(box(1, 0.4, 3, 0.6)))
+    def same(a, b):
+        return np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+    assert same(pds.mesh_region(region, 0.5, grading=0.3),
+                pds.mesh_region(region, 0.5, graded=True, grading=0.3))
+    finer = pds.mesh_region(region, "auto", sizing=lambda x, y: 0.05 + 0.05 * x)
+    assert finer.field is not None and finer.certificate().ok
+    assert same(finer, pds.mesh_region(region, "auto", graded=True,
+                                       sizing=lambda x, y: 0.05 + 0.05 * x))
+    capped = pds.mesh_region(region, "auto", sizing=0.15)
+    assert same(capped, pds.mesh_region(region, 0.15, graded=True))
+    assert capped.alpha == 0.15 and capped.field(capped.vertices).max() <= 0.15
+    reused = pds.mesh_region(region, "auto", sizing=finer.field)
+    assert np.all(reused.field(reused.vertices) <= finer.field(reused.vertices))
+    assert pds.mesh_region(region, 0.5).field is None               # uniform without them
+    with pytest.raises(ArgumentError, match="drop graded=False"):
+        pds.mesh_region(region, 0.5, graded=False, grading=0.2)
 
 
 def test_a_budget_too_small_is_refused_with_what_to_do():

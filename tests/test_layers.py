@@ -4,8 +4,9 @@ Every import in src/pds_plugin is read with ast, function-level ones included (o
 ``if TYPE_CHECKING:`` blocks, which never run, are left out), and checked against the
 layers of the README's Layout section:
 
-    kernels, errors, checks -> region, boundary curves -> sampling, complex, sizing
-    -> graded sampling and complex -> mesh -> analysis, tags, quadratic
+    kernels, errors, checks -> region, boundary curves -> the stages' shared modules
+    (boundary sampling, local complex) -> sampling, complex, sizing -> graded sampling and
+    complex -> mesh -> analysis, tags, quadratic
     -> pipeline -> sources, sinks, partition -> workflows, batch, remeshing -> cli
     -> the package's lazy names
 """
@@ -29,15 +30,16 @@ LAYERS = [
     (1, "pds_plugin.errors"), (1, "pds_plugin.silence"), (1, "pds_plugin._atomic"),
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"), (3, "pds_plugin.boundary_curves"),
-    (4, "pds_plugin.sampling"), (4, "pds_plugin.complex"), (4, "pds_plugin.sizing"),
-    (5, "pds_plugin.graded_sampling"), (5, "pds_plugin.graded_complex"),
-    (6, "pds_plugin.mesh"),
-    (7, "pds_plugin.analysis"), (7, "pds_plugin.tags"), (7, "pds_plugin.quadratic"),
-    (8, "pds_plugin.pipeline"),
-    (9, "pds_plugin.sources"), (9, "pds_plugin.sinks"), (9, "pds_plugin.partition"),
-    (10, "pds_plugin.workflows"), (10, "pds_plugin.batch"), (10, "pds_plugin.remeshing"),
-    (11, "pds_plugin.cli"),
-    (12, "pds_plugin"),
+    (4, "pds_plugin.boundary_sampling"), (4, "pds_plugin.local_complex"),
+    (5, "pds_plugin.sampling"), (5, "pds_plugin.complex"), (5, "pds_plugin.sizing"),
+    (6, "pds_plugin.graded_sampling"), (6, "pds_plugin.graded_complex"),
+    (7, "pds_plugin.mesh"),
+    (8, "pds_plugin.analysis"), (8, "pds_plugin.tags"), (8, "pds_plugin.quadratic"),
+    (9, "pds_plugin.pipeline"),
+    (10, "pds_plugin.sources"), (10, "pds_plugin.sinks"), (10, "pds_plugin.partition"),
+    (11, "pds_plugin.workflows"), (11, "pds_plugin.batch"), (11, "pds_plugin.remeshing"),
+    (12, "pds_plugin.cli"),
+    (13, "pds_plugin"),
 ]
 # Packages whose modules may import each other (without cycles); sources and sinks,
 # on the same layer, may not import each other.

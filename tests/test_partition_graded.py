@@ -81,8 +81,10 @@ def test_graded_is_deterministic_and_uniform_stays_the_default():
     default, uniform = pds.mesh_regions(regions, 0.2), pds.mesh_regions(regions, 0.2, graded=False)
     assert default.field is None
     assert np.array_equal(default.vertices, uniform.vertices)
-    with pytest.raises(pds.errors.ArgumentError, match="graded=True"):
-        pds.mesh_regions(regions, 0.2, grading=0.3)
+    with pytest.raises(pds.errors.ArgumentError, match="drop graded=False"):
+        pds.mesh_regions(regions, 0.2, graded=False, grading=0.3)
+    by_grading = pds.mesh_regions(regions, "auto", seed=5, grading=0.2)   # graded=True implied
+    assert np.array_equal(by_grading.vertices, first.vertices)
 
 
 def test_graded_sampler_keeps_the_given_boundary_samples():

@@ -87,6 +87,19 @@ def test_mesh_tolerance_is_the_float_noise_or_the_chord_error():
 
 # --- sections of CAD exports: float32 noise and tessellated curves ---
 
+def test_an_stl_read_by_trimesh_has_the_tolerance_of_its_file():
+    """The usual call is ``pds.section(trimesh.load("part.stl"), ...)``: its vertices are
+    float32 numbers, noisy as the file's. Only a path counted as float32, so a Trimesh got
+    a float64 noise 1e9 times smaller, and every section of a held-out cross-drilled block
+    (seed 24) bent both ways between samples and FAILED."""
+    path = shared_file("7_8ths_cube.stl")
+    plane = dict(plane_origin=(0, 0, -16.51), plane_normal=(0, 0, 1))
+    from_file = pds.section(path, **plane)
+    from_trimesh = pds.section(trimesh.load(path), **plane)
+    assert from_trimesh.tolerance == from_file.tolerance
+    assert from_trimesh.geometry.equals_exact(from_file.geometry, 0.0)
+
+
 @pytest.mark.parametrize("height", [-16.51, -5.55])
 def test_float32_noise_of_a_cad_export_is_certified(height):
     path = shared_file("7_8ths_cube.stl")

@@ -166,7 +166,7 @@ cdef bint _seen_by_triangle(const double[:, ::1] points, Py_ssize_t i, Py_ssize_
 
 
 def seen_by_triangle(points, Py_ssize_t i, Py_ssize_t a, Py_ssize_t b, Py_ssize_t other,
-                     tuple vis) -> bool:
+                     vis) -> bool:
     """Does ``other`` see the inside of the triangle (i, a, b) (near one of its
     vertices)? Only those points count in the constrained empty-circle test."""
     cdef Chords ch = chords_of(vis)
@@ -273,7 +273,7 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
 
 
 def local_complex(points, double alpha, start, double x0, double y0, double h,
-                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, tuple vis,
+                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, vis,
                   bound=None):
     """Every triangle of ``points`` (binned: cell c holds points start[c]:start[c+1])
     with circumradius <= alpha and an empty circumcircle, found from its smallest

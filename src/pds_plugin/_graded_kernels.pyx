@@ -11,7 +11,7 @@ pyramid: only the pages of bins that get samples are ever written), ``nxt[q]`` t
 sample before q (-1: none). A sample q only matters within r(q) <= 2 hs[l], so a query looks at 5 x 5 bins
 per level at most, whatever the radii around it. The radius field is evaluated outside
 (sizing.py, ``_sizing_kernels``); the kernels get its values. Visibility is that of ``_visibility_kernels``
-(a ``vis`` bundle), with chords binned by their own reach (:func:`bin_chords_by_reach`).
+(a ``ChordBundle``), with chords binned by their own reach (:func:`bin_chords_by_reach`).
 
 Conventions of the kernel modules: see ``_parallel.pyx``.
 """
@@ -306,7 +306,7 @@ def place(new, new_radius, tuple bins, nxt, points, radius, Py_ssize_t count, do
 
 
 def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tuple bins, nxt,
-                      points, radius, Py_ssize_t count, double x0, double y0, tuple vis):
+                      points, radius, Py_ssize_t count, double x0, double y0, vis):
     """Insert the candidates in ``order`` wherever the variable-radius Poisson condition
     allows (:func:`_free`). Returns the new sample count."""
     cdef const double[:, ::1] cd = cand
@@ -330,7 +330,7 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
 
 
 def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, double x0,
-            double y0, tuple vis):
+            double y0, vis):
     """True for the candidates x that a sample already refuses whatever r(x) is in
     [low, high]: a sample q that x sees with |x - q| < min(low, r(q)) <= min(r(x), r(q)).
     Samples are only ever added, so :func:`insert_where_free` refuses them too; testing
@@ -396,7 +396,7 @@ cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double hi
 
 
 def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple bins, nxt,
-                    points, radius, double x0, double y0, tuple vis, Py_ssize_t since=0):
+                    points, radius, double x0, double y0, vis, Py_ssize_t since=0):
     """True for boxes [bx, bx+size]² that no single sample q covers and that are not in
     a chord's lens (:func:`_box_in_lens`): covering needs the box's farthest corner
     within min(r(q), low) and q to see all of the box that lies in the region (``low``

@@ -285,7 +285,7 @@ def darts_in_open_subcells(cells, rng, darts, grid, covered, double x0, double y
 
 
 def insert_where_free(cand, grid, nxt, covered, points, Py_ssize_t count, double alpha,
-                      double x0, double y0, double s, tuple vis):
+                      double x0, double y0, double s, vis):
     """Insert the candidates in order wherever the Poisson condition allows.
 
     Returns the new sample count.
@@ -323,7 +323,7 @@ cdef void _sort_by(const double *key, Py_ssize_t *index, Py_ssize_t m) noexcept 
 
 def sample_boundary_pieces(start, direction, length, order, u, grid, nxt, covered, points,
                            Py_ssize_t count, double alpha, double margin, double x0, double y0,
-                           double s, tuple vis):
+                           double s, vis):
     """Maximal 1D sampling of the boundary pieces (each shorter than alpha).
 
     Pieces are visited in ``order``; on each, the part farther than ``alpha`` from
@@ -447,7 +447,7 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
 
 
 def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points,
-                double alpha, double x0, double y0, double s, tuple vis, work):
+                double alpha, double x0, double y0, double s, vis, work):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
     each that is in the region and at least alpha from every sample so far. Returns
     the kept darts' indices, increasing (:func:`place_all` adds them: the caller makes
@@ -562,7 +562,7 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
 
 
 def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,
-              double y0, double s, tuple vis):
+              double y0, double s, vis):
     """Add the samples ``new`` as samples count, count + 1, ... (linked into their cells
     in that order), and mark what their discs cover."""
     cdef const double[:, ::1] nw = new
@@ -646,7 +646,7 @@ cdef bint _box_covered(Py_ssize_t ix, Py_ssize_t iy, double x_lo, double y_lo, d
 
 
 def open_boxes(parent, sub_x, sub_y, double size, status, tuple domain, grid, nxt, points,
-               double alpha, tuple vis, double x0, double y0, double s, bx, by, work):
+               double alpha, vis, double x0, double y0, double s, bx, by, work):
     """The boxes of a refinement level still to get a dart: box k is the child
     (sub_x[k], sub_y[k]), of side ``size``, of level-0 cell ``parent[k]``; it stays open
     if no single disc contains it whole (and its sample sees it) and, in a BOUNDARY
@@ -687,7 +687,7 @@ def open_boxes(parent, sub_x, sub_y, double size, status, tuple domain, grid, nx
 
 
 def split_uncovered(parent, sub_x, sub_y, bx, by, double size, Py_ssize_t first, grid, nxt,
-                    points, double alpha, tuple vis, child_parent, child_sub_x, child_sub_y,
+                    points, double alpha, vis, child_parent, child_sub_x, child_sub_y,
                     work):
     """Split in four the boxes (as in :func:`open_boxes`) that no single disc of a sample
     numbered ``first`` or later contains (the earlier samples are known not to): the

@@ -1,7 +1,7 @@
 from libc.stdint cimport int64_t
 
 cdef struct Chords:
-    # the chords of a ``vis`` bundle (see _visibility_kernels.pyx), as raw pointers into
+    # the chords of a ChordBundle (see _visibility_kernels.pyx), as raw pointers into
     # the bundle's arrays (the caller keeps the bundle alive)
     const double *xy            # (m, 2, 2): chord e runs from xy[e, 0] to xy[e, 1]
     const int64_t *prev         # (m,): the chord before chord e along its ring
@@ -47,7 +47,7 @@ cdef inline void mark_cell(CellMarks *m, Py_ssize_t c) noexcept nogil:
         m.fill[c] += 1
 
 
-cdef Chords chords_of(tuple vis) except *
+cdef Chords chords_of(vis) except *
 cdef int orient_sign(double ax, double ay, double bx, double by, double cx,
                      double cy) noexcept nogil
 cdef bint sees_near_chords(double ax, double ay, Py_ssize_t a_out, double bx, double by,

@@ -12,9 +12,9 @@ cell lists every chord within ``reach`` of any of its points, so every visibilit
 question about points within ``reach`` of a point of the cell is answered from its list
 alone. Far from the boundary the lists are empty and every test is a single lookup.
 
-Python passes the chords around as a ``vis`` bundle (a tuple, :func:`no_chords`,
-:func:`chord_bundle`); the sampling and complex kernels read it as a :c:type:`Chords`
-struct (``chords_of``) and call the ``nogil`` tests of this module.
+Python passes the chords around as a :class:`ChordBundle` (its fields named, made by
+:func:`no_chords` and :func:`chord_bundle`); the sampling and complex kernels read it as
+a :c:type:`Chords` struct (``chords_of``) and call the ``nogil`` tests of this module.
 
 Orientation signs are exact: a floating-point filter with Shewchuk's error bound and an
 exact expansion fallback. Conventions of the kernel modules: see ``_parallel.pyx``.
@@ -22,6 +22,8 @@ exact expansion fallback. Conventions of the kernel modules: see ``_parallel.pyx
 >>> orient(0.0, 0.0, 1.0, 0.0, 0.5, 1e-300), orient(0.0, 0.0, 1.0, 1.0, 3.0, 3.0)
 (1, 0)
 """
+
+from collections import namedtuple
 
 import numpy as np
 
@@ -162,22 +164,52 @@ def bin_chords(chords, double x0, double y0, double h, Py_ssize_t nx, Py_ssize_t
     return bin_chords_by(chords, np.full(len(chords), reach), grid, _cells_along)
 
 
-cdef Chords chords_of(tuple vis) except *:
-    """The struct view of a ``vis`` bundle (its arrays must outlive the struct)."""
+ChordBundle = namedtuple("ChordBundle", ["xy", "prev", "out", "start", "items",
+                                         "x0", "y0", "h", "nx", "ny"])
+ChordBundle.__doc__ = """The chords of a region's boundary and the grid they are binned in, as
+the kernels take them (``vis``).
+
+Made by :func:`chord_bundle` (the rings' chords) or :func:`no_chords` (none: every point
+sees every point); a field is changed with ``bundle._replace(out=...)``.
+
+Attributes
+----------
+xy : (m, 2, 2) float ndarray
+    Chord e runs from ``xy[e, 0]`` to ``xy[e, 1]``, the region on its left.
+prev : (m,) int64 ndarray
+    The chord before chord e along its ring.
+out : (n,) int64 ndarray
+    Each point's outgoing chord, -1 for a point on no ring (indexed like the points the
+    kernel is given: reorder it with them).
+start, items : int64 ndarray
+    CSR lists of the chords near each cell of the grid, ``start`` (nx * ny + 1,).
+x0, y0, h : float
+    The grid's lower left corner and cell side.
+nx, ny : int
+    Its cells along x and y.
+
+>>> bundle = no_chords(3)
+>>> bundle.out.tolist(), bundle.nx, len(bundle.xy)
+([-1, -1, -1], 1, 0)
+"""
+
+
+cdef Chords chords_of(vis) except *:
+    """The struct view of a :class:`ChordBundle` (its arrays must outlive the struct)."""
     cdef Chords c
-    cdef const double[:, :, ::1] xy = vis[0]
-    cdef const int64_t[::1] prev = vis[1]
-    cdef const int64_t[::1] out = vis[2]
-    cdef const int64_t[::1] start = vis[3]
-    cdef const int64_t[::1] items = vis[4]
+    cdef const double[:, :, ::1] xy = vis.xy
+    cdef const int64_t[::1] prev = vis.prev
+    cdef const int64_t[::1] out = vis.out
+    cdef const int64_t[::1] start = vis.start
+    cdef const int64_t[::1] items = vis.items
     c.empty = start.shape[0] <= 1
     c.xy = &xy[0, 0, 0] if xy.shape[0] else NULL
     c.prev = &prev[0] if prev.shape[0] else NULL
     c.out = &out[0] if out.shape[0] else NULL
     c.start = &start[0]
     c.items = &items[0] if items.shape[0] else NULL
-    c.x0, c.y0, c.h = vis[5], vis[6], vis[7]
-    c.nx, c.ny = vis[8], vis[9]
+    c.x0, c.y0, c.h = vis.x0, vis.y0, vis.h
+    c.nx, c.ny = vis.nx, vis.ny
     return c
 
 
@@ -360,18 +392,17 @@ cdef bint box_seen_near_chords(double px, double py, Py_ssize_t p_out, double bx
 
 
 def no_chords(n_points=0):
-    """The ``vis`` bundle of an unconstrained point set: every point sees every point.
-
-    ``vis`` is (chords (m, 2, 2), chord_prev (m,), out_chord (n,), start, items, x0, y0,
-    h, nx, ny): the chords, each sample's outgoing chord (-1 if none) and the chord grid.
-    """
-    return (np.empty((0, 2, 2)), np.empty(0, np.int64), np.full(n_points, -1, np.int64),
-            np.zeros(1, np.int64), np.empty(0, np.int64), 0.0, 0.0, 1.0, 1, 1)
+    """The :class:`ChordBundle` of an unconstrained point set: every point sees every
+    point (no chord; ``out`` is -1 for each of the ``n_points``)."""
+    return ChordBundle(np.empty((0, 2, 2)), np.empty(0, np.int64),
+                       np.full(n_points, -1, np.int64), np.zeros(1, np.int64),
+                       np.empty(0, np.int64), 0.0, 0.0, 1.0, 1, 1)
 
 
 def chord_bundle(points, rings, n_points, reach):
-    """The ``vis`` bundle of the chords along ``rings`` (sequences of indices into
-    ``points``, each ring with the region on its left and at least 3 samples)."""
+    """The :class:`ChordBundle` of the chords along ``rings`` (sequences of indices into
+    ``points``, each ring with the region on its left and at least 3 samples), binned
+    within ``reach`` of each cell."""
     starts, prevs, outs = [], [], np.full(n_points, -1, np.int64)
     total = 0
     for ring in rings:
@@ -394,8 +425,8 @@ def chord_bundle(points, rings, n_points, reach):
     h = reach / 2.0
     nx, ny = (int(v) + 1 for v in (hi - lo) / h)
     start, items = bin_chords(chords, lo[0], lo[1], h, nx, ny, reach)
-    return (chords, np.concatenate(prevs), outs, start, items, float(lo[0]), float(lo[1]),
-            float(h), nx, ny)
+    return ChordBundle(chords, np.concatenate(prevs), outs, start, items, float(lo[0]),
+                       float(lo[1]), float(h), nx, ny)
 
 
 # ---- Inside the region bounded by the chords: exact point and box tests ----------------
@@ -486,7 +517,7 @@ cdef int _crossings(const Chords *c, Py_ssize_t k, bint vertical, double line, d
     return parity
 
 
-def cell_sides(tuple vis):
+def cell_sides(vis):
     """The side of each cell of the chord grid, int8 (ny * nx,): 1 for a cell inside
     the region bounded by the chords, 0 outside, -1 for a cell with chords listed (near
     the boundary). The argument of :func:`points_inside` and :func:`boxes_state`.
@@ -625,7 +656,7 @@ cdef int box_state(const Chords *c, const int8_t *sides, double bx, double by,
     return C_BOX_INSIDE if point_inside(c, sides, bx, by) else C_BOX_OUTSIDE
 
 
-def points_inside(tuple vis, sides, x, y):
+def points_inside(vis, sides, x, y):
     """True for the points (x, y) strictly inside the region bounded by the chords of
     ``vis`` (a point on a chord is not inside: shapely's ``contains_xy``). ``sides``
     from :func:`cell_sides`.
@@ -648,7 +679,7 @@ def points_inside(tuple vis, sides, x, y):
     return inside_array
 
 
-def boxes_state(tuple vis, sides, bx, by, size):
+def boxes_state(vis, sides, bx, by, size):
     """Where each closed box [bx, bx+size] x [by, by+size] lies against the region
     bounded by the chords of ``vis``: int8, 0 outside (shapely's ``intersects`` is
     False), 1 crossing or touching a chord, 2 inside (``contains_properly``). ``size``

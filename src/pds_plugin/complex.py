@@ -4,39 +4,25 @@ Every triangle of the solid alpha-complex has circumradius <= alpha, so its edge
 at most 2 alpha long and its circumcircle holds no other point within alpha of its
 centre. With the points binned in cells of side alpha, each point's triangles are found
 among its neighbours within 2 alpha and checked against the points of 3x3 cells, with no
-global Delaunay triangulation: linear time, in parallel over the points.
-
-The empty-circle test is exact. A floating-point test with a proven error bound settles
-almost every case; the rest are redone in rational arithmetic, and ties (four or more
-cocircular points) are broken by symbolic perturbation (Edelsbrunner and Mücke's
-simulation of simplicity, a lifting perturbation that decreases with the point index).
-The result is always part of one Delaunay triangulation: no overlaps, every edge shared
-by at most two triangles.
-
-Given the ``boundary`` (rings of points joined by chords, the region on their left) the
-complex is *constrained*: a triangle's edges must run through the region bounded by the
-chords, no chord may be an edge with the triangle on its outer side, and only points
-that see a vertex of the triangle through the region count in the empty-circle test
-(a constrained Delaunay triangulation, docs/conforming.md). The chords are looked up in a
-grid, only near the boundary.
+global Delaunay triangulation: linear time, in parallel over the points. The search,
+its exact empty-circle test and the constraint by the boundary's chords are
+:mod:`.local_complex`'s, shared with the graded complex (:mod:`.graded_complex`).
 """
 
 from __future__ import annotations
-
-from fractions import Fraction
 
 import numpy as np
 
 from . import _complex_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha
-from .errors import ArgumentError, ArgumentTypeError, BudgetError
+from .errors import BudgetError
+from .local_complex import check_distinct, checked_points, checked_rings, local_faces
 
 __all__ = ["solid_alpha_complex"]
 
 _MAX_CELLS = 200_000_000
 _MAX_NEIGHBOURS = 256      # points within 2 alpha of one point: the local work grows as its cube
-_MAX_UNSURE = 5000         # triangles left to the exact (rational) empty-circle test
 
 
 def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
@@ -84,9 +70,9 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
     >>> solid_alpha_complex(notch, 3.0, boundary=[[0, 1, 2, 3, 4]]).tolist()
     [[0, 1, 3], [0, 3, 4], [1, 2, 3]]
     """
-    points = _checked_points(points)
+    points = checked_points(points)
     alpha = check_alpha(alpha)
-    rings = _checked_rings(boundary, len(points))
+    rings = checked_rings(boundary, len(points))
     if len(points) < 3:
         return np.empty((0, 3), np.int64)
     h = alpha
@@ -102,37 +88,10 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
     order, start = kern.bin_points(points, x0, y0, h, nx, ny)
     _check_work(points, alpha, np.diff(start).reshape(ny, nx))
     binned = points[order]                       # cell by cell: local memory access
-    _check_distinct(binned, order, start)
+    check_distinct(binned, order, start)
     vis = vis_kern.chord_bundle(points, rings, len(points), 2 * alpha)
-    vis = vis[:2] + (np.ascontiguousarray(vis[2][order]),) + vis[3:]   # indexed like binned
-    return order[_local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha)]
-
-
-def _local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None):
-    """The triangles of the local complex of the binned points (``kern.local_complex``,
-    with room for more neighbours until it completes), cocircular ties settled exactly;
-    positions in ``binned``. With ``bound`` (graded complexes) a triangle is kept when its
-    circumradius is at most the smallest bound of its vertices."""
-    max_neighbours = 64
-    while True:
-        faces, flags, complete = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
-                                                    max_neighbours, vis, bound)
-        if complete:
-            break
-        max_neighbours *= 4
-    unsure = np.flatnonzero(flags == kern.UNSURE)
-    if len(unsure) > _MAX_UNSURE:
-        raise BudgetError(f"{len(unsure)} candidate triangles have four or more cocircular "
-                          f"points (a circle or lattice of points), more than the {_MAX_UNSURE} "
-                          f"the exact tie-break settles in reasonable time; perturb the points "
-                          f"slightly or use a smaller alpha")
-    if len(unsure):
-        keep = np.ones(len(faces), bool)
-        keep[unsure] = [_exactly_empty(binned, order, f, start, x0, y0, h, nx, ny, vis,
-                                       None if bound is None else float(bound[f].max()))
-                        for f in faces[unsure]]
-        faces = faces[keep]
-    return faces
+    vis = vis._replace(out=np.ascontiguousarray(vis.out[order]))     # indexed like binned
+    return order[local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha)]
 
 
 def _check_work(points, alpha, counts) -> None:
@@ -164,116 +123,3 @@ def _check_work(points, alpha, counts) -> None:
                           f"more than {_MAX_NEIGHBOURS} (a Poisson sampling has about 20): alpha "
                           f"is far larger than the points' spacing; use a smaller alpha (or "
                           f"subsample the points)")
-
-
-def _checked_points(points) -> np.ndarray:
-    try:
-        points = np.array(points, dtype=float)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError("points must be an (N, 2) array of numbers") from None
-    if points.ndim != 2 or points.shape[1] != 2:
-        raise ArgumentError(f"points must be an (N, 2) array, got shape {points.shape}")
-    if not np.isfinite(points).all():
-        raise ArgumentError("points contain NaN or infinite coordinates")
-    return np.ascontiguousarray(points)
-
-
-def _checked_rings(boundary, n) -> list[np.ndarray]:
-    if boundary is None:
-        return []
-    rings = []
-    for ring in boundary:
-        ring = np.asarray(ring)
-        if ring.ndim != 1 or len(ring) < 3 or not np.issubdtype(ring.dtype, np.integer):
-            raise ArgumentError("each boundary ring must be a sequence of at least 3 point indices")
-        if ring.min() < 0 or ring.max() >= n or len(np.unique(ring)) != len(ring):
-            raise ArgumentError(f"boundary ring indices must be distinct and in [0, {n}); "
-                                f"got {ring.tolist()[:8]}")
-        rings.append(ring.astype(np.int64))
-    return rings
-
-
-def _check_distinct(binned, order, start):
-    """Duplicate points make the Delaunay triangulation undefined: refuse them."""
-    p, q = kern.first_duplicate(binned, start)
-    if p >= 0:
-        i, j = sorted((int(order[p]), int(order[q])))
-        raise ArgumentError(f"points {i} and {j} are the same point {tuple(binned[p].tolist())}; "
-                         "remove duplicates first (e.g. numpy.unique(points, axis=0))")
-
-
-def _exactly_empty(binned, order, face, start, x0, y0, h, nx, ny, vis, radius=None) -> bool:
-    """The empty-circle test of one counter-clockwise face (positions in ``binned``), in
-    exact arithmetic, ties broken by the points' original indices ``order``; only the
-    points that see the face count (``vis``). The circumradius is at most ``h`` (the
-    cells around the circumcentre's hold every point in the circle), or at most
-    ``radius`` when given (graded complexes: as many cells as that takes)."""
-    a, b, c = (binned[v] for v in face)
-    # circumcentre (floating point is fine here: it only selects the cells to look in)
-    bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
-    cross = 2.0 * (bx * cy - by * cx)
-    ux = a[0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
-    uy = a[1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
-    ix, iy = int(np.floor((ux - x0) / h)), int(np.floor((uy - y0) / h))
-    cells = 1 if radius is None else int(np.ceil(radius / h)) + 1
-    corners = [(binned[v], int(order[v])) for v in face]
-    for jy in range(max(iy - cells, 0), min(iy + cells + 1, ny)):
-        for jx in range(max(ix - cells, 0), min(ix + cells + 1, nx)):
-            for m in range(start[jy * nx + jx], start[jy * nx + jx + 1]):
-                if (m not in face and _inside_perturbed(*corners, (binned[m], int(order[m])))
-                        and kern.seen_by_triangle(binned, *face, m, vis)):
-                    return False
-    return True
-
-
-def _inside_perturbed(a, b, c, d) -> bool:
-    """Is point d inside the circle through counter-clockwise a, b, c? Each argument is
-    (xy, index). Exact; ties are broken by lifting each point by -eps**index (the
-    smaller the index, the larger the perturbation)."""
-    sign = _incircle_sign_filtered(a[0], b[0], c[0], d[0])
-    if sign:
-        return sign > 0
-    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = ((tuple(map(Fraction, xy)), i) for xy, i in (a, b, c, d))
-    adx, ady = pa[0] - pd[0], pa[1] - pd[1]
-    bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
-    cdx, cdy = pc[0] - pd[0], pc[1] - pd[1]
-    bc = bdx * cdy - bdy * cdx
-    ca = cdx * ady - cdy * adx
-    ab = adx * bdy - ady * bdx
-    det = (adx * adx + ady * ady) * bc + (bdx * bdx + bdy * bdy) * ca + (cdx * cdx + cdy * cdy) * ab
-    if det != 0:
-        return det > 0
-    # d's coefficient, bc + ca + ab, is twice the triangle's area: never zero
-    coefficient = {ia: -bc, ib: -ca, ic: -ab, id_: bc + ca + ab}
-    return next(coefficient[i] > 0 for i in sorted(coefficient) if coefficient[i] != 0)
-
-
-_INCIRCLE_BOUND = (10 + 96 * 2.0 ** -53) * 2.0 ** -53
-"""Shewchuk's error bound A of the floating-point incircle determinant, relative to its
-permanent (Adaptive Precision Floating-Point Arithmetic, 1997: ``iccerrboundA``)."""
-
-
-def _incircle_sign_filtered(pa, pb, pc, pd) -> int:
-    """The sign of the incircle determinant of four points in floating point, when its
-    error bound decides it; 0 when it does not (the caller then computes it exactly).
-
-    Examples
-    --------
-    >>> inside = _incircle_sign_filtered((0, 0), (1, 0), (0, 1), (0.5, 0.5))
-    >>> cocircular = _incircle_sign_filtered((0, 0), (1, 0), (0, 1), (1, 1))
-    >>> inside, cocircular
-    (1, 0)
-    """
-    adx, ady = float(pa[0]) - float(pd[0]), float(pa[1]) - float(pd[1])
-    bdx, bdy = float(pb[0]) - float(pd[0]), float(pb[1]) - float(pd[1])
-    cdx, cdy = float(pc[0]) - float(pd[0]), float(pc[1]) - float(pd[1])
-    bc, cb = bdx * cdy, cdx * bdy
-    ca, ac = cdx * ady, adx * cdy
-    ab, ba = adx * bdy, bdx * ady
-    alift, blift, clift = adx * adx + ady * ady, bdx * bdx + bdy * bdy, cdx * cdx + cdy * cdy
-    det = alift * (bc - cb) + blift * (ca - ac) + clift * (ab - ba)
-    permanent = (alift * (abs(bc) + abs(cb)) + blift * (abs(ca) + abs(ac))
-                 + clift * (abs(ab) + abs(ba)))
-    if abs(det) > _INCIRCLE_BOUND * permanent:
-        return 1 if det > 0 else -1
-    return 0

@@ -5,7 +5,7 @@ min_v r(v) / (1 - L) over their three vertices v.
 This keeps every triangle with ρ <= r at its circumcentre z (r(v) >= r(z) - L ρ), and
 the angle bound of docs/graded.md holds for it as it is: the shortest edge pq has
 |pq| >= min(r(p), r(q)) >= (1 - L) ρ. It needs r only at the samples. The search is the
-uniform complex's (``_complex_kernels.local_complex``) with a bound per point: a kept
+uniform complex's (:mod:`.local_complex`) with a bound per point: a kept
 triangle is found from its smallest vertex i among the points within 2 r(i) / (1 - L).
 Near-cocircular ties are settled exactly, as the uniform complex does (complex.py).
 """
@@ -17,17 +17,15 @@ import math
 import numpy as np
 
 from . import _complex_kernels as ckern
-from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_grading
-from .complex import _check_distinct, _checked_points, _checked_rings, _local_faces
+from .boundary_sampling import chord_reach, graded_chords
 from .errors import ArgumentError
+from .local_complex import check_distinct, checked_points, checked_rings, local_faces
 
 __all__ = ["graded_alpha_complex"]
 
 _MAX_BINS = 4_000_000
-_MAX_CHORD_ENTRIES = 1_000_000
-_CHORD_CELLS = 32            # as graded_sampling._CHORD_CELLS
 
 
 def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np.ndarray:
@@ -67,13 +65,13 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np
     >>> graded_alpha_complex(square, [0.8, 0.8, 0.8, 0.5], 0.2).tolist()  # at 3: 0.707 > 0.5 / 0.8
     [[0, 1, 2]]
     """
-    points = _checked_points(points)
+    points = checked_points(points)
     grading = check_grading(grading)
     radius = np.asarray(radius, float).reshape(-1)
     if len(radius) != len(points) or not (np.isfinite(radius).all() and (radius > 0).all()):
         raise ArgumentError(f"radius must hold one positive finite value per point "
                             f"({len(points)}), got {len(radius)} values")
-    rings = _checked_rings(boundary, len(points))
+    rings = checked_rings(boundary, len(points))
     if len(points) < 3:
         return np.empty((0, 3), np.int64)
     bound = radius / (1.0 - grading) * (1 + 1e-12)
@@ -84,33 +82,23 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np
     nx, ny = (int(v) + 1 for v in (hi - lo) / h)
     order, start = ckern.bin_points(points, lo[0], lo[1], h, nx, ny)
     binned = np.ascontiguousarray(points[order])
-    _check_distinct(binned, order, start)
-    vis = _chord_vis(points, rings, radius, grading)
-    vis = vis[:2] + (np.ascontiguousarray(vis[2][order]),) + vis[3:]
+    check_distinct(binned, order, start)
+    vis = _chords(points, rings, radius, grading)
+    vis = vis._replace(out=np.ascontiguousarray(vis.out[order]))     # indexed like binned
     bound = np.ascontiguousarray(bound[order])
-    return order[_local_faces(binned, order, start, lo[0], lo[1], h, nx, ny, vis,
-                              float(bound.max()), bound)]
+    return order[local_faces(binned, order, start, lo[0], lo[1], h, nx, ny, vis,
+                             float(bound.max()), bound)]
 
 
-def _chord_vis(points, rings, radius, grading):
-    """The ``vis`` bundle of the rings' chords, each binned within the reach a kept
-    triangle's edge can have from it: a segment of a triangle kept at circumcentre z has
-    length <= 2 r(z) / (1 - L) from any chord point it meets, with r there at most the
-    chord's larger end radius plus L times half its length."""
+def _chords(points, rings, radius, grading):
+    """The rings' chords, each binned within its reach
+    (:func:`.boundary_sampling.chord_reach`) on a grid over the points grown by the
+    largest reach, of cells at least the smallest r."""
     if not rings:
         return vis_kern.no_chords(len(points))
-    a = np.concatenate(rings)
-    b = np.concatenate([np.roll(ring, -1) for ring in rings])
-    length = np.hypot(*(points[b] - points[a]).T)
-    vis = vis_kern.chord_bundle(points, rings, len(points), float(length.max()))
-    reach = (2.0 * (np.maximum(radius[a], radius[b]) + 0.5 * grading * length)
-             / (1.0 - grading) * (1 + 1e-9))
+    reach = chord_reach(points, rings, radius, grading)
     lo = points.min(axis=0) - reach.max()
     hi = points.max(axis=0) + reach.max()
-    entries = np.sum((length + 2 * reach) ** 2)
-    h = max(float(radius.min()), math.sqrt(entries / min(_MAX_CHORD_ENTRIES,
-                                                          _CHORD_CELLS * len(length))),
-            math.sqrt(float(np.prod(hi - lo)) / _MAX_BINS))
-    nx, ny = (int(v) + 1 for v in (hi - lo) / h)
-    start, items = kern.bin_chords_by_reach(vis[0], reach, lo[0], lo[1], h, nx, ny)
-    return vis[:3] + (start, items, float(lo[0]), float(lo[1]), float(h), nx, ny)
+    smallest = max(float(radius.min()), math.sqrt(float(np.prod(hi - lo)) / _MAX_BINS))
+    return graded_chords(points, rings, reach, len(points), float(lo[0]), float(lo[1]),
+                         *(hi - lo), smallest)

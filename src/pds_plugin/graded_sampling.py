@@ -32,17 +32,16 @@ from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
-from .sampling import (_RESOLUTION, DEFAULT_MAX_SAMPLES, Samples, _along, _given_boundary,
-                       _guards, _joined, _onto_curves, check_rings_apart, corner_clearance)
+from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
+                                graded_chords, guard_candidates, joined, onto_curves)
+from .sampling import DEFAULT_MAX_SAMPLES, Samples, check_rings_apart, corner_clearance
 from .sizing import RadiusField
 
 __all__ = ["graded_poisson_disc"]
 
 _PASSES = 3
-_TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
+TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0.3 r
 _MAX_BINS = 4_000_000
-_MAX_CHORD_ENTRIES = 1_000_000
-_CHORD_CELLS = 32            # cells of the chord grid a chord is listed in, on average, at most
                              # (a grid of half the smallest radius listed small sections' chords
                              # in a million cells: 17 ms of binning per section, issue 21)
 _MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per allowed sample
@@ -97,7 +96,7 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     max_samples = check_positive_int(max_samples, "max_samples")
     check_rings_apart(region)
     if boundary_samples is not None:
-        boundary_samples = _given_boundary(region, boundary_samples, True)
+        boundary_samples = given_boundary(region, boundary_samples, True)
     rng = np.random.default_rng(seed)
     sampler = _GradedSampler(region, field, max_samples)
     n_boundary = sampler.add_boundary(feature_angle, rng, boundary_samples)
@@ -153,7 +152,7 @@ def _next_index(ring):
     return following
 
 
-def _positions(tau, corners, after, before, unit, rng):
+def tau_positions(tau, corners, after, before, unit, rng):
     """Positions (in τ) of a ring's boundary samples, increasing: its sharp corners (or
     one random point if it has none) and each piece between them split into the most
     equal parts of τ-length at least ``unit``, so in [unit, 2 unit) when the piece is at
@@ -161,7 +160,7 @@ def _positions(tau, corners, after, before, unit, rng):
     part longer than √3 r needs a guard, which a neighbouring sample can refuse); at
     least three in all. A piece whose first part must be longer than ``unit`` (``after``
     its corner) or whose last part must (``before`` the next: :func:`_corner_clearance`)
-    is split by :func:`_cleared_piece` instead."""
+    is split by :func:`cleared_piece` instead."""
     length = tau[-1]
     if not len(corners):
         corners, after, before = np.array([rng.random() * length]), [unit], [unit]
@@ -174,7 +173,7 @@ def _positions(tau, corners, after, before, unit, rng):
     piece = np.repeat(np.arange(len(lo)), parts - 1)
     k = np.arange(len(piece)) - np.repeat(np.cumsum(parts - 1) - (parts - 1), parts - 1) + 1
     inner = [lo[piece] + span[piece] * k / parts[piece]]
-    inner += [_cleared_piece(lo[i], span[i], first[i], last[i], unit)
+    inner += [cleared_piece(lo[i], span[i], first[i], last[i], unit)
               for i in np.flatnonzero(cleared)]
     at = np.sort(np.concatenate([corners, *inner]) % length)
     while len(at) < 3:                       # a ring smaller than r: keep it a ring
@@ -184,7 +183,7 @@ def _positions(tau, corners, after, before, unit, rng):
     return at
 
 
-def _cleared_piece(lo, span, first, last, unit):
+def cleared_piece(lo, span, first, last, unit):
     """The inner positions of a piece [lo, lo + span] whose first part must be at least
     ``first`` and last part at least ``last`` long (τ): as many parts as fit with the
     others at least ``unit``, split as equally as those two bounds allow (the inner
@@ -198,9 +197,9 @@ def _cleared_piece(lo, span, first, last, unit):
 
     Examples
     --------
-    >>> _cleared_piece(0.0, 10.0, 3.0, 1.0, 1.0).tolist()     # 3, then parts of 1
+    >>> cleared_piece(0.0, 10.0, 3.0, 1.0, 1.0).tolist()     # 3, then parts of 1
     [3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
-    >>> _cleared_piece(0.0, 7.5, 2.0, 1.0, 1.0).round(6).tolist()   # 2, then 5 parts of 1.1
+    >>> cleared_piece(0.0, 7.5, 2.0, 1.0, 1.0).round(6).tolist()   # 2, then 5 parts of 1.1
     [2.0, 3.1, 4.2, 5.3, 6.4]
     """
     rest = span - first - last
@@ -241,9 +240,9 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit, vertex, grading):
     k = corner_clearance(np.pi - np.asarray(turn, float), 1.0)
     after, before = np.full(len(corner), unit), np.full(len(corner), unit)
     for c in np.flatnonzero(k > 1.0):
-        sides = [_side(dense, tau, corner[c], corner[(c + 1) % len(corner)], 1, length),
-                 _side(dense, tau, corner[c], corner[c - 1], -1, length)]
-        legs = [_leg(dense, radius, side, k[c]) for side in sides]
+        sides = [corner_side(dense, tau, corner[c], corner[(c + 1) % len(corner)], 1, length),
+                 corner_side(dense, tau, corner[c], corner[c - 1], -1, length)]
+        legs = [corner_leg(dense, radius, side, k[c]) for side in sides]
         if all(leg is not None for leg in legs) and any(
                 vertex[side[0][1:leg[2] + 1]].any() for side, leg in zip(sides, legs)):
             legs = _chord_angle_clearance(dense, radius, sides, legs, k[c])
@@ -253,7 +252,7 @@ def _corner_clearance(dense, radius, tau, corner, turn, unit, vertex, grading):
     return after, before
 
 
-def _side(dense, tau, start, stop, step, length):
+def corner_side(dense, tau, start, stop, step, length):
     """The dense points from a corner to the next (``step`` 1) or previous (-1) corner:
     their indices and τ from the corner."""
     n = len(dense)
@@ -264,12 +263,12 @@ def _side(dense, tau, start, stop, step, length):
     return walk, position
 
 
-def _leg(dense, radius, side, k):
+def corner_leg(dense, radius, side, k):
     """Where along ``side`` |p - c| first reaches 1.02 k r(p): (τ, point, the index of
     the dense point before it within the side), or None if it never does."""
     walk, position = side
     apart = np.hypot(*(dense[walk] - dense[walk[0]]).T)
-    g = apart - _TAU_MARGIN * k * radius[walk]
+    g = apart - TAU_MARGIN * k * radius[walk]
     j = int(np.argmax(g >= 0))          # g[0] = -k r(c) < 0
     if not j:
         return None
@@ -296,14 +295,14 @@ def _tip_kept(dense, radius, sides, legs, k, grading):
         edges = math.hypot(*(p - q)) * math.hypot(*(p - c)) * math.hypot(*(q - c))
         area = abs((p[0] - c[0]) * (q[1] - c[1]) - (p[1] - c[1]) * (q[0] - c[0])) / 2
         r = [np.interp(leg[0], side[1], radius[side[0]]) for side, leg in zip(sides, legs)]
-        return edges > 4 * area * min(rc, *r) / (1 - grading) / _TAU_MARGIN
+        return edges > 4 * area * min(rc, *r) / (1 - grading) / TAU_MARGIN
 
     if not too_big(legs):
         return legs
     low, high, kept = 0.0, 1.0, None
     for _ in range(30):
         middle = 0.5 * (low + high)
-        trial = [_leg(dense, radius, side, middle * k) for side in sides]
+        trial = [corner_leg(dense, radius, side, middle * k) for side in sides]
         if any(leg is None for leg in trial) or too_big(trial):
             high = middle
         else:
@@ -327,11 +326,11 @@ def _chord_angle_clearance(dense, radius, sides, legs, k):
             abs(math.atan2(u[0] * v[1] - u[1] * v[0], u @ v)), 1.0)))
         if k == tangents_k:
             break
-        legs = [_leg(dense, radius, side, k) for side in sides]
+        legs = [corner_leg(dense, radius, side, k) for side in sides]
         if any(leg is None for leg in legs):
             break
         r = [np.interp(leg[0], side[1], radius[side[0]]) for side, leg in zip(sides, legs)]
-        if math.hypot(*(legs[0][1] - legs[1][1])) >= _TAU_MARGIN * min(r):
+        if math.hypot(*(legs[0][1] - legs[1][1])) >= TAU_MARGIN * min(r):
             best = legs
     return best
 
@@ -457,8 +456,8 @@ class _GradedSampler:
             self.radius = np.concatenate([self.radius, np.empty(grow)])
             self.nxt = np.concatenate([self.nxt, np.empty(grow, np.int32)])
             out = np.full(size, -1, np.int64)
-            out[:len(self.vis[2])] = self.vis[2]
-            self.vis = self.vis[:2] + (out,) + self.vis[3:]
+            out[:len(self.vis.out)] = self.vis.out
+            self.vis = self.vis._replace(out=out)
 
     def _insert(self, cand, order):
         cand = np.ascontiguousarray(cand, float)
@@ -482,7 +481,7 @@ class _GradedSampler:
         if given is not None:
             return self._place_boundary(given)
         L = self.field.grading
-        unit = _TAU_MARGIN / (1.0 - 0.5 * L)
+        unit = TAU_MARGIN / (1.0 - 0.5 * L)
         ring_xy = []
         rings = self.region.rings
         for ring, (dense, radius, first, tau) in zip(rings, _tau_rings(rings, self.field, L)):
@@ -493,18 +492,18 @@ class _GradedSampler:
             corner = np.flatnonzero(sharp)
             after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
                                               unit, first, L)
-            at = _positions(tau, tau[corner], after, before, unit, rng)
-            samples = _along(at, tau, np.vstack([dense, dense[:1]]))
+            at = tau_positions(tau, tau[corner], after, before, unit, rng)
+            samples = along(at, tau, np.vstack([dense, dense[:1]]))
             ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
                                                           before > unit),
                                       ring, tau[:-1][first], tau[-1], self.field))
-        ring_xy, self.sampled_region = _onto_curves(self.region, ring_xy, self.field, np.inf)
+        ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
         return self._place_boundary(ring_xy)
 
     def _place_boundary(self, ring_xy) -> int:
         """Place the samples of each ring (``ring_xy``, in order along it), join them by
         chords, bin the chords and add guards; returns the number of boundary samples."""
-        boundary, self.rings = _joined(ring_xy)
+        boundary, self.rings = joined(ring_xy)
         radius = self.field(boundary)
         self._bins(0.5 * radius.min())
         self._reserve(len(boundary))
@@ -513,29 +512,20 @@ class _GradedSampler:
                                 0, self.x0, self.y0)
         self._check_count()
         self.domain = self.vis, vis_kern.cell_sides(self.vis)   # exact in/out tests
-        guards = _guards(boundary, self.rings, self.field)
+        guards = guard_candidates(boundary, self.rings, self.field)
         guards = guards[vis_kern.points_inside(*self.domain, guards[:, 0], guards[:, 1])]
         self._insert(guards, np.arange(len(guards)))
         return len(boundary)
 
     def _chords(self, boundary, radius):
-        """The ``vis`` bundle of the chords, each binned within its reach: a segment of
-        a triangle kept at circumcentre z has length <= 2 r(z) / (1 - L) measured from
-        any chord point it meets, with r there at most the chord's end radius plus L
-        times half its length."""
+        """The chords, each binned within its reach (:func:`.boundary_sampling.chord_reach`)
+        on the sampler's grid, and each chord's bound min r / (1 - L) over its ends."""
         L = self.field.grading
-        a = np.concatenate(self.rings)
-        b = np.concatenate([np.roll(ring, -1) for ring in self.rings])
-        length = np.hypot(*(boundary[b] - boundary[a]).T)
-        vis = vis_kern.chord_bundle(boundary, self.rings, len(self.points), float(length.max()))
-        reach = 2.0 * (np.maximum(radius[a], radius[b]) + 0.5 * L * length) / (1.0 - L) * (1 + 1e-9)
+        a, b = chord_ends(self.rings)
+        reach = chord_reach(boundary, self.rings, radius, L)
+        self.vis = graded_chords(boundary, self.rings, reach, len(self.points), self.x0,
+                                 self.y0, self.width, self.height, self.h)
         self.chord_bound = np.minimum(radius[a], radius[b]) / (1.0 - L)
-        entries = np.sum((length + 2 * reach) ** 2)
-        h = max(self.h, math.sqrt(entries / min(_MAX_CHORD_ENTRIES,
-                                                _CHORD_CELLS * len(length))))
-        nx, ny = int(self.width / h) + 1, int(self.height / h) + 1
-        start, items = kern.bin_chords_by_reach(vis[0], reach, self.x0, self.y0, h, nx, ny)
-        self.vis = vis[:3] + (start, items, self.x0, self.y0, h, nx, ny)
 
     def add_interior(self, rng):
         """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
@@ -548,7 +538,7 @@ class _GradedSampler:
             self._throw(boxes, rng)
         while len(boxes[0]):
             boxes = self._open(boxes, since)
-            fine = boxes[2] >= _RESOLUTION * boxes[3]
+            fine = boxes[2] >= RESOLUTION * boxes[3]
             children = self._children(tuple(a[fine] for a in boxes))
             boxes, since = self._open(children), self.count     # darts only where no
             self._throw(boxes, rng)                              # disc covers already

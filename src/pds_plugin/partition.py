@@ -42,8 +42,9 @@ from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
 from .region import Region, turning_angles
-from .graded_sampling import _TAU_MARGIN, _cleared_piece, _leg, _positions, _side
-from .sampling import _LADDER_ANGLE, _ring_positions, _STRAIGHT_TURN, corner_clearance
+from .graded_sampling import TAU_MARGIN, cleared_piece, corner_leg, corner_side, tau_positions
+from .sampling import LADDER_ANGLE, STRAIGHT_TURN, corner_clearance, ring_positions
+from .sizing import graded_request
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
@@ -265,7 +266,7 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     if not chains:
         return _assembled(rings, owner, junction, chains, [])
     grading = max(field.grading for field in fields)
-    unit = _TAU_MARGIN / (1.0 - 0.5 * grading)
+    unit = TAU_MARGIN / (1.0 - 0.5 * grading)
     sides = [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
     chain_set = _ChainSet(chains, sides, frames, fields)
     cid, segment, t = chain_set.dense(grading)
@@ -383,7 +384,7 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
     after, before = _chain_clearance(dense, radius, tau, corner, corner_turn, unit)
     clear = (tau[corner][after > unit], tau[corner][before > unit])
     if closed:
-        return tau, _positions(tau, tau[corner], after, before, unit, rng), clear
+        return tau, tau_positions(tau, tau[corner], after, before, unit, rng), clear
     pieces = [tau[corner[:-1]]]
     for i in range(len(corner) - 1):
         lo, span = tau[corner[i]], tau[corner[i + 1]] - tau[corner[i]]
@@ -391,7 +392,7 @@ def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
         if len(corner) == 2 and span < first + last:
             continue             # a chain of two junctions, too short for both clearances:
         if first > unit or last > unit:          # its ends alone (junction_fields)
-            pieces.append(_cleared_piece(lo, span, first, last, unit))
+            pieces.append(cleared_piece(lo, span, first, last, unit))
         else:
             parts = max(int(span // unit), 1)
             pieces.append(lo + span * np.arange(1, parts) / parts)
@@ -413,8 +414,8 @@ def _chain_clearance(dense, radius, tau, corner, turn, unit):
     for c in np.flatnonzero(k > 1.0):
         for out, stop, step in ((after, corner[(c + 1) % len(corner)], 1),
                                 (before, corner[c - 1], -1)):
-            side = _side(dense, tau, corner[c], stop, step, length)
-            leg = _leg(dense, radius, side, k[c])
+            side = corner_side(dense, tau, corner[c], stop, step, length)
+            leg = corner_leg(dense, radius, side, k[c])
             out[c] = side[1][-1] if leg is None else max(unit, leg[0])
     return after, before
 
@@ -465,7 +466,7 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
 class _FlatTau:
     """The τ of all chains' dense points in one array, to read positions in τ as
     (segment, fraction) along their chains all at once: linear in τ between the dense
-    points, as ``graded_sampling._along`` reads a ring's."""
+    points, as ``boundary_sampling.along`` reads a ring's."""
 
     def __init__(self, taus, segment, t, bounds):
         self.tau = np.concatenate(taus)
@@ -563,7 +564,7 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
             clearance = [max(1.0, _end_clearance(vertices[0], vertices[1], angle)),
                          max(1.0, _end_clearance(vertices[-1], vertices[-2], angle))]
             np.minimum.at(size, np.searchsorted(junction, ends),
-                          apart / (_TAU_MARGIN * np.array(clearance[::-1])))
+                          apart / (TAU_MARGIN * np.array(clearance[::-1])))
     return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
             for r, index in enumerate(held)]
 
@@ -609,7 +610,7 @@ def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
                     a, b = p - np.roll(p, -1, axis=0), np.roll(p, -2, axis=0) - np.roll(p, -1, axis=0)
                     corner = np.arctan2(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
                                         (a * b).sum(axis=1))
-                    close &= corner >= _LADDER_ANGLE
+                    close &= corner >= LADDER_ANGLE
                 lower = np.where(radius[ids] <= radius[following], ids, following)
                 np.minimum.at(size, lower[close], gap[close])
     return size
@@ -708,7 +709,7 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
     chains (the faces of a solid meet in straight lines) are cut by ``split_gaps``
     directly, then the two straight chains of each spike at a junction (``spikes``) are
     sampled in mirror pairs (:func:`_junction_ladder`); the others go through the
-    conforming sampler's own ring rule (``_ring_positions``, :func:`_bent_chain`), which
+    conforming sampler's own ring rule (``ring_positions``, :func:`_bent_chain`), which
     makes the ladders of their own spikes."""
     out, straight = [], {}
     cap = float(corner_clearance(0.0, alpha))
@@ -806,7 +807,7 @@ def _spikes(rings, frames, junction) -> list:
     for r, region in enumerate(rings):
         for ring in region:
             inner = np.pi - turning_angles(frames[r][ring])
-            for k in np.flatnonzero(inner < _LADDER_ANGLE).tolist():
+            for k in np.flatnonzero(inner < LADDER_ANGLE).tolist():
                 if int(ring[k]) in junction:
                     out.append((int(ring[k]), int(ring[k - 1]), int(ring[(k + 1) % len(ring)]),
                                 float(inner[k])))
@@ -831,7 +832,7 @@ def _end_clearance(vertex, neighbour, angle) -> float:
 
 def _is_straight(xy) -> bool:
     """Every interior vertex of the polyline turns by at most the straight turn."""
-    return bool(np.all(np.abs(_open_turns(xy)) <= _STRAIGHT_TURN))
+    return bool(np.all(np.abs(_open_turns(xy)) <= STRAIGHT_TURN))
 
 
 def _open_turns(xy) -> np.ndarray:
@@ -852,7 +853,7 @@ def _segments_of(at, cum):
 
 def _bent_chain(xy, closed, ends, alpha, feature_angle, rng):
     """Sample positions of a chain that bends, by the conforming sampler's
-    ``_ring_positions``: a closed chain as the ring it is, an open one closed by a
+    ``ring_positions``: a closed chain as the ring it is, an open one closed by a
     detour of two points 4 alpha off its chord (turns there count as straight; the
     detour's samples are dropped). Sharp vertices get their turn made positive, so that
     their clearance is the convex side's, ``corner_clearance(pi - |turn|)``; a junction
@@ -876,7 +877,7 @@ def _bent_chain(xy, closed, ends, alpha, feature_angle, rng):
         turns[0] = np.pi - _angle_of_clearance(ends[0], floor)
         if not closed:
             turns[n - 1] = np.pi - _angle_of_clearance(ends[1], floor)
-    at, cum, _ = _ring_positions(ring, turns, feature_angle, alpha, rng)
+    at, cum, _ = ring_positions(ring, turns, feature_angle, alpha, rng)
     if not closed:
         at = at[at < cum[n - 1] * (1 - 1e-12)]
     return _segments_of(at, cum[:n + 1] if closed else cum[:n])
@@ -927,7 +928,7 @@ def _starts_chain(ring, k, along, chains) -> bool:
 
 # --- composite sections --------------------------------------------------------------
 
-def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool = False,
+def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool | None = None,
                  grading: float | None = None, sizing=None, feature_angle: float = 30.0,
                  max_samples: int | None = None) -> "CompositeMesh":
     """Mesh regions that share boundaries (a composite section: several materials) as
@@ -954,13 +955,15 @@ def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool = False,
         smaller ones).
     seed : int
         The same seed gives the same mesh, bit for bit.
-    graded : bool
-        A graded mesh (default: uniform, as :func:`pds_plugin.mesh_region`).
+    graded : bool, optional
+        A graded mesh (default: uniform), as for :func:`pds_plugin.mesh_region`:
+        implied by ``grading`` and ``sizing``.
     grading : float, optional
-        With ``graded``, the Lipschitz constant L of the field, in (0, 1); default
+        The Lipschitz constant L of the field, in (0, 1); default
         :data:`pds_plugin.sizing.DEFAULT_GRADING`.
-    sizing : callable, optional
-        With ``graded``, a user radius ``sizing(x, y)`` on arrays, combined by min.
+    sizing : float, callable or RadiusField, optional
+        The user's radius: a number is the largest radius (as ``alpha``), a callable
+        ``sizing(x, y)`` on arrays or a field is combined by min.
     feature_angle : float
         Boundary vertices turning by at least this many degrees are sampled as corners.
     max_samples : int, optional
@@ -998,8 +1001,7 @@ def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool = False,
     """
     names, geometries, frame = _named_geometries(regions)
     check_seed(seed)
-    if not graded and (grading is not None or sizing is not None):
-        raise ArgumentError("grading and sizing apply to graded meshes; pass graded=True")
+    graded, alpha, sizing = graded_request(alpha, graded, grading, sizing)
     _check_no_overlap(names, geometries)
     noded, xy = _noded(geometries)
     _check_near_misses(names, noded)

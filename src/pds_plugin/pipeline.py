@@ -28,7 +28,7 @@ from .graded_sampling import graded_poisson_disc
 from .mesh import PlanarMesh
 from .region import Region, require_region
 from .sampling import DEFAULT_MAX_SAMPLES, estimate_samples, largest_alpha, poisson_disc
-from .sizing import DEFAULT_GRADING, radius_field
+from .sizing import DEFAULT_GRADING, graded_request, radius_field
 
 __all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multiresolution",
            "section_report"]
@@ -39,7 +39,7 @@ SAMPLING_OPTIONS = tuple(name for name, parameter in inspect.signature(poisson_d
 
 
 def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True,
-                graded: bool = False, grading: float | None = None, sizing=None,
+                graded: bool | None = None, grading: float | None = None, sizing=None,
                 **sampling_options) -> PlanarMesh:
     """Sample ``region`` with a maximal Poisson disc sampling of radius ``alpha`` and
     mesh the samples with the solid alpha-complex of the same radius.
@@ -51,13 +51,14 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     notches, slots and gaps narrower than alpha stay open (docs/conforming.md).
     ``conforming=False`` gives the paper's pure solid alpha-complex.
 
-    ``graded=True`` replaces the one radius by a radius field r(x) <= alpha that follows
+    A *graded* mesh replaces the one radius by a radius field r(x) <= alpha that follows
     the region's walls, holes and corners and is ``grading``-Lipschitz, combined by min
-    with a user ``sizing(x, y)``; every angle is then at least arcsin((1 - grading)/2)
-    (23.6° at the default 0.2) and the certificate measures against r (docs/graded.md).
-    With ``alpha="auto"`` the field is capped only by the region's own size (its
-    inradius): the coarsest mesh that keeps every feature. ``graded=False`` (the
-    default) gives the uniform mesh, unchanged.
+    with a user ``sizing``; every angle is then at least arcsin((1 - grading)/2) (23.6°
+    at the default 0.2) and the certificate measures against r (docs/graded.md). A
+    ``sizing`` or a ``grading`` asks for it (``graded=True`` is then redundant), and
+    ``graded=True`` alone for the region's own field; with ``alpha="auto"`` the field is
+    capped only by the region's own size (its inradius): the coarsest mesh that keeps
+    every feature. Without any of them the mesh is uniform.
 
     By Theorem 1 of the paper every triangle then has aspect ratio L²/A ≤ 4√3 (all
     angles in [30°, 120°]); :meth:`PlanarMesh.certificate` measures it. With
@@ -74,13 +75,17 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
         Seed of the random generator; the same seed gives the same mesh, bit for bit.
     conforming : bool
         Conforming and constrained (the default), or the paper's pure construction.
-    graded : bool
-        A graded mesh (always conforming and constrained).
+    graded : bool, optional
+        True: a graded mesh (always conforming and constrained) with the region's own
+        field; implied by ``grading`` and ``sizing``. False refuses them.
     grading : float, optional
-        With ``graded``, the Lipschitz constant L of the radius field, in (0, 1);
-        default :data:`pds_plugin.sizing.DEFAULT_GRADING`.
-    sizing : callable, optional
-        With ``graded``, a user radius ``sizing(x, y)`` on arrays, combined by min.
+        The Lipschitz constant L of the radius field, in (0, 1); default
+        :data:`pds_plugin.sizing.DEFAULT_GRADING`. Makes the mesh graded.
+    sizing : float, callable or RadiusField, optional
+        The user's radius, which makes the mesh graded: a number is the largest radius
+        (as ``alpha``); a callable ``sizing(x, y)`` on arrays, or a
+        :class:`~pds_plugin.RadiusField`, is combined with the region's field by min
+        (:func:`pds_plugin.sizing.graded_request`).
     **sampling_options
         Passed to :func:`pds_plugin.poisson_disc` (``max_samples``, ``feature_angle``),
         or with ``"auto"`` to :func:`auto_mesh` (also ``max_alpha``, ``refine``).
@@ -115,13 +120,15 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     >>> graded = pds.mesh_region(plate, "auto", graded=True)
     >>> graded.certificate().ok, graded.certificate().betti_mesh
     (True, (1, 1))
+    >>> finer_left = pds.mesh_region(plate, "auto", sizing=lambda x, y: 0.5 + 0.1 * x)
+    >>> finer_left.field is not None, finer_left.certificate().ok    # graded by its sizing
+    (True, True)
     """
     if isinstance(alpha, str) and alpha != "auto":
         raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
+    graded, alpha, sizing = graded_request(alpha, graded, grading, sizing)
     if graded:
         return _graded_mesh(region, alpha, seed, conforming, grading, sizing, sampling_options)
-    if grading is not None or sizing is not None:
-        raise ArgumentError("grading and sizing apply to graded meshes; pass graded=True")
     if isinstance(alpha, str):
         try:
             return auto_mesh(region, seed=seed, conforming=conforming, **sampling_options)

@@ -41,8 +41,9 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .boundary_curves import samples_onto_curves
-from .errors import ArgumentError, BudgetError, RegionError
+from .boundary_sampling import (RESOLUTION, along, domain_of_rings, given_boundary,
+                                guard_candidates, joined, onto_curves)
+from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
 __all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_rings_apart",
@@ -55,19 +56,15 @@ with /usr/bin/time -v with the numba kernels, before the compiled engine)."""
 
 _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
-_RESOLUTION = 1e-10   # smallest refinement cell and boundary margin, relative to alpha
 _CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is below alpha
-_CROWDED_CELL = 256  # conforming refinement stops in a boundary cell with more open boxes
+_CROWDED_CELL = 256  # conforming refinement stops in a cell with more open boxes at a level
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
-_STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
+STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
 _NOISY_INFLECTION_APART = 1.5  # the same where the boundary is known up to a tolerance
 _NOISY_KINK_APART = 1.0  # kinks there: just separated (each one unsampled hides region)
-_GUARD_SPREAD = (0.5, -0.5, 1.0, -1.0, 0.25, -0.25, 0.75, -0.75)  # other guard heights, / t_c
-_GUARD_MARGIN = 1e-9     # guards stay this much (/ t_c) inside the heights of circumradius alpha
-_LADDER_ANGLE = 2 * math.asin(1 / (2 * math.sqrt(3)))  # spikes sharper (33.56°) get mirror pairs
-_CAP_SLACK = 0.03        # a corner guard's disc holds the open cap's sampled arcs by this much (/ alpha)
+LADDER_ANGLE = 2 * math.asin(1 / (2 * math.sqrt(3)))  # spikes sharper (33.56°) get mirror pairs
 
 
 @dataclass(frozen=True)
@@ -233,7 +230,7 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     if conforming:
         check_rings_apart(region)
     if boundary_samples is not None:
-        boundary_samples = _given_boundary(region, boundary_samples, conforming)
+        boundary_samples = given_boundary(region, boundary_samples, conforming)
     rng = np.random.default_rng(seed)
     sampler = _Sampler(region, alpha, conforming)
     if conforming:
@@ -247,18 +244,6 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
     return Samples(points, on_boundary, alpha, sampler.rings, region=sampler.sampled_region)
-
-
-def _given_boundary(region: Region, boundary_samples, conforming: bool) -> list:
-    """``boundary_samples`` as one (k, 2) float array per ring of ``region``, checked."""
-    if not conforming:
-        raise ArgumentError("boundary_samples apply to conforming samplings; pass conforming=True")
-    rings = [np.asarray(ring, dtype=float).reshape(-1, 2) for ring in boundary_samples]
-    if len(rings) != len(region.rings) or any(len(ring) < 3 for ring in rings):
-        raise ArgumentError(f"boundary_samples must give at least 3 samples for each of the "
-                            f"region's {len(region.rings)} rings, got "
-                            f"{[len(ring) for ring in rings]}")
-    return rings
 
 
 def check_rings_apart(region: Region):
@@ -320,7 +305,7 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     between consecutive samples bends one way only and lies on one side of its chord
     (docs/conforming.md, "Inflections").
 
-    The vertices turning by more than ``_STRAIGHT_TURN`` (and less than a sharp corner)
+    The vertices turning by more than ``STRAIGHT_TURN`` (and less than a sharp corner)
     define the bends; between two consecutive ones that turn opposite ways, with no sharp
     corner between them, the inflection is the middle of the arc that joins them, and a
     vertex turning against both its neighbours (a kink) is one itself. One is
@@ -348,7 +333,7 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     [2.01]
     """
     length = cum[-1]
-    bending = np.flatnonzero((np.abs(turns) > _STRAIGHT_TURN) & ~sharp)
+    bending = np.flatnonzero((np.abs(turns) > STRAIGHT_TURN) & ~sharp)
     if len(bending) < 2:
         return np.zeros(0)
     at = cum[bending]
@@ -396,8 +381,8 @@ def _thinned(candidates, distance, length) -> np.ndarray:
     return np.array(kept)
 
 
-def _ring_positions(ring, turns, feature_angle, alpha, rng,
-                    inflections_apart=(_INFLECTION_APART, _INFLECTION_APART)):
+def ring_positions(ring, turns, feature_angle, alpha, rng,
+                   inflections_apart=(_INFLECTION_APART, _INFLECTION_APART)):
     """Arc-length positions of a ring's boundary samples, increasing: its sharp corners
     and the inflections of its curves (:func:`_inflections`; or one random point if it
     has neither), the pieces between them split by ``split_gaps`` into parts of arc
@@ -410,7 +395,8 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng,
     scaled by alpha / that chord (its parts stay at most √3 alpha, so their chords do).
     Inflections and kinks are kept ``inflections_apart`` alpha apart
     (:func:`_inflections`); spikes sharper than 33.56° are sampled in mirror pairs
-    (:func:`_ladders`)."""
+    (:func:`_ladders`). :mod:`pds_plugin.partition` samples shared boundary chains with
+    it too."""
     closed = np.vstack([ring, ring[:1]])
     cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
     length = cum[-1]
@@ -444,7 +430,7 @@ def _ring_positions(ring, turns, feature_angle, alpha, rng,
         # corners closer than the sampler's resolution (a zero-length edge, or one a
         # rounding long) give one sample: two would block each other's view
         at, keep = np.unique(np.concatenate([corners, inner]) % length, return_index=True)
-        apart = np.diff(at, prepend=at[-1] - length) > _RESOLUTION * min(alpha, length)
+        apart = np.diff(at, prepend=at[-1] - length) > RESOLUTION * min(alpha, length)
         apart[0] |= not apart.any()
         at, keep = at[apart], keep[apart]
         piece = np.concatenate([np.arange(len(corners)), owner])[keep]
@@ -525,7 +511,7 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
     if len(corners) < 2:
         return at
     reach = alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2))
-    for i in np.flatnonzero(angle < _LADDER_ANGLE):
+    for i in np.flatnonzero(angle < LADDER_ANGLE):
         c = corners[i]
         before, after = corners[i - 1], corners[(i + 1) % len(corners)]
         sides = ((after - c) % length or length, (c - before) % length or length)
@@ -546,7 +532,7 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
                 at = np.sort(np.concatenate([at[~on_short], (c + sign * inner) % length]))
                 offset = (sign * (at - c)) % length
         mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
-        if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < _RESOLUTION * alpha:
+        if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < RESOLUTION * alpha:
             continue                            # a needle: its sides are one line
         if guard[i] <= sides[short] <= reach[i] and beyond >= alpha:
             # the short side ends inside the spike: its last rung is the corner there (not
@@ -620,8 +606,8 @@ class _Sampler:
             self.points = np.concatenate([self.points, np.empty((size - len(self.points), 2))])
             self.nxt = np.concatenate([self.nxt, np.empty(size - len(self.nxt), np.int32)])
             out = np.full(size, -1, np.int64)
-            out[:len(self.vis[2])] = self.vis[2]
-            self.vis = self.vis[:2] + (out,) + self.vis[3:]
+            out[:len(self.vis.out)] = self.vis.out
+            self.vis = self.vis._replace(out=out)
 
     def _insert(self, candidates):
         self._reserve(len(candidates))
@@ -646,7 +632,7 @@ class _Sampler:
         self._reserve(len(start))                    # at most one sample per piece
         self.count = kern.sample_boundary_pieces(
             start, direction, length, order, u, self.grid, self.nxt, self.covered, self.points,
-            self.count, self.alpha, _RESOLUTION * self.alpha, self.x0, self.y0, self.s, self.vis)
+            self.count, self.alpha, RESOLUTION * self.alpha, self.x0, self.y0, self.s, self.vis)
 
     def add_conforming_boundary(self, feature_angle: float, rng, given=None) -> int:
         """Sample every ring (sharp corners, then the pieces between them; or take the
@@ -659,11 +645,11 @@ class _Sampler:
         if given is None:
             apart = ((_NOISY_INFLECTION_APART, _NOISY_KINK_APART) if self.region.tolerance
                      else (_INFLECTION_APART, _INFLECTION_APART))
-            ring_xy = [_along(*_ring_positions(ring, turning_angles(ring), feature_angle,
+            ring_xy = [along(*ring_positions(ring, turning_angles(ring), feature_angle,
                                                alpha, rng, apart)) for ring in self.region.rings]
-            ring_xy, self.sampled_region = _onto_curves(    # chords stay in [1, √3) alpha
+            ring_xy, self.sampled_region = onto_curves(    # chords stay in [1, √3) alpha
                 self.region, ring_xy, alpha, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
-        boundary, self.rings = _joined(ring_xy)
+        boundary, self.rings = joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
         # boxes inside a disc): chords within alpha of a cell are all it needs
@@ -672,7 +658,7 @@ class _Sampler:
                        self.x0, self.y0, self.s, self.vis)
         self.count = len(boundary)
         self.domain = self.vis, vis_kern.cell_sides(self.vis)
-        guards = _guards(boundary, self.rings, alpha)
+        guards = guard_candidates(boundary, self.rings, alpha)
         self._insert(guards[vis_kern.points_inside(*self.domain, guards[:, 0], guards[:, 1])])
         return len(boundary)
 
@@ -715,12 +701,12 @@ class _Sampler:
             n_split = kern.split_uncovered(parent, sub_x, sub_y, bx, by, size, before, self.grid,
                                            self.nxt, self.points, self.alpha, self.vis, *children,
                                            self.work)
-            if size / 2 < _RESOLUTION * self.alpha:
+            if size / 2 < RESOLUTION * self.alpha:
                 break
             level += 1
             parent, sub_x, sub_y = (a[:4 * n_split] for a in children)
             if not self.one_per_cell:
-                parent, sub_x, sub_y = _uncrowded(parent, sub_x, sub_y, self.status)
+                parent, sub_x, sub_y = _uncrowded(parent, sub_x, sub_y)
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
@@ -735,10 +721,9 @@ class _Sampler:
         self.count += len(kept)
 
 
-def _uncrowded(parent, sub_x, sub_y, status):
+def _uncrowded(parent, sub_x, sub_y):
     """The refinement boxes (as in ``_sampling_kernels.open_boxes``; ``parent`` sorted)
-    but those of level-0 cells on the region's boundary (``status``) that hold more than
-    :data:`_CROWDED_CELL` of them.
+    but those of level-0 cells that hold more than :data:`_CROWDED_CELL` of them.
 
     A conforming sampling leaves open, at each level, the boxes that no single sample
     sees whole within alpha: a few around each chord vertex, along the arcs where discs
@@ -746,202 +731,18 @@ def _uncrowded(parent, sub_x, sub_y, status):
     narrower than it. Their number in a cell grows for a few levels at most. Along a
     crack (a slit thinner than any box, whose two sides no sample sees both of) it
     doubles at every level, and where the conservative visibility test fails over an
-    area it quadruples: such boundary cells are left as they are (the certificate
-    measures the coverage there), and the refinement goes on everywhere else.
+    area it quadruples: such cells are left as they are (the certificate measures the
+    coverage there), and the refinement goes on everywhere else.
 
     Examples
     --------
-    >>> status = np.full((1, 8), kern.BOUNDARY, np.int8)
     >>> boxes = np.repeat([3, 5], [2, _CROWDED_CELL + 1]), np.zeros(259, int), np.zeros(259, int)
-    >>> _uncrowded(*boxes, status)[0]
+    >>> _uncrowded(*boxes)[0]
     array([3, 3])
     """
     first = np.flatnonzero(np.diff(parent, prepend=-1))
     counts = np.diff(first, append=len(parent))
-    crowded = (counts > _CROWDED_CELL) & (status.ravel()[parent[first]] == kern.BOUNDARY)
-    if not crowded.any():
+    if counts.max(initial=0) <= _CROWDED_CELL:
         return parent, sub_x, sub_y
-    keep = np.repeat(~crowded, counts)
+    keep = np.repeat(counts <= _CROWDED_CELL, counts)
     return parent[keep], sub_x[keep], sub_y[keep]
-
-
-def domain_of_rings(rings, alpha: float) -> tuple:
-    """The chord bundle of polygon ``rings`` (each a (k, 2) array with the region on its
-    left) and its cell sides: the arguments of the exact in/out tests
-    ``_visibility_kernels.points_inside`` and ``boxes_state``.
-
-    The cells are at least alpha/2 wide, and wider where the rings have few segments
-    for the area (a square gets a handful of cells, not one per alpha).
-
-    Examples
-    --------
-    >>> from shapely.geometry import box
-    >>> from pds_plugin import _visibility_kernels as vis_kern
-    >>> square = Region.from_shapely(box(0, 0, 1, 1))
-    >>> domain = domain_of_rings(square.rings, 0.01)
-    >>> vis_kern.points_inside(*domain, [0.5, 1.0, 2.0], [0.5, 0.5, 0.5])
-    array([ True, False, False])
-    """
-    points, indices = _joined(rings)
-    (xmin, ymin), (xmax, ymax) = points.min(axis=0), points.max(axis=0)
-    cell = max(alpha / 2, math.sqrt((xmax - xmin) * (ymax - ymin) / (4 * len(points))))
-    vis = vis_kern.chord_bundle(points, indices, len(points), 2 * cell)   # cells of side reach/2
-    return vis, vis_kern.cell_sides(vis)
-
-
-def _along(at, cum, closed) -> np.ndarray:
-    """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
-    are at positions ``cum`` (arc length, or any increasing measure along it)."""
-    return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
-
-
-def _onto_curves(region: Region, ring_xy, lower, upper):
-    """The boundary samples moved onto the region's exact arcs, and the region through
-    them (:func:`pds_plugin.boundary_curves.samples_onto_curves`); the samples as they
-    are and None for a region without curves, with a tolerance pass (its boundary is not
-    the curves'), or where the refined region would not be valid."""
-    if region.curves is None or region.tolerance != 0:
-        return ring_xy, None
-    moved, geometry = samples_onto_curves(region.curves, region.rings, region.ring_owners,
-                                          ring_xy, lower, upper)
-    if geometry is None:
-        return ring_xy, None
-    try:
-        return moved, Region.from_shapely(geometry, region.frame, curves=region.curves)
-    except RegionError:
-        return ring_xy, None
-
-
-def _joined(ring_xy):
-    """The boundary samples of every ring in one array, and each ring's indices in it."""
-    sizes = [len(xy) for xy in ring_xy]
-    ends = np.cumsum(sizes)
-    return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
-
-
-def _guards(boundary, rings, alpha) -> np.ndarray:
-    """Guard candidates inside each chord longer than √3 alpha (a piece that cannot be
-    split into parts in [alpha, √3 alpha]), in the order to try them: first, for every
-    such chord, the point on its bisector at height alpha, where the triangle of the
-    chord and the guard has circumradius (alpha² + g²/4) / (2 alpha) <= alpha and angles
-    in [45°, 90°]; then, for the chords whose first guard an earlier sample blocks,
-    heights alpha ± f·t_c (f in ``_GUARD_SPREAD``, t_c = sqrt(alpha² - g²/4)), all of
-    which keep the circumradius <= alpha and the chord an edge (docs/conforming.md,
-    "Why consecutive boundary samples are mesh edges"). The candidates of one chord are
-    less than alpha apart, so at most one becomes a sample. Before them all come the
-    corner guards of :func:`_corner_guards`. ``alpha`` may be a radius field (a callable
-    on points), taken at the chord's middle (graded samplings).
-
-    Examples
-    --------
-    >>> plate = np.array([[0, 0], [1.9, 0], [1.9, 1.6], [1.9, 3.2], [0, 3.2], [0, 1.6]])
-    >>> guards = _guards(plate, [np.arange(6)], 1.0)       # the chords of 1.9 are too long
-    >>> len(guards) == 2 * (1 + len(_GUARD_SPREAD)), guards[0].round(3).tolist()
-    (True, [0.95, 1.0])
-    >>> square = np.array([[0, 0], [1.9, 0], [1.9, 1.9], [0, 1.9]])
-    >>> _guards(square, [np.arange(4)], 1.0)[0].round(3).tolist()   # a corner guard first
-    [1.193, 0.707]
-    """
-    a = np.concatenate([ring for ring in rings])
-    b = np.concatenate([np.roll(ring, -1) for ring in rings])
-    p, q = boundary[a], boundary[b]
-    chord = q - p
-    g = np.hypot(chord[:, 0], chord[:, 1])
-    alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
-    long = g > math.sqrt(3) * alpha
-    inward = np.column_stack([-chord[:, 1], chord[:, 0]]) / np.maximum(g, 1e-300)[:, None]
-    first = boundary[a] + 0.5 * chord + alpha[:, None] * inward        # height alpha
-    corner = _corner_guards(boundary, rings, a, b, long, first, inward, alpha)
-    g, alpha, inward = g[long], alpha[long], inward[long]
-    spread = np.sqrt(np.maximum(alpha ** 2 - g ** 2 / 4, 0.0)) * (1 - _GUARD_MARGIN)
-    height = alpha + np.multiply.outer((0.0, *_GUARD_SPREAD), spread)    # (levels, chords)
-    middle = 0.5 * (p[long] + q[long])
-    return np.ascontiguousarray(np.concatenate(
-        [corner, (middle + height[..., None] * inward).reshape(-1, 2)]))
-
-
-def _corner_guards(boundary, rings, a, b, long, first, inward, alpha) -> np.ndarray:
-    """One guard for two long chords p -> q -> r that meet at a corner q where their
-    guards at height alpha would be less than alpha apart (one would block the other, and
-    no height on the blocked chord's bisector is free of it).
-
-    The guard G is the first point, near the corner's bisector at alpha to 1.5 alpha from
-    q, that makes triangles of circumradius <= alpha with both chords, lies at least alpha
-    from p, q and r, and covers with its disc, for each chord, the part of the cap of the
-    lower circle of circumradius alpha that the discs of the chord's ends leave open
-    (:func:`_open_cap`): the conditions under which a chord with a guard is a mesh edge
-    (docs/conforming.md, "Why consecutive boundary samples are mesh edges")."""
-    following = np.arange(len(a)) + 1
-    ends = np.cumsum([len(ring) for ring in rings])
-    following[ends - 1] = ends - np.array([len(ring) for ring in rings])
-    k = np.flatnonzero(long & long[following])
-    n = following[k]
-    radius = np.minimum(alpha[k], alpha[n])
-    close = np.hypot(*(first[k] - first[n]).T) < radius
-    guards = []
-    for before, pivot, after, h, (u, v) in zip(boundary[a[k[close]]], boundary[b[k[close]]],
-                                                boundary[b[n[close]]], radius[close],
-                                                zip(inward[k[close]], inward[n[close]])):
-        bisector = u + v
-        if np.hypot(*bisector) < 1e-9:
-            continue
-        heading = math.atan2(bisector[1], bisector[0])
-        turn = np.radians([0, 10, -10, 20, -20, 30, -30])
-        reach = h * np.array([1.0, 1.1, 1.2, 1.3, 1.4, 1.5]) * (1 + _GUARD_MARGIN)
-        angles, distances = (x.ravel() for x in np.meshgrid(heading + turn, reach))
-        candidates = pivot + distances[:, None] * np.column_stack([np.cos(angles), np.sin(angles)])
-        count = len(candidates)
-        fits = ((_circumradius(np.broadcast_to(before, (count, 2)), np.broadcast_to(pivot, (count, 2)),
-                               candidates) <= h * (1 - _GUARD_MARGIN))
-                & (_circumradius(np.broadcast_to(pivot, (count, 2)), np.broadcast_to(after, (count, 2)),
-                                 candidates) <= h * (1 - _GUARD_MARGIN))
-                & (np.hypot(*(candidates - before).T) >= h)
-                & (np.hypot(*(candidates - after).T) >= h))
-        cap = np.concatenate([_open_cap(before, pivot, h), _open_cap(pivot, after, h)])
-        fits &= (np.hypot(candidates[:, None, 0] - cap[None, :, 0],
-                          candidates[:, None, 1] - cap[None, :, 1]) <= h * (1 - _CAP_SLACK)).all(axis=1)
-        if fits.any():
-            guards.append(candidates[np.argmax(fits)])
-    return np.array(guards).reshape(-1, 2)
-
-
-def _open_cap(p, q, alpha, count=16) -> np.ndarray:
-    """Points along the boundary of the part of the inner cap of the circle of radius
-    alpha through p and q with its centre t_c = sqrt(alpha² - g²/4) outside the chord
-    that B(p, alpha) ∪ B(q, alpha) leaves open: arcs of the circles about p, about that
-    centre and about q, from (0, t_c) over the cap's top and back (chord coordinates,
-    the region to the left of p -> q). A guard whose disc holds it keeps the chord an
-    edge; ``count`` points per arc, their spacing under alpha / 40 for g in (√3α, 2α).
-
-    Examples
-    --------
-    >>> points = _open_cap(np.array([0.0, 0.0]), np.array([1.9, 0.0]), 1.0)
-    >>> bool(np.all(points[:, 1] > 0)), round(float(points[:, 1].max()), 3)   # top: 1 - t_c
-    (True, 0.688)
-    """
-    chord = q - p
-    g = math.hypot(*chord)
-    along, inward = chord / g, np.array([-chord[1], chord[0]]) / g
-    t = math.sqrt(max(alpha ** 2 - g ** 2 / 4, 0.0))
-    low = np.array([0.0, -t])
-    ends = {"p": np.array([-g / 2, 0.0]), "q": np.array([g / 2, 0.0])}
-    top = np.array([0.0, t])                                   # where the end circles meet
-    corner = np.array([-g / 4 + math.sqrt(3) / 2 * t, -t / 2 + math.sqrt(3) / 4 * g])
-
-    def arc(centre, start, stop):
-        first, last = (math.atan2(*(point - centre)[::-1]) for point in (start, stop))
-        angle = np.linspace(first, last, count)
-        return centre + alpha * np.column_stack([np.cos(angle), np.sin(angle)])
-
-    mirror = corner * np.array([-1.0, 1.0])
-    local = np.concatenate([arc(ends["p"], top, corner), arc(low, corner, mirror),
-                            arc(ends["q"], mirror, top)])
-    return (p + q) / 2 + local[:, :1] * along + local[:, 1:] * inward
-
-
-def _circumradius(u, v, w) -> np.ndarray:
-    """Circumradius of each triangle (u, v, w) of (n, 2) points (infinite if flat)."""
-    uv, vw, wu = (np.hypot(*(y - x).T) for x, y in ((u, v), (v, w), (w, u)))
-    twice_area = np.abs((v - u)[:, 0] * (w - u)[:, 1] - (v - u)[:, 1] * (w - u)[:, 0])
-    with np.errstate(divide="ignore"):
-        return uv * vw * wu / (2 * twice_area)

@@ -17,12 +17,12 @@ import shapely
 from scipy.spatial import cKDTree
 
 from . import _sizing_kernels as kern
-from ._checks import check_grading
+from ._checks import check_alpha, check_grading, check_positive
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region
 
 __all__ = ["RadiusField", "radius_field", "angle_bound", "inradius", "curve_factor",
-           "DEFAULT_GRADING"]
+           "graded_request", "DEFAULT_GRADING"]
 
 DEFAULT_GRADING = 0.2
 """Default Lipschitz constant L: proven angles >= arcsin(0.4) = 23.6° (docs/graded.md)."""
@@ -133,6 +133,70 @@ class RadiusField:
                                          np.concatenate([y, y, y + half, y + half]) + quarter]))
         return kern.quarter_cone_minimum(x, y, size, self.features, self.sizes, self.grading,
                                          self.cap, *self._tree)
+
+
+def graded_request(alpha, graded: bool | None = None, grading: float | None = None,
+                   sizing=None):
+    """What :func:`pds_plugin.mesh_region`'s and :func:`pds_plugin.mesh_regions`'s
+    keywords ask for: ``(graded, alpha, sizing)``, the one rule of both.
+
+    ``sizing`` and ``grading`` describe a radius field, so either makes the mesh graded:
+    ``graded=True`` is then redundant (and still accepted), ``graded=False`` with either
+    is refused. ``graded=True`` alone asks for the region's own field. ``sizing`` is
+
+    - a number s: the largest radius, as ``alpha=s`` (with a number ``alpha``, the
+      smaller of the two): r = min(the region's field, s);
+    - a callable ``sizing(x, y)`` on arrays, or a :class:`RadiusField` (e.g. another
+      mesh's ``mesh.field``): combined with the region's field by min.
+
+    Parameters
+    ----------
+    alpha : float or "auto"
+    graded : bool, optional
+    grading : float, optional
+    sizing : float, callable or RadiusField, optional
+
+    Returns
+    -------
+    tuple
+        ``graded`` (bool), ``alpha`` (a number sizing folded in), ``sizing`` (a callable
+        on (x, y), or None).
+
+    Raises
+    ------
+    ArgumentError
+        If ``graded=False`` comes with a grading or a sizing, or a number sizing is not
+        a positive radius.
+    ArgumentTypeError
+        If ``sizing`` is neither a number nor a callable.
+
+    Examples
+    --------
+    >>> graded_request("auto", sizing=0.5)
+    (True, 0.5, None)
+    >>> graded_request(0.2, sizing=0.5), graded_request(0.2)
+    ((True, 0.2, None), (False, 0.2, None))
+    >>> graded_request("auto", grading=0.3)[0], graded_request("auto", graded=True)[0]
+    (True, True)
+    """
+    if isinstance(alpha, str) and alpha != "auto":
+        raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
+    if graded is False and (grading is not None or sizing is not None):
+        raise ArgumentError("grading and sizing make a graded mesh: drop graded=False for a "
+                            "graded mesh, or grading and sizing for a uniform one")
+    graded = bool(graded) or grading is not None or sizing is not None
+    if isinstance(sizing, RadiusField):
+        field = sizing
+        sizing = lambda x, y: field(np.column_stack([x, y]))     # noqa: E731
+    elif isinstance(sizing, (int, float, np.number)) and not isinstance(sizing, bool):
+        size = check_positive(sizing, "sizing")
+        alpha = size if isinstance(alpha, str) else min(check_alpha(alpha), size)
+        sizing = None
+    elif sizing is not None and not callable(sizing):
+        raise ArgumentTypeError("sizing must be a number (the largest radius), a callable "
+                                f"sizing(x, y) -> radii or a RadiusField, got "
+                                f"{type(sizing).__name__}")
+    return graded, alpha, sizing
 
 
 def _undominated(features, sizes, L) -> np.ndarray:

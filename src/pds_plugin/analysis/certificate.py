@@ -64,7 +64,8 @@ from .topology import TopologyReport, topology_report
 if TYPE_CHECKING:
     from ..mesh import PlanarMesh
 
-__all__ = ["Certificate", "certify", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
+__all__ = ["Certificate", "certify", "assemble", "coverage_peaks", "visibility_route_fails",
+           "sees", "curve_deviation", "SEPARATION_TOL", "COVERAGE_TOL", "QUALITY_TOL"]
 
 _LISTED = 5              # exceptions printed by str(certificate); all are in .exceptions
 
@@ -435,11 +436,11 @@ def certify(mesh: PlanarMesh) -> Certificate:
     boundary = boundary_report(mesh, sampled)
     problems = list(boundary.problems)
     visibility = False
-    exceptions, excused, unexplained = (), 0, ()
+    features = ((), 0, ())
     if mesh.conforming:
         separation, close = _visible_separation(mesh, quality, grid, sampled)
-        exceptions, excused, unexplained = small_feature_exceptions(mesh, quality, sampled, close)
-        why_not = _visibility_route_fails(mesh, boundary, sampled)
+        features = small_feature_exceptions(mesh, quality, sampled, close)
+        why_not = visibility_route_fails(mesh, boundary, sampled)
         if why_not:
             problems.append(f"coverage not measured with the visibility rule: {why_not}")
         else:
@@ -449,28 +450,79 @@ def certify(mesh: PlanarMesh) -> Certificate:
         gap, gap_at = _coverage_gap(mesh, faces, rim_edges, grid)
     if not mesh.conforming:
         separation = grid.closest_distance()
+    return assemble(Certificate, mesh, faces, quality, boundary, alpha=alpha,
+                    separation=separation / alpha, gap=gap / alpha, gap_at=gap_at,
+                    claims_conforming=mesh.conforming, visibility=visibility,
+                    problems=problems, features=features)
+
+
+def assemble(kind: type, mesh: PlanarMesh, faces, quality, boundary, *, alpha: float,
+             separation: float, gap: float, gap_at, claims_conforming: bool,
+             visibility: bool, problems, features, **fields):
+    """The certificate of ``kind`` (:class:`Certificate` or a subclass) from what was
+    measured on ``mesh``: the one place both kinds of certificate are put together.
+
+    The fields every mesh has are read here (counts, quality extremes, isolated samples,
+    non-manifold vertices, areas and deviations from ``boundary``, topology, the
+    region's tolerance, the exact curves' deviation); the measures that depend on the
+    kind come in.
+
+    Parameters
+    ----------
+    kind : type
+        The certificate class.
+    mesh : PlanarMesh
+    faces : (M, 3) int64 ndarray
+        The mesh's triangles.
+    quality : Quality
+        ``mesh.quality()``.
+    boundary : BoundaryReport
+        :func:`.conformity.boundary_report` of the mesh.
+    alpha : float
+        The radius (a graded mesh's cap).
+    separation, gap : float
+        Separation and coverage gap, as ratios (to alpha, or to r).
+    gap_at : (2,) array_like
+        Where the gap peaks.
+    claims_conforming, visibility : bool
+    problems : list of str
+        The boundary's problems and why visibility was not used.
+    features : tuple
+        ``(exceptions, excused_pairs, unexplained)`` of
+        :func:`.small_features.small_feature_exceptions`.
+    **fields
+        The fields of ``kind`` beyond :class:`Certificate`'s.
+
+    Returns
+    -------
+    Certificate
+        An instance of ``kind``.
+    """
+    points = mesh.vertices
+    exceptions, excused, unexplained = features
     used = np.zeros(len(points), bool)
     used[faces.ravel()] = True
-    return Certificate(
+    return kind(
         alpha=alpha, samples=len(points), triangles=len(faces),
-        min_separation=separation / alpha,
-        coverage_gap=gap / alpha, coverage_gap_at=tuple(float(v) for v in gap_at),
+        min_separation=separation,
+        coverage_gap=gap, coverage_gap_at=tuple(float(v) for v in gap_at),
         max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
         min_angle=float(quality.angles.min(initial=180.0)),
         max_angle=float(quality.angles.max(initial=0.0)),
         isolated_samples=int(np.count_nonzero(~used)),
-        nonmanifold_vertices=_nonmanifold_vertices(rim_edges, len(points)),
+        nonmanifold_vertices=_nonmanifold_vertices(mesh.boundary_edges, len(points)),
         area_ratio=float(quality.area.sum() / mesh.region.area),
         outside_area_ratio=boundary.outside_area_ratio,
         missing_area_ratio=boundary.missing_area_ratio,
         boundary_deviation=boundary.boundary_deviation,
         conforming=boundary.conforming, sampled_outline=boundary.sampled_outline,
-        claims_conforming=mesh.conforming, visibility=visibility,
+        claims_conforming=claims_conforming, visibility=visibility,
         boundary_problems=tuple(problems),
         topology=topology_report(mesh),
         exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
         tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
         curve_deviation=curve_deviation(mesh),
+        **fields,
     )
 
 
@@ -488,10 +540,20 @@ def _yes(value: bool) -> str:
     return "yes" if value else "no"
 
 
-def _visibility_route_fails(mesh, boundary, sampled) -> str:
+def visibility_route_fails(mesh, boundary, sampled) -> str:
     """Why the exact coverage route of a conforming mesh does not apply ('' if it does):
     it needs the mesh to be the sampled boundary polygon Q, and the region that Q misses
-    to be convex pieces beyond the chords, each seen whole from a chord end it holds."""
+    to be convex pieces beyond the chords, each seen whole from a chord end it holds.
+
+    Examples
+    --------
+    >>> import pds_plugin as pds
+    >>> from shapely.geometry import box
+    >>> mesh = pds.mesh_region(pds.Region.from_shapely(box(0, 0, 1, 1)), 0.2)
+    >>> sampled = SampledBoundary(mesh.region, mesh.vertices, mesh.on_boundary, 0.2, mesh.faces)
+    >>> visibility_route_fails(mesh, boundary_report(mesh, sampled), sampled)
+    ''
+    """
     if not len(mesh.faces):
         return "the mesh has no triangle"
     if not boundary.sampled_outline:
@@ -526,15 +588,23 @@ def _visible_separation(mesh, quality, grid, sampled):
                         < alpha * (1 - SEPARATION_TOL)]
     if not close.any():
         return shortest, short_edges
-    seen = _sees(shapely.union(mesh.region.geometry, sampled.polygon()), segments[close], alpha)
+    seen = sees(shapely.union(mesh.region.geometry, sampled.polygon()), segments[close], alpha)
     nearest = float(min(shortest, length[close][seen].min(initial=np.inf)))
     near = pairs[close][seen & (length[close] < alpha * (1 - SEPARATION_TOL))]
     return nearest, np.concatenate([short_edges, near])
 
 
-def _sees(domain, segments, alpha) -> np.ndarray:
+def sees(domain, segments, alpha) -> np.ndarray:
     """Whether each (k, 2, 2) segment stays in ``domain``, up to 1e-9 alpha of its length
-    (boundary samples are on the boundary only to rounding)."""
+    (boundary samples are on the boundary only to rounding).
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> notch = box(0, 0, 2, 2).difference(box(0.9, 1, 1.1, 2))
+    >>> sees(notch, np.array([[[0.5, 1.5], [1.5, 1.5]], [[0.5, 0.5], [1.5, 0.5]]]), 0.1).tolist()
+    [False, True]
+    """
     shapely.prepare(domain)
     lines = shapely.linestrings(segments)
     inside = shapely.covers(domain, lines)
@@ -568,17 +638,64 @@ def _visible_coverage(points, faces, quality, sampled):
 
 def _triangles_reach(points, faces, lengths):
     """The farthest any point of these triangles is from its nearest corner, and where
-    (see :func:`_visible_coverage`)."""
+    (see :func:`_visible_coverage`; the points of :func:`coverage_peaks`)."""
+    peaks, reach, obtuse = coverage_peaks(points, faces, lengths)
+    value = np.where(obtuse, -np.inf, reach[:, 0])
+    best = int(np.argmax(value))
+    gap, at = float(value[best]), peaks[best, 0]
+    k = np.flatnonzero(obtuse)            # below their circumradius: only beat a larger one
+    if len(k):
+        farther = reach[k].max(axis=1)
+        j = int(np.argmax(farther))
+        if farther[j] > gap:
+            gap = float(farther[j])
+            at = peaks[k[j], 0] if reach[k[j], 0] >= reach[k[j], 1] else peaks[k[j], 1]
+    return gap, at
+
+
+def coverage_peaks(points, faces, lengths):
+    """Where the distance from a point of each triangle to the triangle's nearest corner
+    peaks, and that distance: the geometry of both kinds of certificate's coverage.
+
+    When no angle is obtuse, at the circumcentre (distance R); else at one of the two
+    points of the longest edge AB equidistant from C and A (at ``|AC|²|AB| / (2 AB·AC)``
+    from A) or from C and B, both closer than R.
+
+    Parameters
+    ----------
+    points : (N, 2) float ndarray
+    faces : (M, 3) int ndarray
+    lengths : (M, 3) float ndarray
+        Each triangle's edge lengths, edge k opposite corner k (``Quality.edge_lengths``).
+
+    Returns
+    -------
+    peaks : (M, 2, 2) float ndarray
+        Two places per triangle (the circumcentre twice when it is not obtuse).
+    reach : (M, 2) float ndarray
+        Their distances to the triangle's nearest corner.
+    obtuse : (M,) bool ndarray
+
+    Examples
+    --------
+    >>> from pds_plugin.analysis.quality import triangle_quality
+    >>> points = np.array([[0, 0], [4, 0], [2, 1], [2, 3]], float)
+    >>> faces = np.array([[0, 1, 2], [0, 1, 3]])
+    >>> peaks, reach, obtuse = coverage_peaks(points, faces,
+    ...                                       triangle_quality(points, faces).edge_lengths)
+    >>> obtuse.tolist(), peaks[0].round(6).tolist(), reach[0].round(6).tolist()
+    ([True, False], [[1.25, 0.0], [2.75, 0.0]], [1.25, 1.25])
+    >>> peaks[1, 0].round(6).tolist(), round(float(reach[1, 0]), 6)   # R = 13/6
+    ([2.0, 0.833333], 2.166667)
+    """
     centre, radius = circumcircles(points, faces)
     squared = lengths ** 2                                     # edge k opposite corner k
     longest = np.argmax(squared, axis=1)
     rows = np.arange(len(faces))
     obtuse = 2 * squared[rows, longest] > squared.sum(axis=1)
-    value = np.where(obtuse, -np.inf, radius)
-    best = int(np.argmax(value))
-    gap, at = float(value[best]), centre[best]
-    # obtuse triangles can only beat the best where their circumradius does
-    k = np.flatnonzero(obtuse & (radius > gap))
+    peaks = np.repeat(centre[:, None, :], 2, axis=1)
+    reach = np.repeat(radius[:, None], 2, axis=1)
+    k = np.flatnonzero(obtuse)
     if len(k):
         c = faces[k, longest[k]]
         a = faces[k, (longest[k] + 1) % 3]
@@ -589,12 +706,10 @@ def _triangles_reach(points, faces, lengths):
         unit = ab / length[:, None]
         from_a = squared[k, (longest[k] + 2) % 3] * length / (2 * np.einsum("ij,ij->i", ab, pc - pa))
         from_b = squared[k, (longest[k] + 1) % 3] * length / (2 * np.einsum("ij,ij->i", -ab, pc - pb))
-        reach = np.maximum(from_a, from_b)
-        j = int(np.argmax(reach))
-        if reach[j] > gap:
-            gap = float(reach[j])
-            at = pa[j] + unit[j] * from_a[j] if from_a[j] >= from_b[j] else pb[j] - unit[j] * from_b[j]
-    return gap, at
+        peaks[k, 0] = pa + unit * from_a[:, None]
+        peaks[k, 1] = pb - unit * from_b[:, None]
+        reach[k, 0], reach[k, 1] = from_a, from_b
+    return peaks, reach, obtuse
 
 
 def _nonmanifold_vertices(boundary_edges, n_vertices) -> int:

@@ -26,7 +26,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from .._certificate_kernels import segment_distances, signed_areas
-from .feature import _point_segment
+from .feature import point_segment
 
 __all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
 
@@ -317,11 +317,11 @@ class SampledBoundary:
             return {}
         faces = np.asarray(self.faces, np.int64)
         n = len(self.points)
-        keys = np.concatenate([_keys(faces[:, i], faces[:, (i + 1) % 3], n) for i in range(3)])
+        keys = np.concatenate([edge_keys(faces[:, i], faces[:, (i + 1) % 3], n) for i in range(3)])
         third = np.concatenate([faces[:, (i + 2) % 3] for i in range(3)])
         mixed = np.flatnonzero(self.mixed)
         order = np.argsort(keys, kind="stable")
-        wanted = _keys(self.a[mixed], self.b[mixed], n)
+        wanted = edge_keys(self.a[mixed], self.b[mixed], n)
         at = np.minimum(np.searchsorted(keys, wanted, sorter=order), len(keys) - 1)
         found = keys[order[at]] == wanted
         return {int(k): self.points[third[order[at[m]]]]
@@ -533,7 +533,7 @@ class _Conformity:
                                  "boundary samples, too few to be a ring of the mesh")
         edges = self.mesh.edges
         edges = edges[mesh.on_boundary[edges[:, 0]] & mesh.on_boundary[edges[:, 1]]]
-        missing = ~np.isin(_keys(s.a, s.b, self.n), _keys(edges[:, 0], edges[:, 1], self.n))
+        missing = ~np.isin(edge_keys(s.a, s.b, self.n), edge_keys(edges[:, 0], edges[:, 1], self.n))
         middle = (self.points[s.a[missing]] + self.points[s.b[missing]]) / 2
         self._say(int(missing.sum()), "pairs of consecutive boundary samples are not joined by "
                   "a mesh edge", middle)
@@ -568,9 +568,9 @@ class _Conformity:
         s, edges = self.sampled, self.boundary_edges
         if not len(edges):
             return np.inf
-        exact = np.isin(_keys(s.a, s.b, self.n), _keys(edges[:, 0], edges[:, 1], self.n)) & s.straight
-        exact_keys = _keys(s.a[exact], s.b[exact], self.n)
-        mesh_side = ~np.isin(_keys(edges[:, 0], edges[:, 1], self.n), exact_keys)
+        exact = np.isin(edge_keys(s.a, s.b, self.n), edge_keys(edges[:, 0], edges[:, 1], self.n)) & s.straight
+        exact_keys = edge_keys(s.a[exact], s.b[exact], self.n)
+        mesh_side = ~np.isin(edge_keys(edges[:, 0], edges[:, 1], self.n), exact_keys)
         rings_probed = np.repeat(s.samples_per_ring < 2, [len(r) for r in self.mesh.region.rings])
         region_side = np.concatenate([s.arcs(~exact)[0], self.mesh.region.segments[rings_probed]])
         mesh_segments = self.points[edges]
@@ -610,8 +610,8 @@ def _farthest(curves, targets, step) -> float:
     farthest = float(max(dp.max(), dq.max()))
     while len(p):
         lipschitz = (dp + dq + np.hypot(*(q - p).T)) / 2
-        along_sp = np.maximum(dp, _point_segment(q, targets[sp, 0], targets[sp, 1])[0])
-        along_sq = np.maximum(dq, _point_segment(p, targets[sq, 0], targets[sq, 1])[0])
+        along_sp = np.maximum(dp, point_segment(q, targets[sp, 0], targets[sp, 1])[0])
+        along_sq = np.maximum(dq, point_segment(p, targets[sq, 0], targets[sq, 1])[0])
         bound = np.minimum(lipschitz, np.minimum(along_sp, along_sq))
         open_ = bound > farthest + step / 2
         p, q, dp, dq, sp, sq = (a[open_] for a in (p, q, dp, dq, sp, sq))
@@ -741,12 +741,19 @@ def say_located(problems: list, count: int, what: str, where) -> None:
     ['4 gaps, at (0, 1), (2, 3), (4, 5) ...']
     """
     if count:
-        places = ", ".join(_xy(p) for p in where[:_MAX_NAMED])
+        places = ", ".join(point_text(p) for p in where[:_MAX_NAMED])
         problems.append(f"{count} {what}, at {places}{' ...' if count > _MAX_NAMED else ''}")
 
 
-def _keys(u, v, n) -> np.ndarray:
-    """Undirected edge keys."""
+def edge_keys(u, v, n) -> np.ndarray:
+    """Undirected edge keys: one integer per edge (u, v) of ``n`` points, the same for
+    (v, u).
+
+    Examples
+    --------
+    >>> edge_keys(np.array([2, 0]), np.array([0, 2]), 5).tolist()
+    [2, 2]
+    """
     return np.minimum(u, v) * n + np.maximum(u, v)
 
 
@@ -755,5 +762,12 @@ def _ring_name(owner) -> str:
     return f"outline of component {component}" if hole is None else f"hole {hole} of component {component}"
 
 
-def _xy(point) -> str:
+def point_text(point) -> str:
+    """A point as the messages locate it: ``(x, y)`` to 4 significant digits.
+
+    Examples
+    --------
+    >>> point_text((1.234567, -0.5))
+    '(1.235, -0.5)'
+    """
     return f"({float(point[0]):.4g}, {float(point[1]):.4g})"

@@ -314,7 +314,7 @@ class _Boundary:
         lo, hi = np.minimum(t0, t1), np.maximum(t0, t1)
         middle = parallel & (hi > lo)
         at = self.p0[a[middle]] + (0.5 * (lo + hi))[middle, None] * u[middle]
-        _, foot = _point_segment(at, self.p0[j[middle]], self.p1[j[middle]])
+        _, foot = point_segment(at, self.p0[j[middle]], self.p1[j[middle]])
         return middle, (at, foot)
 
     def _through_region(self, p, q):
@@ -371,8 +371,8 @@ def _segment_distance(p0, p1, q0, q1):
 
     The minimum is reached at an endpoint of one of them.
     """
-    found = [_point_segment(p0, q0, q1), _point_segment(p1, q0, q1),
-             _point_segment(q0, p0, p1), _point_segment(q1, p0, p1)]
+    found = [point_segment(p0, q0, q1), point_segment(p1, q0, q1),
+             point_segment(q0, p0, p1), point_segment(q1, p0, p1)]
     distance = np.stack([d for d, _ in found])
     foot = np.stack([f for _, f in found])
     end = np.stack(np.broadcast_arrays(p0, p1, q0, q1))
@@ -384,7 +384,17 @@ def _segment_distance(p0, p1, q0, q1):
     return distance[k, rows], p, q
 
 
-def _point_segment(x, a, b):
+def point_segment(x, a, b):
+    """The distance from each point x to the segment ab (rows of (k, 2) arrays), and the
+    nearest point of the segment.
+
+    Examples
+    --------
+    >>> distance, foot = point_segment(np.array([[1.0, 2.0], [3.0, 0.0]]),
+    ...                                np.zeros((2, 2)), np.array([[2.0, 0.0], [2.0, 0.0]]))
+    >>> distance.tolist(), foot.tolist()
+    ([2.0, 1.0], [[1.0, 0.0], [2.0, 0.0]])
+    """
     ab = b - a
     length2 = (ab * ab).sum(axis=1)
     t = np.clip(((x - a) * ab).sum(axis=1) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)

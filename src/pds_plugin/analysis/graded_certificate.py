@@ -36,11 +36,10 @@ import shapely
 from scipy.spatial import cKDTree
 
 from ..sizing import angle_bound
-from .certificate import (COVERAGE_TOL, QUALITY_TOL, SEPARATION_TOL, Certificate,
-                          _nonmanifold_vertices, _sees, _visibility_route_fails, curve_deviation)
+from .certificate import (COVERAGE_TOL, QUALITY_TOL, SEPARATION_TOL, Certificate, assemble,
+                          coverage_peaks, sees, visibility_route_fails)
 from .conformity import SampledBoundary, boundary_report
 from .small_features import small_feature_exceptions
-from .topology import topology_report
 
 if TYPE_CHECKING:
     from ..mesh import PlanarMesh
@@ -177,37 +176,21 @@ def certify_graded(mesh: PlanarMesh) -> GradedCertificate:
     sampled = SampledBoundary(mesh.region, points, mesh.on_boundary, field.cap, faces, field)
     boundary = boundary_report(mesh, sampled)
     problems = list(boundary.problems)
-    why_not = _visibility_route_fails(mesh, boundary, sampled)
+    why_not = visibility_route_fails(mesh, boundary, sampled)
     if why_not:
         problems.append(f"coverage not measured with the visibility rule: {why_not}")
-    gap, gap_at, lens, lens_at = _relative_coverage(points, faces, field, sampled)
+    gap, gap_at, lens, lens_at = _relative_coverage(points, faces, quality.edge_lengths,
+                                                    field, sampled)
     proven = angle_bound(field.grading)
     angles = quality.angles.reshape(-1, 3)
     low = np.flatnonzero(angles.min(axis=1, initial=180.0) < proven * (1 - QUALITY_TOL))
     separation, close = _relative_separation(mesh, radius, sampled)
-    exceptions, excused, unexplained = small_feature_exceptions(
-        mesh, quality, sampled, close, radius=radius, grading=field.grading)
-    used = np.zeros(len(points), bool)
-    used[faces.ravel()] = True
-    return GradedCertificate(
-        alpha=field.cap, samples=len(points), triangles=len(faces),
-        min_separation=separation,
-        coverage_gap=gap, coverage_gap_at=tuple(float(v) for v in gap_at),
-        max_aspect_ratio=float(quality.aspect_ratio.max(initial=0.0)),
-        min_angle=float(quality.angles.min(initial=180.0)),
-        max_angle=float(quality.angles.max(initial=0.0)),
-        isolated_samples=int(np.count_nonzero(~used)),
-        nonmanifold_vertices=_nonmanifold_vertices(mesh.boundary_edges, len(points)),
-        area_ratio=float(quality.area.sum() / mesh.region.area),
-        outside_area_ratio=boundary.outside_area_ratio,
-        missing_area_ratio=boundary.missing_area_ratio,
-        boundary_deviation=boundary.boundary_deviation,
-        conforming=boundary.conforming, sampled_outline=boundary.sampled_outline,
-        claims_conforming=True, visibility=not why_not,
-        boundary_problems=tuple(problems), topology=topology_report(mesh),
-        exceptions=exceptions, excused_pairs=excused, unexplained=unexplained,
-        tolerance=mesh.region.tolerance, source_deviation=mesh.region.source_deviation,
-        curve_deviation=curve_deviation(mesh),
+    features = small_feature_exceptions(mesh, quality, sampled, close, radius=radius,
+                                        grading=field.grading)
+    return assemble(
+        GradedCertificate, mesh, faces, quality, boundary, alpha=field.cap,
+        separation=separation, gap=gap, gap_at=gap_at, claims_conforming=True,
+        visibility=not why_not, problems=problems, features=features,
         grading=field.grading, proven_angle=proven,
         below_bound=tuple(tuple(float(v) for v in points[faces[k]].mean(axis=0))
                           for k in low[:_MAX_LOCATED]),
@@ -241,7 +224,7 @@ def _relative_separation(mesh, radius, sampled):
     close = ratio < max(best, 1 - SEPARATION_TOL)
     if not close.any():
         return best, short_edges
-    seen = _sees(shapely.union(mesh.region.geometry, sampled.polygon()),
+    seen = sees(shapely.union(mesh.region.geometry, sampled.polygon()),
                  np.stack([points[p[close]], points[q[close]]], axis=1), mesh.alpha)
     below = seen & (ratio[close] < 1 - SEPARATION_TOL)
     pairs = np.column_stack([p[close][below], q[close][below]])
@@ -249,33 +232,19 @@ def _relative_separation(mesh, radius, sampled):
     return nearest, np.concatenate([short_edges, pairs])
 
 
-def _relative_coverage(points, faces, field, sampled):
+def _relative_coverage(points, faces, lengths, field, sampled):
     """The largest min_v |x - v| / r(x) at the points of each triangle where the distance
-    to its nearest corner peaks, and at the farthest point of the slivers beyond the
-    chords (see the module docstring), and where; then the same over the peaks above 1
-    that lie in a chord's lens (:func:`_in_a_lens`), measured apart."""
+    to its nearest corner peaks (:func:`.certificate.coverage_peaks`, as for uniform
+    meshes), and at the farthest point of the slivers beyond the chords (see the module
+    docstring), and where; then the same over the peaks above 1 that lie in a chord's
+    lens (:func:`_in_a_lens`), measured apart."""
     worst, at, lens, lens_at = 0.0, np.zeros(2), 0.0, np.zeros(2)
     if len(faces):
-        tri = points[faces]                                    # (m, 3, 2)
-        length2 = np.sum((np.roll(tri, -1, axis=1) - tri) ** 2, axis=2)   # edge k: k -> k+1
-        longest = np.argmax(length2, axis=1)
-        rows = np.arange(len(faces))
-        a = tri[rows, longest]
-        b = tri[rows, (longest + 1) % 3]
-        c = tri[rows, (longest + 2) % 3]                       # opposite the longest edge
-        ab, ac, bc = b - a, c - a, c - b
-        cross = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
-        ab2, ac2 = np.sum(ab * ab, axis=1), np.sum(ac * ac, axis=1)
-        centre = a + np.column_stack([ac[:, 1] * ab2 - ab[:, 1] * ac2,
-                                      ab[:, 0] * ac2 - ac[:, 0] * ab2]) / (2 * cross[:, None])
-        obtuse = np.sum(ac * bc, axis=1) < 0                   # angle at c > 90°
-        # on the longest edge, where the bisectors of ca and cb cross it
-        t_a = 0.5 * ac2 / np.maximum(np.sum(ac * ab, axis=1), 1e-300)
-        t_b = 1 - 0.5 * np.sum(bc * bc, axis=1) / np.maximum(-np.sum(bc * ab, axis=1), 1e-300)
-        for t in (t_a, t_b):
-            peak = np.where(obtuse[:, None], a + np.clip(t, 0, 1)[:, None] * ab, centre)
+        peaks, reach, _ = coverage_peaks(points, faces, lengths)
+        for side in (0, 1):
+            peak = peaks[:, side]
             radius = field(peak)
-            ratio = np.min(np.linalg.norm(tri - peak[:, None, :], axis=2), axis=1) / radius
+            ratio = reach[:, side] / radius
             high = np.flatnonzero(ratio > 1 + COVERAGE_TOL)
             high = high[_in_a_lens(peak[high], radius[high] / (1 - field.grading), sampled)]
             if len(high) and ratio[high].max() > lens:

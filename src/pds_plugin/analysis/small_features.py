@@ -18,7 +18,9 @@ feature of the region that keeps them apart by a proven distance d (docs/conform
   f = ``corner_clearance(θ)`` from the corner are at least d = 2 f sin(θ/2) apart (the
   squared distance d1² + d2² − 2 d1 d2 cos θ is convex and increasing in d1 and d2 from
   (f, f) on when θ < 90°). A side shorter than f holds no sample but the vertex ending
-  it, at its fixed distance: d is then the least distance with that one fixed.
+  it, at its fixed distance: d is then the least distance with that one fixed; a side
+  too short for the clearances at both its ends but with a chord of 2 alpha or more is
+  halved, its middle alpha or more from the corner: f is alpha for that sample.
 - **thin wall**: samples seeing each other across material narrower than alpha, on two
   boundary segments d > 0 apart.
 
@@ -41,7 +43,7 @@ import shapely
 
 from ..sampling import corner_clearance
 from ..sizing import angle_bound
-from .conformity import ON_BOUNDARY_TOL, SampledBoundary, _keys, _xy, say_located
+from .conformity import ON_BOUNDARY_TOL, SampledBoundary, edge_keys, point_text, say_located
 from .quality import ASPECT_BOUND
 
 __all__ = ["ExceptionalTriangle", "small_feature_exceptions", "CAUSES"]
@@ -132,7 +134,7 @@ class ExceptionalTriangle:
         return values
 
     def __str__(self) -> str:
-        return (f"triangle {self.triangle} at {_xy(self.place)}: {self.describe_feature()}; "
+        return (f"triangle {self.triangle} at {point_text(self.place)}: {self.describe_feature()}; "
                 f"angles [{self.min_angle:.3g}°, {self.max_angle:.3g}°] >= "
                 f"{self.proven_angle:.3g}°, aspect ratio {self.aspect_ratio:.3g} <= "
                 f"{self.proven_aspect_ratio:.3g} {'ok' if self.meets_bound else 'FAILED'}")
@@ -209,8 +211,8 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
                                         else ASPECT_BOUND) * (1 + _TOL)))
     rows = np.flatnonzero(below)
     opposite = np.stack([faces[rows][:, [1, 2, 0]], faces[rows][:, [2, 0, 1]]], axis=2)  # (k, 3, 2)
-    keys = _keys(opposite[..., 0], opposite[..., 1], n)
-    pair_keys = _keys(pairs[:, 0], pairs[:, 1], n)
+    keys = edge_keys(opposite[..., 0], opposite[..., 1], n)
+    pair_keys = edge_keys(pairs[:, 0], pairs[:, 1], n)
     at = np.minimum(np.searchsorted(pair_keys, keys), max(len(pairs) - 1, 0))
     found = (pair_keys[at] == keys) & excused[at] if len(pairs) else np.zeros(keys.shape, bool)
     short = edges[rows] < scale[opposite].min(axis=2) * (1 - _TOL)
@@ -260,8 +262,8 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     distance = np.hypot(*(points[q] - points[p]).T)
     both = on_boundary[p] & on_boundary[q]
     # chords: consecutive samples of a ring
-    keys = _keys(p, q, len(points))
-    chord_keys = _keys(sampled.a, sampled.b, len(points))
+    keys = edge_keys(p, q, len(points))
+    chord_keys = edge_keys(sampled.a, sampled.b, len(points))
     order = np.argsort(chord_keys)
     chord = order[np.minimum(np.searchsorted(chord_keys[order], keys), len(order) - 1)] \
         if len(order) else np.zeros(k, np.int64)
@@ -324,12 +326,15 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
     into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
     angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
                                np.einsum("ij,ij->i", into, out))
+    at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
     if scales is None:
-        clear_a = clear_b = corner_clearance(angle, alpha)
+        clear = corner_clearance(angle, alpha)
+        # a side too short for the clearances at both its ends, with a chord of 2 alpha
+        # or more, is halved (sampling._halved_long_chords): its middle is alpha away
+        clear_a, clear_b = (np.where(at < clear * (1 - _TOL), alpha, clear) for at in (at_a, at_b))
     else:
         c = corner_clearance(angle, 1.0)
         clear_a, clear_b = c * scales[0], c * scales[1]
-    at_a, at_b = np.hypot(*(a - corner).T), np.hypot(*(b - corner).T)
     fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
     fixed_b = np.hypot(*(b - second[:, 1]).T) <= tol
     # two free samples are alpha apart beside a corner of 60° or more: only sharper

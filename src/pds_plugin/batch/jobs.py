@@ -15,10 +15,10 @@ from pathlib import Path
 from .._checks import check_alpha, check_positive_int, check_vector
 from ..errors import ArgumentError
 from ..sinks.files import writers
-from ..sources.drawing import READERS, load_drawing
+from ..sources.drawing import is_drawing, load_drawing
 from ..sources.solids import sections
 
-__all__ = ["Job", "parse_job", "numbered", "plane_sections", "OPTIONS", "AXES"]
+__all__ = ["Job", "parse_job", "wants_graded", "numbered", "plane_sections", "OPTIONS", "AXES"]
 
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 _PLANE_OPTIONS = ("axis", "plane_normal", "plane_origin", "at", "slices")
@@ -74,7 +74,7 @@ class Job:
     def regions(self) -> list:
         """Load the input and cut it: the job's sections as :class:`~pds_plugin.Region`\\ s."""
         o = self.settings
-        if _is_drawing(self.input):
+        if is_drawing(self.input):
             return [load_drawing(self.input, **({"layers": o["layer"]} if o["layer"] else {}))]
         return plane_sections(self.input, AXES.get(o["axis"], o["plane_normal"]),
                               plane_origin=o["plane_origin"], at=o["at"], slices=o["slices"])
@@ -136,7 +136,9 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     Parameters
     ----------
     mapping : Mapping
-        The job: keys from :data:`OPTIONS`; ``input`` and ``alpha`` are required.
+        The job: keys from :data:`OPTIONS`; ``input`` is required. As for ``pds-mesh``,
+        ``alpha`` defaults to ``"auto"``, which makes a graded mesh unless ``graded`` is
+        false (:func:`wants_graded`).
     index : int
         Its position in the batch.
     out_dir : str or os.PathLike
@@ -174,12 +176,12 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
         raise ArgumentError(f"unknown option {unknown[0]!r}; a job has {', '.join(OPTIONS)}")
     if "input" not in given:
         raise ArgumentError("the job has no input: give the mesh file or drawing to mesh")
-    if "alpha" not in given:
-        raise ArgumentError("the job has no alpha: give the disc radius or 'auto'")
     source = Path(base_dir, str(given["input"])).absolute()
     settings = {name: _PARSERS[name](given[name], name) if name in given else None
                 for name in OPTIONS[2:]}
-    settings["graded"] = bool(settings["graded"])
+    settings["alpha"] = "auto" if settings["alpha"] is None else settings["alpha"]
+    settings["graded"] = wants_graded(settings["alpha"], settings["graded"],
+                                      settings["conforming"])
     if settings["graded"] and settings["conforming"] is False:
         raise ArgumentError("graded meshes are always conforming; drop conforming: false "
                             "or graded")
@@ -198,6 +200,35 @@ def parse_job(mapping, index: int, out_dir, base_dir=".") -> Job:
     options = tuple((name, tuple(v) if isinstance(v, list) else v)
                     for name, v in settings.items())
     return Job(index, str(source), str(output), outputs, options)
+
+
+def wants_graded(alpha, graded: bool | None = None, conforming: bool | None = True) -> bool:
+    """Whether a mesh of ``pds-mesh`` or of a batch job is graded: ``graded`` when given,
+    else graded exactly for ``alpha="auto"`` on a conforming mesh (graded meshes are
+    always conforming; ``conforming`` None means the default, True). The one rule of the
+    command line (``--graded``, ``--uniform``) and of batch jobs (``graded``).
+
+    Parameters
+    ----------
+    alpha : float or "auto"
+    graded : bool, optional
+        Asked for (True) or refused (False); None when not said.
+    conforming : bool, optional
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> wants_graded("auto"), wants_graded("auto", False), wants_graded(0.2), wants_graded(0.2, True)
+    (True, False, False, True)
+    >>> wants_graded("auto", conforming=False)
+    False
+    """
+    if graded is not None:
+        return bool(graded)
+    return alpha == "auto" and conforming is not False
 
 
 def numbered(path: Path, count: int) -> list[Path]:
@@ -226,10 +257,6 @@ def numbered(path: Path, count: int) -> list[Path]:
 
 
 # --- option values -------------------------------------------------------------------
-
-def _is_drawing(path) -> bool:
-    return Path(path).suffix.lower() in READERS
-
 
 def _numbers(value, name) -> list[float]:
     """Numbers given as a list, one number, or text like ``"0.5,1"``."""
@@ -315,7 +342,7 @@ def _check_plane(settings: dict, source: Path) -> None:
     given = [name for name in _PLANE_OPTIONS if settings[name] is not None]
     if settings["layer"] is not None and source.suffix.lower() != ".dxf":
         raise ArgumentError(f"layer selects layers of a DXF drawing; {source.name} is not one")
-    if _is_drawing(source):
+    if is_drawing(source):
         if given:
             raise ArgumentError(f"{source.name} is a {source.suffix[1:].upper()} drawing, "
                                 f"which is already planar: drop {given[0]}")
@@ -336,7 +363,7 @@ def _derived_name(source: Path, settings: dict) -> str:
     """``part.ply`` (a drawing), ``part_z0.5.ply``, ``part_z_middle.ply``, ``part_z_slices10.ply``;
     any other plane: ``part_plane-HASH.ply`` from the plane options."""
     axis, at, slices = settings["axis"], settings["at"], settings["slices"]
-    if _is_drawing(source):
+    if is_drawing(source):
         label = ""
     elif axis is not None and settings["plane_origin"] is None:
         if slices is not None:

@@ -75,7 +75,7 @@ def _csv(text: str, path: Path) -> list[dict]:
     reader = csv.DictReader(text.splitlines())
     if not reader.fieldnames or "input" not in [n.strip() for n in reader.fieldnames]:
         raise ArgumentError(f"{path}: a CSV manifest starts with a header row of option "
-                         f"names, with at least 'input' and 'alpha'")
+                         f"names, with at least 'input'")
     jobs = []
     for row in reader:
         if None in row:

@@ -10,6 +10,7 @@ from pathlib import Path
 from .._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .._version import __version__
 from ..batch.jobs import AXES
+from ..batch.jobs import wants_graded as graded_by_rule
 from ..errors import ArgumentError
 from ..region import check_tolerance
 from ..sources.solids import MAX_SECTIONS
@@ -84,7 +85,8 @@ manifest (JSON Lines, one job per line; or CSV with these column names):
   {"input": "bracket.stl", "plane_origin": [0, 0, 5], "plane_normal": [0, 1, 1], "alpha": 0.2}
   {"input": "logo.svg", "alpha": 2.5, "output": "logos/logo.obj"}
   The options of 'pds-mesh mesh' with _ for -: input, output, axis, plane_normal,
-  plane_origin, at, slices, layer, alpha, graded, seed, max_samples. Relative inputs are read
+  plane_origin, at, slices, layer, alpha, graded, seed, max_samples. As there, alpha
+  defaults to auto, a graded mesh ("graded": false for one alpha). Relative inputs are read
   from the manifest's folder, relative outputs written to DIR; without output the name
   comes from the input and the plane (bracket_z0.5.ply).
 
@@ -281,7 +283,8 @@ def _batch_arguments(parser: argparse.ArgumentParser) -> None:
 def wants_graded(args) -> bool:
     """Whether ``pds-mesh mesh`` makes graded meshes: with ``--graded`` or ``--grading``,
     and by default with ``--alpha auto`` (``--uniform`` and ``--no-conforming`` turn the
-    default off: graded meshes are always conforming).
+    default off: graded meshes are always conforming). Batch jobs follow the same rule
+    (:func:`pds_plugin.batch.jobs.wants_graded`).
 
     Parameters
     ----------
@@ -310,7 +313,8 @@ def wants_graded(args) -> bool:
     if args.uniform and asked:
         raise ArgumentError("--uniform and --graded/--grading ask for different meshes; "
                             "give one of them")
-    return asked or (args.alpha == "auto" and not args.uniform and args.conforming)
+    return graded_by_rule(args.alpha, True if asked else False if args.uniform else None,
+                          args.conforming)
 
 
 def glue_negative_values(argv: list[str]) -> list[str]:

@@ -21,7 +21,7 @@ from ..region import Region
 from ..sampling import DEFAULT_MAX_SAMPLES
 from ..sinks.files import writers
 from ..sinks.plot import plot_report
-from ..sources.drawing import READERS, load_drawing
+from ..sources.drawing import READERS, is_drawing, load_drawing
 from .arguments import AXES, PROG, wants_graded
 from .output import say, summary, warn_about, write_report
 
@@ -294,7 +294,7 @@ def _read_regions(args) -> list[Region]:
         raise ArgumentError(f"--layer selects layers of a DXF drawing; {path} is not one")
     if args.layout is not None and kind != ".dxf":
         raise ArgumentError(f"--layout selects a layout of a DXF drawing; {path} is not one")
-    if kind in READERS:
+    if is_drawing(path):
         given = [name for name in ("axis", "plane_normal", "plane_origin", "at", "slices",
                                    "on_face") if getattr(args, name) is not None]
         if given:

@@ -9,7 +9,7 @@ from ..errors import SourceError
 from .dxf import load_dxf
 from .svg import load_svg
 
-__all__ = ["load_drawing", "READERS"]
+__all__ = ["load_drawing", "is_drawing", "READERS"]
 
 READERS = {".svg": load_svg, ".dxf": load_dxf}
 """The drawing reader of each file suffix (compared in lower case)."""
@@ -47,8 +47,28 @@ def load_drawing(path, **options):
     16.0
     """
     name = check_path(path)
-    suffix = os.path.splitext(name)[1].lower()
-    if suffix not in READERS:
+    if not is_drawing(name):
         raise SourceError(f"cannot read {name!r} as a drawing: the suffix must be "
                           f"one of {', '.join(READERS)}")
-    return READERS[suffix](path, **options)
+    return READERS[os.path.splitext(name)[1].lower()](path, **options)
+
+
+def is_drawing(path) -> bool:
+    """Whether ``path`` names a 2D drawing, read by :func:`load_drawing`, rather than a
+    solid to cut (a mesh or a B-rep file): by its suffix, in any case. The one place the
+    command line (``pds-mesh``) and batch jobs decide which an input is.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_drawing("sheet.DXF"), is_drawing("part.svg"), is_drawing("part.stl")
+    (True, True, False)
+    """
+    return os.path.splitext(os.fspath(path))[1].lower() in READERS

@@ -189,8 +189,8 @@ class _Solid:
         self.outward = 1.0 if volume.sum() >= 0 else -1.0
         if tolerance is None:
             from_file = isinstance(solid, (str, os.PathLike))
-            single = from_file and np.array_equal(self.vertices.astype(np.float32), self.vertices)
-            tolerance = mesh_tolerance(self.mesh, np.float32 if single else np.float64)
+            precision = np.float32 if _float32_rounded(self.mesh, from_file) else np.float64
+            tolerance = mesh_tolerance(self.mesh, precision)
         self.tolerance = check_tolerance(tolerance)
 
     def heights(self, origin, normal) -> np.ndarray:
@@ -337,13 +337,35 @@ CURVED = (1e-4, np.radians(30))
 above rounding, below a feature edge."""
 
 
+def _float32_rounded(mesh, from_file: bool) -> bool:
+    """Whether the vertices of ``mesh`` went through float32 rounding: they are all float32
+    numbers, and it was read from a file (an STL file is float32), or neighbouring faces
+    are coplanar only up to rounding (normals apart by less than ``CURVED[0]`` but not
+    0: a Trimesh read from an STL, a manifold3d solid). A solid typed in with round
+    coordinates is exact in any precision.
+
+    >>> import trimesh
+    >>> box = trimesh.creation.box()
+    >>> turned = box.copy().apply_transform(trimesh.transformations.rotation_matrix(0.3, [1, 2, 3]))
+    >>> turned.vertices = turned.vertices.astype(np.float32).astype(float)   # an STL export
+    >>> _float32_rounded(box, False), _float32_rounded(box, True), _float32_rounded(turned, False)
+    (False, True, True)
+    """
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    if not np.array_equal(vertices.astype(np.float32), vertices):
+        return False
+    angle = np.asarray(mesh.face_adjacency_angles)
+    return from_file or bool(np.any((angle > 0) & (angle < CURVED[0])))
+
+
 def mesh_tolerance(mesh, precision=np.float64) -> float:
     """The default tolerance of a mesh's sections: the larger of its float noise and the
     chord error of its tessellated curves.
 
     - Noise: ``NOISE_ULPS`` units in the last place of the largest coordinate, in the
-      ``precision`` the mesh was stored in (:func:`section` gives float32 for a file
-      whose vertices are all float32 numbers, as an STL file's are).
+      ``precision`` the mesh was stored in (:func:`section` gives float32 for a mesh
+      whose vertices went through float32 rounding, as an STL file's did, read by
+      trimesh or not, and a manifold3d solid's).
     - Chord error: a facet of width w between neighbours whose normals turn by φ
       approximates an arc that lies up to w·tan(φ/4)/2 from it (the sagitta of a circle
       through the facet's ends, w = 2ρ sin(φ/2)); the median over the edges of curved

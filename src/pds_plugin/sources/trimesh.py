@@ -13,6 +13,7 @@ import numpy as np
 
 from ..errors import SectionError, SourceError
 from ._sniff import MESH_KINDS, misnamed
+from .drawing import is_drawing
 
 
 def load(solid):
@@ -52,10 +53,9 @@ def load(solid):
             raise FileNotFoundError(f"no such mesh file: {path!r}")
         if os.path.getsize(path) == 0:
             raise SourceError(f"the mesh file {path!r} is empty")
-        suffix = os.path.splitext(path)[1].lower()
-        if suffix in (".svg", ".dxf"):
+        if is_drawing(path):
             raise SourceError(f"{path!r} is a 2D drawing, not a solid to cut: read it with "
-                              f"pds_plugin.load_{suffix[1:]}")
+                              f"pds_plugin.load_{os.path.splitext(path)[1].lower()[1:]}")
         _check_binary_stl(path)
         try:
             mesh = trimesh.load_mesh(path)

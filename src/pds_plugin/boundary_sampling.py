@@ -1,0 +1,338 @@
+"""The boundary stage the uniform and graded samplers share (:mod:`.sampling`,
+:mod:`.graded_sampling`; :mod:`.partition` for chains shared by regions), and the chords
+their complexes are constrained by (:mod:`.complex`, :mod:`.graded_complex`).
+
+- :func:`given_boundary`: boundary samples given by the caller, checked;
+- :func:`along`: the points at positions along a ring (arc length, or τ = ∫ dt / r);
+- :func:`onto_curves`: boundary samples moved onto a drawing's exact arcs;
+- :func:`joined`: the samples of every ring in one array, each ring's indices, the
+  rings the chords join; :func:`chord_ends`: each chord's two ends;
+- :func:`guard_candidates`: guard samples inside chords too long to split, in the order
+  to try them (docs/conforming.md, "Why consecutive boundary samples are mesh edges");
+- :func:`domain_of_rings`: the chords of polygon rings and their cells, for the exact
+  in/out tests of the paper's (not conforming) sampler;
+- :func:`chord_reach` and :func:`graded_chords`: the chords of a graded sampling, each
+  binned within the reach a kept triangle's edge can have from it: one rule for the
+  graded sampler and the graded complex.
+
+The chords travel as :class:`~pds_plugin._visibility_kernels.ChordBundle`\\ s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _graded_kernels as graded_kern
+from . import _visibility_kernels as vis_kern
+from .boundary_curves import samples_onto_curves
+from .errors import ArgumentError, RegionError
+from .region import Region
+
+__all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
+           "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords"]
+
+RESOLUTION = 1e-10
+"""The smallest refinement box and boundary margin of both samplers, relative to the
+radius (alpha, or r where the box is)."""
+
+_GUARD_SPREAD = (0.5, -0.5, 1.0, -1.0, 0.25, -0.25, 0.75, -0.75)  # other guard heights, / t_c
+_GUARD_MARGIN = 1e-9     # guards stay this much (/ t_c) inside the heights of circumradius alpha
+_CAP_SLACK = 0.03        # a corner guard's disc holds the open cap's sampled arcs by this much (/ alpha)
+_MAX_CHORD_ENTRIES = 1_000_000  # cells listed for all chords of a graded sampling, at most
+_CHORD_CELLS = 32            # cells of the chord grid a chord is listed in, on average, at most
+
+
+def given_boundary(region: Region, boundary_samples, conforming: bool) -> list:
+    """``boundary_samples`` as one (k, 2) float array per ring of ``region``, checked
+    (``conforming`` must be true: only a conforming sampling takes them).
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> [ring.shape for ring in given_boundary(square, [[(0, 0), (1, 0), (1, 1)]], True)]
+    [(3, 2)]
+    """
+    if not conforming:
+        raise ArgumentError("boundary_samples apply to conforming samplings; pass conforming=True")
+    rings = [np.asarray(ring, dtype=float).reshape(-1, 2) for ring in boundary_samples]
+    if len(rings) != len(region.rings) or any(len(ring) < 3 for ring in rings):
+        raise ArgumentError(f"boundary_samples must give at least 3 samples for each of the "
+                            f"region's {len(region.rings)} rings, got "
+                            f"{[len(ring) for ring in rings]}")
+    return rings
+
+
+def along(at, cum, closed) -> np.ndarray:
+    """The points at arc positions ``at`` of a closed polyline ``closed`` whose vertices
+    are at positions ``cum`` (arc length, or any increasing measure along it).
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], float)
+    >>> along([0.5, 1.5, 3.75], np.arange(5.0), square).tolist()
+    [[0.5, 0.0], [1.0, 0.5], [0.0, 0.25]]
+    """
+    return np.column_stack([np.interp(at, cum, closed[:, 0]), np.interp(at, cum, closed[:, 1])])
+
+
+def onto_curves(region: Region, ring_xy, lower, upper):
+    """The boundary samples moved onto the region's exact arcs, and the region through
+    them (:func:`pds_plugin.boundary_curves.samples_onto_curves`); the samples as they
+    are and None for a region without curves, with a tolerance pass (its boundary is not
+    the curves'), or where the refined region would not be valid."""
+    if region.curves is None or region.tolerance != 0:
+        return ring_xy, None
+    moved, geometry = samples_onto_curves(region.curves, region.rings, region.ring_owners,
+                                          ring_xy, lower, upper)
+    if geometry is None:
+        return ring_xy, None
+    try:
+        return moved, Region.from_shapely(geometry, region.frame, curves=region.curves)
+    except RegionError:
+        return ring_xy, None
+
+
+def joined(ring_xy):
+    """The boundary samples of every ring in one array, and each ring's indices in it.
+
+    Examples
+    --------
+    >>> points, rings = joined([np.zeros((3, 2)), np.ones((4, 2))])
+    >>> len(points), [ring.tolist() for ring in rings]
+    (7, [[0, 1, 2], [3, 4, 5, 6]])
+    """
+    sizes = [len(xy) for xy in ring_xy]
+    ends = np.cumsum(sizes)
+    return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+
+
+def chord_ends(rings):
+    """The first and second end (indices) of every chord of ``rings``, ring after ring:
+    chord k joins ``a[k]`` to ``b[k]``, the next sample of its ring.
+
+    Examples
+    --------
+    >>> a, b = chord_ends([np.arange(3), np.arange(3, 7)])
+    >>> a.tolist(), b.tolist()
+    ([0, 1, 2, 3, 4, 5, 6], [1, 2, 0, 4, 5, 6, 3])
+    """
+    a = np.concatenate(rings)
+    b = np.concatenate([np.roll(ring, -1) for ring in rings])
+    return a, b
+
+
+def guard_candidates(boundary, rings, alpha) -> np.ndarray:
+    """Guard candidates inside each chord longer than √3 alpha (a piece that cannot be
+    split into parts in [alpha, √3 alpha]), in the order to try them: first, for every
+    such chord, the point on its bisector at height alpha, where the triangle of the
+    chord and the guard has circumradius (alpha² + g²/4) / (2 alpha) <= alpha and angles
+    in [45°, 90°]; then, for the chords whose first guard an earlier sample blocks,
+    heights alpha ± f·t_c (f in ``_GUARD_SPREAD``, t_c = sqrt(alpha² - g²/4)), all of
+    which keep the circumradius <= alpha and the chord an edge (docs/conforming.md,
+    "Why consecutive boundary samples are mesh edges"). The candidates of one chord are
+    less than alpha apart, so at most one becomes a sample. Before them all come the
+    corner guards of :func:`_corner_guards`. ``alpha`` may be a radius field (a callable
+    on points), taken at the chord's middle (graded samplings).
+
+    Examples
+    --------
+    >>> plate = np.array([[0, 0], [1.9, 0], [1.9, 1.6], [1.9, 3.2], [0, 3.2], [0, 1.6]])
+    >>> candidates = guard_candidates(plate, [np.arange(6)], 1.0)       # the chords of 1.9 are too long
+    >>> len(candidates) == 2 * (1 + len(_GUARD_SPREAD)), candidates[0].round(3).tolist()
+    (True, [0.95, 1.0])
+    >>> square = np.array([[0, 0], [1.9, 0], [1.9, 1.9], [0, 1.9]])
+    >>> guard_candidates(square, [np.arange(4)], 1.0)[0].round(3).tolist()   # a corner guard first
+    [1.193, 0.707]
+    """
+    a, b = chord_ends(rings)
+    p, q = boundary[a], boundary[b]
+    chord = q - p
+    g = np.hypot(chord[:, 0], chord[:, 1])
+    alpha = np.broadcast_to(alpha(0.5 * (p + q)) if callable(alpha) else alpha, g.shape)
+    long = g > math.sqrt(3) * alpha
+    inward = np.column_stack([-chord[:, 1], chord[:, 0]]) / np.maximum(g, 1e-300)[:, None]
+    first = boundary[a] + 0.5 * chord + alpha[:, None] * inward        # height alpha
+    corner = _corner_guards(boundary, rings, a, b, long, first, inward, alpha)
+    g, alpha, inward = g[long], alpha[long], inward[long]
+    spread = np.sqrt(np.maximum(alpha ** 2 - g ** 2 / 4, 0.0)) * (1 - _GUARD_MARGIN)
+    height = alpha + np.multiply.outer((0.0, *_GUARD_SPREAD), spread)    # (levels, chords)
+    middle = 0.5 * (p[long] + q[long])
+    return np.ascontiguousarray(np.concatenate(
+        [corner, (middle + height[..., None] * inward).reshape(-1, 2)]))
+
+
+def _corner_guards(boundary, rings, a, b, long, first, inward, alpha) -> np.ndarray:
+    """One guard for two long chords p -> q -> r that meet at a corner q where their
+    guards at height alpha would be less than alpha apart (one would block the other, and
+    no height on the blocked chord's bisector is free of it).
+
+    The guard G is the first point, near the corner's bisector at alpha to 1.5 alpha from
+    q, that makes triangles of circumradius <= alpha with both chords, lies at least alpha
+    from p, q and r, and covers with its disc, for each chord, the part of the cap of the
+    lower circle of circumradius alpha that the discs of the chord's ends leave open
+    (:func:`_open_cap`): the conditions under which a chord with a guard is a mesh edge
+    (docs/conforming.md, "Why consecutive boundary samples are mesh edges")."""
+    following = np.arange(len(a)) + 1
+    ends = np.cumsum([len(ring) for ring in rings])
+    following[ends - 1] = ends - np.array([len(ring) for ring in rings])
+    k = np.flatnonzero(long & long[following])
+    n = following[k]
+    radius = np.minimum(alpha[k], alpha[n])
+    close = np.hypot(*(first[k] - first[n]).T) < radius
+    guards = []
+    for before, pivot, after, h, (u, v) in zip(boundary[a[k[close]]], boundary[b[k[close]]],
+                                                boundary[b[n[close]]], radius[close],
+                                                zip(inward[k[close]], inward[n[close]])):
+        bisector = u + v
+        if np.hypot(*bisector) < 1e-9:
+            continue
+        heading = math.atan2(bisector[1], bisector[0])
+        turn = np.radians([0, 10, -10, 20, -20, 30, -30])
+        reach = h * np.array([1.0, 1.1, 1.2, 1.3, 1.4, 1.5]) * (1 + _GUARD_MARGIN)
+        angles, distances = (x.ravel() for x in np.meshgrid(heading + turn, reach))
+        candidates = pivot + distances[:, None] * np.column_stack([np.cos(angles), np.sin(angles)])
+        count = len(candidates)
+        fits = ((_circumradius(np.broadcast_to(before, (count, 2)), np.broadcast_to(pivot, (count, 2)),
+                               candidates) <= h * (1 - _GUARD_MARGIN))
+                & (_circumradius(np.broadcast_to(pivot, (count, 2)), np.broadcast_to(after, (count, 2)),
+                                 candidates) <= h * (1 - _GUARD_MARGIN))
+                & (np.hypot(*(candidates - before).T) >= h)
+                & (np.hypot(*(candidates - after).T) >= h))
+        cap = np.concatenate([_open_cap(before, pivot, h), _open_cap(pivot, after, h)])
+        fits &= (np.hypot(candidates[:, None, 0] - cap[None, :, 0],
+                          candidates[:, None, 1] - cap[None, :, 1]) <= h * (1 - _CAP_SLACK)).all(axis=1)
+        if fits.any():
+            guards.append(candidates[np.argmax(fits)])
+    return np.array(guards).reshape(-1, 2)
+
+
+def _open_cap(p, q, alpha, count=16) -> np.ndarray:
+    """Points along the boundary of the part of the inner cap of the circle of radius
+    alpha through p and q with its centre t_c = sqrt(alpha² - g²/4) outside the chord
+    that B(p, alpha) ∪ B(q, alpha) leaves open: arcs of the circles about p, about that
+    centre and about q, from (0, t_c) over the cap's top and back (chord coordinates,
+    the region to the left of p -> q). A guard whose disc holds it keeps the chord an
+    edge; ``count`` points per arc, their spacing under alpha / 40 for g in (√3α, 2α).
+
+    Examples
+    --------
+    >>> points = _open_cap(np.array([0.0, 0.0]), np.array([1.9, 0.0]), 1.0)
+    >>> bool(np.all(points[:, 1] > 0)), round(float(points[:, 1].max()), 3)   # top: 1 - t_c
+    (True, 0.688)
+    """
+    chord = q - p
+    g = math.hypot(*chord)
+    along, inward = chord / g, np.array([-chord[1], chord[0]]) / g
+    t = math.sqrt(max(alpha ** 2 - g ** 2 / 4, 0.0))
+    low = np.array([0.0, -t])
+    ends = {"p": np.array([-g / 2, 0.0]), "q": np.array([g / 2, 0.0])}
+    top = np.array([0.0, t])                                   # where the end circles meet
+    corner = np.array([-g / 4 + math.sqrt(3) / 2 * t, -t / 2 + math.sqrt(3) / 4 * g])
+
+    def arc(centre, start, stop):
+        first, last = (math.atan2(*(point - centre)[::-1]) for point in (start, stop))
+        angle = np.linspace(first, last, count)
+        return centre + alpha * np.column_stack([np.cos(angle), np.sin(angle)])
+
+    mirror = corner * np.array([-1.0, 1.0])
+    local = np.concatenate([arc(ends["p"], top, corner), arc(low, corner, mirror),
+                            arc(ends["q"], mirror, top)])
+    return (p + q) / 2 + local[:, :1] * along + local[:, 1:] * inward
+
+
+def _circumradius(u, v, w) -> np.ndarray:
+    """Circumradius of each triangle (u, v, w) of (n, 2) points (infinite if flat)."""
+    uv, vw, wu = (np.hypot(*(y - x).T) for x, y in ((u, v), (v, w), (w, u)))
+    twice_area = np.abs((v - u)[:, 0] * (w - u)[:, 1] - (v - u)[:, 1] * (w - u)[:, 0])
+    with np.errstate(divide="ignore"):
+        return uv * vw * wu / (2 * twice_area)
+
+
+def domain_of_rings(rings, alpha: float) -> tuple:
+    """The chord bundle of polygon ``rings`` (each a (k, 2) array with the region on its
+    left) and its cell sides: the arguments of the exact in/out tests
+    ``_visibility_kernels.points_inside`` and ``boxes_state``.
+
+    The cells are at least alpha/2 wide, and wider where the rings have few segments
+    for the area (a square gets a handful of cells, not one per alpha).
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> from pds_plugin import _visibility_kernels as vis_kern
+    >>> square = Region.from_shapely(box(0, 0, 1, 1))
+    >>> domain = domain_of_rings(square.rings, 0.01)
+    >>> vis_kern.points_inside(*domain, [0.5, 1.0, 2.0], [0.5, 0.5, 0.5])
+    array([ True, False, False])
+    """
+    points, indices = joined(rings)
+    (xmin, ymin), (xmax, ymax) = points.min(axis=0), points.max(axis=0)
+    cell = max(alpha / 2, math.sqrt((xmax - xmin) * (ymax - ymin) / (4 * len(points))))
+    vis = vis_kern.chord_bundle(points, indices, len(points), 2 * cell)   # cells of side reach/2
+    return vis, vis_kern.cell_sides(vis)
+
+
+def chord_reach(points, rings, radius, grading: float) -> np.ndarray:
+    """How far from each chord of ``rings`` an edge of a triangle a graded complex keeps
+    can reach: a segment of a triangle kept at circumcentre z has length
+    <= 2 r(z) / (1 - L) from any chord point it meets, with r there at most the chord's
+    larger end radius plus L times half its length (``radius``: r at the ``points``).
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    >>> chord_reach(square, [np.arange(4)], np.full(4, 0.4), 0.2).round(6).tolist()  # 2 (0.4 + 0.1) / 0.8
+    [1.25, 1.25, 1.25, 1.25]
+    """
+    a, b = chord_ends(rings)
+    length = np.hypot(*(points[b] - points[a]).T)
+    return (2.0 * (np.maximum(radius[a], radius[b]) + 0.5 * grading * length)
+            / (1.0 - grading) * (1 + 1e-9))
+
+
+def graded_chords(points, rings, reach, n_points: int, x0: float, y0: float, width: float,
+                  height: float, smallest_cell: float):
+    """The chords along ``rings`` binned for a graded sampling or complex: each chord
+    listed in the cells within its ``reach`` (:func:`chord_reach`).
+
+    Parameters
+    ----------
+    points : (N, 2) float ndarray
+        The samples the rings index.
+    rings : sequence of (k,) int ndarray
+        Each ring's samples in order, the region on the left (at least one ring).
+    reach : (m,) float ndarray
+        Each chord's reach, chord by chord as :func:`chord_ends` orders them.
+    n_points : int
+        The length of the bundle's ``out`` (the sampler's room for samples).
+    x0, y0, width, height : float
+        The chord grid's lower left corner and extent.
+    smallest_cell : float
+        Its cells are at least this wide, and wide enough that a chord is listed in
+        about 32 cells on average (a million entries in all at most).
+
+    Returns
+    -------
+    ChordBundle
+        Its grid from (x0, y0) over width x height.
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    >>> reach = chord_reach(square, [np.arange(4)], np.full(4, 0.4), 0.2)
+    >>> vis = graded_chords(square, [np.arange(4)], reach, 4, -1.5, -1.5, 4.0, 4.0, 0.1)
+    >>> len(vis.xy), vis.out.tolist(), vis.nx * vis.ny + 1 == len(vis.start)
+    (4, [0, 1, 2, 3], True)
+    """
+    a, b = chord_ends(rings)
+    length = np.hypot(*(points[b] - points[a]).T)
+    vis = vis_kern.chord_bundle(points, rings, n_points, float(length.max()))
+    entries = np.sum((length + 2 * reach) ** 2)
+    h = max(smallest_cell, math.sqrt(entries / min(_MAX_CHORD_ENTRIES,
+                                                   _CHORD_CELLS * len(length))))
+    nx, ny = int(width / h) + 1, int(height / h) + 1
+    start, items = graded_kern.bin_chords_by_reach(vis.xy, reach, x0, y0, h, nx, ny)
+    return vis._replace(start=start, items=items, x0=x0, y0=y0, h=h, nx=nx, ny=ny)
