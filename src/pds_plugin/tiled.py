@@ -59,7 +59,8 @@ from ._checks import check_alpha, check_positive, check_seed
 from .complex import solid_alpha_complex
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, require_region, turning_angles
-from .sampling import _MAX_GRID_CELLS, _RESOLUTION, _Sampler
+from .boundary_sampling import RESOLUTION
+from .sampling import _MAX_GRID_CELLS, _Sampler
 
 __all__ = ["mesh_tiled", "TiledMesh", "TiledCertificate", "Tiling"]
 
@@ -453,7 +454,7 @@ def _sample_tile(task: _Task) -> np.ndarray:
         sampler._reserve(len(start))
         sampler.count = kern.sample_boundary_pieces(
             start, direction, length, order, u, sampler.grid, sampler.nxt, sampler.covered,
-            sampler.points, sampler.count, alpha, _RESOLUTION * alpha, sampler.x0,
+            sampler.points, sampler.count, alpha, RESOLUTION * alpha, sampler.x0,
             sampler.y0, sampler.s, sampler.vis)
     else:
         sampler.add_interior(rng)
