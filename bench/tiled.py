@@ -154,7 +154,8 @@ def main() -> None:
     print(f"load average at start: {os.getloadavg()}", flush=True)
     header = ("| region | samples | mesh_region CPU s / wall s / peak MiB | tiled 4x4 serial "
               "CPU s / wall s / peak MiB | tiled 4x4 on 2 Dask workers CPU s / wall s / worker "
-              "peak MiB (warmed up → after) | tile mesh MiB | serial / region CPU | same bytes | = complex | cert |")
+              "peak MiB (warmed up → after) | tile mesh MiB | serial / region CPU | same bytes "
+              "| = complex | cert |")
     print(header)
     print("|" + "---|" * 10)
     for size in args.sizes:

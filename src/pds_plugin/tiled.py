@@ -208,7 +208,9 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     >>> cert.ok, cert.betti_mesh, len(mesh.vertices) == cert.samples
     (True, (1, 1), True)
     >>> faces = pds.solid_alpha_complex(mesh.vertices, 0.1)       # the non-tiled complex
-    >>> sorted(map(tuple, np.sort(faces, axis=1))) == sorted(map(tuple, np.sort(mesh.faces, axis=1)))
+    >>> def triangles(f):
+    ...     return sorted(map(tuple, np.sort(f, axis=1)))
+    >>> triangles(faces) == triangles(mesh.faces)
     True
     """
     require_region(region, "mesh_tiled")
@@ -296,13 +298,14 @@ def _tiling(region: Region, alpha: float, tiles, tile_size) -> Tiling:
                             f"interact; use at most {most[0]} x {most[1]} tiles (or a larger "
                             "tile_size)")
     side = alpha / math.sqrt(2)                  # the sampler's cells, as in _Sampler
-    cells = ((tiling.width + 2 * HALO * alpha) / side + 3) * ((tiling.height + 2 * HALO * alpha) / side + 3)
+    cells = (((tiling.width + 2 * HALO * alpha) / side + 3)
+             * ((tiling.height + 2 * HALO * alpha) / side + 3))
     if cells > _MAX_GRID_CELLS:
         need = [math.ceil(span / (math.sqrt(_MAX_GRID_CELLS) * side * 0.9))
                 for span in (xmax - xmin, ymax - ymin)]
         raise ArgumentError(f"tiles of {tiling.width:.6g} x {tiling.height:.6g} hold about "
-                            f"{0.7 * tiling.width * tiling.height / alpha ** 2:.3g} samples each at "
-                            f"alpha={alpha:.6g}, more than one "
+                            f"{0.7 * tiling.width * tiling.height / alpha ** 2:.3g} samples "
+                            f"each at alpha={alpha:.6g}, more than one "
                             f"task's sampling grid allows; use at least {need[0]} x {need[1]} "
                             "tiles (or a smaller tile_size)")
     return tiling
