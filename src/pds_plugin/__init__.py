@@ -66,6 +66,9 @@ _PUBLIC = {
                                    "TopologyError", "EmptyMeshError",
                                    "MissingDependencyError")},
     "mesh_batch": "batch",
+    "mesh_tiled": "tiled",
+    "TiledMesh": "tiled",
+    "TiledCertificate": "tiled",
 }
 
 __all__ = sorted(_PUBLIC)

@@ -38,6 +38,11 @@ from .sources.demo import demo_part as demo_part
 from .sinks.meshlab import meshlab_quality as meshlab_quality
 from .workflows import add_section_meshes as add_section_meshes
 from .batch import mesh_batch as mesh_batch
+from .tiled import (
+    TiledCertificate as TiledCertificate,
+    TiledMesh as TiledMesh,
+    mesh_tiled as mesh_tiled,
+)
 from .silence import silenced as silenced
 from .errors import (
     ArgumentError as ArgumentError,
@@ -75,6 +80,8 @@ __all__ = [
     "Samples",
     "SectionError",
     "SourceError",
+    "TiledCertificate",
+    "TiledMesh",
     "TopologyError",
     "TopologyReport",
     "add_section_meshes",
@@ -88,6 +95,7 @@ __all__ = [
     "mesh_batch",
     "mesh_region",
     "mesh_regions",
+    "mesh_tiled",
     "mesh_tolerance",
     "meshlab_quality",
     "multiresolution",

@@ -563,11 +563,13 @@ def _split(lo, hi, first, last, alpha, rng) -> np.ndarray:
 class _Sampler:
     """The state of one sampling: grid of cells, cell status, samples so far."""
 
-    def __init__(self, region: Region, alpha: float, conforming: bool = False):
+    def __init__(self, region: Region, alpha: float, conforming: bool = False, bounds=None):
         self.region = region
         self.alpha = alpha
         self.s = alpha / math.sqrt(2) * (1 - 1e-9)   # cell side: < alpha/√2, one sample per cell
-        xmin, ymin, xmax, ymax = region.bounds
+        # the grid spans ``bounds`` when given (a tile's sampler: room for the fixed
+        # samples of its halo, pds_plugin.tiled), else the region's bounding box
+        xmin, ymin, xmax, ymax = region.bounds if bounds is None else bounds
         self.x0, self.y0 = xmin - 0.5 * self.s, ymin - 0.5 * self.s
         self.nx = int((xmax - self.x0) / self.s) + 2
         self.ny = int((ymax - self.y0) / self.s) + 2
