@@ -57,7 +57,8 @@ with /usr/bin/time -v with the numba kernels, before the compiled engine)."""
 _MAX_GRID_CELLS = 50_000_000    # about 1.5 GB of grids
 _PHASE1_PASSES = 3
 _CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is below alpha
-_CROWDED_CELL = 256  # conforming refinement stops in a cell with more open boxes at a level
+_CROWDED_CELL = 256  # conforming refinement stops in a boundary cell with more open boxes
+_REFINEMENT_BOXES = 2  # and everywhere above this many boxes per cell of the region
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
 STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
@@ -667,6 +668,7 @@ class _Sampler:
         # stage 1: dart passes over the level-0 cells in random order; each dart goes to
         # a random sub-cell of its cell that no disc covers yet
         cells = np.flatnonzero(self.status.ravel())
+        box_limit = _REFINEMENT_BOXES * len(cells)
         darts = np.empty((len(cells), 2))
         for _ in range(_PHASE1_PASSES):
             n_open = kern.darts_in_open_subcells(cells, rng, darts, self.grid, self.covered, self.x0,
@@ -701,12 +703,16 @@ class _Sampler:
             n_split = kern.split_uncovered(parent, sub_x, sub_y, bx, by, size, before, self.grid,
                                            self.nxt, self.points, self.alpha, self.vis, *children,
                                            self.work)
-            if size / 2 < RESOLUTION * self.alpha:
+            if size / 2 < RESOLUTION * self.alpha or (not self.one_per_cell
+                                                      and n_split > box_limit):
+                # (where the conservative visibility test failed over a whole area the
+                # boxes would multiply by four per level, to gigabytes: the certificate
+                # measures the coverage left)
                 break
             level += 1
             parent, sub_x, sub_y = (a[:4 * n_split] for a in children)
             if not self.one_per_cell:
-                parent, sub_x, sub_y = _uncrowded(parent, sub_x, sub_y)
+                parent, sub_x, sub_y = _uncrowded(parent, sub_x, sub_y, self.status)
 
     def _throw(self, cells, darts, rng):
         """Throw the darts in random order (dart k lies in level-0 cell ``cells[k]``;
@@ -721,28 +727,30 @@ class _Sampler:
         self.count += len(kept)
 
 
-def _uncrowded(parent, sub_x, sub_y):
+def _uncrowded(parent, sub_x, sub_y, status):
     """The refinement boxes (as in ``_sampling_kernels.open_boxes``; ``parent`` sorted)
-    but those of level-0 cells that hold more than :data:`_CROWDED_CELL` of them.
+    but those of level-0 cells on the region's boundary (``status``) that hold more than
+    :data:`_CROWDED_CELL` of them.
 
     A conforming sampling leaves open, at each level, the boxes that no single sample
     sees whole within alpha: a few around each chord vertex, along the arcs where discs
-    meet until they are inside one, along a slot narrower than alpha until they are
-    narrower than it. Their number in a cell grows for a few levels at most. Along a
-    crack (a slit thinner than any box, whose two sides no sample sees both of) it
-    doubles at every level, and where the conservative visibility test fails over an
-    area it quadruples: such cells are left as they are (the certificate measures the
+    meet until they are inside one (many, about a thin gap between discs), along a slot
+    narrower than alpha until they are narrower than it. Along a crack (a slit thinner
+    than any box, whose two sides no sample sees both of) they double at every level,
+    forever: such boundary cells are left as they are (the certificate measures the
     coverage there), and the refinement goes on everywhere else.
 
     Examples
     --------
+    >>> status = np.full((1, 8), kern.BOUNDARY, np.int8)
     >>> boxes = np.repeat([3, 5], [2, _CROWDED_CELL + 1]), np.zeros(259, int), np.zeros(259, int)
-    >>> _uncrowded(*boxes)[0]
+    >>> _uncrowded(*boxes, status)[0]
     array([3, 3])
     """
     first = np.flatnonzero(np.diff(parent, prepend=-1))
     counts = np.diff(first, append=len(parent))
-    if counts.max(initial=0) <= _CROWDED_CELL:
+    crowded = (counts > _CROWDED_CELL) & (status.ravel()[parent[first]] == kern.BOUNDARY)
+    if not crowded.any():
         return parent, sub_x, sub_y
-    keep = np.repeat(counts <= _CROWDED_CELL, counts)
+    keep = np.repeat(~crowded, counts)
     return parent[keep], sub_x[keep], sub_y[keep]
