@@ -298,15 +298,18 @@ class _Boundary:
         """Which pairs (vertex v, its foot on segment j) face each other across one spike:
         along the ring from v to the foot the boundary passes one spike's tip (a convex
         corner sharper than ``LADDER_ANGLE``) and turns by less than 150° apart from it,
-        and they are at least half as far apart as the spike's straight sides would be
-        there (2 r sin(θ/2), r the distance from v to the tip). A spike thins to nothing
+        v is no sharp corner itself (it turns by less than 90°: it lies along a side,
+        not where one ends, as at a fold of a shell's rim), and they are at least half as
+        far apart as the spike's straight sides would be there (2 r sin(θ/2), r the
+        distance from v to the tip). A spike thins to nothing
         at its tip at any alpha and a conforming mesh samples its sides in mirror pairs:
         its width is no wall. Where its sides bend in towards each other (a lens between
         two spikes) the material is thinner than the spike would be, and counts."""
         across = np.zeros(len(v), bool)
         if not self.tip.any():
             return across
-        for k in np.flatnonzero(self.ring_of[v] == self.ring_of[j]):
+        on_a_side = (self.ring_of[v] == self.ring_of[j]) & (self.turning[v] < np.pi / 2)
+        for k in np.flatnonzero(on_a_side):
             first, n = self.start[self.ring_of[v[k]]], self.size[v[k]]
             lv, lj = self.local[v[k]], self.local[j[k]]
             # vertices passed: forward v+1 .. j, backward j+1 .. v-1 (local, cyclic)
