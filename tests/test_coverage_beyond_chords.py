@@ -10,7 +10,7 @@ from scipy.spatial import Delaunay
 from shapely.geometry import Polygon
 
 import pds_plugin as pds
-from pds_plugin.analysis.conformity import SampledBoundary, _stretch_seen
+from pds_plugin.analysis.conformity import SampledBoundary
 
 SQUARE = [(0, 0), (0, -2), (2, -2), (2, 0)]
 
@@ -121,6 +121,8 @@ def test_the_stretch_a_neighbouring_corner_sees_is_seen_through_the_two_triangle
     """:func:`_stretch_seen`: every point of the chord ab within the stretch it returns
     is joined to the corner d (across ac from b) by a segment inside the triangles abc
     and acd; a point just beyond it is not (None: no point but a is)."""
+    from pds_plugin.analysis.conformity import _stretch_seen
+
     rng = np.random.default_rng(seed)
     a, b = np.array([0.0, 0.0]), np.array([2.0, 0.0])
     c = np.array([rng.uniform(0.3, 1.7), rng.uniform(-1.5, -0.3)])
@@ -140,3 +142,30 @@ def test_the_stretch_a_neighbouring_corner_sees_is_seen_through_the_two_triangle
     if hi < 2 - 1e-6:
         beyond = np.array([min(hi + 1e-3, 2.0), 0.0])
         assert not union.covers(shapely.LineString([d, beyond]))
+
+
+def test_a_graded_bound_beyond_the_chords_is_the_largest_ratio_to_r_not_the_largest_distance():
+    """A circle sampled at every fifth vertex, with a radius field falling from 1.5 to
+    0.5 across it: every sliver beyond a chord peaks at about the same distance, so the
+    largest ratio to r is where r is smallest. The graded certificate divides the bound
+    by r at the place it is given; on the former code that place was the largest
+    distance, wherever it fell (a held-out torus section, seed 22 g05-torus-ring p3
+    graded, said ok at 0.93 while one of its pieces was bounded only at 1.29 r)."""
+    angle = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    ring = 10 * np.column_stack([np.cos(angle), np.sin(angle)])
+    ring[52] *= 1 - 0.001                                      # one mixed chord too
+    region = pds.Region.from_shapely(Polygon(ring))
+    at = ring[::5]
+
+    def radius(x):
+        return 1.0 + 0.05 * np.asarray(x, float)[:, 0]
+
+    sampled = SampledBoundary(region, at, np.ones(len(at), bool), 2.0, radius=radius)
+    gap, place = sampled.sliver_gap()
+    ratio = gap / radius(np.asarray(place)[None])[0]
+    arc_vertices = ring[np.arange(len(ring)) % 5 != 0]
+    chord = np.arange(len(ring))[np.arange(len(ring)) % 5 != 0] // 5
+    ends = at[chord], at[(chord + 1) % len(at)]
+    distance = np.minimum(*(np.hypot(*(arc_vertices - e).T) for e in ends))
+    assert ratio >= (distance / radius(arc_vertices)).max() * (1 - 1e-12)
+    assert place[0] < -9                                       # where r is smallest

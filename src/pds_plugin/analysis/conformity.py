@@ -443,11 +443,15 @@ class SampledBoundary:
         it sees, and where. Over a convex sliver it peaks at an arc vertex, where the
         chord's bisector crosses the arc, or at the chord's midpoint (the vertices of the
         sliver's pieces in the two Voronoi cells of the chord's ends); the pieces of mixed
-        arcs come from :meth:`_chord_pieces`."""
+        arcs come from :meth:`_chord_pieces`. With a radius field, the largest relative
+        to r at its place (the distance over r there), so that a graded certificate
+        dividing by r at the place returned gets the largest ratio, not the ratio at the
+        largest distance."""
         gap, at = 0.0, np.zeros(2)
         mixed_gap, mixed_at, _, _ = self._pieces
-        if len(mixed_gap) and mixed_gap.max() > gap:
-            gap, at = float(mixed_gap.max()), mixed_at[np.argmax(mixed_gap)]
+        if len(mixed_gap):
+            k = int(np.argmax(self._relatives(mixed_gap, mixed_at)))
+            gap, at = float(mixed_gap[k]), mixed_at[k]
         if not self.sliver.any():
             return gap, at
         segments, chord = self.arcs(self.sliver)
@@ -463,10 +467,18 @@ class SampledBoundary:
         ends_of = np.concatenate([chord, chord[crossing], np.flatnonzero(self.sliver)])
         pa, pb = self.points[self.a[ends_of]], self.points[self.b[ends_of]]
         distance = np.minimum(np.hypot(*(candidates - pa).T), np.hypot(*(candidates - pb).T))
-        k = int(np.argmax(distance))
-        if distance[k] > gap:
+        relative = self._relatives(distance, candidates)
+        k = int(np.argmax(relative))
+        if relative[k] > self._relative((gap, at)):
             gap, at = float(distance[k]), candidates[k]
         return gap, at
+
+    def _relatives(self, distance, places) -> np.ndarray:
+        """Coverage bounds (distances at places), relative to the radius field there (the
+        distances themselves without one)."""
+        distance = np.asarray(distance, float)
+        return distance if self.radius is None else distance / self.radius(
+            np.asarray(places, float).reshape(-1, 2))
 
     def sliver_area(self) -> float:
         """Total area of the region beyond the chords: the convex slivers and the pieces
