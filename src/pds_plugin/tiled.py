@@ -56,6 +56,7 @@ from shapely.geometry import MultiPolygon, box
 from . import _sampling_kernels as kern
 from ._atomic import atomic_path
 from ._checks import check_alpha, check_positive, check_seed
+from .analysis.certificate import Certificate
 from .complex import solid_alpha_complex
 from .errors import ArgumentError, ArgumentTypeError
 from .region import Region, require_region, turning_angles
@@ -824,23 +825,9 @@ class TiledCertificate:
     betti_mesh: tuple
     betti_region: tuple
 
-    @property
-    def sampling_ok(self) -> bool:
-        """Poisson (separation >= alpha) and maximal (coverage gap <= alpha)."""
-        from .analysis.certificate import COVERAGE_TOL, SEPARATION_TOL
-
-        return (self.min_separation >= 1 - SEPARATION_TOL
-                and self.coverage_gap <= 1 + COVERAGE_TOL)
-
-    @property
-    def quality_ok(self) -> bool:
-        """Theorem 1: aspect ratio <= 4√3, angles in [30°, 120°]."""
-        from .analysis.certificate import QUALITY_TOL
-        from .analysis.quality import ASPECT_BOUND
-
-        return self.triangles == 0 or (self.max_aspect_ratio <= ASPECT_BOUND * (1 + QUALITY_TOL)
-                                       and self.min_angle >= 30 * (1 - QUALITY_TOL)
-                                       and self.max_angle <= 120 * (1 + QUALITY_TOL))
+    # the verdicts of a whole mesh's certificate, on the same fields
+    aspect_bound, angle_range = Certificate.aspect_bound, Certificate.angle_range
+    sampling_ok, quality_ok = Certificate.sampling_ok, Certificate.quality_ok
 
     @property
     def ok(self) -> bool:

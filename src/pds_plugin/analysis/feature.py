@@ -34,14 +34,15 @@ joins only samples that see each other through the region: it keeps every gap op
 alpha, and only material thinner than alpha limits alpha. With ``conforming=True`` (the
 default, like :func:`pds_plugin.mesh_region`) ``d`` is therefore the thinnest wall.
 
-**Spikes are one feature for conforming meshes.** A convex corner sharper than 33.56°
+**Spikes are no walls for conforming meshes.** A convex corner sharper than 33.56°
 (``sampling.LADDER_ANGLE``: the conforming sampler puts the samples along its sides in
 mirror pairs, docs/conforming.md "Spikes") thins to nothing at its tip, at any alpha:
 its width near the tip limits no alpha, and measuring it made ``"auto"`` follow the
 tessellation (a spike where two drilled holes meet, its sides tessellated arcs, asked
-for alpha 1/20000 of the part, 5 million samples). With ``conforming=True`` the tip
-turns by nothing, so the spike's two sides are adjacent as far as the rest of the
-ring turns by less than 150°.
+for alpha 1/20000 of the part, 5 million samples). With ``conforming=True`` a pair
+facing each other across one spike (the ring between them turning by less than 150°
+apart from the tip) is no wall when it is at least half as wide as the spike's straight
+sides would be there; a lens between two spikes, thinner than that, still counts.
 """
 
 from __future__ import annotations
@@ -183,7 +184,7 @@ def feature_size(region: Region, conforming: bool = True) -> FeatureSize:
     (1.0, 'wall')
     """
     require_region(region, "feature_size")
-    boundary = _Boundary(region, spikes_whole=bool(conforming))
+    boundary = _Boundary(region)
     found = boundary.closest_nonadjacent(walls_only=bool(conforming))
     if found is None:
         found = boundary.smallest_altitude()
@@ -204,7 +205,7 @@ class _Boundary:
     vertex of its ring, and vertex k is where segment k-1 turns into segment k.
     """
 
-    def __init__(self, region: Region, spikes_whole: bool = False):
+    def __init__(self, region: Region):
         self.original = region.rings
         self.kept = [np.flatnonzero(np.abs(turning_angles(r)) > _COLLINEAR) for r in region.rings]
         rings = [r[k] for r, k in zip(region.rings, self.kept)]
@@ -213,10 +214,9 @@ class _Boundary:
         self.ring_of = np.repeat(np.arange(len(rings)), sizes)
         self.local = np.arange(self.start[-1]) - self.start[self.ring_of]
         self.size = sizes[self.ring_of]
-        turning = np.concatenate([turning_angles(r) for r in rings])
-        if spikes_whole:            # a spike's tip turns by nothing between its two sides
-            turning[turning > np.pi - LADDER_ANGLE] = 0.0
-        turning = np.abs(turning)
+        signed = np.concatenate([turning_angles(r) for r in rings])
+        self.tip = signed > np.pi - LADDER_ANGLE            # spikes' tips
+        turning = np.abs(signed)
         self.cumulative = np.concatenate([[0.0], np.cumsum(turning)])
         self.total = (self.cumulative[self.start[1:]] - self.cumulative[self.start[:-1]])[self.ring_of]
         self.p0 = np.concatenate(rings)
@@ -285,6 +285,7 @@ class _Boundary:
         while start < len(v):
             part = slice(start, start + size)
             wall = self._through_region(self.p0[v[part]], foot[part])
+            wall &= ~self._across_a_spike(v[part], j[part], foot[part])
             middle, across = self._across_overlap(a[part], j[part])
             if middle.any():
                 wall[middle] &= self._through_region(*across)
@@ -292,6 +293,37 @@ class _Boundary:
                 return start + int(np.argmax(wall))
             start, size = start + size, 4 * size
         return None
+
+    def _across_a_spike(self, v, j, foot) -> np.ndarray:
+        """Which pairs (vertex v, its foot on segment j) face each other across one spike:
+        along the ring from v to the foot the boundary passes one spike's tip (a convex
+        corner sharper than ``LADDER_ANGLE``) and turns by less than 150° apart from it,
+        v is no sharp corner itself (it turns by less than 90°: it lies along a side,
+        not where one ends, as at a fold of a shell's rim), and they are at least half as
+        far apart as the spike's straight sides would be there (2 r sin(θ/2), r the
+        distance from v to the tip). A spike thins to nothing
+        at its tip at any alpha and a conforming mesh samples its sides in mirror pairs:
+        its width is no wall. Where its sides bend in towards each other (a lens between
+        two spikes) the material is thinner than the spike would be, and counts."""
+        across = np.zeros(len(v), bool)
+        if not self.tip.any():
+            return across
+        on_a_side = (self.ring_of[v] == self.ring_of[j]) & (self.turning[v] < np.pi / 2)
+        for k in np.flatnonzero(on_a_side):
+            first, n = self.start[self.ring_of[v[k]]], self.size[v[k]]
+            lv, lj = self.local[v[k]], self.local[j[k]]
+            # vertices passed: forward v+1 .. j, backward j+1 .. v-1 (local, cyclic)
+            for a, m in (((lv + 1) % n, (lj - lv) % n), ((lj + 1) % n, (lv - lj - 1) % n)):
+                passed = first + (a + np.arange(m)) % n
+                tips = passed[self.tip[passed]]
+                if len(tips) != 1 or (self.turning[passed].sum() - self.turning[tips[0]]
+                                      >= ADJACENT_TURNING):
+                    continue
+                t = tips[0]
+                wedge = 2 * np.hypot(*(self.p0[v[k]] - self.p0[t])) * np.sin(
+                    (np.pi - self.turning[t]) / 2)
+                across[k] = np.hypot(*(self.p0[v[k]] - foot[k])) >= 0.5 * wedge
+        return across
 
     def _near_stretches(self):
         """For each vertex v: the stretch of its ring (first local segment index, count)
