@@ -169,3 +169,33 @@ def test_a_graded_bound_beyond_the_chords_is_the_largest_ratio_to_r_not_the_larg
     distance = np.minimum(*(np.hypot(*(arc_vertices - e).T) for e in ends))
     assert ratio >= (distance / radius(arc_vertices)).max() * (1 - 1e-12)
     assert place[0] < -9                                       # where r is smallest
+
+
+def test_a_held_out_graded_section_reports_its_worst_piece_beyond_the_chords(monkeypatch):
+    """Held out (seed 22), g05-torus-ring p3 graded "auto": the former code certified it
+    at 0.93 while one of its pieces beyond a chord was bounded only at 1.29 r (brute
+    force: points 1.26 r from every sample they see). The certificate's coverage is at
+    least the ratio of every piece's bound to r at its place, so it is not ok."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    import _cad_corpus
+
+    def forget():
+        _cad_corpus.generated_stl.cache_clear()
+        _cad_corpus._generated_solid.cache_clear()
+
+    monkeypatch.setattr(_cad_corpus, "GENERATED_SEED", 22)
+    forget()
+    try:
+        mesh = _cad_corpus.mesh(_cad_corpus.case("g05-torus-ring p3").region(), "graded auto")
+    finally:
+        forget()
+    certificate = mesh.certificate()
+    sampled = SampledBoundary(mesh.region, mesh.vertices, mesh.on_boundary, mesh.field.cap,
+                              np.asarray(mesh.faces).reshape(-1, 3), mesh.field)
+    gap, where, _, _ = sampled._pieces
+    ratios = gap / mesh.field(where)
+    assert ratios.max() > 1
+    assert certificate.coverage_gap >= ratios.max() * (1 - 1e-12) and not certificate.ok
