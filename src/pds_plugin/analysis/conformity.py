@@ -281,8 +281,10 @@ class SampledBoundary:
                                - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
             ends = [e for e, at in ((a, piece[0]), (b, piece[-1]))
                     if np.allclose(e, at, rtol=0, atol=tol) and _star_shaped_from(piece, e, tol)]
-            bounds = [] if len(ends) == 2 else [_seen_in_parts(piece, a, b, apex, tol,
-                                                                  self._relative)]
+            seers = self._seers.get(int(k), [])
+            bounds = [] if len(ends) == 2 else [
+                _seen_in_parts(piece, a, b, apex, tol, self._relative),
+                _seen_from_samples(piece, a, b, seers, tol, self._relative)]
             if ends:
                 candidates = list(piece)
                 if len(ends) == 2:              # where the bisector of ab crosses the arc
@@ -313,19 +315,50 @@ class SampledBoundary:
     def _apexes(self) -> dict:
         """Chord index -> the third corner of the mesh's triangle on it, for the mixed
         chords that are mesh edges (empty without ``faces``)."""
+        return {k: seers[0][0] for k, seers in self._seers.items()}
+
+    @cached_property
+    def _seers(self) -> dict:
+        """Chord index -> the samples of Q that see the chord (or a stretch of it) whole
+        through the mesh's triangles, for the mixed chords that are mesh edges (empty
+        without ``faces``): ``(point, lo, hi)``, the stretch from ``lo`` to ``hi`` along
+        the chord from ``a``. The apex c of the triangle abc on the chord sees all of it;
+        the third corner d of the triangle on ac (or cb) sees the points y of ab in its
+        angle at d (:func:`_stretch_seen`): the segment dy crosses the edge between
+        those triangles, and so stays in their union."""
         if self.faces is None:
             return {}
         faces = np.asarray(self.faces, np.int64)
         n = len(self.points)
         keys = np.concatenate([edge_keys(faces[:, i], faces[:, (i + 1) % 3], n) for i in range(3)])
         third = np.concatenate([faces[:, (i + 2) % 3] for i in range(3)])
-        mixed = np.flatnonzero(self.mixed)
         order = np.argsort(keys, kind="stable")
-        wanted = edge_keys(self.a[mixed], self.b[mixed], n)
-        at = np.minimum(np.searchsorted(keys, wanted, sorter=order), len(keys) - 1)
-        found = keys[order[at]] == wanted
-        return {int(k): self.points[third[order[at[m]]]]
-                for m, k in enumerate(mixed) if found[m]}
+        keys, third = keys[order], third[order]
+
+        def across(u, v, other):
+            """The third corner of the triangle on edge uv that is not ``other``."""
+            key = edge_keys(np.array([u]), np.array([v]), n)[0]
+            lo, hi = np.searchsorted(keys, key), np.searchsorted(keys, key, side="right")
+            found = [int(t) for t in third[lo:hi] if t != other]
+            return found[0] if len(found) == 1 and hi - lo == 2 else None
+
+        seers = {}
+        for k in np.flatnonzero(self.mixed):
+            a, b = int(self.a[k]), int(self.b[k])
+            key = edge_keys(np.array([a]), np.array([b]), n)[0]
+            lo, hi = np.searchsorted(keys, key), np.searchsorted(keys, key, side="right")
+            if hi == lo:                     # not a mesh edge
+                continue
+            c = int(third[lo])
+            pa, pb, pc = self.points[a], self.points[b], self.points[c]
+            found = [(pc, 0.0, float(np.hypot(*(pb - pa))))]
+            for e, d in ((a, across(a, c, b)), (b, across(c, b, a))):
+                if d is not None:
+                    stretch = _stretch_seen(self.points[d], self.points[e], pc, pa, pb)
+                    if stretch is not None:
+                        found.append((self.points[d], *stretch))
+            seers[int(k)] = found
+        return seers
 
     @property
     def uncertain(self) -> np.ndarray:
@@ -410,11 +443,15 @@ class SampledBoundary:
         it sees, and where. Over a convex sliver it peaks at an arc vertex, where the
         chord's bisector crosses the arc, or at the chord's midpoint (the vertices of the
         sliver's pieces in the two Voronoi cells of the chord's ends); the pieces of mixed
-        arcs come from :meth:`_chord_pieces`."""
+        arcs come from :meth:`_chord_pieces`. With a radius field, the largest relative
+        to r at its place (the distance over r there), so that a graded certificate
+        dividing by r at the place returned gets the largest ratio, not the ratio at the
+        largest distance."""
         gap, at = 0.0, np.zeros(2)
         mixed_gap, mixed_at, _, _ = self._pieces
-        if len(mixed_gap) and mixed_gap.max() > gap:
-            gap, at = float(mixed_gap.max()), mixed_at[np.argmax(mixed_gap)]
+        if len(mixed_gap):
+            k = int(np.argmax(self._relatives(mixed_gap, mixed_at)))
+            gap, at = float(mixed_gap[k]), mixed_at[k]
         if not self.sliver.any():
             return gap, at
         segments, chord = self.arcs(self.sliver)
@@ -430,10 +467,18 @@ class SampledBoundary:
         ends_of = np.concatenate([chord, chord[crossing], np.flatnonzero(self.sliver)])
         pa, pb = self.points[self.a[ends_of]], self.points[self.b[ends_of]]
         distance = np.minimum(np.hypot(*(candidates - pa).T), np.hypot(*(candidates - pb).T))
-        k = int(np.argmax(distance))
-        if distance[k] > gap:
+        relative = self._relatives(distance, candidates)
+        k = int(np.argmax(relative))
+        if relative[k] > self._relative((gap, at)):
             gap, at = float(distance[k]), candidates[k]
         return gap, at
+
+    def _relatives(self, distance, places) -> np.ndarray:
+        """Coverage bounds (distances at places), relative to the radius field there (the
+        distances themselves without one)."""
+        distance = np.asarray(distance, float)
+        return distance if self.radius is None else distance / self.radius(
+            np.asarray(places, float).reshape(-1, 2))
 
     def sliver_area(self) -> float:
         """Total area of the region beyond the chords: the convex slivers and the pieces
@@ -727,6 +772,116 @@ def _cuts(piece, a, direction, along, apex) -> list:
         lo, hi = along[max(k - 1, 0)], along[min(k + 1, len(piece) - 1)]
         cuts.append(at if lo <= x <= hi else None)
     return cuts
+
+
+def _stretch_seen(d, e, c, a, b):
+    """The stretch ``(lo, hi)`` (along ab from a) of the chord ab that the corner d of the
+    mesh's triangle on edge ec (e one of a, b; c the apex of the triangle abc) sees
+    through the two triangles: the points y of ab in d's closed angle between the rays to
+    e and to c. Such a y lies across the line ec from d, so the segment dy crosses that
+    line inside the angle, on the edge ec: dy runs in triangle ecd, then in abc. None
+    when d is not across ec from the chord or sees no stretch.
+
+    Examples
+    --------
+    >>> a, b, c = np.array([0.0, 0.0]), np.array([2.0, 0.0]), np.array([1.0, 1.0])
+    >>> _stretch_seen(np.array([0.5, 2.0]), a, c, a, b)   # up to where the ray dc meets ab
+    (0.0, 1.5)
+    >>> _stretch_seen(np.array([0.0, 1.5]), a, c, a, b)   # all of it
+    (0.0, 2.0)
+    >>> _stretch_seen(np.array([1.5, 0.5]), a, c, a, b) is None   # not across ac
+    True
+    """
+    def cross(u, v):
+        return float(u[0] * v[1] - u[1] * v[0])
+
+    f = b if np.array_equal(e, a) else a     # the chord's other end, across ec from d
+    if cross(c - e, d - e) * cross(c - e, f - e) >= 0:
+        return None                          # d not strictly across ec from the chord
+    length = float(np.hypot(*(b - a)))
+    direction = (b - a) / length
+    lo, hi = 0.0, length
+    for ray, other in ((e, c), (c, e)):        # y on the side of the ray d->ray where other is
+        sign = np.sign(cross(ray - d, other - d))
+        c0, c1 = sign * cross(ray - d, a - d), sign * cross(ray - d, direction)
+        if c1 > 0:
+            lo = max(lo, -c0 / c1)
+        elif c1 < 0:
+            hi = min(hi, -c0 / c1)
+        elif c0 < 0:
+            return None
+    return (float(lo), float(hi)) if lo < hi else None
+
+
+def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, tol: float,
+                       measure=lambda bound: bound[0]):
+    """A bound on the coverage of a piece of region beyond the chord ab (its arc running
+    forward along the chord), cut straight across to the chord at arc vertices into parts
+    each seen whole from one sample: a (the first part, if the piece holds a), b (the
+    last, if it holds b), or a sample ``(point, lo, hi)`` of ``seers`` on Q's side that
+    sees the stretch of the chord from ``lo`` to ``hi`` along it from a through Q. A part
+    W whose base on the chord lies in the stretch of such a sample s is seen from s when
+    the polygon of s and W (s, then W without its base) is star-shaped from s: it is W
+    and the triangle of s over the base, which s sees, so it lies in D. Returns the
+    largest distance from a point of the piece to the sample that sees its part, and
+    where, minimised over the cuts (by dynamic programming over the arc vertices,
+    ``measure`` of the worst part); None when no cut works or the arc turns back along
+    the chord.
+
+    Examples
+    --------
+    >>> kinked = np.array([[0, 0], [1, -0.1], [1.2, -0.05], [1.4, -0.1], [2, 0]])
+    >>> a, b = kinked[0], kinked[-1]
+    >>> _seen_from_samples(kinked, a, b, [], 1e-12)        # cut at (1.2, -0.05)
+    (1.2010412149464313, array([ 1.2 , -0.05]))
+    >>> seer = (np.array([1.2, 0.8]), 0.0, 2.0)             # a sample of Q seeing all of ab
+    >>> round(_seen_from_samples(kinked, a, b, [seer], 1e-12)[0], 3)   # it sees the bump
+    1.005
+    """
+    length = np.hypot(*(b - a))
+    direction = (b - a) / length
+    along = (piece - a) @ direction
+    if np.any(np.diff(along) <= 0) or along[0] < -tol or along[-1] > length + tol:
+        return None
+    foot = a + along[:, None] * direction
+    last = len(piece) - 1
+    holds_a = np.allclose(piece[0], a, rtol=0, atol=tol)
+    holds_b = np.allclose(piece[-1], b, rtol=0, atol=tol)
+    above = [(point, lo, hi) for point, lo, hi in seers
+             if direction[0] * (point[1] - a[1]) - direction[1] * (point[0] - a[0]) > tol]
+
+    def part_bound(i, j):
+        """The best bound of the part from arc vertex i to j over the samples seeing it."""
+        part = np.concatenate([[foot[i]], piece[i:j + 1], [foot[j]]])
+        found = []
+        if i == 0 and holds_a and _star_shaped_from(part, a, tol):
+            found.append(a)
+        if j == last and holds_b and _star_shaped_from(part, b, tol):
+            found.append(b)
+        for point, lo, hi in above:
+            if lo <= along[i] and along[j] <= hi and _star_shaped_from(
+                    np.concatenate([[point], part]), point, tol):
+                found.append(point)
+        bounds = []
+        for seer in found:
+            distance = np.hypot(*(part - seer).T)
+            k = int(np.argmax(distance))
+            bounds.append((float(distance[k]), part[k]))
+        return min(bounds, key=measure) if bounds else None
+
+    best = [None] * (last + 1)
+    best[0] = (0.0, piece[0])
+    for j in range(1, last + 1):
+        for i in range(j):
+            if best[i] is None:
+                continue
+            bound = part_bound(i, j)
+            if bound is None:
+                continue
+            worst = max(best[i], bound, key=measure)
+            if best[j] is None or measure(worst) < measure(best[j]):
+                best[j] = worst
+    return best[last]
 
 
 def say_located(problems: list, count: int, what: str, where) -> None:
