@@ -462,31 +462,6 @@ def test_kinks_of_a_noisy_boundary_are_sampled_one_alpha_apart():
     assert np.diff(kept).min() >= 1.0
 
 
-def test_a_reflex_pair_of_a_noisy_boundary_is_sampled_at_both_vertices():
-    """A gentle convex bend with two consecutive right turns 1.02 alpha apart (a held-out
-    torus section, seed 24 p3): each one hides the region just past it. Sampled as one
-    inflection between them, the sample could not see past the second one, whose far
-    side was 1.025 alpha from every sample that saw it (FAILED); on a boundary known up
-    to a tolerance both vertices are sampled now, as single kinks are."""
-    from pds_plugin.region import turning_angles
-    from pds_plugin.sampling import _NOISY_INFLECTION_APART, _NOISY_KINK_APART, _inflections
-
-    xy, heading = [(0.0, -2.0), (0.0, 0.0)], np.radians(5)
-    for k in range(1, 60):                # right turns at vertices 30 and 31, 1.02 apart
-        heading += np.radians(-2.5 if k in (30, 31) else 1.0)
-        step = 1.02 if k == 30 else 0.3
-        xy.append((xy[-1][0] + step * np.cos(heading), xy[-1][1] + step * np.sin(heading)))
-    ring = np.array(xy + [(xy[-1][0], -2.0)])
-    turns = turning_angles(ring)
-    closed = np.vstack([ring, ring[:1]])
-    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    pair = cum[[30, 31]]
-    assert (turns[[30, 31]] < 0).all() and (turns[[29, 32]] > 0).all()
-    kept = _inflections(cum, turns, np.abs(turns) >= np.radians(30), 1.0,
-                        _NOISY_INFLECTION_APART, _NOISY_KINK_APART)
-    assert np.isin(pair, kept).all(), (kept, pair)
-
-
 @pytest.mark.parametrize("seed", [0, 2])
 def test_the_mil_drawing_is_covered_at_the_benchmark_alpha(seed):
     """The benchmark's MIL.svg at its alpha: coverage failed at 1.10 and 1.25 alpha with

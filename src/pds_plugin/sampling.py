@@ -321,9 +321,7 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     Kinks are kept first, ``kinks_apart`` apart (there ``_NOISY_KINK_APART``, 1: just
     separated), and the other inflections then clear of them: a kink left unsampled
     hides the region just past it from the chord end before it, while the inflection of
-    a long arc between two opposite turns may fall anywhere on that arc. There too, two
-    consecutive right turns between left ones (a reflex pair: a seam crossed twice) are
-    two kinks, each hiding what lies past it.
+    a long arc between two opposite turns may fall anywhere on that arc.
 
     Examples
     --------
@@ -354,10 +352,6 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     # where the two inflections around it, closer than the rule below allows, would
     # keep only one
     kink = flips & np.roll(flips, 1)
-    if kinks_apart < apart:         # a noisy boundary: a reflex pair turning against both
-        # neighbours hides the region past each of its vertices as a kink does
-        pair = ~flips & np.roll(flips, 1) & np.roll(flips, -1) & (turns[bending] < 0)
-        kink |= pair | np.roll(pair, 1)
     single = flips & ~kink & ~np.roll(kink, -1)
     kinks = _thinned(_clear_of(np.sort(at[kink] % length), corners, apart * alpha, length),
                      kinks_apart * alpha, length)
