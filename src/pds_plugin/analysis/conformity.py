@@ -713,13 +713,10 @@ def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: f
     >>> round(_seen_in_parts(kinked, kinked[0], kinked[-1], np.array([1.0, 0.9]), 1e-12)[0], 3)
     1.005
     """
-    length = np.hypot(*(b - a))
-    direction = (b - a) / length
-    along = (piece - a) @ direction
-    if np.any(np.diff(along) <= 0) or along[0] < -tol or along[-1] > length + tol:
+    strip = _along_chord(piece, a, b, tol)
+    if strip is None:
         return None
-    holds_a = np.allclose(piece[0], a, rtol=0, atol=tol)
-    holds_b = np.allclose(piece[-1], b, rtol=0, atol=tol)
+    direction, along, holds_a, holds_b = strip
     last = len(piece) - 1
     cut = _cuts(piece, a, direction, along, apex)
 
@@ -752,6 +749,20 @@ def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: f
             if best is None or measure(bound) < measure(best):
                 best = bound
     return best
+
+
+def _along_chord(piece, a, b, tol):
+    """``(direction, along, holds_a, holds_b)`` of a piece beyond the chord ab: the unit
+    direction of ab, how far along it each arc vertex lies, and whether the piece starts
+    at a and ends at b; None where the arc turns back along the chord or leaves its span
+    (a cut across to the chord would leave the piece)."""
+    length = np.hypot(*(b - a))
+    direction = (b - a) / length
+    along = (piece - a) @ direction
+    if np.any(np.diff(along) <= 0) or along[0] < -tol or along[-1] > length + tol:
+        return None
+    return (direction, along, np.allclose(piece[0], a, rtol=0, atol=tol),
+            np.allclose(piece[-1], b, rtol=0, atol=tol))
 
 
 def _cuts(piece, a, direction, along, apex) -> list:
@@ -838,15 +849,12 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     >>> round(_seen_from_samples(kinked, a, b, [seer], 1e-12)[0], 3)   # it sees the bump
     1.005
     """
-    length = np.hypot(*(b - a))
-    direction = (b - a) / length
-    along = (piece - a) @ direction
-    if np.any(np.diff(along) <= 0) or along[0] < -tol or along[-1] > length + tol:
+    strip = _along_chord(piece, a, b, tol)
+    if strip is None:
         return None
+    direction, along, holds_a, holds_b = strip
     foot = a + along[:, None] * direction
     last = len(piece) - 1
-    holds_a = np.allclose(piece[0], a, rtol=0, atol=tol)
-    holds_b = np.allclose(piece[-1], b, rtol=0, atol=tol)
     above = [(point, lo, hi) for point, lo, hi in seers
              if direction[0] * (point[1] - a[1]) - direction[1] * (point[0] - a[0]) > tol]
 
