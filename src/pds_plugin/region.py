@@ -363,9 +363,10 @@ def _cracks_closed(geometry: MultiPolygon, width: float):
     closes vertex by vertex up to its mouth. Every point added lies within the
     triangle's altitude of its two sides, which lie within the widths closed before them
     of the input, so the region grows by at most the returned width (the Hausdorff
-    distance between the regions). Spikes of material are never cut (that would move the boundary by
-    their length), nor gaps between different rings (closing them would change the
-    topology). The input is returned unchanged when the result would not be valid.
+    distance between the regions). Spikes of material are never cut (that would move
+    the boundary by their length), nor gaps between different rings (closing them would
+    change the topology). The input is returned unchanged when the result would not be
+    valid.
 
     Examples
     --------
@@ -395,9 +396,9 @@ def _cracks_closed(geometry: MultiPolygon, width: float):
 def _ring_cracks_closed(xy: np.ndarray, width: float):
     """One ring (region on its left) with its cracks thinner than ``width`` closed (see
     :func:`_cracks_closed`), and the largest width closed."""
-    p, q = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
-    tip = ((xy - p) * (q - xy)).sum(axis=1) < 0              # the ring goes back there
-    todo = list(np.flatnonzero(tip & (_thinness(p, xy, q) <= width))[::-1])
+    behind, ahead = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
+    tip = ((xy - behind) * (ahead - xy)).sum(axis=1) < 0     # the ring goes back there
+    todo = list(np.flatnonzero(tip & (_thinness(behind, xy, ahead) <= width))[::-1])
     if not todo:
         return xy, 0.0
     n = len(xy)

@@ -301,10 +301,10 @@ class _Boundary:
         v is no sharp corner itself (it turns by less than 90°: it lies along a side,
         not where one ends, as at a fold of a shell's rim), and they are at least half as
         far apart as the spike's straight sides would be there (2 r sin(θ/2), r the
-        distance from v to the tip). A spike thins to nothing
-        at its tip at any alpha and a conforming mesh samples its sides in mirror pairs:
-        its width is no wall. Where its sides bend in towards each other (a lens between
-        two spikes) the material is thinner than the spike would be, and counts."""
+        distance from v to the tip). A spike thins to nothing at its tip at any alpha and
+        a conforming mesh samples its sides in mirror pairs: its width is no wall. Where
+        its sides bend in towards each other (a lens between two spikes) the material is
+        thinner than the spike would be, and counts."""
         across = np.zeros(len(v), bool)
         if not self.tip.any():
             return across

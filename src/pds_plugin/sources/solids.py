@@ -354,8 +354,10 @@ def _float32_rounded(mesh, from_file: bool) -> bool:
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
     if not np.array_equal(vertices.astype(np.float32), vertices):
         return False
+    if from_file:
+        return True
     angle = np.asarray(mesh.face_adjacency_angles)
-    return from_file or bool(np.any((angle > 0) & (angle < CURVED[0])))
+    return bool(np.any((angle > 0) & (angle < CURVED[0])))
 
 
 def mesh_tolerance(mesh, precision=np.float64) -> float:
