@@ -33,7 +33,8 @@ from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
-                                graded_chords, guard_candidates, joined, onto_curves)
+                                graded_chords, guard_candidates, joined, move_onto, onto_curves,
+                                unhidden)
 from .sampling import DEFAULT_MAX_SAMPLES, Samples, check_rings_apart, corner_clearance
 from .sizing import RadiusField
 
@@ -392,22 +393,10 @@ def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
                 j -= step                               # the arc is on Q's side again
             t = h[j] / (h[j] - h[j + step])
             crossing = arc[j] + t * (arc[j + step] - arc[j])
-            mover = (k if step == 1 else k + 1) % n
-            _move_onto(samples, mover, crossing, fixed, samples[end % n], field)
+            holder = samples[end % n]
+            if np.hypot(*(crossing - holder)) > field(crossing[None])[0]:
+                move_onto(samples, (k if step == 1 else k + 1) % n, crossing, fixed, field)
     return samples
-
-
-def _move_onto(samples, mover, crossing, fixed, holder, field):
-    """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
-    farther than r there, ``mover`` is not ``fixed``, and it stays separated from its
-    two neighbours along the ring."""
-    n = len(samples)
-    neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
-    radius = field(np.vstack([crossing, holder, neighbours]))
-    if fixed[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
-        return
-    if np.all(np.hypot(*(neighbours - crossing).T) >= np.minimum(radius[0], radius[2:])):
-        samples[mover] = crossing
 
 
 class _GradedSampler:
@@ -494,9 +483,9 @@ class _GradedSampler:
                                               unit, first, L)
             at = tau_positions(tau, tau[corner], after, before, unit, rng)
             samples = along(at, tau, np.vstack([dense, dense[:1]]))
-            ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
-                                                          before > unit),
-                                      ring, tau[:-1][first], tau[-1], self.field))
+            fixed = _fixed(at, tau[corner], after > unit, before > unit)
+            samples = _uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1], self.field)
+            ring_xy.append(unhidden(samples, fixed, ring, turns, self.field, 1e-9 * self.field.cap))
         ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
         return self._place_boundary(ring_xy)
 
