@@ -5,8 +5,6 @@ their complexes are constrained by (:mod:`.complex`, :mod:`.graded_complex`).
 - :func:`given_boundary`: boundary samples given by the caller, checked;
 - :func:`along`: the points at positions along a ring (arc length, or τ = ∫ dt / r);
 - :func:`onto_curves`: boundary samples moved onto a drawing's exact arcs;
-- :func:`unhidden`: a chord end moved onto the reflex vertex that hides the ring beyond
-  it (:func:`move_onto`: a boundary sample moved, its neighbours kept apart);
 - :func:`joined`: the samples of every ring in one array, each ring's indices, the
   rings the chords join; :func:`chord_ends`: each chord's two ends;
 - :func:`guard_candidates`: guard samples inside chords too long to split, in the order
@@ -25,7 +23,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import shapely
 
 from . import _graded_kernels as graded_kern
 from . import _visibility_kernels as vis_kern
@@ -34,8 +31,7 @@ from .errors import ArgumentError, RegionError
 from .region import Region
 
 __all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
-           "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords", "unhidden",
-           "move_onto"]
+           "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords"]
 
 RESOLUTION = 1e-10
 """The smallest refinement box and boundary margin of both samplers, relative to the
@@ -111,89 +107,6 @@ def joined(ring_xy):
     sizes = [len(xy) for xy in ring_xy]
     ends = np.cumsum(sizes)
     return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
-
-
-def unhidden(samples, fixed, ring, turns, radius, tol, longest=np.inf):
-    """A ring's boundary samples (in order along ``ring``; ``fixed`` flags the ones that
-    must not move, ``turns`` are the turning angles at the ring's vertices, ``radius``
-    gives r at points, alpha for a uniform sampling) with chord ends moved onto reflex
-    vertices of their chords' arcs, where the arc reaches beyond its chord.
-
-    The ring turns back into the region at a reflex vertex w, so a chord end e on the
-    ring before w does not see the ring just past w: the segment from e leaves the
-    region through the wedge outside w, and leaves Q too where it runs beyond the chord.
-    That piece of region is then covered only by the chord's far end f: on tessellated
-    tori, bosses and flanges 1.02–1.5 r from it (held-out corpus sections), with e
-    0.002–0.4 r from w. On w, e sees both of w's edges. So where f is farther than r(w)
-    from w, the end e nearer to w along the arc moves onto it (the first and the last
-    reflex vertex of each arc, the shortest moves first). The samples keep their order
-    (w is between the chord's ends); a sample moves only if it is not ``fixed`` and
-    stays at least ``min(r(p), r(q))`` and at most ``longest`` times that from both its
-    neighbours q. Vertices within ``tol`` of a chord (or of its ends) count as on it.
-
-    Examples
-    --------
-    >>> from .region import turning_angles
-    >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
-    >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
-    >>> moved = unhidden(samples, np.zeros(5, bool), ring, turning_angles(ring),
-    ...                  lambda x: np.ones(len(x)), 1e-9)
-    >>> moved[3].tolist()     # the bump beyond the chord is seen from (2, 1), reflex
-    [2.0, 1.0]
-    """
-    n = len(samples)
-    closed = np.vstack([ring, ring[:1]])
-    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    length, vertex_at = vertex_at[-1], vertex_at[:-1]
-    sample_at = shapely.line_locate_point(shapely.LineString(closed),
-                                          shapely.points(samples)) % length
-    start = int(np.argmin(sample_at))
-    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
-             + start) % n
-    a, b = samples[chord], samples[(chord + 1) % n]
-    apart = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
-    height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
-        - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
-    beyond = np.bincount(chord, apart & (height < -tol * np.hypot(*(b - a).T)), minlength=n)
-    vertex = np.flatnonzero(apart & (beyond[chord] > 0) & (turns < 0))     # reflex
-    if not len(vertex):
-        return samples
-    offset = (vertex_at[vertex] - sample_at[chord[vertex]]) % length
-    order = np.lexsort((offset, chord[vertex]))
-    vertex, offset = vertex[order], offset[order]
-    k = chord[vertex]
-    first = np.append(True, k[1:] != k[:-1])
-    last = np.append(k[1:] != k[:-1], True)
-    span = (sample_at[(k + 1) % n] - sample_at[k]) % length
-    moves = [(offset[i], k[i], (k[i] + 1) % n, vertex[i]) for i in np.flatnonzero(first)]
-    moves += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i]) for i in np.flatnonzero(last)]
-    reflex = np.flatnonzero(apart & (turns < 0))
-    reflex_of = {int(c): reflex[chord[reflex] == c] for c in np.unique(k)}
-    samples = samples.copy()
-    for _, end, other, w in sorted(moves):          # the shortest moves first
-        if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
-            continue
-        # the reflex vertices of end's other chord that end covered as their far end
-        # must stay covered
-        beside = (end - 1) % n if other == (end + 1) % n else end
-        near = reflex_of.get(beside, reflex[chord[reflex] == beside])
-        r = radius(ring[near])
-        before = np.hypot(*(ring[near] - samples[end]).T) <= r
-        if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):
-            move_onto(samples, end, ring[w], fixed, radius, longest)
-    return samples
-
-
-def move_onto(samples, mover, target, fixed, radius, longest=np.inf):
-    """Move sample ``mover`` of a ring's ``samples`` (in place) onto ``target`` if it is
-    not ``fixed`` and stays at least ``min(r(p), r(q))``, and at most ``longest`` times
-    that, from its two neighbours q along the ring (``radius`` gives r at points)."""
-    n = len(samples)
-    neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
-    r = radius(np.vstack([target, neighbours]))
-    apart = np.hypot(*(neighbours - target).T) / np.minimum(r[0], r[1:])
-    if not fixed[mover] and np.all((apart >= 1) & (apart <= longest)):
-        samples[mover] = target
 
 
 def chord_ends(rings):
