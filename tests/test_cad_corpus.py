@@ -65,7 +65,11 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     # ring just past it, beyond the chord: 1.05-1.5 r from every sample that sees it,
     # until the end moves onto the vertex (boundary_sampling.unhidden)
     (23, "g09-tube-with-bosses p2", "graded auto"), (23, "g05-torus-ring p0", "graded auto"),
-    (24, "g05-torus-ring p2", "graded auto"), (24, "g13-flange p0", "graded auto")])
+    (24, "g05-torus-ring p2", "graded auto"), (24, "g13-flange p0", "graded auto"),
+    # a 2.4 r side from a reflex corner to a 37° corner, too short for both clearances:
+    # its one sample divides it in their ratio, and the pair across the 37° corner it
+    # leaves closer than r was "unexplained"
+    (24, "g07-housing p0", "graded auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 
