@@ -414,7 +414,8 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     e sees both of w's edges. So where f is farther than r(w) from w, the end e nearer
     to w along the arc moves onto it (the first and the last reflex vertex of each arc,
     the shortest moves first), unless that takes e farther than r from a reflex vertex
-    of its other chord that it was the far end within r of. The samples keep their
+    of its other chord that it was the far end within r of (where that chord's arc
+    reaches beyond it). The samples keep their
     order (w is between the chord's ends); a sample moves only if it is not ``fixed``
     and stays at least ``min(r(p), r(q))`` from both its neighbours q along the ring.
     Vertices within ``tol`` of a chord (or of its ends) count as on it.
@@ -460,8 +461,9 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
         if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
             continue
         # the reflex vertices of end's other chord that end covered as their far end
-        # must stay covered
-        near = reflex[chord[reflex] == ((end - 1) % n if other == (end + 1) % n else end)]
+        # must stay covered (an arc all on Q's side leaves nothing to cover)
+        beside = (end - 1) % n if other == (end + 1) % n else end
+        near = reflex[chord[reflex] == beside] if beyond[beside] else reflex[:0]
         r = radius(ring[near])
         before = np.hypot(*(ring[near] - samples[end]).T) <= r
         if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):
