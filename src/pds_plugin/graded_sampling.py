@@ -630,14 +630,9 @@ class _GradedSampler:
         """One dart uniform in each box; darts in the region thrown in random order."""
         bx, by, size, low, high, edge = boxes
         u = rng.random((len(bx), 2))
-        darts = np.column_stack([bx + u[:, 0] * size, by + u[:, 1] * size])
-        order = rng.permutation(len(darts))
-        inside = ~edge[order]
-        inside[~inside] = vis_kern.points_inside(*self.domain, darts[order[~inside], 0],
-                                                 darts[order[~inside], 1])
-        order = order[inside]
-        refused = kern.refused(darts[order], low[order], high[order], self.field.grading,
-                               self.bins, self.nxt, self.points, self.radius, self.x0,
-                               self.y0, self.vis)
-        order = order[~refused]
-        self._insert(darts[order], np.arange(len(order)))
+        order = rng.permutation(len(bx))
+        darts = kern.darts_kept(bx, by, size, low, high, edge, u, order, self.domain,
+                                self.field.grading, self.bins, self.nxt, self.points,
+                                self.radius, self.x0, self.y0, self.vis)
+        if len(darts):
+            self._insert(darts, np.arange(len(darts)))
