@@ -44,6 +44,9 @@ TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0
 _MAX_BINS = 4_000_000
                              # (a grid of half the smallest radius listed small sections' chords
                              # in a million cells: 17 ms of binning per section, issue 21)
+_MIN_BINS = 65_536
+_BINS_PER_SAMPLE = 64        # level-0 bins per boundary sample (a section has 2-4 samples
+                             # inside per boundary sample)
 _MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per allowed sample
 
 
@@ -431,10 +434,17 @@ class _GradedSampler:
         self.chord_bound = np.empty(0)
         self.width, self.height = width, height
 
-    def _bins(self, smallest: float):
+    def _bins(self, smallest: float, boundary_samples: int):
         """The pyramid of sample grids (_graded_kernels): level 0 with bins of about
-        half the smallest radius (fewer than _MAX_BINS in all), up to bins >= cap / 2."""
-        h = max(0.5 * smallest, math.sqrt(self.width * self.height / _MAX_BINS))
+        half the smallest radius, up to bins >= cap / 2; level 0 has fewer than
+        _BINS_PER_SAMPLE bins per boundary sample (at least _MIN_BINS) and _MAX_BINS.
+
+        The bins only speed the searches up (a sample of level l is looked for within
+        min(r, 2 h) of a query, wherever it is binned), so their size changes no answer.
+        Half the smallest radius over the whole bounding box made a 300-vertex section's
+        level 0 up to a million bins (4 MB zeroed per call, the section's largest array)."""
+        cells = min(_MAX_BINS, max(_MIN_BINS, _BINS_PER_SAMPLE * boundary_samples))
+        h = max(0.5 * smallest, math.sqrt(self.width * self.height / cells))
         hs = [h]
         while hs[-1] < 0.5 * self.field.cap:
             hs.append(2 * hs[-1])
@@ -505,7 +515,7 @@ class _GradedSampler:
         chords, bin the chords and add guards; returns the number of boundary samples."""
         boundary, self.rings = joined(ring_xy)
         radius = self.field(boundary)
-        self._bins(0.5 * radius.min())
+        self._bins(0.5 * radius.min(), len(boundary))
         self._reserve(len(boundary))
         self._chords(boundary, radius)
         self.count = kern.place(boundary, radius, self.bins, self.nxt, self.points, self.radius,
