@@ -562,8 +562,9 @@ class _GradedSampler:
         half = 0.5 * size
         bx = np.concatenate([bx, bx + half, bx, bx + half])
         by = np.concatenate([by, by, by + half, by + half])
-        keep, edge = self._inside(bx, by, np.tile(half, 4), np.tile(edge, 4))
-        size = np.tile(half, 4)[keep]
+        half = np.concatenate([half, half, half, half])
+        keep, edge = self._inside(bx, by, half, np.concatenate([edge, edge, edge, edge]))
+        size = half[keep]
         return (bx[keep], by[keep], size, *self._bounds(r[keep], size), edge)
 
     def _inside(self, bx, by, size, edge):
@@ -612,7 +613,7 @@ class _GradedSampler:
             half = 0.5 * size
             bx = np.concatenate([bx, bx + half, bx, bx + half])
             by = np.concatenate([by, by, by + half, by + half])
-            size, edge = np.tile(half, 4), np.tile(edge, 4)
+            size, edge = (np.concatenate([a, a, a, a]) for a in (half, edge))
         return tuple(np.concatenate(parts) for parts in zip(*done))
 
     def _check_boxes(self, count: int):
