@@ -72,14 +72,27 @@ def face_components(faces, Py_ssize_t n_vertices):
     """Component label of each vertex (-1 for a vertex in no triangle) and the number of
     components, triangles joined through shared vertices; components numbered in the
     order of their smallest vertex (as ``scipy.sparse.csgraph.connected_components``
-    numbers them), by union-find over the triangles.
+    numbers them), by union-find over the triangles. An index outside the vertices is
+    refused (ArgumentError) before any is used.
     """
     cdef const int64_t[:, :] fc = np.asarray(faces, dtype=np.int64)
     labels_array = np.full(n_vertices, -1, np.int64)
     cdef int64_t[::1] labels = labels_array
     cdef int64_t[::1] parent = np.arange(n_vertices, dtype=np.int64)
-    cdef Py_ssize_t f, k, v, count = 0
+    cdef Py_ssize_t f, k, v, count = 0, bad = -1
     cdef int64_t a, b, r
+    with nogil:
+        for f in range(fc.shape[0]):
+            for k in range(3):
+                if fc[f, k] < 0 or fc[f, k] >= n_vertices:
+                    bad = f
+                    break
+            if bad >= 0:
+                break
+    if bad >= 0:
+        from .errors import ArgumentError
+        raise ArgumentError(f"face {bad} refers to vertex {fc[bad, k]}, but there are "
+                            f"{n_vertices} vertices (indices 0 to {n_vertices - 1})")
     with nogil:
         for f in range(fc.shape[0]):
             a = _root(parent, fc[f, 0])

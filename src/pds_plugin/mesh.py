@@ -370,6 +370,11 @@ def mesh_betti(faces, n_vertices: int, edges: np.ndarray | None = None):
     labels : (n_vertices,) int64 ndarray
     betti : (C, 2) int64 ndarray
 
+    Raises
+    ------
+    ArgumentError
+        If a face refers to a vertex index outside ``0 .. n_vertices - 1``.
+
     Examples
     --------
     >>> import numpy as np
@@ -380,9 +385,9 @@ def mesh_betti(faces, n_vertices: int, edges: np.ndarray | None = None):
     [[1, 1]]
     """
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    labels, count = face_components(faces, n_vertices)     # refuses an index past the end
     if edges is None:
         edges = mesh_edges(faces, n_vertices)[0]
-    labels, count = face_components(faces, n_vertices)
     used = labels >= 0
     chi = (np.bincount(labels[used], minlength=count)
            - np.bincount(labels[edges[:, 0]], minlength=count)
