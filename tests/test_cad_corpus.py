@@ -69,7 +69,14 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     # a 2.4 r side from a reflex corner to a 37° corner, too short for both clearances:
     # its one sample divides it in their ratio, and the pair across the 37° corner it
     # leaves closer than r was "unexplained"
-    (24, "g07-housing p0", "graded auto")])
+    (24, "g07-housing p0", "graded auto"),
+    # a step 0.07 alpha deep with a 37° corner, and a fold of two 4° tips 0.6 alpha
+    # apart: the corner's triangle was too large to keep (its far neighbour at the
+    # clearance), the tip samples isolated and their chords not mesh edges
+    (24, "g07-housing p0", "uniform fine"), (24, "g07-housing p2", "uniform fine"),
+    # a 9° tip whose neighbours' legs the graded sampler shortened to keep its triangle:
+    # the pair across it, closer than its clearance, was "unexplained"
+    (25, "g17-housing p0", "graded auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

@@ -458,15 +458,13 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     moves = [(offset[i], k[i], (k[i] + 1) % n, vertex[i]) for i in np.flatnonzero(first)]
     moves += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i]) for i in np.flatnonzero(last)]
     reflex = np.flatnonzero(apart & (turns < 0))
-    reflex_of = {int(c): reflex[chord[reflex] == c] for c in np.unique(k)}
     samples = samples.copy()
     for _, end, other, w in sorted(moves):          # the shortest moves first
         if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
             continue
         # the reflex vertices of end's other chord that end covered as their far end
         # must stay covered
-        beside = (end - 1) % n if other == (end + 1) % n else end
-        near = reflex_of.get(beside, reflex[chord[reflex] == beside])
+        near = reflex[chord[reflex] == ((end - 1) % n if other == (end + 1) % n else end)]
         r = radius(ring[near])
         before = np.hypot(*(ring[near] - samples[end]).T) <= r
         if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):

@@ -289,6 +289,12 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     other = both & ~is_chord
     following = _following_segment(region)
     previous = np.argsort(following)
+    # the two ring neighbours of one sample (a corner's, when they are on its two sides)
+    after_sample = np.full(len(points), -1)
+    after_sample[sampled.a] = sampled.b
+    before_sample = np.full(len(points), -2)
+    before_sample[sampled.b] = sampled.a
+    flanking = (after_sample[p] == before_sample[q]) | (after_sample[q] == before_sample[p])
     sides = []
     for sample, segment in ((p, segment_p), (q, segment_q)):
         segment = np.maximum(segment, 0)
@@ -302,7 +308,7 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
                     scales = None if scale is None else (scale[a[meet]], scale[b[meet]])
                     _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
                                     segments[second[meet]], alpha, tol, cause, feature, bound,
-                                    place, scales, points[on_boundary])
+                                    place, scales, points[on_boundary], flanking[meet])
     # thin walls: samples on two boundary segments apart from each other
     wall = other & (cause < 0)
     if wall.any():
@@ -315,7 +321,7 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
 
 
 def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound, place,
-                    scales=None, boundary=None):
+                    scales=None, boundary=None, flanking=None):
     """Explain the pairs ``meet``: ``a`` on the segments ``first``, ``b`` on ``second``,
     which follows it at a corner. Each sample is at least the corner's clearance from
     it (the boundary sampling's first part), or it is the vertex at its segment's far
@@ -326,7 +332,9 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
     too short for the clearances at both its ends (together at most the corner's
     clearance and √3 r), holds one sample where the sampler divides it in their ratio
     (``graded_sampling.cleared_piece``), short of the clearance: it counts as fixed
-    there."""
+    there. So do the corner's own two neighbours (``flanking``) when short of their
+    clearances: the sampler shortens their legs until the corner's triangle is one the
+    complex keeps (``graded_sampling._tip_kept``)."""
     corner = second[:, 0]
     into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
     angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
@@ -343,6 +351,9 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
     fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
     fixed_b = np.hypot(*(b - second[:, 1]).T) <= tol
     if scales is not None:
+        legs_shortened = flanking & ((at_a < clear_a * (1 - _TOL)) | (at_b < clear_b * (1 - _TOL)))
+        fixed_a |= legs_shortened
+        fixed_b |= legs_shortened
         for fixed, at, clear, far, r in ((fixed_a, at_a, clear_a, first[:, 0], scales[0]),
                                          (fixed_b, at_b, clear_b, second[:, 1], scales[1])):
             short = ~fixed & (at < clear * (1 - _TOL)) & (
