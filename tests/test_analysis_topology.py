@@ -243,3 +243,30 @@ def test_report_is_plain_data():
     assert data["per_component"][0] == {"component": 0, "betti_region": (1, 1),
                                         "betti_mesh": (1, 1), "ok": True}
     assert "topology ok" in str(report)
+
+
+def test_a_filled_hole_and_a_closed_notch_are_both_reported_when_the_betti_numbers_agree():
+    """Coarse paper mesh (conforming=False) of a disc, a square and a bar with a small
+    square hole: the mesh fills the hole and closes a notch off into a hole elsewhere, so
+    (b0, b1) agree by chance; the report names both. Every mesh hole's centre lying in
+    material or outside once made the hole matching index an empty array (IndexError)."""
+    disc_and_bar = [  # as hypothesis drew it: a disc's 32-gon, a square and a bar
+        (0.4157348061512726, -0.2777851165098011), (0.4619397662556434, -0.1913417161825449),
+        (0.4903926402016152, -0.0975451610080641), (0.5, 0.0), (1.0, 0.0), (1.0, 1.0),
+        (0.0, 1.0), (0.0, 0.5), (-0.0975451610080643, 0.4903926402016152),
+        (-0.1913417161825452, 0.4619397662556433), (-0.2777851165098011, 0.4157348061512726),
+        (-0.3125, 0.3872450375447784), (-0.3125, 1.0), (-0.9375, 1.0), (-0.9375, 0.0),
+        (-0.5, 0.0), (-0.4903926402016152, -0.0975451610080643),
+        (-0.4619397662556434, -0.191341716182545), (-0.4157348061512727, -0.2777851165098011),
+        (-0.3535533905932737, -0.3535533905932738), (-0.277785116509801, -0.4157348061512727),
+        (-0.1913417161825449, -0.4619397662556434), (-0.0975451610080641, -0.4903926402016152),
+        (0.0, -0.5), (0.0975451610080642, -0.4903926402016152),
+        (0.1913417161825449, -0.4619397662556434), (0.2777851165098011, -0.4157348061512726),
+        (0.3535533905932738, -0.3535533905932737),
+    ]
+    hole = [(0.25, 0.25), (0.25, 0), (0, 0), (0, 0.25)]
+    region = pds.Region.from_shapely(Polygon(disc_and_bar, [hole]))
+    report = pds.mesh_region(region, 0.1875, seed=0, conforming=False).certificate().topology
+    assert report.betti_mesh == report.betti_region == (1, 1) and not report.topology_ok
+    assert any("is filled by the mesh" in p for p in report.problems)
+    assert any("closed off into a hole" in p for p in report.problems)

@@ -288,7 +288,7 @@ class _Comparison:
             point, hole = point[free], hole[free]
             first = np.lexsort((hole, shapely.area(shapes)[hole], point))   # smallest area first
             point, hole = point[first], hole[first]
-            lead = np.r_[True, point[1:] != point[:-1]]
+            lead = np.r_[True, point[1:] != point[:-1]][:len(point)]
             places[point[lead]] = hole[lead]
         return ["material" if p == -1 else "outside" if p == -2 else int(p) for p in places]
 
