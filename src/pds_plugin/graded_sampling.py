@@ -397,6 +397,71 @@ def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
     return samples
 
 
+def _unhidden(samples, at, fixed, vertices, vertex_at, length, turns, field):
+    """A ring's boundary samples and their positions (``at``, as for :func:`_uncrossed`;
+    ``turns`` the turning angles of its vertices, positive where the region is convex)
+    with a chord end moved onto the ring's inflection wherever the chord's arc bends both
+    ways beyond the chord and the part that one end cannot see reaches farther than r
+    from the other.
+
+    An arc beyond its chord that turns convex and then reflex (an S-shaped curve, as a
+    B-spline flattened finely is near its inflection) hides its reflex part from the
+    chord end next to it, by however little the arc bends there (featuretype.STEP at
+    mid-height: 2e-5 mm): only the far end sees that part, 1.15 r away. The end next to
+    the reflex part moves onto a reflex vertex of the arc: the first one from the
+    inflection (walking away from it) that keeps the moved sample at least
+    ``min(r(p), r(q))`` from both its neighbours q along the ring, provided the reflex
+    vertices it passes are within r of the other end (the part before the moved sample
+    is then seen from that end or, beyond the last reflex vertex it passes, from the
+    moved sample; the arc after it bends towards the samples). Made only where neither
+    end is ``fixed`` and the arc does not cross its chord (that is :func:`_uncrossed`'s
+    case); arcs that turn more than once are left as they are.
+    Returns new arrays, ``at`` updated with the moved samples' positions."""
+    n, tol = len(samples), 1e-9 * field.cap
+    if n < 3:
+        return samples, at
+    chord = (np.searchsorted(at, vertex_at, side="right") - 1) % n
+    a, b = samples[chord], samples[(chord + 1) % n]
+    apart = (np.hypot(*(vertices - a).T) > tol) & (np.hypot(*(vertices - b).T) > tol)
+    ab = b - a
+    height = (ab[:, 0] * (vertices[:, 1] - a[:, 1]) - ab[:, 1] * (vertices[:, 0] - a[:, 0])) \
+        / np.maximum(np.hypot(ab[:, 0], ab[:, 1]), 1e-300)
+    convex, reflex = apart & (turns > 0), apart & (turns < 0)
+    bends = ((np.bincount(chord, convex, minlength=n) > 0)
+             & (np.bincount(chord, reflex, minlength=n) > 0)
+             & (np.bincount(chord, apart & (height < -tol), minlength=n) > 0)
+             & (np.bincount(chord, apart & (height > tol), minlength=n) == 0))
+    samples, at = samples.copy(), at.copy()
+    for k in np.flatnonzero(bends):
+        on = np.flatnonzero(apart & (chord == k))
+        on = on[np.argsort((vertex_at[on] - at[k]) % length, kind="stable")]
+        kinds = turns[on] > 0
+        if np.count_nonzero(kinds[1:] != kinds[:-1]) != 1:
+            continue                                  # turns more than once, or not at all
+        hidden = on[~kinds]
+        if kinds[0]:                                  # convex, then reflex: hidden from b
+            mover, holder = (k + 1) % n, k
+        else:                                         # reflex, then convex: hidden from a
+            mover, holder, hidden = k, (k + 1) % n, hidden[::-1]
+        within = np.hypot(*(vertices[hidden] - samples[holder]).T) <= field(vertices[hidden])
+        if fixed[mover] or fixed[holder] or within.all():
+            continue
+        for i, target in enumerate(hidden):           # from the inflection outwards: the
+            if not within[:i].all():                  # vertices passed stay hidden from
+                break                                 # the mover, so the holder covers them
+            place = vertex_at[target]
+            if (mover > 0 and place <= at[mover - 1]) or (mover < n - 1
+                                                         and place >= at[mover + 1]):
+                break                                 # across the ring's start: left
+            neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
+            radius = field(np.vstack([vertices[target], neighbours]))
+            if np.all(np.hypot(*(neighbours - vertices[target]).T)
+                      >= np.minimum(radius[0], radius[1:])):
+                samples[mover], at[mover] = vertices[target], place
+                break
+    return samples, at
+
+
 def _move_onto(samples, mover, crossing, fixed, holder, field):
     """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
     farther than r there, ``mover`` is not ``fixed``, and it stays separated from its
@@ -494,9 +559,11 @@ class _GradedSampler:
                                               unit, first, L)
             at = tau_positions(tau, tau[corner], after, before, unit, rng)
             samples = along(at, tau, np.vstack([dense, dense[:1]]))
-            ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
-                                                          before > unit),
-                                      ring, tau[:-1][first], tau[-1], self.field))
+            fixed = _fixed(at, tau[corner], after > unit, before > unit)
+            samples, at = _unhidden(samples, at, fixed, ring, tau[:-1][first], tau[-1],
+                                    turns, self.field)
+            ring_xy.append(_uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1],
+                                      self.field))
         ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
         return self._place_boundary(ring_xy)
 
