@@ -228,3 +228,49 @@ def test_a_budget_too_small_is_refused_with_what_to_do():
     region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
     with pytest.raises(BudgetError, match="max_samples=50.*smallest radius here is"):
         graded_mesh(region, max_samples=50)
+
+
+class _Constant:
+    """A radius field of one radius (what :func:`graded_sampling._unhidden` reads)."""
+
+    def __init__(self, r):
+        self.cap = r
+
+    def __call__(self, points):
+        return np.full(len(np.atleast_2d(points)), self.cap)
+
+
+def test_a_chord_whose_arc_bends_both_ways_moves_its_end_off_the_hidden_part():
+    # the bottom edge from a = (0, 0) to b = (1, 0) bulges below the chord, convex and
+    # then reflex (an S, as a finely flattened B-spline near its inflection): b does not
+    # see the reflex part, which is farther than r from a, so b moves onto it
+    from pds_plugin.graded_sampling import _unhidden
+    from pds_plugin.region import turning_angles
+
+    x = np.array([0.1, 0.3, 0.5, 0.65, 0.75, 0.82, 0.88, 0.94])
+    bottom = np.column_stack([x, -0.05 * np.sin(np.pi * x ** 0.7) ** 2])
+    ring = np.vstack([[0, 0], bottom, [1, 0], [1, 1], [0, 1]])
+    turns = turning_angles(ring)
+    position = np.concatenate([[0], np.cumsum(np.hypot(*np.diff(ring, axis=0).T))])
+    length = position[-1] + np.hypot(*(ring[-1] - ring[0]))
+    samples = ring[[0, 9, 10, 11]].astype(float)
+    at, fixed = position[[0, 9, 10, 11]], np.zeros(4, bool)
+    field = _Constant(0.85)
+    arc = slice(1, 9)
+    reflex = turns[arc] < 0
+    assert reflex.any() and (~reflex).any()              # the arc bends both ways
+    assert np.hypot(*ring[arc][reflex].T).max() > field.cap   # hidden part beyond a's r
+    moved, moved_at = _unhidden(samples, at, fixed, ring, position, length, turns, field)
+    assert np.array_equal(moved[[0, 2, 3]], samples[[0, 2, 3]])   # only b moved ...
+    k = int(np.flatnonzero((np.abs(ring - moved[1]) == 0).all(axis=1))[0])
+    assert 1 <= k <= 8 and turns[k] < 0 and moved_at[1] == position[k]   # ... onto the arc
+    assert np.all(np.diff(moved_at) > 0)                 # in order along the ring
+    between = np.arange(1, k)                            # what the new chord's arc holds:
+    hidden = between[turns[between] < 0]                 # its reflex part is within r of a
+    assert np.all(np.hypot(*ring[hidden].T) <= field.cap)
+    assert min(np.hypot(*(moved[1] - moved[[0, 2]]).T)) >= field.cap   # still separated
+    assert np.array_equal(_unhidden(samples, at, fixed, ring, position, length, turns,
+                                    field)[0], moved)    # the same, bit for bit
+    fixed[1] = True                                      # a fixed end stays
+    assert np.array_equal(_unhidden(samples, at, fixed, ring, position, length, turns,
+                                    field)[0], samples)

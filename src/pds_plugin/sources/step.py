@@ -27,7 +27,7 @@ The loops of each solid are the wires of the Common's faces (assembled by
 :func:`.polygons.outline_geometry`, even-odd, only where a wire does not close), and the
 solids' polygons are united, so assemblies and overlapping bodies give their union.
 Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
-B-splines too if :data:`SPLINE_AREA_ERROR` is set.
+B-splines too (:data:`SPLINE_AREA_ERROR`).
 """
 
 from __future__ import annotations
@@ -61,13 +61,13 @@ RELATIVE_TOLERANCE = 1e-5
 AREA_ERROR = 0.5e-6
 """By default circles and ellipses are flattened finer, so that their chords miss at most
 this fraction of the section's area (see :data:`ARC_REFINEMENT`)."""
-SPLINE_AREA_ERROR = None
-"""If set (a fraction, 0.5e-6 for the issue's 1e-6 with the arcs), B-splines are flattened
-finer too, so that their chords miss at most this fraction of the section's area (a
-proven bound, :func:`_splines_within`). Off by default: finer B-splines cost graded
-``"auto"`` meshes their certificate on featuretype.STEP at mid-height (a coverage gap of
-1.0-1.2 r where the B-spline bends both ways between two samples, measured by
-``analysis/conformity.py``'s sliver gap; docs/step.md)."""
+SPLINE_AREA_ERROR = 0.5e-6
+"""B-splines are flattened finer too, so that their chords miss at most this fraction of
+the section's area (a proven bound, :func:`_splines_within`): with the arcs'
+:data:`AREA_ERROR`, the issue's 1e-6. None keeps B-splines at the default tolerance.
+(It was off while the finer B-spline of featuretype.STEP at mid-height left its graded
+``"auto"`` mesh a coverage gap of 1.15 r, behind the reflex end of an arc that bends both
+ways: the graded sampler now moves that chord's end, docs/step.md.)"""
 ARC_REFINEMENT = 300
 """Circles, ellipses and B-splines are flattened at most this many times finer than the
 default tolerance (17 times the vertices): enough for the 5 mm shank of a 100 mm bolt
