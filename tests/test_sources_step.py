@@ -126,8 +126,8 @@ def test_the_area_read_before_flattening_is_exact_along_circles():
     shape = parts.plate_with_holes()
     solid = step.StepSolid(shape)
     origin, normal = np.array([0.0, 0.0, 5.0]), np.array([0.0, 0.0, 1.0])
-    (moved,) = solid._moved(pds.sources.planes.plane_frames(origin, normal)[0])
-    faces, curves = solid._cut_curves(moved, 0, origin, arcs=None)
+    to_2d = pds.sources.planes.plane_frames(origin, normal)[0]
+    faces, curves = solid._cut_curves(solid.solids[0], 0, origin, to_2d, arcs=None)
     assert {c.kind for c in curves} == {"line", "circle"}
     assert all(len(c.points) == 2 for c in curves)          # the arcs as their ends only
     exact = occt_section_area(shape, origin, normal)
