@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
@@ -392,87 +393,94 @@ def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
                 j -= step                               # the arc is on Q's side again
             t = h[j] / (h[j] - h[j + step])
             crossing = arc[j] + t * (arc[j + step] - arc[j])
-            mover = (k if step == 1 else k + 1) % n
-            _move_onto(samples, mover, crossing, fixed, samples[end % n], field)
+            holder = samples[end % n]
+            if np.hypot(*(crossing - holder)) > field(crossing[None])[0]:
+                _move_onto(samples, (k if step == 1 else k + 1) % n, crossing, fixed, field)
     return samples
 
 
-def _unhidden(samples, at, fixed, vertices, vertex_at, length, turns, field):
-    """A ring's boundary samples and their positions (``at``, as for :func:`_uncrossed`;
-    ``turns`` the turning angles of its vertices, positive where the region is convex)
-    with a chord end moved onto the ring's inflection wherever the chord's arc bends both
-    ways beyond the chord and the part that one end cannot see reaches farther than r
-    from the other.
+def _unhidden(samples, fixed, ring, turns, radius, tol):
+    """A ring's boundary samples (in order along ``ring``; ``fixed`` flags the ones that
+    must not move, :func:`_fixed`; ``turns`` are the turning angles at the ring's
+    vertices, ``radius`` gives r at points) with chord ends moved onto reflex vertices of
+    their chords' arcs, where the arc reaches beyond its chord.
 
-    An arc beyond its chord that turns convex and then reflex (an S-shaped curve, as a
-    B-spline flattened finely is near its inflection) hides its reflex part from the
-    chord end next to it, by however little the arc bends there (featuretype.STEP at
-    mid-height: 2e-5 mm): only the far end sees that part, 1.15 r away. The end next to
-    the reflex part moves onto a reflex vertex of the arc: the first one from the
-    inflection (walking away from it) that keeps the moved sample at least
-    ``min(r(p), r(q))`` from both its neighbours q along the ring, provided the reflex
-    vertices it passes are within r of the other end (the part before the moved sample
-    is then seen from that end or, beyond the last reflex vertex it passes, from the
-    moved sample; the arc after it bends towards the samples). Made only where neither
-    end is ``fixed`` and the arc does not cross its chord (that is :func:`_uncrossed`'s
-    case); arcs that turn more than once are left as they are.
-    Returns new arrays, ``at`` updated with the moved samples' positions."""
-    n, tol = len(samples), 1e-9 * field.cap
-    if n < 3:
-        return samples, at
-    chord = (np.searchsorted(at, vertex_at, side="right") - 1) % n
+    The ring turns back into the region at a reflex vertex w, so a chord end e on the
+    ring before w does not see the ring just past w: the segment from e leaves the
+    region through the wedge outside w, and leaves Q too where it runs beyond the chord.
+    That piece of region is then covered only by the chord's far end f: on tessellated
+    tori, bosses and flanges 1.05–1.5 r from it (held-out corpus sections), with e
+    0.002–0.2 r from w, sometimes after :func:`_uncrossed` had moved e just past w. On w,
+    e sees both of w's edges. So where f is farther than r(w) from w, the end e nearer
+    to w along the arc moves onto it (the first and the last reflex vertex of each arc,
+    the shortest moves first), unless that takes e farther than r from a reflex vertex
+    of its other chord that it was the far end within r of. The samples keep their
+    order (w is between the chord's ends); a sample moves only if it is not ``fixed``
+    and stays at least ``min(r(p), r(q))`` from both its neighbours q along the ring.
+    Vertices within ``tol`` of a chord (or of its ends) count as on it.
+
+    Examples
+    --------
+    >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
+    >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
+    >>> moved = _unhidden(samples, np.zeros(5, bool), ring, turning_angles(ring),
+    ...                  lambda x: np.ones(len(x)), 1e-9)
+    >>> moved[3].tolist()     # the bump beyond the chord is seen from (2, 1), reflex
+    [2.0, 1.0]
+    """
+    n = len(samples)
+    closed = np.vstack([ring, ring[:1]])
+    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    length, vertex_at = vertex_at[-1], vertex_at[:-1]
+    sample_at = shapely.line_locate_point(shapely.LineString(closed),
+                                          shapely.points(samples)) % length
+    start = int(np.argmin(sample_at))
+    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
+             + start) % n
     a, b = samples[chord], samples[(chord + 1) % n]
-    apart = (np.hypot(*(vertices - a).T) > tol) & (np.hypot(*(vertices - b).T) > tol)
-    ab = b - a
-    height = (ab[:, 0] * (vertices[:, 1] - a[:, 1]) - ab[:, 1] * (vertices[:, 0] - a[:, 0])) \
-        / np.maximum(np.hypot(ab[:, 0], ab[:, 1]), 1e-300)
-    convex, reflex = apart & (turns > 0), apart & (turns < 0)
-    bends = ((np.bincount(chord, convex, minlength=n) > 0)
-             & (np.bincount(chord, reflex, minlength=n) > 0)
-             & (np.bincount(chord, apart & (height < -tol), minlength=n) > 0)
-             & (np.bincount(chord, apart & (height > tol), minlength=n) == 0))
-    samples, at = samples.copy(), at.copy()
-    for k in np.flatnonzero(bends):
-        on = np.flatnonzero(apart & (chord == k))
-        on = on[np.argsort((vertex_at[on] - at[k]) % length, kind="stable")]
-        kinds = turns[on] > 0
-        if np.count_nonzero(kinds[1:] != kinds[:-1]) != 1:
-            continue                                  # turns more than once, or not at all
-        hidden = on[~kinds]
-        if kinds[0]:                                  # convex, then reflex: hidden from b
-            mover, holder = (k + 1) % n, k
-        else:                                         # reflex, then convex: hidden from a
-            mover, holder, hidden = k, (k + 1) % n, hidden[::-1]
-        within = np.hypot(*(vertices[hidden] - samples[holder]).T) <= field(vertices[hidden])
-        if fixed[mover] or fixed[holder] or within.all():
+    apart = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
+    height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
+        - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
+    beyond = np.bincount(chord, apart & (height < -tol * np.hypot(*(b - a).T)), minlength=n)
+    vertex = np.flatnonzero(apart & (beyond[chord] > 0) & (turns < 0))     # reflex
+    if not len(vertex):
+        return samples
+    offset = (vertex_at[vertex] - sample_at[chord[vertex]]) % length
+    order = np.lexsort((offset, chord[vertex]))
+    vertex, offset = vertex[order], offset[order]
+    k = chord[vertex]
+    first = np.append(True, k[1:] != k[:-1])
+    last = np.append(k[1:] != k[:-1], True)
+    span = (sample_at[(k + 1) % n] - sample_at[k]) % length
+    moves = [(offset[i], k[i], (k[i] + 1) % n, vertex[i]) for i in np.flatnonzero(first)]
+    moves += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i]) for i in np.flatnonzero(last)]
+    reflex = np.flatnonzero(apart & (turns < 0))
+    reflex_of = {int(c): reflex[chord[reflex] == c] for c in np.unique(k)}
+    samples = samples.copy()
+    for _, end, other, w in sorted(moves):          # the shortest moves first
+        if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
             continue
-        for i, target in enumerate(hidden):           # from the inflection outwards: the
-            if not within[:i].all():                  # vertices passed stay hidden from
-                break                                 # the mover, so the holder covers them
-            place = vertex_at[target]
-            if (mover > 0 and place <= at[mover - 1]) or (mover < n - 1
-                                                         and place >= at[mover + 1]):
-                break                                 # across the ring's start: left
-            neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
-            radius = field(np.vstack([vertices[target], neighbours]))
-            if np.all(np.hypot(*(neighbours - vertices[target]).T)
-                      >= np.minimum(radius[0], radius[1:])):
-                samples[mover], at[mover] = vertices[target], place
-                break
-    return samples, at
+        # the reflex vertices of end's other chord that end covered as their far end
+        # must stay covered
+        beside = (end - 1) % n if other == (end + 1) % n else end
+        near = (reflex_of.get(beside, reflex[chord[reflex] == beside]) if beyond[beside]
+                else reflex[:0])        # an arc all on Q's side leaves nothing to cover
+        r = radius(ring[near])
+        before = np.hypot(*(ring[near] - samples[end]).T) <= r
+        if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):
+            _move_onto(samples, end, ring[w], fixed, radius)
+    return samples
 
 
-def _move_onto(samples, mover, crossing, fixed, holder, field):
-    """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
-    farther than r there, ``mover`` is not ``fixed``, and it stays separated from its
-    two neighbours along the ring."""
+def _move_onto(samples, mover, target, fixed, radius):
+    """Move sample ``mover`` of a ring's ``samples`` (in place) onto ``target`` if it is
+    not ``fixed`` and stays at least ``min(r(p), r(q))`` from its two neighbours q along
+    the ring (``radius`` gives r at points)."""
     n = len(samples)
     neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
-    radius = field(np.vstack([crossing, holder, neighbours]))
-    if fixed[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
-        return
-    if np.all(np.hypot(*(neighbours - crossing).T) >= np.minimum(radius[0], radius[2:])):
-        samples[mover] = crossing
+    r = radius(np.vstack([target, neighbours]))
+    if not fixed[mover] and np.all(np.hypot(*(neighbours - target).T) >= np.minimum(r[0], r[1:])):
+        samples[mover] = target
 
 
 class _GradedSampler:
@@ -560,10 +568,8 @@ class _GradedSampler:
             at = tau_positions(tau, tau[corner], after, before, unit, rng)
             samples = along(at, tau, np.vstack([dense, dense[:1]]))
             fixed = _fixed(at, tau[corner], after > unit, before > unit)
-            samples, at = _unhidden(samples, at, fixed, ring, tau[:-1][first], tau[-1],
-                                    turns, self.field)
-            ring_xy.append(_uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1],
-                                      self.field))
+            samples = _uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1], self.field)
+            ring_xy.append(_unhidden(samples, fixed, ring, turns, self.field, 1e-9 * self.field.cap))
         ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
         return self._place_boundary(ring_xy)
 
