@@ -592,8 +592,8 @@ def _on_input(xy, patch, vertices, faces):
     Each point goes to the triangle whose bounding box holds it and whose smallest
     barycentric coordinate is the largest (the triangle it is in; of two that share an
     edge it lies on, the one the rounding favours), or to the nearest triangle if no box
-    holds it within :data:`_INSIDE`: no geometric predicate per pair (shapely's ``intersects`` took a quarter of
-    the remesh of shared.STL)."""
+    holds it within :data:`_INSIDE`: no geometric predicate per pair (shapely's
+    ``intersects`` took a quarter of the remesh of shared.STL)."""
     if not len(xy):
         return np.zeros((0, 3)), 0.0
     triangles = faces[patch.faces]

@@ -399,11 +399,11 @@ class StepSolid:
         (its rows: the plane's x and y axes, then its normal): the faces of its common
         with the square [-reach, reach]² of that plane about ``origin``, in the frame's
         axes, each as its wires (outer first), each wire its edges in order with whether
-        each runs reversed. (The solid is cut where it is: cutting it moved so that the
-        plane is z = 0, a located shape, made the Boolean 10-15 % slower.) (OCCT's Common gives the same
-        curves as its Section, and is faster on free-form faces: 0.85 s against 12-16 s
-        on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are the
-        section's loops, already nested.) The faces carry the Common as ``.common``."""
+        each runs reversed. The solid is cut where it is: moved so that the plane is
+        z = 0 (a located shape), it made the Boolean 10-15 % slower. OCCT's Common gives
+        the same curves as its Section, and is faster on free-form faces: 0.85 s against
+        12-16 s on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are
+        the section's loops, already nested. The faces carry the Common as ``.common``."""
         from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
         from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
         from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
