@@ -228,3 +228,4 @@ def test_a_budget_too_small_is_refused_with_what_to_do():
     region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
     with pytest.raises(BudgetError, match="max_samples=50.*smallest radius here is"):
         graded_mesh(region, max_samples=50)
+

@@ -51,6 +51,7 @@ AUTO_DIVISIONS = 100
 defaults to about 1 % of it as well)."""
 
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
+_INSIDE = 1e-9          # a barycentric coordinate down to -this still puts a point in
 _CHECKED_CORNER = LADDER_ANGLE  # 33.56°: spikes that rings get mirror pairs at and graded
 # chains do not; a patch with a sharper corner is certified as it is meshed, and kept if
 # its certificate does not hold
@@ -537,42 +538,96 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     flags[number[on_rim[chains.u] & on_rim[chains.v]]] = True
     outer = flags[used]
     report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer)
-    volume_in = float(source.volume) if source.is_watertight else float("nan")
-    volume_error = (abs(float(out.volume) - volume_in) / abs(volume_in)
-                    if source.is_watertight and volume_in else float("nan"))
+    (closed_in, euler_in, volume_in) = _surface_facts(vertices, faces)
+    (closed_out, euler_out, volume_out) = _surface_facts(out.vertices, out.faces)
+    volume_error = (abs(volume_out - volume_in) / abs(volume_in)
+                    if closed_in and volume_in else float("nan"))
     return RemeshResult(out, np.concatenate(patch_of).astype(np.int64), tuple(meshes),
                         report, alpha, patch_count, patch_count - len(patches),
-                        (bool(source.is_watertight), bool(out.is_watertight)),
-                        (int(source.euler_number), int(out.euler_number)), volume_error,
+                        (closed_in, closed_out), (euler_in, euler_out), volume_error,
                         distance, tolerance, bool(graded))
+
+
+def _surface_facts(vertices, faces) -> tuple[bool, int, float]:
+    """Whether a triangle mesh is watertight (every edge in exactly two faces, as
+    trimesh counts it), its Euler number (referenced vertices - edges + faces) and its
+    signed volume (about the vertices' mean, so that a part far from the origin keeps
+    its digits), from one sort of its edges: a fifth of the time of trimesh's three
+    properties on the 28,000 triangles of a remeshed 7_8ths_cube.stl.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> box = trimesh.creation.box((2, 1, 1))
+    >>> closed, euler, volume = _surface_facts(box.vertices, box.faces)
+    >>> closed, euler, round(volume, 12)
+    (True, 2, 2.0)
+    >>> _surface_facts(box.vertices, box.faces[1:])[:2]
+    (False, 1)
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    if not len(faces):
+        return False, 0, 0.0
+    start, end = faces.ravel(), faces[:, [1, 2, 0]].ravel()
+    code = np.sort(np.minimum(start, end) * len(vertices) + np.maximum(start, end))
+    edges = 1 + int(np.count_nonzero(code[1:] != code[:-1]))
+    closed = bool(len(code) % 2 == 0 and np.array_equal(code[0::2], code[1::2])
+                  and np.all(code[2::2] != code[1:-1:2]))
+    used = np.zeros(len(vertices), bool)
+    used[start] = True
+    corner = vertices[faces] - vertices[used].mean(axis=0)
+    a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
+    volume = float((a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
+                    + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
+                    + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])).sum() / 6)
+    return closed, int(used.sum()) - edges + len(faces), volume
 
 
 def _on_input(xy, patch, vertices, faces):
     """The 3D points of a patch's interior samples ``xy``, each on the input triangle it
     lies in (barycentric), and the largest distance from one of them to that triangle's
-    plane."""
+    plane.
+
+    Each point goes to the triangle whose bounding box holds it and whose smallest
+    barycentric coordinate is the largest (the triangle it is in; of two that share an
+    edge it lies on, the one the rounding favours), or to the nearest triangle if no box
+    holds it within :data:`_INSIDE`: no geometric predicate per pair (shapely's
+    ``intersects`` took a quarter of the remesh of shared.STL)."""
     if not len(xy):
         return np.zeros((0, 3)), 0.0
     triangles = faces[patch.faces]
     corners = patch.frame[triangles.ravel()].reshape(-1, 3, 2)
-    tree = shapely.STRtree(shapely.polygons(np.concatenate([corners, corners[:, :1]], axis=1)))
-    found, which = tree.query(shapely.points(xy), predicate="intersects")
-    first = np.full(len(xy), -1)
-    first[found[::-1]] = which[::-1]
-    missing = np.flatnonzero(first < 0)
+    low, high = corners.min(axis=1), corners.max(axis=1)
+    tree = shapely.STRtree(shapely.box(low[:, 0], low[:, 1], high[:, 0], high[:, 1]))
+    found, which = tree.query(shapely.points(xy))
+    a, b, c = (corners[which, k] for k in range(3))
+    beta, gamma = _barycentric(xy[found], a, b, c)
+    score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+    order = np.lexsort((-score, found))[::-1]            # per point, the best last
+    first, best = np.full(len(xy), -1), np.full(len(xy), -np.inf)
+    first[found[order]], best[found[order]] = which[order], score[order]
+    missing = np.flatnonzero(~(best >= -_INSIDE))        # in no triangle, or NaN
     if len(missing):
         first[missing] = tree.query_nearest(shapely.points(xy[missing]), all_matches=False)[1]
     a, b, c = (corners[first, k] for k in range(3))
-    v0, v1, v2 = b - a, c - a, xy - a
-    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
-    beta = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / det
-    gamma = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / det
+    beta, gamma = _barycentric(xy, a, b, c)
     p = vertices[triangles[first]]
     out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
     normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
     gap = float(np.abs(np.einsum("ij,ij->i", out - p[:, 0], normal)).max())
     return out, gap
+
+
+def _barycentric(xy, a, b, c):
+    """The barycentric coordinates (of b and of c) of points ``xy`` in triangles abc."""
+    v0, v1, v2 = b - a, c - a, xy - a
+    det = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        beta = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / det
+        gamma = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / det
+    return beta, gamma
 
 
 def _split_kept(kept_faces, chains, number, count, vertices):

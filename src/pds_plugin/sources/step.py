@@ -27,7 +27,7 @@ The loops of each solid are the wires of the Common's faces (assembled by
 :func:`.polygons.outline_geometry`, even-odd, only where a wire does not close), and the
 solids' polygons are united, so assemblies and overlapping bodies give their union.
 Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
-B-splines too if :data:`SPLINE_AREA_ERROR` is set.
+B-splines too (:data:`SPLINE_AREA_ERROR`).
 """
 
 from __future__ import annotations
@@ -61,13 +61,13 @@ RELATIVE_TOLERANCE = 1e-5
 AREA_ERROR = 0.5e-6
 """By default circles and ellipses are flattened finer, so that their chords miss at most
 this fraction of the section's area (see :data:`ARC_REFINEMENT`)."""
-SPLINE_AREA_ERROR = None
-"""If set (a fraction, 0.5e-6 for the issue's 1e-6 with the arcs), B-splines are flattened
-finer too, so that their chords miss at most this fraction of the section's area (a
-proven bound, :func:`_splines_within`). Off by default: finer B-splines cost graded
-``"auto"`` meshes their certificate on featuretype.STEP at mid-height (a coverage gap of
-1.0-1.2 r where the B-spline bends both ways between two samples, measured by
-``analysis/conformity.py``'s sliver gap; docs/step.md)."""
+SPLINE_AREA_ERROR = 0.5e-6
+"""B-splines are flattened finer too, so that their chords miss at most this fraction of
+the section's area (a proven bound, :func:`_splines_within`): with the arcs'
+:data:`AREA_ERROR`, the issue's 1e-6. None keeps B-splines at the default tolerance.
+(It was off while the finer B-spline of featuretype.STEP at mid-height left its graded
+``"auto"`` mesh a coverage gap of 1.15 r, behind the reflex end of an arc that bends both
+ways: the graded sampler now moves that chord's end, docs/step.md.)"""
 ARC_REFINEMENT = 300
 """Circles, ellipses and B-splines are flattened at most this many times finer than the
 default tolerance (17 times the vertices): enough for the 5 mm shank of a 100 mm bolt
@@ -287,8 +287,8 @@ class StepSolid:
         to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
         cuts = []                                   # each solid's faces and curves
-        for number, solid in enumerate(self._moved(to_2d)):
-            faces, curves = self._cut_curves(solid, number, origin,
+        for number, solid in enumerate(self.solids):
+            faces, curves = self._cut_curves(solid, number, origin, to_2d,
                                              arcs=None if self.adaptive else self.tolerance)
             if curves:
                 cuts.append((faces, curves))
@@ -361,8 +361,9 @@ class StepSolid:
         :func:`section_curves`)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d = _to_2d(origin, normal)
-        curves = [curve for number, solid in enumerate(self._moved(to_2d))
-                  for curve in self._cut_curves(solid, number, origin, self.tolerance)[1]]
+        curves = [curve for number, solid in enumerate(self.solids)
+                  for curve in self._cut_curves(solid, number, origin, to_2d,
+                                                self.tolerance)[1]]
         if not curves:
             self._refuse_empty(to_2d, float(origin @ normal))
         return curves
@@ -377,35 +378,42 @@ class StepSolid:
         location = TopLoc_Location(transform)
         return [solid.Moved(location) for solid in self.solids]
 
-    def _cut_curves(self, solid, number, origin, arcs=None):
-        """The faces of the cut of one (moved) solid (:meth:`_common_faces`) and their
-        edges' curves, wire after wire, each labelled by the solid's face it lies on;
-        circles and ellipses flattened within ``arcs``, or as their two ends if None
-        (:func:`_finer` flattens them later)."""
-        faces = self._common_faces(solid, self._reach(origin))
+    def _cut_curves(self, solid, number, origin, to_2d, arcs=None):
+        """The faces of the cut of one solid by the plane whose frame is ``to_2d``
+        (:meth:`_common_faces`) and their edges' curves in that frame's 2D coordinates,
+        wire after wire, each labelled by the solid's face it lies on; circles and
+        ellipses flattened within ``arcs``, or as their two ends if None (:func:`_finer`
+        flattens them later)."""
+        faces = self._common_faces(solid, origin, to_2d, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
         labels = _face_labels(edges, solid, faces.common,
                               number if len(self.solids) > 1 else None)
-        curves = [_curve(edge, self.tolerance, arcs, reversed_, label)
+        frame = np.asarray(to_2d, dtype=float)[:2]
+        curves = [_curve(edge, self.tolerance, arcs, frame, reversed_, label)
                   for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
         return faces, curves
 
-    def _common_faces(self, solid, reach) -> list:
-        """The cut of one (moved) solid by z = 0: the faces of its common with the square
-        [-reach, reach]² of that plane, each as its wires (outer first), each wire its
-        edges in order with whether each runs reversed. (OCCT's Common gives the same
-        curves as its Section, and is faster on free-form faces: 0.85 s against 12-16 s
-        on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are the
-        section's loops, already nested.) The faces carry the Common as ``.common``."""
+    def _common_faces(self, solid, origin, to_2d, reach) -> list:
+        """The cut of one solid by the plane through ``origin`` whose frame is ``to_2d``
+        (its rows: the plane's x and y axes, then its normal): the faces of its common
+        with the square [-reach, reach]² of that plane about ``origin``, in the frame's
+        axes, each as its wires (outer first), each wire its edges in order with whether
+        each runs reversed. The solid is cut where it is: moved so that the plane is
+        z = 0 (a located shape), it made the Boolean 10-15 % slower. OCCT's Common gives
+        the same curves as its Section, and is faster on free-form faces: 0.85 s against
+        12-16 s on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are
+        the section's loops, already nested. The faces carry the Common as ``.common``."""
         from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
         from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
         from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-        from OCP.gp import gp_Pln
+        from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
         from OCP.TopAbs import TopAbs_Orientation
         from OCP.TopoDS import TopoDS
 
-        plane = BRepBuilderAPI_MakeFace(gp_Pln(), -reach, reach, -reach, reach).Face()
+        axes = np.asarray(to_2d, dtype=float)[:3, :3]
+        frame = gp_Ax3(gp_Pnt(*map(float, origin)), gp_Dir(*axes[2]), gp_Dir(*axes[0]))
+        plane = BRepBuilderAPI_MakeFace(gp_Pln(frame), -reach, reach, -reach, reach).Face()
         common = BRepAlgoAPI_Common(solid, plane)
         if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
@@ -636,15 +644,23 @@ def _box(solids) -> tuple[np.ndarray, np.ndarray]:
     return (np.array([low.X(), low.Y(), low.Z()]), np.array([high.X(), high.Y(), high.Z()]))
 
 
-def _xy(point) -> np.ndarray:
-    return np.array([point.X(), point.Y()])
+def _xy(point, frame) -> np.ndarray:
+    """The 2D coordinates of an OCCT point in ``frame`` (the first two rows of the
+    plane's ``to_2d``)."""
+    return frame[:, :3] @ (point.X(), point.Y(), point.Z()) + frame[:, 3]
 
 
-def _curve(edge, tolerance, arcs, reversed_=False, face="") -> SectionCurve:
-    """One edge of a cut by z = 0, flattened within ``tolerance`` (circles and ellipses
-    within ``arcs``, or as their two ends if None); it runs the other way if
-    ``reversed_`` (the edge's orientation in its wire)."""
-    curve = _flattened(edge, tolerance, arcs)
+def _along(direction, frame) -> np.ndarray:
+    """The 2D components of an OCCT direction in ``frame`` (a direction in the plane)."""
+    return frame[:, :3] @ (direction.X(), direction.Y(), direction.Z())
+
+
+def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCurve:
+    """One edge of a cut by a plane, in the 2D coordinates of its ``frame`` (the first
+    two rows of ``to_2d``), flattened within ``tolerance`` (circles and ellipses within
+    ``arcs``, or as their two ends if None); it runs the other way if ``reversed_`` (the
+    edge's orientation in its wire)."""
+    curve = _flattened(edge, tolerance, frame, arcs)
     if reversed_:
         curve = replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
                         sweep=-curve.sweep, bezier=None if curve.bezier is None else
@@ -690,9 +706,9 @@ def _splines_within(splines, budget, tolerance, floor) -> dict:
         t = max(floor, t / 1.5)
 
 
-def _flattened(edge, tolerance, arcs=None) -> SectionCurve:
-    """One edge of a cut by z = 0, flattened within ``tolerance`` (circles and ellipses
-    within ``arcs``, or as their two ends if None)."""
+def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
+    """One edge of a cut by a plane, in its ``frame``'s 2D coordinates, flattened within
+    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None)."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_CurveType as Kind
@@ -701,7 +717,8 @@ def _flattened(edge, tolerance, arcs=None) -> SectionCurve:
     kind, first, last = curve.GetType(), curve.FirstParameter(), curve.LastParameter()
     bound = float(BRep_Tool.Tolerance_s(edge))
     if kind == Kind.GeomAbs_Line:
-        return SectionCurve("line", np.array([_xy(curve.Value(first)), _xy(curve.Value(last))]),
+        return SectionCurve("line", np.array([_xy(curve.Value(first), frame),
+                                                _xy(curve.Value(last), frame)]),
                             edge_tolerance=bound)
     if kind in (Kind.GeomAbs_Circle, Kind.GeomAbs_Ellipse):
         if kind == Kind.GeomAbs_Circle:
@@ -710,9 +727,10 @@ def _flattened(edge, tolerance, arcs=None) -> SectionCurve:
         else:
             conic = curve.Ellipse()
             major, minor = conic.MajorRadius(), conic.MinorRadius()
-        frame = conic.Position()
-        center = _xy(frame.Location())
-        radii = np.column_stack([major * _xy(frame.XDirection()), minor * _xy(frame.YDirection())])
+        axes = conic.Position()
+        center = _xy(axes.Location(), frame)
+        radii = np.column_stack([major * _along(axes.XDirection(), frame),
+                                 minor * _along(axes.YDirection(), frame)])
         points = (elliptic_points(center, radii, first, last - first, arcs) if arcs else
                   center + np.array([[np.cos(first), np.sin(first)],
                                      [np.cos(last), np.sin(last)]]) @ radii.T)
@@ -721,7 +739,7 @@ def _flattened(edge, tolerance, arcs=None) -> SectionCurve:
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
                             center, radii, bound, first, last - first)
     if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
-        pieces = _bezier_pieces(curve, kind, first, last)
+        pieces = _bezier_pieces(curve, kind, first, last, frame)
         if pieces is not None:
             return SectionCurve("bspline", _bezier_chain(pieces, tolerance),
                                 edge_tolerance=bound, bezier=tuple(pieces))
@@ -731,7 +749,7 @@ def _flattened(edge, tolerance, arcs=None) -> SectionCurve:
     if not sampler.IsDone():
         raise SourceError("OpenCASCADE could not flatten a curve of the section; pass a "
                           "larger tolerance or move the plane")
-    points = np.array([_xy(sampler.Value(i)) for i in range(1, sampler.NbPoints() + 1)])
+    points = np.array([_xy(sampler.Value(i), frame) for i in range(1, sampler.NbPoints() + 1)])
     return SectionCurve("adaptive", points, edge_tolerance=bound)
 
 
@@ -762,24 +780,25 @@ def _bezier_chain(pieces, tolerance) -> np.ndarray:
     return np.concatenate([control[:1, 0], np.einsum("md,mdx->mx", basis, control[piece])])
 
 
-def _bezier_pieces(curve, kind, first, last):
+def _bezier_pieces(curve, kind, first, last, frame):
     """Control points (d + 1, 2) of the non-rational Bézier pieces of the curve between
-    ``first`` and ``last``, or None if it is rational."""
+    ``first`` and ``last``, in ``frame``'s 2D coordinates (a Bézier curve's image under
+    an affine map is the Bézier curve of its mapped poles), or None if it is rational."""
     from OCP.GeomAbs import GeomAbs_CurveType as Kind
     from OCP.GeomConvert import GeomConvert_BSplineCurveToBezierCurve
 
+    def poles(piece):
+        return np.array([piece.Pole(i).Coord() for i in range(1, piece.NbPoles() + 1)]
+                        ) @ frame[:, :3].T + frame[:, 3]
+
     if kind == Kind.GeomAbs_BezierCurve:
         bezier = curve.Bezier()
-        if bezier.IsRational():
-            return None
-        return [np.array([bezier.Pole(i).Coord()[:2] for i in range(1, bezier.NbPoles() + 1)])]
+        return None if bezier.IsRational() else [poles(bezier)]
     spline = curve.BSpline()
     if spline.IsRational():
         return None
     split = GeomConvert_BSplineCurveToBezierCurve(spline, first, last, 1e-12)
-    arcs = [split.Arc(i) for i in range(1, split.NbArcs() + 1)]
-    return [np.array([arc.Pole(i).Coord()[:2] for i in range(1, arc.NbPoles() + 1)])
-            for arc in arcs]
+    return [poles(split.Arc(i)) for i in range(1, split.NbArcs() + 1)]
 
 
 def section_curves(solid, plane_origin, plane_normal, *, on_face=None,
