@@ -71,8 +71,14 @@ STAGES = ("corners", "boundary", "interior")
 HALO = 2.0
 """Halo width / alpha: the samples a task sees around its tile."""
 
+BLOCK_SAMPLES = 2**14
+"""About how many samples a task's scratch covers at once: a tile's interior is sampled,
+and its complex computed, block by block (a grid of equal blocks over the tile, each
+with its own 2 alpha halo), so a task's memory is its tile's samples and triangles plus
+the scratch of one block (docs/tiled.md, "Memory per worker")."""
+
 _RELAXED = 1e-9         # the tile's complex is computed at alpha (1 + this), then filtered
-_FORMAT = 1             # the store's layout version
+_FORMAT = 2             # the store's layout version (2: blocks)
 
 
 @dataclass(frozen=True)
@@ -237,7 +243,7 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     params = {"format": _FORMAT, "alpha": alpha, "seed": seed, "feature_angle": feature_angle,
               "tiling": [tiling.x0, tiling.y0, tiling.x1, tiling.y1, tiling.nx, tiling.ny],
               "region": shapely.to_wkb(region.geometry, hex=True),
-              "frame": region.frame.tolist()}
+              "frame": region.frame.tolist(), "blocks": list(_blocks_per_tile(tiling, alpha))}
     _open_store(store, params)
     run = secrets.token_hex(8)     # keeps an executor that caches by arguments honest
     shapely.prepare(region.geometry)
@@ -254,15 +260,16 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     for stage in range(len(STAGES)):
         for phase in range(4):
             specs = [_Task(str(store), tiling, i, j, stage, alpha, seed, feature_angle,
-                           near[i, j], run, tuple(t for t in tiling.neighbours(i, j) if t in near))
+                           near[i, j], run, tuple(t for t in tiling.neighbours(i, j) if t in near),
+                           tuple(params["blocks"]))
                      for (i, j) in near if tiling.phase(i, j) == phase]
             for spec, made in zip(specs, _run(_sample_task, specs, executor)):
                 counts[spec.i, spec.j, stage] = made
     index = _index(tiling, counts, near)
     with atomic_path(store / "index.json") as partial:
         partial.write_text(json.dumps(index), encoding="utf-8")
-    specs = [_Task(str(store), tiling, i, j, -1, alpha, seed, feature_angle, near[i, j], run)
-             for (i, j) in near]
+    specs = [_Task(str(store), tiling, i, j, -1, alpha, seed, feature_angle, near[i, j], run,
+                   blocks=tuple(params["blocks"])) for (i, j) in near]
     list(_run(_complex_task, specs, executor))
     return TiledMesh(store)
 
@@ -310,6 +317,23 @@ def _tiling(region: Region, alpha: float, tiles, tile_size) -> Tiling:
                             f"task's sampling grid allows; use at least {need[0]} x {need[1]} "
                             "tiles (or a smaller tile_size)")
     return tiling
+
+
+def _blocks_per_tile(tiling: Tiling, alpha: float) -> tuple[int, int]:
+    """Columns and rows of blocks in a tile: blocks of at most about
+    :data:`BLOCK_SAMPLES` samples (at the uniform sampler's density, 0.7 per alpha
+    squared), and at least 8 alpha wide and high."""
+    side = alpha * math.sqrt(BLOCK_SAMPLES / 0.7)
+    return tuple(max(1, min(math.ceil(span / side), math.floor(span / (8 * alpha))))
+                 for span in (tiling.width, tiling.height))
+
+
+def _block_reach(blocks: Tiling, a: int, b: int, reach) -> tuple:
+    """The part of the plane block ``(a, b)`` owns within the tile's ``reach``: its box,
+    infinite on the sides where it meets an infinite side of the reach."""
+    xmin, ymin, xmax, ymax = blocks.box(a, b)
+    return (reach[0] if a == 0 else xmin, reach[1] if b == 0 else ymin,
+            reach[2] if a == blocks.nx - 1 else xmax, reach[3] if b == blocks.ny - 1 else ymax)
 
 
 def _open_store(store: Path, params: dict) -> None:
@@ -369,6 +393,11 @@ class _Task:
     near: bytes         # WKB of the region within 2 alpha of the tile
     run: str
     neighbours: tuple = ()  # the tiles of the 3 x 3 block around it that have a task
+    blocks: tuple = (1, 1)  # columns and rows of blocks in the tile (BLOCK_SAMPLES)
+
+    def block_grid(self) -> Tiling:
+        """The blocks of the tile, as a tiling of its box."""
+        return Tiling(*self.tiling.box(self.i, self.j), *self.blocks)
 
 
 def _stage_path(store, i, j, stage, what="points") -> str:
@@ -440,18 +469,15 @@ def _sample_tile(task: _Task) -> np.ndarray:
     if inside is None:
         return np.empty((0, 2))
     halo = _halo(task)
-    reach = HALO * alpha * (1 + 1e-9)
-    sampler = _Sampler(Region(inside, np.eye(4)), alpha,
-                       bounds=(rect[0] - reach, rect[1] - reach, rect[2] + reach, rect[3] + reach))
-    sampler._reserve(len(halo))
-    kern.place_all(np.ascontiguousarray(halo), sampler.grid, sampler.nxt, sampler.covered,
-                   sampler.points, 0, alpha, sampler.x0, sampler.y0, sampler.s, sampler.vis)
-    sampler.count = fixed = len(halo)
     rng = np.random.default_rng([task.seed, task.stage, task.i, task.j])
     stage = STAGES[task.stage]
+    if stage == "interior":
+        return _sample_interior(task, inside, halo, rng)
+    sampler = _fixed_sampler(inside, rect, halo, alpha)
+    fixed = sampler.count
     if stage == "corners":
         sampler._insert(_corners(near, rect, task.feature_angle))
-    elif stage == "boundary":
+    else:
         start, direction, length = _boundary_pieces(near, rect, sampler.s)
         order = rng.permutation(len(start))
         u = rng.random(len(start))
@@ -460,9 +486,42 @@ def _sample_tile(task: _Task) -> np.ndarray:
             start, direction, length, order, u, sampler.grid, sampler.nxt, sampler.covered,
             sampler.points, sampler.count, alpha, RESOLUTION * alpha, sampler.x0,
             sampler.y0, sampler.s, sampler.vis)
-    else:
-        sampler.add_interior(rng)
     return sampler.points[fixed:sampler.count].copy()
+
+
+def _fixed_sampler(inside, rect, fixed, alpha: float) -> _Sampler:
+    """The uniform sampler's state over ``inside`` (polygons in the box ``rect``), its
+    grid widened by the halo, the samples ``fixed`` placed (and what they cover marked)."""
+    reach = HALO * alpha * (1 + 1e-9)
+    sampler = _Sampler(Region(inside, np.eye(4)), alpha,
+                       bounds=(rect[0] - reach, rect[1] - reach, rect[2] + reach, rect[3] + reach))
+    sampler._reserve(len(fixed))
+    kern.place_all(np.ascontiguousarray(fixed), sampler.grid, sampler.nxt, sampler.covered,
+                   sampler.points, 0, alpha, sampler.x0, sampler.y0, sampler.s, sampler.vis)
+    sampler.count = len(fixed)
+    return sampler
+
+
+def _sample_interior(task: _Task, inside, halo, rng) -> np.ndarray:
+    """The interior sweep of a tile, block by block (row by row): each block's sampler
+    holds the block and its halo (the tile's halo and the blocks sampled before it,
+    within 2 alpha), so the scratch is one block's; the tile's samples are the blocks'
+    in order."""
+    alpha, blocks = task.alpha, task.block_grid()
+    made = []
+    for a, b in blocks.tiles():
+        rect = blocks.box(a, b)
+        part = inside if blocks.nx * blocks.ny == 1 else \
+            _polygons(shapely.intersection(inside, box(*rect)))
+        if part is None:
+            continue
+        fixed = [xy[_distance_to_box(xy, rect) <= HALO * alpha] for xy in (halo, *made)]
+        fixed = np.concatenate(fixed)
+        sampler = _fixed_sampler(part, rect, fixed, alpha)
+        sampler.add_interior(rng)
+        made.append(sampler.points[len(fixed):sampler.count].copy())
+        del sampler, fixed
+    return np.concatenate(made) if made else np.empty((0, 2))
 
 
 def _polygons(geometry) -> MultiPolygon | None:
@@ -591,17 +650,16 @@ def _exact_complex(points, ids, alpha: float, low, high) -> np.ndarray:
     return faces[keep]
 
 
-def _owned(points, faces, tiling: Tiling, i: int, j: int) -> np.ndarray:
-    """The faces (vertices in global id order) whose circumcentre tile ``(i, j)`` owns;
-    the circumcentre is computed from the vertices in id order, the same in every tile."""
+def _circumcentres(points, faces) -> np.ndarray:
+    """(m, 2) the circumcentres of ``faces``, computed from their vertices in global id
+    order (the same numbers in every tile, so every tile finds the same owner)."""
     corner = points[np.sort(faces, axis=1)]
     a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
     bx, by, cx, cy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1], c[:, 0] - a[:, 0], c[:, 1] - a[:, 1]
     cross = 2.0 * (bx * cy - by * cx)
     ux = a[:, 0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
     uy = a[:, 1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
-    owner = tiling.owner(np.column_stack([ux, uy]))
-    return faces[(owner[:, 0] == i) & (owner[:, 1] == j)]
+    return np.column_stack([ux, uy])
 
 
 def _canonical(faces, sort: bool = True) -> np.ndarray:
@@ -618,15 +676,43 @@ def _faces_path(store, i, j) -> str:
 
 
 def _complex_task(task: _Task) -> int:
-    """Write the triangles tile ``(i, j)`` owns, in global ids; return their count."""
+    """Write the triangles tile ``(i, j)`` owns, in global ids; return their count.
+
+    The tile's part of the plane is done block by block (the blocks of its interior
+    sweep): each block's complex is computed on the points within 2 alpha of the part
+    the block owns, and keeps the triangles whose circumcentre the tile and the block
+    own."""
     path = _faces_path(task.store, task.i, task.j)
     if not os.path.exists(path):
         index = _index_of(task.store)
         points, ids, _ = _gathered(task, index)
-        faces = _exact_complex(points, ids, task.alpha, index["low"], index["high"])
-        owned = _owned(points, faces, task.tiling, task.i, task.j)
-        _save(path, _canonical(ids[owned], sort=False))    # in the kernel's order
+        reach, blocks = task.tiling.reach(task.i, task.j), task.block_grid()
+        parts = []
+        for a, b in blocks.tiles():
+            near = np.flatnonzero(_distance_to_box(points, _block_reach(blocks, a, b, reach))
+                                  <= HALO * task.alpha)
+            local = np.ascontiguousarray(points[near])
+            faces = _exact_complex(local, ids[near], task.alpha, index["low"], index["high"])
+            centre = _circumcentres(local, faces)
+            tile, block = task.tiling.owner(centre), blocks.owner(centre)
+            owned = faces[(tile[:, 0] == task.i) & (tile[:, 1] == task.j)
+                          & (block[:, 0] == a) & (block[:, 1] == b)]
+            parts.append(_canonical(ids[near][owned], sort=False))   # in the kernel's order
+            del local, faces, centre, tile, block, owned
+        _save_parts(path, parts)
     return int(np.load(path, mmap_mode="r").shape[0])
+
+
+def _save_parts(path, parts) -> None:
+    """Save the (m, 3) int64 arrays ``parts`` as one ``.npy`` array, one part after the
+    other, without joining them in memory (the bytes of ``np.save`` of their join)."""
+    shape = (sum(len(p) for p in parts), 3)
+    header = {"descr": np.lib.format.dtype_to_descr(np.dtype(np.int64)),
+              "fortran_order": False, "shape": shape}
+    with atomic_path(path) as partial, open(partial, "wb") as file:
+        np.lib.format.write_array_header_1_0(file, header)
+        for part in parts:
+            file.write(np.ascontiguousarray(part, np.int64).tobytes())
 
 
 class TiledMesh:
