@@ -860,8 +860,10 @@ class TiledMesh:
         """
         run = secrets.token_hex(8)
         params = self._params
+        blocks = tuple(params.get("blocks", (1, 1)))      # stores before blocks: (1, 1)
         specs = [_Task(str(self.store), self.tiling, i, j, -1, self.alpha, self.seed,
-                       float(params["feature_angle"]), b"", run) for i, j in self._tiles()]
+                       float(params["feature_angle"]), b"", run, blocks=blocks)
+                 for i, j in self._tiles()]
         return _reduced(_run(_certificate_task, specs, executor), self)
 
 
@@ -938,17 +940,31 @@ def _certificate_task(task: _Task) -> dict:
     alpha, out = task.alpha, {"own": int(own.sum())}
     if not len(points):
         return out
-    faces = _exact_complex(points, ids, alpha, index["low"], index["high"])
-    grid = _SampleGrid(points, 2 * alpha)
-    out["separation"] = grid.closest_distance()
     params = json.loads((Path(task.store) / "params.json").read_text(encoding="utf-8"))
-    inside = _polygons(shapely.intersection(shapely.from_wkb(params["region"]),
-                                            box(*task.tiling.box(task.i, task.j))))
-    if inside is not None:
-        local = PlanarMesh(points, faces, np.zeros(len(points), bool), Region(inside, np.eye(4)),
-                           alpha)
-        gap, at = _coverage_gap(local, local.faces, local.boundary_edges, grid)
-        out["gap"], out["gap_at"] = gap, [float(v) for v in at]
+    region = shapely.from_wkb(params["region"])
+    # separation and coverage block by block (the blocks of the tile's sampling), each
+    # on the samples within 2 alpha of the part of the plane the block owns: every pair
+    # closer than alpha, and every sample a point of the block within alpha of one
+    # needs, is there
+    reach, blocks = task.tiling.reach(task.i, task.j), task.block_grid()
+    out["separation"] = math.inf
+    for a, b in blocks.tiles():
+        near = _distance_to_box(points, _block_reach(blocks, a, b, reach)) <= HALO * alpha
+        local = np.ascontiguousarray(points[near])
+        if not len(local):
+            continue
+        grid = _SampleGrid(local, 2 * alpha)
+        out["separation"] = min(out["separation"], float(grid.closest_distance()))
+        inside = _polygons(shapely.intersection(region, box(*blocks.box(a, b))))
+        if inside is None:
+            continue
+        faces = _exact_complex(local, ids[near], alpha, index["low"], index["high"])
+        mesh = PlanarMesh(local, faces, np.zeros(len(local), bool), Region(inside, np.eye(4)),
+                          alpha)
+        gap, at = _coverage_gap(mesh, mesh.faces, mesh.boundary_edges, grid)
+        if gap > out.get("gap", -math.inf):
+            out["gap"], out["gap_at"] = float(gap), [float(v) for v in at]
+        del local, grid, faces, mesh
     # the rest measures the stored triangles: the tile's own, and those of the 3 x 3
     # tiles around it at an own vertex (its star: circumcentres within alpha of it)
     owned, star = _stored_faces(task, index, ids, own)
@@ -956,12 +972,21 @@ def _certificate_task(task: _Task) -> dict:
     out["strays"] = int(np.count_nonzero((owned < 0).any(axis=1)))
     owned, star = owned[(owned >= 0).all(axis=1)], star[(star >= 0).all(axis=1)]
     if len(owned):
-        quality = triangle_quality(points, owned)
-        out.update(aspect=float(quality.aspect_ratio.max()), low=float(quality.angles.min()),
-                   high=float(quality.angles.max()), area=float(quality.area.sum()))
-    # the edges with an own end are all in that star
-    edges = np.sort(np.concatenate([star[:, [0, 1]], star[:, [1, 2]], star[:, [2, 0]]]), axis=1)
-    edges, uses = np.unique(edges, axis=0, return_counts=True)
+        measured = [triangle_quality(points, owned[k:k + 2**15])
+                    for k in range(0, len(owned), 2**15)]
+        out.update(aspect=max(float(q.aspect_ratio.max()) for q in measured),
+                   low=min(float(q.angles.min()) for q in measured),
+                   high=max(float(q.angles.max()) for q in measured),
+                   area=float(sum(q.area.sum() for q in measured)))
+        del measured
+    # the edges with an own end are all in that star (one int64 key per edge)
+    n = np.int64(len(points))                 # int64 keys from the int32 indices
+    pairs = ((0, 1), (1, 2), (2, 0))
+    keys = np.concatenate([np.minimum(star[:, p], star[:, q]) * n
+                           + np.maximum(star[:, p], star[:, q]) for p, q in pairs])
+    keys, uses = np.unique(keys, return_counts=True)
+    edges = np.column_stack([keys // n, keys % n])
+    del keys
     exact = own[edges[:, 0]] | own[edges[:, 1]]
     edges, uses = edges[exact], uses[exact]
     used = np.zeros(len(points), bool)
@@ -988,23 +1013,35 @@ def _certificate_task(task: _Task) -> dict:
 def _stored_faces(task: _Task, index: dict, ids, own):
     """The stored triangles of the tile, and those of the tiles around it with a vertex
     of the tile, as indices into ``ids`` (-1 for an id not among them: a triangle
-    reaching farther than 2 alpha, which a correct mesh does not have)."""
+    reaching farther than 2 alpha, which a correct mesh does not have). The files are
+    read a chunk at a time, so only the kept triangles are held."""
     record = index["tiles"][f"{task.i},{task.j}"]
     first, last = record["first"], record["first"] + sum(record["counts"])
-    owned, star = None, []
+
+    def local(faces):        # int32: a tile's task holds far fewer than 2**31 samples
+        at = np.minimum(np.searchsorted(ids, faces), len(ids) - 1)
+        return np.where(ids[at] == faces, at, -1).astype(np.int32)
+    owned, star = [np.empty((0, 3), np.int32)], [np.empty((0, 3), np.int32)]
     for a, b in task.tiling.neighbours(task.i, task.j):
         if f"{a},{b}" not in index["tiles"]:
             continue
-        faces = np.load(_faces_path(task.store, a, b))
-        if (a, b) == (task.i, task.j):
-            owned = faces
-        star.append(faces[((faces >= first) & (faces < last)).any(axis=1)])
-    star = np.concatenate(star)
+        for faces in _face_chunks(_faces_path(task.store, a, b)):
+            if (a, b) == (task.i, task.j):
+                owned.append(local(faces))
+            star.append(local(faces[((faces >= first) & (faces < last)).any(axis=1)]))
+    return np.concatenate(owned), np.concatenate(star)
 
-    def local(faces):
-        at = np.minimum(np.searchsorted(ids, faces), len(ids) - 1)
-        return np.where(ids[at] == faces, at, -1)
-    return local(owned), local(star)
+
+def _face_chunks(path, rows: int = 2**15):
+    """The (m, 3) int64 array of a ``.npy`` file, ``rows`` rows at a time."""
+    with open(path, "rb") as file:
+        version = np.lib.format.read_magic(file)
+        read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                else np.lib.format.read_array_header_2_0)
+        shape, _, _ = read(file)
+        for start in range(0, shape[0], rows):
+            count = min(rows, shape[0] - start)
+            yield np.fromfile(file, np.int64, 3 * count).reshape(count, 3)
 
 
 def _reduced(parts: list, mesh: TiledMesh) -> TiledCertificate:
