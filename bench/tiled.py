@@ -100,6 +100,20 @@ elif mode == "serial":
     tiled = pds.mesh_tiled(region, alpha, tiles=spec["tiles"], store=spec["store"])
     out.update(cpu=time.process_time() - cpu, wall=time.perf_counter() - wall,
                samples=tiled.samples, base=base, peak=status("VmHWM"))
+elif mode == "pool":
+    import resource
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+
+    with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+        pds.mesh_tiled(small, 0.05, tiles=(4, 4), store=spec["store"] + "-warm", executor=pool)
+        cpu, wall = time.process_time(), time.perf_counter()
+        tiled = pds.mesh_tiled(region, alpha, tiles=spec["tiles"], store=spec["store"],
+                               executor=pool)
+        driver, wall = time.process_time() - cpu, time.perf_counter() - wall
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out.update(cpu=driver + children.ru_utime + children.ru_stime, wall=wall,
+               samples=tiled.samples)
 else:
     from distributed import Client, LocalCluster
 
@@ -325,7 +339,8 @@ def cad_row(samples: float) -> None:
         whole = run("region", geometry, alpha)
         serial = run("serial", geometry, alpha, str(serial_store))
         cluster = run("cluster", geometry, alpha, str(cluster_store), certificate=True)
-        same = digest(serial_store) == digest(cluster_store)
+        pool = run("pool", geometry, alpha, str(Path(folder, "pool")))
+        same = digest(serial_store) == digest(cluster_store) == digest(Path(folder, "pool"))
         tiled = pds.TiledMesh(serial_store)
         tile_bytes = tile_mesh_bytes(tiled)
         started = time.perf_counter()
@@ -360,7 +375,7 @@ def cad_row(samples: float) -> None:
          f"{'ok' if cert.ok else 'FAILED'} in {cert_wall:.1f} s wall; "
          f"{'ok' if cluster.get('cert_ok') else 'FAILED'} in {cluster['cert_wall']:.1f} s "
          f"wall, worker peak increment {cluster['cert_increment']:.1f} MiB"),
-        ("same bytes in process and on the cluster", "yes" if same else "NO"),
+        ("same bytes in process, on the cluster and on the pool", "yes" if same else "NO"),
         ("mesh_region: CPU s / wall s / peak MiB (+ over its idle process)",
          f"{whole['cpu']:.2f} / {whole['wall']:.2f} / {whole['peak']:.0f} "
          f"(+{whole['peak'] - whole['base']:.0f})"),
@@ -369,6 +384,8 @@ def cad_row(samples: float) -> None:
          f"(+{serial['peak'] - serial['base']:.1f})"),
         ("tiled on 2 workers: CPU s (driver + workers) / wall s",
          f"{cluster['cpu']:.2f} / {cluster['wall']:.2f}"),
+        ("tiled on a pool of 2 spawned processes: CPU s (driver + processes, their "
+         "warm-up included) / wall s", f"{pool['cpu']:.2f} / {pool['wall']:.2f}"),
         ("cluster wall / mesh_region wall (target <= 1.5)",
          f"{cluster['wall'] / whole['wall']:.2f}"),
         ("worker MiB: idle baseline / peak increment / largest tile mesh",
