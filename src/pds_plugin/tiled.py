@@ -71,7 +71,7 @@ STAGES = ("corners", "boundary", "interior")
 HALO = 2.0
 """Halo width / alpha: the samples a task sees around its tile."""
 
-BLOCK_SAMPLES = 2**14
+BLOCK_SAMPLES = 2**13
 """About how many samples a task's scratch covers at once: a tile's interior is sampled,
 and its complex computed, block by block (a grid of equal blocks over the tile, each
 with its own 2 alpha halo), so a task's memory is its tile's samples and triangles plus
