@@ -25,6 +25,10 @@ workers) as a grid of tiles, each task holding one tile and a halo around it:
    evaluates it (the same floating-point expression from the same vertex), passes. The
    stitched triangles are therefore the non-tiled complex of the stitched samples,
    triangle for triangle.
+5. **Blocks.** Inside a task, the interior sweep and the complex go block by block
+   (:data:`BLOCK_SAMPLES`), each block to its tile as a tile to the region (its own
+   2 alpha halo, the blocks before it fixed), so a task's scratch is one block's and its
+   memory the tile's samples and triangles plus that.
 
 Everything lives in the ``store`` folder, one file per array (``.npy``: the same inputs
 give the same bytes), and the driver keeps only the tile index (counts and id offsets).
