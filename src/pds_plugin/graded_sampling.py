@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
@@ -392,22 +393,91 @@ def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
                 j -= step                               # the arc is on Q's side again
             t = h[j] / (h[j] - h[j + step])
             crossing = arc[j] + t * (arc[j + step] - arc[j])
-            mover = (k if step == 1 else k + 1) % n
-            _move_onto(samples, mover, crossing, fixed, samples[end % n], field)
+            holder = samples[end % n]
+            if np.hypot(*(crossing - holder)) > field(crossing[None])[0]:
+                _move_onto(samples, (k if step == 1 else k + 1) % n, crossing, fixed, field)
     return samples
 
 
-def _move_onto(samples, mover, crossing, fixed, holder, field):
-    """Move sample ``mover`` onto ``crossing`` if the piece held by ``holder`` reaches
-    farther than r there, ``mover`` is not ``fixed``, and it stays separated from its
-    two neighbours along the ring."""
+def _unhidden(samples, fixed, ring, turns, radius, tol):
+    """A ring's boundary samples (in order along ``ring``; ``fixed`` flags the ones that
+    must not move, :func:`_fixed`; ``turns`` are the turning angles at the ring's
+    vertices, ``radius`` gives r at points) with chord ends moved onto reflex vertices of
+    their chords' arcs, where the arc reaches beyond its chord.
+
+    The ring turns back into the region at a reflex vertex w, so a chord end e on the
+    ring before w does not see the ring just past w: the segment from e leaves the
+    region through the wedge outside w, and leaves Q too where it runs beyond the chord.
+    That piece of region is then covered only by the chord's far end f: on tessellated
+    tori, bosses and flanges 1.05–1.5 r from it (held-out corpus sections), with e
+    0.002–0.2 r from w, sometimes after :func:`_uncrossed` had moved e just past w. On w,
+    e sees both of w's edges. So where f is farther than r(w) from w, the end e nearer
+    to w along the arc moves onto it (the first and the last reflex vertex of each arc,
+    the shortest moves first), unless that takes e farther than r from a reflex vertex
+    of its other chord that it was the far end within r of. The samples keep their
+    order (w is between the chord's ends); a sample moves only if it is not ``fixed``
+    and stays at least ``min(r(p), r(q))`` from both its neighbours q along the ring.
+    Vertices within ``tol`` of a chord (or of its ends) count as on it.
+
+    Examples
+    --------
+    >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
+    >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
+    >>> moved = _unhidden(samples, np.zeros(5, bool), ring, turning_angles(ring),
+    ...                  lambda x: np.ones(len(x)), 1e-9)
+    >>> moved[3].tolist()     # the bump beyond the chord is seen from (2, 1), reflex
+    [2.0, 1.0]
+    """
+    n = len(samples)
+    closed = np.vstack([ring, ring[:1]])
+    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    length, vertex_at = vertex_at[-1], vertex_at[:-1]
+    sample_at = shapely.line_locate_point(shapely.LineString(closed),
+                                          shapely.points(samples)) % length
+    start = int(np.argmin(sample_at))
+    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
+             + start) % n
+    a, b = samples[chord], samples[(chord + 1) % n]
+    apart = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
+    height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
+        - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
+    beyond = np.bincount(chord, apart & (height < -tol * np.hypot(*(b - a).T)), minlength=n)
+    vertex = np.flatnonzero(apart & (beyond[chord] > 0) & (turns < 0))     # reflex
+    if not len(vertex):
+        return samples
+    offset = (vertex_at[vertex] - sample_at[chord[vertex]]) % length
+    order = np.lexsort((offset, chord[vertex]))
+    vertex, offset = vertex[order], offset[order]
+    k = chord[vertex]
+    first = np.append(True, k[1:] != k[:-1])
+    last = np.append(k[1:] != k[:-1], True)
+    span = (sample_at[(k + 1) % n] - sample_at[k]) % length
+    moves = [(offset[i], k[i], (k[i] + 1) % n, vertex[i]) for i in np.flatnonzero(first)]
+    moves += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i]) for i in np.flatnonzero(last)]
+    reflex = np.flatnonzero(apart & (turns < 0))
+    samples = samples.copy()
+    for _, end, other, w in sorted(moves):          # the shortest moves first
+        if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
+            continue
+        # the reflex vertices of end's other chord that end covered as their far end
+        # must stay covered
+        near = reflex[chord[reflex] == ((end - 1) % n if other == (end + 1) % n else end)]
+        r = radius(ring[near])
+        before = np.hypot(*(ring[near] - samples[end]).T) <= r
+        if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):
+            _move_onto(samples, end, ring[w], fixed, radius)
+    return samples
+
+
+def _move_onto(samples, mover, target, fixed, radius):
+    """Move sample ``mover`` of a ring's ``samples`` (in place) onto ``target`` if it is
+    not ``fixed`` and stays at least ``min(r(p), r(q))`` from its two neighbours q along
+    the ring (``radius`` gives r at points)."""
     n = len(samples)
     neighbours = samples[[(mover - 1) % n, (mover + 1) % n]]
-    radius = field(np.vstack([crossing, holder, neighbours]))
-    if fixed[mover] or np.hypot(*(crossing - holder)) <= radius[0]:
-        return
-    if np.all(np.hypot(*(neighbours - crossing).T) >= np.minimum(radius[0], radius[2:])):
-        samples[mover] = crossing
+    r = radius(np.vstack([target, neighbours]))
+    if not fixed[mover] and np.all(np.hypot(*(neighbours - target).T) >= np.minimum(r[0], r[1:])):
+        samples[mover] = target
 
 
 class _GradedSampler:
@@ -494,9 +564,9 @@ class _GradedSampler:
                                               unit, first, L)
             at = tau_positions(tau, tau[corner], after, before, unit, rng)
             samples = along(at, tau, np.vstack([dense, dense[:1]]))
-            ring_xy.append(_uncrossed(samples, at, _fixed(at, tau[corner], after > unit,
-                                                          before > unit),
-                                      ring, tau[:-1][first], tau[-1], self.field))
+            fixed = _fixed(at, tau[corner], after > unit, before > unit)
+            samples = _uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1], self.field)
+            ring_xy.append(_unhidden(samples, fixed, ring, turns, self.field, 1e-9 * self.field.cap))
         ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
         return self._place_boundary(ring_xy)
 

@@ -413,6 +413,7 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
     else:
         corners, angle = np.array([rng.random() * length]), np.array([np.pi])
     guard = corner_clearance(angle, alpha)
+    after, before = _clearances(corners, angle, guard, cum, closed, alpha)
     lo = corners
     hi = np.append(corners[1:], corners[0] + length)
     scale = np.ones(len(lo))
@@ -420,8 +421,8 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
     inner, owner = np.zeros(0), np.zeros(0, np.int64)
     for _ in range(_CURVE_PASSES):
         shortest = scale * alpha
-        first = np.minimum(np.maximum(guard * scale, shortest), first_cap)
-        last = np.minimum(np.maximum(np.roll(guard, -1) * scale, shortest), first_cap)
+        first = np.minimum(np.maximum(after * scale, shortest), first_cap)
+        last = np.minimum(np.maximum(before * scale, shortest), first_cap)
         u = rng.random(int(np.sum((hi[todo] - lo[todo]) // shortest[todo])) + len(todo))
         new, new_owner = kern.split_gaps(lo[todo], hi[todo], first[todo], last[todo],
                                          shortest[todo], longest, u)
@@ -454,7 +455,7 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
         # but a piece longer than √3 alpha must still split into parts (its first and
         # last at least their scaled lower bounds): left whole, its chord could exceed
         # 2 alpha, which no triangle of circumradius <= alpha has as an edge
-        fits = (hi - lo) / (np.maximum(guard, alpha) + np.maximum(np.roll(guard, -1), alpha))
+        fits = (hi - lo) / (np.maximum(after, alpha) + np.maximum(before, alpha))
         splittable = hi - lo > longest
         scale[splittable] = np.minimum(scale[splittable],
                                        np.maximum(1.0, fits[splittable] * (1 - 1e-9)))
@@ -466,6 +467,37 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
         k = int(np.argmax(gaps))
         at = np.sort(np.append(at, (at[k] + 0.5 * gaps[k]) % length))
     return _halved_long_chords(at, cum, closed, alpha), cum, closed
+
+
+def _clearances(corners, angle, guard, cum, closed, alpha):
+    """The arc length kept free of samples at the start and at the end of each piece
+    between a ring's breaks (at arc lengths ``corners``, the region's ``angle`` there,
+    their clearances ``guard``; ``cum`` the arc length at the vertices of the ``closed``
+    ring): the clearances of the breaks at the piece's ends, but beside a corner of
+    33.56°–60° whose other side is shorter than its clearance. That side holds no sample
+    but the break p ending it, s from the corner; the first sample q on this side then
+    goes where it is just alpha from p (on straight sides ℓ = s cos θ + √(alpha² −
+    s² sin² θ), at least alpha), so that the corner's triangle p c q, of circumradius
+    |pq| / (2 sin θ) < alpha, is one the complex keeps. With the clearance (1.58 alpha at
+    37°) that triangle was too large and the corner's sample was left isolated (a
+    held-out housing section: a step 0.07 alpha deep). Sharper corners are spikes
+    (:func:`_ladders`)."""
+    after, before = guard.copy(), np.roll(guard, -1)
+    if len(corners) < 2:
+        return after, before
+    xy = np.column_stack([np.interp(corners, cum, closed[:, 0]),
+                          np.interp(corners, cum, closed[:, 1])])
+    span = np.diff(np.append(corners, corners[0] + cum[-1]))     # piece i: corner i to i + 1
+    chord = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    reach = alpha * (1 + 1e-2)                  # |pq| from alpha by more than a rounding
+    for i in np.flatnonzero((angle >= LADDER_ANGLE) & (angle < np.pi / 3)):
+        cos, sin = math.cos(angle[i]), math.sin(angle[i])
+        for short, long in ((i - 1, i), (i, i - 1)):      # the side before, then after
+            if span[short] < guard[i]:
+                s = chord[short]
+                first = max(alpha, s * cos + math.sqrt(max(reach ** 2 - (s * sin) ** 2, 0.0)))
+                (after if long == i else before)[long] = first
+    return after, before
 
 
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
@@ -535,9 +567,10 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
         mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
         if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < RESOLUTION * alpha:
             continue                            # a needle: its sides are one line
-        if guard[i] <= sides[short] <= reach[i] and beyond >= alpha:
-            # the short side ends inside the spike: its last rung is the corner there (not
-            # nearer the tip than its clearance, which keeps the first rung apart)
+        if sides[short] <= reach[i] and beyond >= alpha:
+            # the short side ends inside the spike: its last rung is the corner there, even
+            # nearer the tip than its clearance (a fold's two 4° tips 0.6 alpha apart: the
+            # tip's triangle with a far neighbour was too large to keep, the tip isolated)
             mirrored = np.append(mirrored, sides[short])
         if not len(mirrored):
             continue

@@ -289,6 +289,12 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     other = both & ~is_chord
     following = _following_segment(region)
     previous = np.argsort(following)
+    # the two ring neighbours of one sample (a corner's, when they are on its two sides)
+    after_sample = np.full(len(points), -1)
+    after_sample[sampled.a] = sampled.b
+    before_sample = np.full(len(points), -2)
+    before_sample[sampled.b] = sampled.a
+    flanking = (after_sample[p] == before_sample[q]) | (after_sample[q] == before_sample[p])
     sides = []
     for sample, segment in ((p, segment_p), (q, segment_q)):
         segment = np.maximum(segment, 0)
@@ -302,7 +308,7 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
                     scales = None if scale is None else (scale[a[meet]], scale[b[meet]])
                     _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
                                     segments[second[meet]], alpha, tol, cause, feature, bound,
-                                    place, scales)
+                                    place, scales, points[on_boundary], flanking[meet])
     # thin walls: samples on two boundary segments apart from each other
     wall = other & (cause < 0)
     if wall.any():
@@ -315,13 +321,20 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
 
 
 def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound, place,
-                    scales=None):
+                    scales=None, boundary=None, flanking=None):
     """Explain the pairs ``meet``: ``a`` on the segments ``first``, ``b`` on ``second``,
     which follows it at a corner. Each sample is at least the corner's clearance from
     it (the boundary sampling's first part), or it is the vertex at its segment's far
     end, a corner of the region, itself a sample (a side shorter than the clearance).
     On a graded mesh (``scales`` = r at ``a`` and at ``b``) each sample's clearance is
-    ``corner_clearance(θ, 1)`` times its own r (``graded_sampling._corner_clearance``)."""
+    ``corner_clearance(θ, 1)`` times its own r (``graded_sampling._corner_clearance``);
+    a side from the corner to another corner (a sample among the ``boundary`` samples),
+    too short for the clearances at both its ends (together at most the corner's
+    clearance and √3 r), holds one sample where the sampler divides it in their ratio
+    (``graded_sampling.cleared_piece``), short of the clearance: it counts as fixed
+    there. So do the corner's own two neighbours (``flanking``) when short of their
+    clearances: the sampler shortens their legs until the corner's triangle is one the
+    complex keeps (``graded_sampling._tip_kept``)."""
     corner = second[:, 0]
     into, out = first[:, 1] - first[:, 0], second[:, 1] - corner
     angle = np.pi - np.arctan2(into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0],
@@ -337,6 +350,18 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
         clear_a, clear_b = c * scales[0], c * scales[1]
     fixed_a = np.hypot(*(a - first[:, 0]).T) <= tol
     fixed_b = np.hypot(*(b - second[:, 1]).T) <= tol
+    if scales is not None:
+        legs_shortened = flanking & ((at_a < clear_a * (1 - _TOL)) | (at_b < clear_b * (1 - _TOL)))
+        fixed_a |= legs_shortened
+        fixed_b |= legs_shortened
+        for fixed, at, clear, far, r in ((fixed_a, at_a, clear_a, first[:, 0], scales[0]),
+                                         (fixed_b, at_b, clear_b, second[:, 1], scales[1])):
+            short = ~fixed & (at < clear * (1 - _TOL)) & (
+                np.hypot(*(far - corner).T) < clear + math.sqrt(3) * r)
+            if short.any():
+                from scipy.spatial import cKDTree
+
+                fixed[short] = cKDTree(boundary).query(far[short])[0] <= tol
     # two free samples are alpha apart beside a corner of 60° or more: only sharper
     # corners keep them closer, and the bound's minimum needs less than 90°
     apart = ((fixed_a | (at_a >= clear_a * (1 - _TOL))) & (fixed_b | (at_b >= clear_b * (1 - _TOL)))
