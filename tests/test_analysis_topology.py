@@ -58,6 +58,34 @@ def test_betti_of_no_triangles():
     assert betti.shape == (0, 2) and (labels == -1).all()
 
 
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(3, 40), data=st.data())
+def test_component_labels_are_the_graph_components_numbered_by_smallest_vertex(n, data):
+    """The union-find labels are the connected components of the triangles' edge graph
+    (scipy's), components numbered in the order of their smallest vertex, -1 unused."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    triples = st.lists(st.integers(0, n - 1), min_size=3, max_size=3, unique=True)
+    faces = np.array(data.draw(st.lists(triples, max_size=25)), dtype=np.int64).reshape(-1, 3)
+    labels, betti = mesh_betti(faces, n)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    component = connected_components(graph, directed=False)[1]
+    used = np.isin(np.arange(n), faces)
+    assert (labels[~used] == -1).all()
+    same = component[used][:, None] == component[used][None, :]
+    assert ((labels[used][:, None] == labels[used][None, :]) == same).all()
+    first = [np.flatnonzero(labels == c)[0] for c in range(len(betti))]
+    assert first == sorted(first)
+
+
+@pytest.mark.parametrize("bad", [[[0, 1, 5]], [[0, -1, 2]]])
+def test_betti_of_faces_outside_the_vertices_is_refused(bad):
+    with pytest.raises(pds.errors.ArgumentError, match="refers to vertex"):
+        mesh_betti(np.array(bad), 3)
+
+
 # --- Theorem 2 on generated regions -----------------------------------------------------
 
 @st.composite

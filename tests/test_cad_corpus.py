@@ -76,7 +76,10 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     (24, "g07-housing p0", "uniform fine"), (24, "g07-housing p2", "uniform fine"),
     # a 9° tip whose neighbours' legs the graded sampler shortened to keep its triangle:
     # the pair across it, closer than its clearance, was "unexplained"
-    (25, "g17-housing p0", "graded auto")])
+    (25, "g17-housing p0", "graded auto"),
+    # a zigzag of kinks 0.3 alpha apart: thinning kept a convex kink and dropped the
+    # reflex one beside it, which hid the ring past it (1.007 alpha); reflex kinks first
+    (22, "g15-torus-ring p0", "uniform auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

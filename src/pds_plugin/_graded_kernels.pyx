@@ -20,11 +20,11 @@ import numpy as np
 
 from cython.parallel cimport prange
 from libc.math cimport sqrt
-from libc.stdint cimport int32_t, int64_t, uint8_t
+from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
 from ._visibility_kernels cimport (CellMarks, ChordGrid, Chords, bin_chords_by, box_seen,
-                                   chords_of, mark_cell, sees)
+                                   chords_of, mark_cell, point_inside, sees)
 
 cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
@@ -329,30 +329,54 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     return count
 
 
-def refused(cand, low, high, double grading, tuple bins, nxt, points, radius, double x0,
-            double y0, vis):
-    """True for the candidates x that a sample already refuses whatever r(x) is in
-    [low, high]: a sample q that x sees with |x - q| < min(low, r(q)) <= min(r(x), r(q)).
-    Samples are only ever added, so :func:`insert_where_free` refuses them too; testing
-    them first (in parallel) spares the radius field and the sequential insertion."""
-    cdef const double[:, ::1] cd = cand
-    cdef const double[::1] lw = low, hi = high
+def darts_kept(bx, by, size, low, high, edge, u, order, tuple domain, double grading,
+               tuple bins, nxt, points, radius, double x0, double y0, vis):
+    """One dart in each box [bx, bx+size]², at ``(bx + u[:, 0] size, by + u[:, 1] size)``,
+    taken in ``order``: the (k, 2) darts, in that order, that are in the region (boxes
+    flagged ``edge`` are tested against ``domain``, the chord bundle and cell sides of
+    ``_visibility_kernels.points_inside``) and that no sample refuses whatever r(x) is
+    in [low, high] of the dart's box: a sample q that the dart x sees with
+    |x - q| < min(low, r(q)) <= min(r(x), r(q)). Samples are only ever added, so
+    :func:`insert_where_free` would refuse those darts too; testing them first (in
+    parallel) spares the radius field and the sequential insertion."""
+    cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high
+    cdef const uint8_t[::1] ed = edge.view(np.uint8)
+    cdef const double[:, ::1] uu = u
+    cdef const int64_t[::1] od = order
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
-    cdef Py_ssize_t n = cd.shape[0], k, t
+    cdef Py_ssize_t n = od.shape[0], m = 0, k, t
+    cdef double dx, dy
     cdef Query query
-    out_array = np.zeros(n, np.bool_)
-    cdef uint8_t[::1] out = out_array.view(np.uint8)
-    cdef int64_t[::1] order = _spatial_order(np.ascontiguousarray(cand[:, 0]),
-                                             np.ascontiguousarray(cand[:, 1]), &b, x0, y0)
-    for t in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(n)):
-        k = order[t]
-        query = Query(cd[k, 0], cd[k, 1], 0.0, lw[k], &p, &c)
-        out[k] = _any_sample(&query, _conflicts, _level(lw[k] * (1.0 - grading), &b),
-                             _level(hi[k] * (1.0 + grading), &b), 0, &b)
-    return out_array
+    darts_array = np.empty((n, 2))
+    cdef double[:, ::1] dt = darts_array
+    refused_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = refused_array.view(np.uint8)
+    cdef double[::1] dl = np.empty(n), dh = np.empty(n)
+    with nogil:
+        for t in range(n):
+            k = od[t]
+            dx = x[k] + uu[k, 0] * s[k]
+            dy = y[k] + uu[k, 1] * s[k]
+            if not ed[k] or point_inside(&region, sd, dx, dy):
+                dt[m, 0], dt[m, 1], dl[m], dh[m] = dx, dy, lw[k], hg[k]
+                m += 1
+    if not m:
+        return darts_array[:0]
+    cdef int64_t[::1] spatial = _spatial_order(np.ascontiguousarray(darts_array[:m, 0]),
+                                               np.ascontiguousarray(darts_array[:m, 1]),
+                                               &b, x0, y0)
+    for t in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(m)):
+        k = spatial[t]
+        query = Query(dt[k, 0], dt[k, 1], 0.0, dl[k], &p, &c)
+        out[k] = _any_sample(&query, _conflicts, _level(dl[k] * (1.0 - grading), &b),
+                             _level(dh[k] * (1.0 + grading), &b), 0, &b)
+    return darts_array[:m][~refused_array[:m]]
 
 
 cdef int64_t[::1] _spatial_order(const double[::1] x, const double[::1] y, const Bins *b,

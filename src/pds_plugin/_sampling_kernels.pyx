@@ -31,6 +31,7 @@ cdef enum:
     C_BOUNDARY = 2
     CSUB = 4        # sub-cells per cell side
     CONFLICT_SLOTS = 8   # conflicts listed per dart in the first scan
+    SEQUENTIAL_DARTS = 32768   # fewer open darts: decided one by one in rank order
     CHUNK = 256     # iterations a thread takes at a time
     MAX_RUNS = 32   # intervals of gap lengths listed by _lengths
     BOX_OUTSIDE = 0  # _visibility_kernels.box_state of a box outside the region
@@ -446,6 +447,35 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
     return found
 
 
+cdef bint _sees_accepted(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
+                         const int8_t[::1] state, const int32_t[::1] head, double alpha2,
+                         Py_ssize_t nx, Py_ssize_t ny, const Chords *vis) noexcept nogil:
+    """Is an accepted dart (``state`` 1) closer than alpha to dart d and seen by it? The
+    scan of :func:`_each_conflict`, stopping at the first."""
+    cdef Py_ssize_t m = darts.shape[0], iy = cell[d] // nx, ix = cell[d] % nx
+    cdef Py_ssize_t jy, c, e, stop
+    cdef double dx, dy, x = darts[d, 0], y = darts[d, 1]
+    cdef bint walls = near_boundary(x, y, vis)
+    cdef Py_ssize_t k = chord_cell(x, y, vis) if walls else 0
+    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
+        c = jy * nx + max(ix - 2, 0)
+        stop = jy * nx + min(ix + 3, nx)
+        while c < stop and head[c] < 0:
+            c += 1
+        if c == stop:
+            continue
+        e = head[c]
+        while e < m and cell[e] < stop:
+            if state[e] == 1:
+                dx = darts[e, 0] - x
+                dy = darts[e, 1] - y
+                if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
+                        x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
+                    return True
+            e += 1
+    return False
+
+
 def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points,
                 double alpha, double x0, double y0, double s, vis, work):
     """Throw the darts one by one in the order of ``rank`` (a permutation), keeping
@@ -464,7 +494,11 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
     conflicts of lower rank (a dart of higher rank cannot be accepted before it is
     decided, so those never matter); later sweeps accept a dart once all of them are
     rejected, and reject it as soon as one is accepted. ``head`` (one
-    int32 per cell, all -1) is scratch space.
+    int32 per cell, all -1) is scratch space. With fewer than SEQUENTIAL_DARTS open
+    darts the same set is found directly: the open darts in the order of their rank,
+    each accepted unless it sees an accepted one closer than alpha (one scan per dart,
+    no conflict lists). Their data then stays in the cache and this is the cheaper way
+    (a 10k-vertex square's throws: 25 % less CPU time; at 100k the sweeps win).
     """
     cdef int8_t UNDECIDED = 0, ACCEPTED = 1, REJECTED = 2
     cdef const double[:, ::1] dt = darts
@@ -480,15 +514,13 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
     cdef Chords ch = chords_of(vis)
     cdef const double[:, ::1] pts = points
     cdef double alpha2 = alpha * alpha
-    cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t, q, e
-    cdef Py_ssize_t n_todo, kept, n_accepted
-    cdef bint blocked
+    cdef Py_ssize_t ny = g.shape[0], nx = g.shape[1], m = dt.shape[0], d, t
+    cdef Py_ssize_t n_todo, n_accepted
     cdef int8_t[::1] state = work.array("state", m, np.int8)
     cdef int64_t[::1] degree = work.array("degree", m + 1, np.int64)
     todo_array = work.array("todo", m, np.int32)
     cdef int32_t[::1] todo = todo_array
-    cdef int32_t[::1] slot
-    cdef int32_t[::1] conflict
+    cdef int32_t[::1] by_rank
     with nogil:
         for d in range(m - 1, -1, -1):
             hd[cl[d]] = <int32_t>d
@@ -506,13 +538,51 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
             if state[d] == UNDECIDED:
                 todo[n_todo] = <int32_t>d
                 n_todo += 1
+    if n_todo < SEQUENTIAL_DARTS:
+        by_rank = work.array("by_rank", m, np.int32)
+        with nogil:
+            for d in range(m):
+                by_rank[rk[d]] = <int32_t>d
+            for t in range(m):
+                d = by_rank[t]
+                if state[d] == UNDECIDED:
+                    state[d] = REJECTED if _sees_accepted(d, dt, cl, state, hd, alpha2, nx,
+                                                          ny, &ch) else ACCEPTED
+        n_todo = 0
+    else:
+        _conflict_sweeps(dt, cl, rk, state, degree, todo, n_todo, hd, alpha2, nx, ny, &ch,
+                         work)
+    with nogil:
+        for d in range(m):
+            hd[cl[d]] = -1
+        n_accepted = 0
+        for d in range(m):
+            if state[d] == ACCEPTED:
+                todo[n_accepted] = <int32_t>d
+                n_accepted += 1
+    return todo_array[:n_accepted]
+
+
+cdef void _conflict_sweeps(const double[:, ::1] dt, const int64_t[::1] cl,
+                           const int64_t[::1] rk, int8_t[::1] state, int64_t[::1] degree,
+                           int32_t[::1] todo, Py_ssize_t n_todo, const int32_t[::1] hd,
+                           double alpha2, Py_ssize_t nx, Py_ssize_t ny, const Chords *ch,
+                           work) except *:
+    """:func:`throw_darts`'s sweeps over the ``n_todo`` open darts listed in ``todo``:
+    accept or reject each (``state``) as the lexicographically first maximal
+    independent set by rank."""
+    cdef int8_t UNDECIDED = 0, ACCEPTED = 1, REJECTED = 2
+    cdef Py_ssize_t m = dt.shape[0], d, t, q, e, kept
+    cdef bint blocked
+    cdef int32_t[::1] slot
+    cdef int32_t[::1] conflict
     # the conflict lists of the open darts, in CSR form over all darts: one scan lists
     # up to CONFLICT_SLOTS per dart, the few darts with more are scanned again
     slot = work.array("slots", n_todo * CONFLICT_SLOTS, np.int32)
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
-        degree[d + 1] = _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, &ch,
+        degree[d + 1] = _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, ch,
                                        &slot[t * CONFLICT_SLOTS], CONFLICT_SLOTS)
     with nogil:
         for d in range(m):
@@ -522,7 +592,7 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
                     num_threads=threads_for(n_todo)):
         d = todo[t]
         if degree[d + 1] - degree[d] > CONFLICT_SLOTS:
-            _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, &ch,
+            _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, ch,
                            &conflict[degree[d]], degree[d + 1] - degree[d])
         else:
             for q in range(degree[d + 1] - degree[d]):
@@ -551,14 +621,6 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
                     else:
                         state[d] = ACCEPTED
             n_todo = kept
-        for d in range(m):
-            hd[cl[d]] = -1
-        n_accepted = 0
-        for d in range(m):
-            if state[d] == ACCEPTED:
-                todo[n_accepted] = <int32_t>d
-                n_accepted += 1
-    return todo_array[:n_accepted]
 
 
 def place_all(new, grid, nxt, covered, points, Py_ssize_t count, double alpha, double x0,

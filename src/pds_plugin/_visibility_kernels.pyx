@@ -28,6 +28,7 @@ from collections import namedtuple
 import numpy as np
 
 from libc.math cimport ceil, hypot
+from libc.stdlib cimport free, malloc
 from libc.stdint cimport int64_t
 
 cdef double _SPLITTER = 134217729.0                  # 2^27 + 1
@@ -141,20 +142,62 @@ cdef tuple bin_chords_by(chords, reach, ChordGrid grid, CellRule rule):
     return start_array, items_array[:start_array[-1]]
 
 
+cdef Py_ssize_t _NO_CELL = 1 << 62     # an empty run of cells: x_min > x_max
+
+
 cdef void _cells_along(double xa, double ya, double xb, double yb, double reach,
                        const ChordGrid *g, CellMarks *marks) noexcept nogil:
     """The cell rule of :func:`bin_chords`: the cells within ceil(reach / h) + 1 cells of
-    points every h/2 along the chord."""
+    points every h/2 along the chord.
+
+    The points' cells (ix_q, iy_q) move by at most one cell per step, so in each row the
+    union of their (2r + 1)-cell blocks is one run of cells, from r before the smallest
+    ix_q of the points within r rows to r after the largest: each cell is marked once
+    per row run, not once per block holding it (7 x 7 blocks every half cell overlapped
+    some eight times)."""
     cdef Py_ssize_t r = <Py_ssize_t>ceil(reach / g.h) + 1, q, ix, iy, jx, jy
     cdef Py_ssize_t steps = <Py_ssize_t>ceil(hypot(xb - xa, yb - ya) / (0.5 * g.h)) + 1
+    cdef Py_ssize_t row_lo = 0, row_hi = -1, rows, k
+    cdef Py_ssize_t *x_min
+    cdef Py_ssize_t *x_max
     cdef double f
+    for q in range(steps + 1):                # the rows the blocks reach
+        f = <double>q / steps
+        iy = <Py_ssize_t>((ya + f * (yb - ya) - g.y0) / g.h)
+        if q == 0 or iy - r < row_lo:
+            row_lo = iy - r
+        if q == 0 or iy + r > row_hi:
+            row_hi = iy + r
+    row_lo, row_hi = max(row_lo, 0), min(row_hi, g.ny - 1)
+    if row_hi < row_lo:
+        return
+    rows = row_hi - row_lo + 1
+    x_min = <Py_ssize_t *>malloc(2 * rows * sizeof(Py_ssize_t))
+    if x_min == NULL:                         # no memory for the runs: block by block
+        for q in range(steps + 1):
+            f = <double>q / steps
+            ix = <Py_ssize_t>((xa + f * (xb - xa) - g.x0) / g.h)
+            iy = <Py_ssize_t>((ya + f * (yb - ya) - g.y0) / g.h)
+            for jy in range(max(iy - r, 0), min(iy + r + 1, g.ny)):
+                for jx in range(max(ix - r, 0), min(ix + r + 1, g.nx)):
+                    mark_cell(marks, jy * g.nx + jx)
+        return
+    x_max = x_min + rows
+    for k in range(rows):
+        x_min[k], x_max[k] = _NO_CELL, -_NO_CELL
     for q in range(steps + 1):
         f = <double>q / steps
         ix = <Py_ssize_t>((xa + f * (xb - xa) - g.x0) / g.h)
         iy = <Py_ssize_t>((ya + f * (yb - ya) - g.y0) / g.h)
-        for jy in range(max(iy - r, 0), min(iy + r + 1, g.ny)):
-            for jx in range(max(ix - r, 0), min(ix + r + 1, g.nx)):
+        for jy in range(max(iy - r, row_lo), min(iy + r, row_hi) + 1):
+            x_min[jy - row_lo] = min(x_min[jy - row_lo], ix)
+            x_max[jy - row_lo] = max(x_max[jy - row_lo], ix)
+    for k in range(rows):
+        if x_min[k] <= x_max[k]:
+            jy = row_lo + k
+            for jx in range(max(x_min[k] - r, 0), min(x_max[k] + r + 1, g.nx)):
                 mark_cell(marks, jy * g.nx + jx)
+    free(x_min)
 
 
 def bin_chords(chords, double x0, double y0, double h, Py_ssize_t nx, Py_ssize_t ny,

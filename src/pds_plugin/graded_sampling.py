@@ -45,6 +45,9 @@ TAU_MARGIN = 1.02    # the trapezoid rule's error on τ, over parts of at most 0
 _MAX_BINS = 4_000_000
                              # (a grid of half the smallest radius listed small sections' chords
                              # in a million cells: 17 ms of binning per section, issue 21)
+_MIN_BINS = 65_536
+_BINS_PER_SAMPLE = 64        # level-0 bins per boundary sample (a section has 2-4 samples
+                             # inside per boundary sample)
 _MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per allowed sample
 
 
@@ -414,7 +417,8 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     e sees both of w's edges. So where f is farther than r(w) from w, the end e nearer
     to w along the arc moves onto it (the first and the last reflex vertex of each arc,
     the shortest moves first), unless that takes e farther than r from a reflex vertex
-    of its other chord that it was the far end within r of. The samples keep their
+    of its other chord that it was the far end within r of (where that chord's arc
+    reaches beyond it). The samples keep their
     order (w is between the chord's ends); a sample moves only if it is not ``fixed``
     and stays at least ``min(r(p), r(q))`` from both its neighbours q along the ring.
     Vertices within ``tol`` of a chord (or of its ends) count as on it.
@@ -460,8 +464,9 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
         if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
             continue
         # the reflex vertices of end's other chord that end covered as their far end
-        # must stay covered
-        near = reflex[chord[reflex] == ((end - 1) % n if other == (end + 1) % n else end)]
+        # must stay covered (an arc all on Q's side leaves nothing to cover)
+        beside = (end - 1) % n if other == (end + 1) % n else end
+        near = reflex[chord[reflex] == beside] if beyond[beside] else reflex[:0]
         r = radius(ring[near])
         before = np.hypot(*(ring[near] - samples[end]).T) <= r
         if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):
@@ -501,10 +506,17 @@ class _GradedSampler:
         self.chord_bound = np.empty(0)
         self.width, self.height = width, height
 
-    def _bins(self, smallest: float):
+    def _bins(self, smallest: float, boundary_samples: int):
         """The pyramid of sample grids (_graded_kernels): level 0 with bins of about
-        half the smallest radius (fewer than _MAX_BINS in all), up to bins >= cap / 2."""
-        h = max(0.5 * smallest, math.sqrt(self.width * self.height / _MAX_BINS))
+        half the smallest radius, up to bins >= cap / 2; level 0 has fewer than
+        _BINS_PER_SAMPLE bins per boundary sample (at least _MIN_BINS) and _MAX_BINS.
+
+        The bins only speed the searches up (a sample of level l is looked for within
+        min(r, 2 h) of a query, wherever it is binned), so their size changes no answer.
+        Half the smallest radius over the whole bounding box made a 300-vertex section's
+        level 0 up to a million bins (4 MB zeroed per call, the section's largest array)."""
+        cells = min(_MAX_BINS, max(_MIN_BINS, _BINS_PER_SAMPLE * boundary_samples))
+        h = max(0.5 * smallest, math.sqrt(self.width * self.height / cells))
         hs = [h]
         while hs[-1] < 0.5 * self.field.cap:
             hs.append(2 * hs[-1])
@@ -575,7 +587,7 @@ class _GradedSampler:
         chords, bin the chords and add guards; returns the number of boundary samples."""
         boundary, self.rings = joined(ring_xy)
         radius = self.field(boundary)
-        self._bins(0.5 * radius.min())
+        self._bins(0.5 * radius.min(), len(boundary))
         self._reserve(len(boundary))
         self._chords(boundary, radius)
         self.count = kern.place(boundary, radius, self.bins, self.nxt, self.points, self.radius,
@@ -622,8 +634,9 @@ class _GradedSampler:
         half = 0.5 * size
         bx = np.concatenate([bx, bx + half, bx, bx + half])
         by = np.concatenate([by, by, by + half, by + half])
-        keep, edge = self._inside(bx, by, np.tile(half, 4), np.tile(edge, 4))
-        size = np.tile(half, 4)[keep]
+        half = np.concatenate([half, half, half, half])
+        keep, edge = self._inside(bx, by, half, np.concatenate([edge, edge, edge, edge]))
+        size = half[keep]
         return (bx[keep], by[keep], size, *self._bounds(r[keep], size), edge)
 
     def _inside(self, bx, by, size, edge):
@@ -672,7 +685,7 @@ class _GradedSampler:
             half = 0.5 * size
             bx = np.concatenate([bx, bx + half, bx, bx + half])
             by = np.concatenate([by, by, by + half, by + half])
-            size, edge = np.tile(half, 4), np.tile(edge, 4)
+            size, edge = (np.concatenate([a, a, a, a]) for a in (half, edge))
         return tuple(np.concatenate(parts) for parts in zip(*done))
 
     def _check_boxes(self, count: int):
@@ -700,14 +713,9 @@ class _GradedSampler:
         """One dart uniform in each box; darts in the region thrown in random order."""
         bx, by, size, low, high, edge = boxes
         u = rng.random((len(bx), 2))
-        darts = np.column_stack([bx + u[:, 0] * size, by + u[:, 1] * size])
-        order = rng.permutation(len(darts))
-        inside = ~edge[order]
-        inside[~inside] = vis_kern.points_inside(*self.domain, darts[order[~inside], 0],
-                                                 darts[order[~inside], 1])
-        order = order[inside]
-        refused = kern.refused(darts[order], low[order], high[order], self.field.grading,
-                               self.bins, self.nxt, self.points, self.radius, self.x0,
-                               self.y0, self.vis)
-        order = order[~refused]
-        self._insert(darts[order], np.arange(len(order)))
+        order = rng.permutation(len(bx))
+        darts = kern.darts_kept(bx, by, size, low, high, edge, u, order, self.domain,
+                                self.field.grading, self.bins, self.nxt, self.points,
+                                self.radius, self.x0, self.y0, self.vis)
+        if len(darts):
+            self._insert(darts, np.arange(len(darts)))

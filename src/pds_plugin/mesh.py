@@ -14,11 +14,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from shapely.geometry import Polygon
 
-from ._mesh_kernels import edges_of
+from ._mesh_kernels import edges_of, face_components
 from ._checks import check_alpha, check_faces
 from .errors import ArgumentError
 from .region import Region, lift, require_region
@@ -372,6 +370,11 @@ def mesh_betti(faces, n_vertices: int, edges: np.ndarray | None = None):
     labels : (n_vertices,) int64 ndarray
     betti : (C, 2) int64 ndarray
 
+    Raises
+    ------
+    ArgumentError
+        If a face refers to a vertex index outside ``0 .. n_vertices - 1``.
+
     Examples
     --------
     >>> import numpy as np
@@ -382,19 +385,10 @@ def mesh_betti(faces, n_vertices: int, edges: np.ndarray | None = None):
     [[1, 1]]
     """
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    labels, count = face_components(faces, n_vertices)     # refuses an index past the end
     if edges is None:
         edges = mesh_edges(faces, n_vertices)[0]
-    index = np.int32 if n_vertices < 2**31 else np.int64      # the graph's, at half the memory
-    graph = coo_matrix((np.ones(len(edges), np.int8),
-                        (edges[:, 0].astype(index), edges[:, 1].astype(index))),
-                       shape=(n_vertices, n_vertices))
-    component = connected_components(graph, directed=False)[1]
-    used = np.zeros(n_vertices, dtype=bool)
-    used[faces.ravel()] = True
-    present = np.zeros(n_vertices, dtype=bool)
-    present[component[used]] = True
-    labels = np.where(used, (np.cumsum(present) - 1)[component], -1)
-    count = int(present.sum())
+    used = labels >= 0
     chi = (np.bincount(labels[used], minlength=count)
            - np.bincount(labels[edges[:, 0]], minlength=count)
            + np.bincount(labels[faces[:, 0]], minlength=count))

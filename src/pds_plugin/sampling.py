@@ -319,9 +319,10 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     leave an arc bending both ways: ``_NOISY_INFLECTION_APART`` (1.5) samples twice as
     many, at the price of chords below alpha on pieces of one part (itemised exceptions).
     Kinks are kept first, ``kinks_apart`` apart (there ``_NOISY_KINK_APART``, 1: just
-    separated), and the other inflections then clear of them: a kink left unsampled
-    hides the region just past it from the chord end before it, while the inflection of
-    a long arc between two opposite turns may fall anywhere on that arc.
+    separated), reflex ones before convex ones, and the other inflections then clear of
+    them: a reflex kink left unsampled hides the region just past it from the chord end
+    before it, while the inflection of a long arc between two opposite turns may fall
+    anywhere on that arc.
 
     Examples
     --------
@@ -353,8 +354,14 @@ def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
     # keep only one
     kink = flips & np.roll(flips, 1)
     single = flips & ~kink & ~np.roll(kink, -1)
-    kinks = _thinned(_clear_of(np.sort(at[kink] % length), corners, apart * alpha, length),
-                     kinks_apart * alpha, length)
+    # reflex kinks first: one left unsampled hides the ring past it from the chord end
+    # before it, where a convex one hides nothing
+    reflex = turns[bending] < 0
+    kinks = np.zeros(0)
+    for chosen in (kink & reflex, kink & ~reflex):
+        found = _clear_of(_clear_of(np.sort(at[chosen] % length), corners, apart * alpha, length),
+                          kinks, kinks_apart * alpha, length)
+        kinks = np.sort(np.append(kinks, _thinned(found, kinks_apart * alpha, length)))
     singles = np.sort((at[single] + 0.5 * span[single]) % length)
     blocking = np.sort(np.concatenate([corners, kinks]))
     singles = _thinned(_clear_of(singles, blocking, apart * alpha, length), apart * alpha, length)

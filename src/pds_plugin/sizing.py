@@ -321,6 +321,7 @@ def _features(region: Region, cap: float, feature_angle: float, curve: float):
                                                              math.radians(feature_angle), curve)
     dense = _densify(edges, ring_size, ring_size, piece)
     corner_xy, corner_s = _corner_discs(region, rings, edges, sharp, turn, piece, dense)
+    corner_tree = cKDTree(corner_xy) if len(corner_xy) else None   # one for every round
     edge_size = ring_size.copy()
     flat_edge = edges[4][dense["ring"]] + dense["edge"]
     for round_ in range(_ROUNDS):
@@ -331,7 +332,7 @@ def _features(region: Region, cap: float, feature_angle: float, curve: float):
             dense = _densify(edges, edge_size, ring_size, piece)
             flat_edge = edges[4][dense["ring"]] + dense["edge"]
         size = _wall_sizes(region, dense, cap)
-        size = np.where(_in_corner_discs(dense, corner_xy, corner_s), dense["base"], size)
+        size = np.where(_in_corner_discs(dense, corner_tree, corner_s), dense["base"], size)
         smallest = np.full(len(edge_size), np.inf)
         np.minimum.at(smallest, flat_edge, size)
         new = np.minimum(edge_size, smallest)
@@ -500,9 +501,10 @@ def _shoulders(ring, v, size):
     return np.concatenate(out)
 
 
-def _in_corner_discs(dense, corner_xy, corner_s):
-    """True for the densified points inside some corner's disc."""
-    if not len(corner_xy):
+def _in_corner_discs(dense, corner_tree, corner_s):
+    """True for the densified points inside some corner's disc (``corner_tree``: a
+    k-d tree of the corners' centres, None without corners)."""
+    if corner_tree is None:
         return np.zeros(len(dense["xy"]), bool)
-    d, idx = cKDTree(corner_xy).query(dense["xy"], k=1)
+    d, idx = corner_tree.query(dense["xy"], k=1)
     return d < corner_s[idx]

@@ -139,12 +139,14 @@ class _Comparison:
         self.labels, self.betti = mesh.vertex_component, mesh.component_betti
         self.components = list(self.region.geometry.geoms)
         self.owner = _owners(self.region, self.vertices)
-        self.covered = mesh.outline
+        self.mesh = mesh
         self.problems = []          # (component, sentence)
 
     def report(self) -> TopologyReport:
         parts = self._match_components()
-        if len(self.faces):
+        # without holes in the region or the mesh (b1 = 0: the union of the triangles has
+        # none either) there is no hole to match, and the outline is not needed
+        if len(self.faces) and (self.region.betti[1] or self.betti[:, 1].any()):
             self._match_holes({c for c, ps in enumerate(parts) if not ps})
         per_component = []
         for c, (polygon, pieces) in enumerate(zip(self.components, parts)):
@@ -159,6 +161,11 @@ class _Comparison:
         return TopologyReport(betti_mesh=betti_mesh, betti_region=self.region.betti,
                               per_component=tuple(per_component), topology_ok=ok,
                               problems=tuple(text for _, text in self.problems))
+
+    @cached_property
+    def covered(self):
+        """The union of the triangles (the mesh's outline, built on first use)."""
+        return self.mesh.outline
 
     @cached_property
     def triangles(self):
