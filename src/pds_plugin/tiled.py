@@ -25,6 +25,10 @@ workers) as a grid of tiles, each task holding one tile and a halo around it:
    evaluates it (the same floating-point expression from the same vertex), passes. The
    stitched triangles are therefore the non-tiled complex of the stitched samples,
    triangle for triangle.
+5. **Blocks.** Inside a task, the interior sweep and the complex go block by block
+   (:data:`BLOCK_SAMPLES`), each block to its tile as a tile to the region (its own
+   2 alpha halo, the blocks before it fixed), so a task's scratch is one block's and its
+   memory the tile's samples and triangles plus that.
 
 Everything lives in the ``store`` folder, one file per array (``.npy``: the same inputs
 give the same bytes), and the driver keeps only the tile index (counts and id offsets).
@@ -71,8 +75,14 @@ STAGES = ("corners", "boundary", "interior")
 HALO = 2.0
 """Halo width / alpha: the samples a task sees around its tile."""
 
+BLOCK_SAMPLES = 2**13
+"""About how many samples a task's scratch covers at once: a tile's interior is sampled,
+and its complex computed, block by block (a grid of equal blocks over the tile, each
+with its own 2 alpha halo), so a task's memory is its tile's samples and triangles plus
+the scratch of one block (docs/tiled.md, "Memory per worker")."""
+
 _RELAXED = 1e-9         # the tile's complex is computed at alpha (1 + this), then filtered
-_FORMAT = 1             # the store's layout version
+_FORMAT = 2             # the store's layout version (2: blocks)
 
 
 @dataclass(frozen=True)
@@ -237,7 +247,7 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     params = {"format": _FORMAT, "alpha": alpha, "seed": seed, "feature_angle": feature_angle,
               "tiling": [tiling.x0, tiling.y0, tiling.x1, tiling.y1, tiling.nx, tiling.ny],
               "region": shapely.to_wkb(region.geometry, hex=True),
-              "frame": region.frame.tolist()}
+              "frame": region.frame.tolist(), "blocks": list(_blocks_per_tile(tiling, alpha))}
     _open_store(store, params)
     run = secrets.token_hex(8)     # keeps an executor that caches by arguments honest
     shapely.prepare(region.geometry)
@@ -254,15 +264,16 @@ def mesh_tiled(region: Region, alpha: float, *, tiles=None, tile_size=None, stor
     for stage in range(len(STAGES)):
         for phase in range(4):
             specs = [_Task(str(store), tiling, i, j, stage, alpha, seed, feature_angle,
-                           near[i, j], run, tuple(t for t in tiling.neighbours(i, j) if t in near))
+                           near[i, j], run, tuple(t for t in tiling.neighbours(i, j) if t in near),
+                           tuple(params["blocks"]))
                      for (i, j) in near if tiling.phase(i, j) == phase]
             for spec, made in zip(specs, _run(_sample_task, specs, executor)):
                 counts[spec.i, spec.j, stage] = made
     index = _index(tiling, counts, near)
     with atomic_path(store / "index.json") as partial:
         partial.write_text(json.dumps(index), encoding="utf-8")
-    specs = [_Task(str(store), tiling, i, j, -1, alpha, seed, feature_angle, near[i, j], run)
-             for (i, j) in near]
+    specs = [_Task(str(store), tiling, i, j, -1, alpha, seed, feature_angle, near[i, j], run,
+                   blocks=tuple(params["blocks"])) for (i, j) in near]
     list(_run(_complex_task, specs, executor))
     return TiledMesh(store)
 
@@ -310,6 +321,23 @@ def _tiling(region: Region, alpha: float, tiles, tile_size) -> Tiling:
                             f"task's sampling grid allows; use at least {need[0]} x {need[1]} "
                             "tiles (or a smaller tile_size)")
     return tiling
+
+
+def _blocks_per_tile(tiling: Tiling, alpha: float) -> tuple[int, int]:
+    """Columns and rows of blocks in a tile: blocks of at most about
+    :data:`BLOCK_SAMPLES` samples (at the uniform sampler's density, 0.7 per alpha
+    squared), and at least 8 alpha wide and high."""
+    side = alpha * math.sqrt(BLOCK_SAMPLES / 0.7)
+    return tuple(max(1, min(math.ceil(span / side), math.floor(span / (8 * alpha))))
+                 for span in (tiling.width, tiling.height))
+
+
+def _block_reach(blocks: Tiling, a: int, b: int, reach) -> tuple:
+    """The part of the plane block ``(a, b)`` owns within the tile's ``reach``: its box,
+    infinite on the sides where it meets an infinite side of the reach."""
+    xmin, ymin, xmax, ymax = blocks.box(a, b)
+    return (reach[0] if a == 0 else xmin, reach[1] if b == 0 else ymin,
+            reach[2] if a == blocks.nx - 1 else xmax, reach[3] if b == blocks.ny - 1 else ymax)
 
 
 def _open_store(store: Path, params: dict) -> None:
@@ -369,6 +397,11 @@ class _Task:
     near: bytes         # WKB of the region within 2 alpha of the tile
     run: str
     neighbours: tuple = ()  # the tiles of the 3 x 3 block around it that have a task
+    blocks: tuple = (1, 1)  # columns and rows of blocks in the tile (BLOCK_SAMPLES)
+
+    def block_grid(self) -> Tiling:
+        """The blocks of the tile, as a tiling of its box."""
+        return Tiling(*self.tiling.box(self.i, self.j), *self.blocks)
 
 
 def _stage_path(store, i, j, stage, what="points") -> str:
@@ -440,18 +473,15 @@ def _sample_tile(task: _Task) -> np.ndarray:
     if inside is None:
         return np.empty((0, 2))
     halo = _halo(task)
-    reach = HALO * alpha * (1 + 1e-9)
-    sampler = _Sampler(Region(inside, np.eye(4)), alpha,
-                       bounds=(rect[0] - reach, rect[1] - reach, rect[2] + reach, rect[3] + reach))
-    sampler._reserve(len(halo))
-    kern.place_all(np.ascontiguousarray(halo), sampler.grid, sampler.nxt, sampler.covered,
-                   sampler.points, 0, alpha, sampler.x0, sampler.y0, sampler.s, sampler.vis)
-    sampler.count = fixed = len(halo)
     rng = np.random.default_rng([task.seed, task.stage, task.i, task.j])
     stage = STAGES[task.stage]
+    if stage == "interior":
+        return _sample_interior(task, inside, halo, rng)
+    sampler = _fixed_sampler(inside, rect, halo, alpha)
+    fixed = sampler.count
     if stage == "corners":
         sampler._insert(_corners(near, rect, task.feature_angle))
-    elif stage == "boundary":
+    else:
         start, direction, length = _boundary_pieces(near, rect, sampler.s)
         order = rng.permutation(len(start))
         u = rng.random(len(start))
@@ -460,9 +490,42 @@ def _sample_tile(task: _Task) -> np.ndarray:
             start, direction, length, order, u, sampler.grid, sampler.nxt, sampler.covered,
             sampler.points, sampler.count, alpha, RESOLUTION * alpha, sampler.x0,
             sampler.y0, sampler.s, sampler.vis)
-    else:
-        sampler.add_interior(rng)
     return sampler.points[fixed:sampler.count].copy()
+
+
+def _fixed_sampler(inside, rect, fixed, alpha: float) -> _Sampler:
+    """The uniform sampler's state over ``inside`` (polygons in the box ``rect``), its
+    grid widened by the halo, the samples ``fixed`` placed (and what they cover marked)."""
+    reach = HALO * alpha * (1 + 1e-9)
+    sampler = _Sampler(Region(inside, np.eye(4)), alpha,
+                       bounds=(rect[0] - reach, rect[1] - reach, rect[2] + reach, rect[3] + reach))
+    sampler._reserve(len(fixed))
+    kern.place_all(np.ascontiguousarray(fixed), sampler.grid, sampler.nxt, sampler.covered,
+                   sampler.points, 0, alpha, sampler.x0, sampler.y0, sampler.s, sampler.vis)
+    sampler.count = len(fixed)
+    return sampler
+
+
+def _sample_interior(task: _Task, inside, halo, rng) -> np.ndarray:
+    """The interior sweep of a tile, block by block (row by row): each block's sampler
+    holds the block and its halo (the tile's halo and the blocks sampled before it,
+    within 2 alpha), so the scratch is one block's; the tile's samples are the blocks'
+    in order."""
+    alpha, blocks = task.alpha, task.block_grid()
+    made = []
+    for a, b in blocks.tiles():
+        rect = blocks.box(a, b)
+        part = inside if blocks.nx * blocks.ny == 1 else \
+            _polygons(shapely.intersection(inside, box(*rect)))
+        if part is None:
+            continue
+        fixed = [xy[_distance_to_box(xy, rect) <= HALO * alpha] for xy in (halo, *made)]
+        fixed = np.concatenate(fixed)
+        sampler = _fixed_sampler(part, rect, fixed, alpha)
+        sampler.add_interior(rng)
+        made.append(sampler.points[len(fixed):sampler.count].copy())
+        del sampler, fixed
+    return np.concatenate(made) if made else np.empty((0, 2))
 
 
 def _polygons(geometry) -> MultiPolygon | None:
@@ -591,17 +654,16 @@ def _exact_complex(points, ids, alpha: float, low, high) -> np.ndarray:
     return faces[keep]
 
 
-def _owned(points, faces, tiling: Tiling, i: int, j: int) -> np.ndarray:
-    """The faces (vertices in global id order) whose circumcentre tile ``(i, j)`` owns;
-    the circumcentre is computed from the vertices in id order, the same in every tile."""
+def _circumcentres(points, faces) -> np.ndarray:
+    """(m, 2) the circumcentres of ``faces``, computed from their vertices in global id
+    order (the same numbers in every tile, so every tile finds the same owner)."""
     corner = points[np.sort(faces, axis=1)]
     a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
     bx, by, cx, cy = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1], c[:, 0] - a[:, 0], c[:, 1] - a[:, 1]
     cross = 2.0 * (bx * cy - by * cx)
     ux = a[:, 0] + (cy * (bx * bx + by * by) - by * (cx * cx + cy * cy)) / cross
     uy = a[:, 1] + (bx * (cx * cx + cy * cy) - cx * (bx * bx + by * by)) / cross
-    owner = tiling.owner(np.column_stack([ux, uy]))
-    return faces[(owner[:, 0] == i) & (owner[:, 1] == j)]
+    return np.column_stack([ux, uy])
 
 
 def _canonical(faces, sort: bool = True) -> np.ndarray:
@@ -618,15 +680,43 @@ def _faces_path(store, i, j) -> str:
 
 
 def _complex_task(task: _Task) -> int:
-    """Write the triangles tile ``(i, j)`` owns, in global ids; return their count."""
+    """Write the triangles tile ``(i, j)`` owns, in global ids; return their count.
+
+    The tile's part of the plane is done block by block (the blocks of its interior
+    sweep): each block's complex is computed on the points within 2 alpha of the part
+    the block owns, and keeps the triangles whose circumcentre the tile and the block
+    own."""
     path = _faces_path(task.store, task.i, task.j)
     if not os.path.exists(path):
         index = _index_of(task.store)
         points, ids, _ = _gathered(task, index)
-        faces = _exact_complex(points, ids, task.alpha, index["low"], index["high"])
-        owned = _owned(points, faces, task.tiling, task.i, task.j)
-        _save(path, _canonical(ids[owned], sort=False))    # in the kernel's order
+        reach, blocks = task.tiling.reach(task.i, task.j), task.block_grid()
+        parts = []
+        for a, b in blocks.tiles():
+            near = np.flatnonzero(_distance_to_box(points, _block_reach(blocks, a, b, reach))
+                                  <= HALO * task.alpha)
+            local = np.ascontiguousarray(points[near])
+            faces = _exact_complex(local, ids[near], task.alpha, index["low"], index["high"])
+            centre = _circumcentres(local, faces)
+            tile, block = task.tiling.owner(centre), blocks.owner(centre)
+            owned = faces[(tile[:, 0] == task.i) & (tile[:, 1] == task.j)
+                          & (block[:, 0] == a) & (block[:, 1] == b)]
+            parts.append(_canonical(ids[near][owned], sort=False))   # in the kernel's order
+            del local, faces, centre, tile, block, owned
+        _save_parts(path, parts)
     return int(np.load(path, mmap_mode="r").shape[0])
+
+
+def _save_parts(path, parts) -> None:
+    """Save the (m, 3) int64 arrays ``parts`` as one ``.npy`` array, one part after the
+    other, without joining them in memory (the bytes of ``np.save`` of their join)."""
+    shape = (sum(len(p) for p in parts), 3)
+    header = {"descr": np.lib.format.dtype_to_descr(np.dtype(np.int64)),
+              "fortran_order": False, "shape": shape}
+    with atomic_path(path) as partial, open(partial, "wb") as file:
+        np.lib.format.write_array_header_1_0(file, header)
+        for part in parts:
+            file.write(np.ascontiguousarray(part, np.int64).tobytes())
 
 
 class TiledMesh:
@@ -774,8 +864,10 @@ class TiledMesh:
         """
         run = secrets.token_hex(8)
         params = self._params
+        blocks = tuple(params.get("blocks", (1, 1)))      # stores before blocks: (1, 1)
         specs = [_Task(str(self.store), self.tiling, i, j, -1, self.alpha, self.seed,
-                       float(params["feature_angle"]), b"", run) for i, j in self._tiles()]
+                       float(params["feature_angle"]), b"", run, blocks=blocks)
+                 for i, j in self._tiles()]
         return _reduced(_run(_certificate_task, specs, executor), self)
 
 
@@ -852,17 +944,31 @@ def _certificate_task(task: _Task) -> dict:
     alpha, out = task.alpha, {"own": int(own.sum())}
     if not len(points):
         return out
-    faces = _exact_complex(points, ids, alpha, index["low"], index["high"])
-    grid = _SampleGrid(points, 2 * alpha)
-    out["separation"] = grid.closest_distance()
     params = json.loads((Path(task.store) / "params.json").read_text(encoding="utf-8"))
-    inside = _polygons(shapely.intersection(shapely.from_wkb(params["region"]),
-                                            box(*task.tiling.box(task.i, task.j))))
-    if inside is not None:
-        local = PlanarMesh(points, faces, np.zeros(len(points), bool), Region(inside, np.eye(4)),
-                           alpha)
-        gap, at = _coverage_gap(local, local.faces, local.boundary_edges, grid)
-        out["gap"], out["gap_at"] = gap, [float(v) for v in at]
+    region = shapely.from_wkb(params["region"])
+    # separation and coverage block by block (the blocks of the tile's sampling), each
+    # on the samples within 2 alpha of the part of the plane the block owns: every pair
+    # closer than alpha, and every sample a point of the block within alpha of one
+    # needs, is there
+    reach, blocks = task.tiling.reach(task.i, task.j), task.block_grid()
+    out["separation"] = math.inf
+    for a, b in blocks.tiles():
+        near = _distance_to_box(points, _block_reach(blocks, a, b, reach)) <= HALO * alpha
+        local = np.ascontiguousarray(points[near])
+        if not len(local):
+            continue
+        grid = _SampleGrid(local, 2 * alpha)
+        out["separation"] = min(out["separation"], float(grid.closest_distance()))
+        inside = _polygons(shapely.intersection(region, box(*blocks.box(a, b))))
+        if inside is None:
+            continue
+        faces = _exact_complex(local, ids[near], alpha, index["low"], index["high"])
+        mesh = PlanarMesh(local, faces, np.zeros(len(local), bool), Region(inside, np.eye(4)),
+                          alpha)
+        gap, at = _coverage_gap(mesh, mesh.faces, mesh.boundary_edges, grid)
+        if gap > out.get("gap", -math.inf):
+            out["gap"], out["gap_at"] = float(gap), [float(v) for v in at]
+        del local, grid, faces, mesh
     # the rest measures the stored triangles: the tile's own, and those of the 3 x 3
     # tiles around it at an own vertex (its star: circumcentres within alpha of it)
     owned, star = _stored_faces(task, index, ids, own)
@@ -870,12 +976,21 @@ def _certificate_task(task: _Task) -> dict:
     out["strays"] = int(np.count_nonzero((owned < 0).any(axis=1)))
     owned, star = owned[(owned >= 0).all(axis=1)], star[(star >= 0).all(axis=1)]
     if len(owned):
-        quality = triangle_quality(points, owned)
-        out.update(aspect=float(quality.aspect_ratio.max()), low=float(quality.angles.min()),
-                   high=float(quality.angles.max()), area=float(quality.area.sum()))
-    # the edges with an own end are all in that star
-    edges = np.sort(np.concatenate([star[:, [0, 1]], star[:, [1, 2]], star[:, [2, 0]]]), axis=1)
-    edges, uses = np.unique(edges, axis=0, return_counts=True)
+        measured = [triangle_quality(points, owned[k:k + 2**15])
+                    for k in range(0, len(owned), 2**15)]
+        out.update(aspect=max(float(q.aspect_ratio.max()) for q in measured),
+                   low=min(float(q.angles.min()) for q in measured),
+                   high=max(float(q.angles.max()) for q in measured),
+                   area=float(sum(q.area.sum() for q in measured)))
+        del measured
+    # the edges with an own end are all in that star (one int64 key per edge)
+    n = np.int64(len(points))                 # int64 keys from the int32 indices
+    pairs = ((0, 1), (1, 2), (2, 0))
+    keys = np.concatenate([np.minimum(star[:, p], star[:, q]) * n
+                           + np.maximum(star[:, p], star[:, q]) for p, q in pairs])
+    keys, uses = np.unique(keys, return_counts=True)
+    edges = np.column_stack([keys // n, keys % n])
+    del keys
     exact = own[edges[:, 0]] | own[edges[:, 1]]
     edges, uses = edges[exact], uses[exact]
     used = np.zeros(len(points), bool)
@@ -902,23 +1017,35 @@ def _certificate_task(task: _Task) -> dict:
 def _stored_faces(task: _Task, index: dict, ids, own):
     """The stored triangles of the tile, and those of the tiles around it with a vertex
     of the tile, as indices into ``ids`` (-1 for an id not among them: a triangle
-    reaching farther than 2 alpha, which a correct mesh does not have)."""
+    reaching farther than 2 alpha, which a correct mesh does not have). The files are
+    read a chunk at a time, so only the kept triangles are held."""
     record = index["tiles"][f"{task.i},{task.j}"]
     first, last = record["first"], record["first"] + sum(record["counts"])
-    owned, star = None, []
+
+    def local(faces):        # int32: a tile's task holds far fewer than 2**31 samples
+        at = np.minimum(np.searchsorted(ids, faces), len(ids) - 1)
+        return np.where(ids[at] == faces, at, -1).astype(np.int32)
+    owned, star = [np.empty((0, 3), np.int32)], [np.empty((0, 3), np.int32)]
     for a, b in task.tiling.neighbours(task.i, task.j):
         if f"{a},{b}" not in index["tiles"]:
             continue
-        faces = np.load(_faces_path(task.store, a, b))
-        if (a, b) == (task.i, task.j):
-            owned = faces
-        star.append(faces[((faces >= first) & (faces < last)).any(axis=1)])
-    star = np.concatenate(star)
+        for faces in _face_chunks(_faces_path(task.store, a, b)):
+            if (a, b) == (task.i, task.j):
+                owned.append(local(faces))
+            star.append(local(faces[((faces >= first) & (faces < last)).any(axis=1)]))
+    return np.concatenate(owned), np.concatenate(star)
 
-    def local(faces):
-        at = np.minimum(np.searchsorted(ids, faces), len(ids) - 1)
-        return np.where(ids[at] == faces, at, -1)
-    return local(owned), local(star)
+
+def _face_chunks(path, rows: int = 2**15):
+    """The (m, 3) int64 array of a ``.npy`` file, ``rows`` rows at a time."""
+    with open(path, "rb") as file:
+        version = np.lib.format.read_magic(file)
+        read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                else np.lib.format.read_array_header_2_0)
+        shape, _, _ = read(file)
+        for start in range(0, shape[0], rows):
+            count = min(rows, shape[0] - start)
+            yield np.fromfile(file, np.int64, 3 * count).reshape(count, 3)
 
 
 def _reduced(parts: list, mesh: TiledMesh) -> TiledCertificate:
