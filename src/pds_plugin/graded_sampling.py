@@ -432,6 +432,8 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     >>> moved[3].tolist()     # the bump beyond the chord is seen from (2, 1), reflex
     [2.0, 1.0]
     """
+    if not ((turns < 0).any() and (turns > 0).any()):
+        return samples          # an arc that turns one way only stays on one side of its chord
     n = len(samples)
     closed = np.vstack([ring, ring[:1]])
     vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
