@@ -19,7 +19,7 @@ import numpy as np
 from cython.parallel cimport prange
 from libc.math cimport INFINITY, ceil, floor, hypot, sqrt
 from libc.stdlib cimport qsort
-from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
+from libc.stdint cimport INT64_MAX, int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
 from ._visibility_kernels cimport (Chords, box_seen, box_state, chord_cell, chords_of,
@@ -411,17 +411,17 @@ def sample_boundary_pieces(start, direction, length, order, u, grid, nxt, covere
     return count
 
 
-cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
-                               const int64_t[::1] rank, const int8_t[::1] state,
-                               const int32_t[::1] head, double alpha2, Py_ssize_t nx,
-                               Py_ssize_t ny, const Chords *vis, int32_t *out,
-                               Py_ssize_t room) noexcept nogil:
-    """Count the open darts of lower rank than open dart d, closer than alpha to it, that
-    it sees; list the first ``room`` of them in ``out``."""
+cdef Py_ssize_t _darts_near(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
+                            const int64_t[::1] rank, const int8_t[::1] state,
+                            const int32_t[::1] head, double alpha2, Py_ssize_t nx,
+                            Py_ssize_t ny, const Chords *vis, int8_t wanted, int64_t below,
+                            int32_t *out, Py_ssize_t room, bint first) noexcept nogil:
+    """Count the darts in ``state`` ``wanted`` of rank below ``below``, closer than alpha
+    to dart d, that it sees; list the first ``room`` of them in ``out``; with ``first``,
+    stop at the first one."""
     cdef Py_ssize_t m = darts.shape[0], found = 0, iy = cell[d] // nx, ix = cell[d] % nx
     cdef Py_ssize_t jy, c, e, stop
     cdef double dx, dy, x = darts[d, 0], y = darts[d, 1]
-    cdef int64_t own = rank[d]
     cdef bint walls = near_boundary(x, y, vis)      # else dart d sees every dart near it
     cdef Py_ssize_t k = chord_cell(x, y, vis) if walls else 0
     for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
@@ -435,7 +435,7 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
             continue
         e = head[c]
         while e < m and cell[e] < stop:
-            if state[e] == 0 and rank[e] < own:
+            if state[e] == wanted and rank[e] < below:
                 dx = darts[e, 0] - x
                 dy = darts[e, 1] - y
                 if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
@@ -443,37 +443,10 @@ cdef Py_ssize_t _each_conflict(Py_ssize_t d, const double[:, ::1] darts, const i
                     if found < room:
                         out[found] = <int32_t>e
                     found += 1
+                    if first:
+                        return found
             e += 1
     return found
-
-
-cdef bint _sees_accepted(Py_ssize_t d, const double[:, ::1] darts, const int64_t[::1] cell,
-                         const int8_t[::1] state, const int32_t[::1] head, double alpha2,
-                         Py_ssize_t nx, Py_ssize_t ny, const Chords *vis) noexcept nogil:
-    """Is an accepted dart (``state`` 1) closer than alpha to dart d and seen by it? The
-    scan of :func:`_each_conflict`, stopping at the first."""
-    cdef Py_ssize_t m = darts.shape[0], iy = cell[d] // nx, ix = cell[d] % nx
-    cdef Py_ssize_t jy, c, e, stop
-    cdef double dx, dy, x = darts[d, 0], y = darts[d, 1]
-    cdef bint walls = near_boundary(x, y, vis)
-    cdef Py_ssize_t k = chord_cell(x, y, vis) if walls else 0
-    for jy in range(max(iy - 2, 0), min(iy + 3, ny)):
-        c = jy * nx + max(ix - 2, 0)
-        stop = jy * nx + min(ix + 3, nx)
-        while c < stop and head[c] < 0:
-            c += 1
-        if c == stop:
-            continue
-        e = head[c]
-        while e < m and cell[e] < stop:
-            if state[e] == 1:
-                dx = darts[e, 0] - x
-                dy = darts[e, 1] - y
-                if dx * dx + dy * dy < alpha2 and (not walls or sees_near_chords(
-                        x, y, -1, darts[e, 0], darts[e, 1], -1, vis, k)):
-                    return True
-            e += 1
-    return False
 
 
 def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points,
@@ -546,8 +519,10 @@ def throw_darts(darts, cell, rank, status, tuple domain, grid, nxt, head, points
             for t in range(m):
                 d = by_rank[t]
                 if state[d] == UNDECIDED:
-                    state[d] = REJECTED if _sees_accepted(d, dt, cl, state, hd, alpha2, nx,
-                                                          ny, &ch) else ACCEPTED
+                    # an accepted dart near d that d sees rejects it
+                    state[d] = REJECTED if _darts_near(d, dt, cl, rk, state, hd, alpha2, nx,
+                                                       ny, &ch, ACCEPTED, INT64_MAX, NULL, 0,
+                                                       True) else ACCEPTED
         n_todo = 0
     else:
         _conflict_sweeps(dt, cl, rk, state, degree, todo, n_todo, hd, alpha2, nx, ny, &ch,
@@ -582,8 +557,8 @@ cdef void _conflict_sweeps(const double[:, ::1] dt, const int64_t[::1] cl,
     for t in prange(n_todo, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
-        degree[d + 1] = _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, ch,
-                                       &slot[t * CONFLICT_SLOTS], CONFLICT_SLOTS)
+        degree[d + 1] = _darts_near(d, dt, cl, rk, state, hd, alpha2, nx, ny, ch, UNDECIDED,
+                                    rk[d], &slot[t * CONFLICT_SLOTS], CONFLICT_SLOTS, False)
     with nogil:
         for d in range(m):
             degree[d + 1] += degree[d]
@@ -592,8 +567,8 @@ cdef void _conflict_sweeps(const double[:, ::1] dt, const int64_t[::1] cl,
                     num_threads=threads_for(n_todo)):
         d = todo[t]
         if degree[d + 1] - degree[d] > CONFLICT_SLOTS:
-            _each_conflict(d, dt, cl, rk, state, hd, alpha2, nx, ny, ch,
-                           &conflict[degree[d]], degree[d + 1] - degree[d])
+            _darts_near(d, dt, cl, rk, state, hd, alpha2, nx, ny, ch, UNDECIDED, rk[d],
+                        &conflict[degree[d]], degree[d + 1] - degree[d], False)
         else:
             for q in range(degree[d + 1] - degree[d]):
                 conflict[degree[d] + q] = slot[t * CONFLICT_SLOTS + q]
