@@ -79,7 +79,10 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     (25, "g17-housing p0", "graded auto"),
     # a zigzag of kinks 0.3 alpha apart: thinning kept a convex kink and dropped the
     # reflex one beside it, which hid the ring past it (1.007 alpha); reflex kinks first
-    (22, "g15-torus-ring p0", "uniform auto")])
+    (22, "g15-torus-ring p0", "uniform auto"),
+    # a boss 0.05 alpha from a tube's 20° reflex bends: the bends' chords crossed the
+    # boss, the chord polygons overlapped, samples were isolated and chords unjoined
+    (28, "g09-tube-with-bosses p3", "uniform auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

@@ -507,6 +507,67 @@ def _clearances(corners, angle, guard, cum, closed, alpha):
     return after, before
 
 
+def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
+    """Each ring's boundary samples (``ring_xy``, in order along ``rings``) with a ring
+    vertex added to every chord that crosses another ring: the farthest of its arc's
+    vertices from the chord on the region's side (the bend the chord cuts across).
+
+    A chord over a reflex bend leaves the region by the bend's sagitta. Where another
+    ring is nearer than that (a boss 0.05 alpha from a tube's 20° bends, on a held-out
+    section) the chord crosses into the other ring's material, the chord polygons
+    overlap, and no mesh conforms to them: samples were left isolated and chords
+    unjoined. The vertex added is at most a chord from its neighbours; closer than alpha
+    to them, it is an itemised small-ring exception.
+
+    Examples
+    --------
+    >>> notched = np.array([[0, 0], [3, 0], [3, 1], [1.5, 0.8], [0, 1]], float)
+    >>> pin = np.array([[1.4, 0.9], [1.6, 0.9], [1.5, 1.1]])   # a part in the notch
+    >>> xy = _clear_of_other_rings([notched[[0, 1, 2, 4]], pin], [notched, pin[::-1]])
+    >>> xy[0].tolist()
+    [[0.0, 0.0], [3.0, 0.0], [3.0, 1.0], [1.5, 0.8], [0.0, 1.0]]
+    """
+    if len(rings) < 2:
+        return ring_xy
+    ring_xy = [np.asarray(xy, float) for xy in ring_xy]
+    tree = shapely.STRtree(np.array([shapely.linearrings(ring) for ring in rings]))
+    for _ in range(passes):
+        ends = [np.stack([xy, np.roll(xy, -1, axis=0)], axis=1) for xy in ring_xy]
+        sizes = [len(e) for e in ends]
+        owner = np.repeat(np.arange(len(rings)), sizes)
+        first = np.concatenate([[0], np.cumsum(sizes)])
+        chord, other = tree.query(shapely.linestrings(np.concatenate(ends)),
+                                  predicate="intersects")
+        crossing = np.unique(chord[other != owner[chord]])
+        if not len(crossing):
+            break
+        for r in np.unique(owner[crossing]):
+            added = [(k + 1, _deepest_bend(rings[r], *ends[r][k]))
+                     for k in crossing[owner[crossing] == r] - first[r]]
+            added = [(k, v) for k, v in added if v is not None]
+            if added:
+                ring_xy[r] = np.insert(ring_xy[r], [k for k, _ in added],
+                                       [v for _, v in added], axis=0)
+    return ring_xy
+
+
+def _deepest_bend(ring, a, b):
+    """The vertex of ``ring`` on its arc from sample a to sample b (both on the ring, in
+    order) farthest from the chord ab on the region's side (its left), or None if none
+    is there."""
+    closed = np.vstack([ring, ring[:1]])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    line = shapely.LineString(closed)
+    start, stop = (line.project(shapely.Point(p)) for p in (a, b))
+    offset = (cum[:-1] - start) % cum[-1]
+    ab = b - a
+    height = ab[0] * (ring[:, 1] - a[1]) - ab[1] * (ring[:, 0] - a[0])
+    inside = (offset > 0) & (offset < (stop - start) % cum[-1]) & (height > 0)
+    if not inside.any():
+        return None
+    return ring[np.flatnonzero(inside)[np.argmax(height[inside])]]
+
+
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
     """The positions ``at`` with the middle of every piece added whose chord is 2 alpha or
     longer: no triangle of circumradius <= alpha has such an edge, and the sample at its
@@ -688,6 +749,7 @@ class _Sampler:
                      else (_INFLECTION_APART, _INFLECTION_APART))
             ring_xy = [along(*ring_positions(ring, turning_angles(ring), feature_angle,
                                                alpha, rng, apart)) for ring in self.region.rings]
+            ring_xy = _clear_of_other_rings(ring_xy, self.region.rings)
             ring_xy, self.sampled_region = onto_curves(    # chords stay in [1, √3) alpha
                 self.region, ring_xy, alpha, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
         boundary, self.rings = joined(ring_xy)
