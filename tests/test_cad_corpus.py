@@ -82,7 +82,10 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     (22, "g15-torus-ring p0", "uniform auto"),
     # a boss 0.05 alpha from a tube's 20° reflex bends: the bends' chords crossed the
     # boss, the chord polygons overlapped, samples were isolated and chords unjoined
-    (28, "g09-tube-with-bosses p3", "uniform auto")])
+    (28, "g09-tube-with-bosses p3", "uniform auto"),
+    # a chord end 0.42 alpha before a 1.8° reflex vertex, the far end 1.025 alpha from it:
+    # the wedge past the vertex was uncovered; the vertex is now a sample
+    (24, "g05-torus-ring p3", "uniform auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

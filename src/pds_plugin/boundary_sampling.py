@@ -5,6 +5,7 @@ their complexes are constrained by (:mod:`.complex`, :mod:`.graded_complex`).
 - :func:`given_boundary`: boundary samples given by the caller, checked;
 - :func:`along`: the points at positions along a ring (arc length, or τ = ∫ dt / r);
 - :func:`onto_curves`: boundary samples moved onto a drawing's exact arcs;
+- :func:`hidden_bends`: the reflex vertices that hide part of a ring beyond its chords;
 - :func:`joined`: the samples of every ring in one array, each ring's indices, the
   rings the chords join; :func:`chord_ends`: each chord's two ends;
 - :func:`guard_candidates`: guard samples inside chords too long to split, in the order
@@ -23,6 +24,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 
 from . import _graded_kernels as graded_kern
 from . import _visibility_kernels as vis_kern
@@ -31,7 +33,8 @@ from .errors import ArgumentError, RegionError
 from .region import Region
 
 __all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
-           "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords"]
+           "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords",
+           "hidden_bends"]
 
 RESOLUTION = 1e-10
 """The smallest refinement box and boundary margin of both samplers, relative to the
@@ -107,6 +110,63 @@ def joined(ring_xy):
     sizes = [len(xy) for xy in ring_xy]
     ends = np.cumsum(sizes)
     return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
+
+
+def hidden_bends(samples, ring, turns, tol):
+    """Where a ring's chords hide part of it: for each chord of ``samples`` (in order along
+    ``ring``; ``turns`` the turning angles at its vertices) whose arc reaches beyond the
+    chord, the first and the last reflex vertex w of the arc. The ring turns back into
+    the region at w, so the chord end e before w does not see the ring just past w,
+    beyond the chord: only the far end f does (docs/graded.md, "Coverage behind a reflex
+    vertex"). Vertices within ``tol`` of a chord or its ends count as on it.
+
+    Returns None where nothing is hidden (a ring that turns one way only never is),
+    else ``(bends, chord, reflex, beyond)``: ``bends`` the tuples (arc length from e to w,
+    e, f, w, arc length to w from the chord's first end), shortest first; ``chord`` each vertex's chord (the one from
+    sample k to k + 1 is k), ``reflex`` the reflex vertices off the chord ends, ``beyond``
+    per chord whether its arc reaches beyond it.
+
+    Examples
+    --------
+    >>> from .region import turning_angles
+    >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
+    >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
+    >>> bends = hidden_bends(samples, ring, turning_angles(ring), 1e-9)[0]
+    >>> [(int(e), int(f), int(w)) for _, e, f, w, _ in bends]   # (2, 1) from either end
+    [(3, 4, 3), (4, 3, 3)]
+    """
+    if not ((turns < 0).any() and (turns > 0).any()):
+        return None             # an arc that turns one way only stays on one side of its chord
+    n = len(samples)
+    closed = np.vstack([ring, ring[:1]])
+    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    length, vertex_at = vertex_at[-1], vertex_at[:-1]
+    sample_at = shapely.line_locate_point(shapely.LineString(closed),
+                                          shapely.points(samples)) % length
+    start = int(np.argmin(sample_at))
+    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
+             + start) % n
+    a, b = samples[chord], samples[(chord + 1) % n]
+    apart = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
+    height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
+        - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
+    beyond = np.bincount(chord, apart & (height < -tol * np.hypot(*(b - a).T)), minlength=n) > 0
+    reflex = np.flatnonzero(apart & (turns < 0))
+    vertex = reflex[beyond[chord[reflex]]]
+    if not len(vertex):
+        return None
+    offset = (vertex_at[vertex] - sample_at[chord[vertex]]) % length
+    order = np.lexsort((offset, chord[vertex]))
+    vertex, offset = vertex[order], offset[order]
+    k = chord[vertex]
+    first = np.append(True, k[1:] != k[:-1])
+    last = np.append(k[1:] != k[:-1], True)
+    span = (sample_at[(k + 1) % n] - sample_at[k]) % length
+    bends = [(offset[i], k[i], (k[i] + 1) % n, vertex[i], offset[i])
+             for i in np.flatnonzero(first)]
+    bends += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i], offset[i])
+              for i in np.flatnonzero(last)]
+    return sorted(bends, key=lambda bend: bend[0]), chord, reflex, beyond
 
 
 def chord_ends(rings):

@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import shapely
 
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
@@ -34,7 +33,8 @@ from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region, turning_angles
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
-                                graded_chords, guard_candidates, joined, onto_curves)
+                                graded_chords, guard_candidates, hidden_bends, joined,
+                                onto_curves)
 from .sampling import DEFAULT_MAX_SAMPLES, Samples, check_rings_apart, corner_clearance
 from .sizing import RadiusField
 
@@ -432,37 +432,13 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     >>> moved[3].tolist()     # the bump beyond the chord is seen from (2, 1), reflex
     [2.0, 1.0]
     """
-    if not ((turns < 0).any() and (turns > 0).any()):
-        return samples          # an arc that turns one way only stays on one side of its chord
-    n = len(samples)
-    closed = np.vstack([ring, ring[:1]])
-    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    length, vertex_at = vertex_at[-1], vertex_at[:-1]
-    sample_at = shapely.line_locate_point(shapely.LineString(closed),
-                                          shapely.points(samples)) % length
-    start = int(np.argmin(sample_at))
-    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
-             + start) % n
-    a, b = samples[chord], samples[(chord + 1) % n]
-    apart = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
-    height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
-        - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
-    beyond = np.bincount(chord, apart & (height < -tol * np.hypot(*(b - a).T)), minlength=n)
-    vertex = np.flatnonzero(apart & (beyond[chord] > 0) & (turns < 0))     # reflex
-    if not len(vertex):
+    found = hidden_bends(samples, ring, turns, tol)
+    if found is None:
         return samples
-    offset = (vertex_at[vertex] - sample_at[chord[vertex]]) % length
-    order = np.lexsort((offset, chord[vertex]))
-    vertex, offset = vertex[order], offset[order]
-    k = chord[vertex]
-    first = np.append(True, k[1:] != k[:-1])
-    last = np.append(k[1:] != k[:-1], True)
-    span = (sample_at[(k + 1) % n] - sample_at[k]) % length
-    moves = [(offset[i], k[i], (k[i] + 1) % n, vertex[i]) for i in np.flatnonzero(first)]
-    moves += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i]) for i in np.flatnonzero(last)]
-    reflex = np.flatnonzero(apart & (turns < 0))
+    bends, chord, reflex, beyond = found
+    n = len(samples)
     samples = samples.copy()
-    for _, end, other, w in sorted(moves):          # the shortest moves first
+    for _, end, other, w, _ in bends:           # the shortest moves first
         if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
             continue
         # the reflex vertices of end's other chord that end covered as their far end
