@@ -5,7 +5,8 @@ their complexes are constrained by (:mod:`.complex`, :mod:`.graded_complex`).
 - :func:`given_boundary`: boundary samples given by the caller, checked;
 - :func:`along`: the points at positions along a ring (arc length, or τ = ∫ dt / r);
 - :func:`onto_curves`: boundary samples moved onto a drawing's exact arcs;
-- :func:`hidden_bends`: the reflex vertices that hide part of a ring beyond its chords;
+- :func:`vertex_chords`: the chord each ring vertex lies under; :func:`hidden_bends`:
+  the reflex vertices that hide part of a ring beyond its chords;
 - :func:`joined`: the samples of every ring in one array, each ring's indices, the
   rings the chords join; :func:`chord_ends`: each chord's two ends;
 - :func:`guard_candidates`: guard samples inside chords too long to split, in the order
@@ -34,7 +35,7 @@ from .region import Region
 
 __all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
            "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords",
-           "hidden_bends"]
+           "vertex_chords", "hidden_bends"]
 
 RESOLUTION = 1e-10
 """The smallest refinement box and boundary margin of both samplers, relative to the
@@ -112,6 +113,31 @@ def joined(ring_xy):
     return np.concatenate(ring_xy), tuple(np.arange(e - k, e) for e, k in zip(ends, sizes))
 
 
+def vertex_chords(samples, ring):
+    """For a ring's boundary ``samples`` (on ``ring``, in order along it): each vertex's
+    chord (the one from sample k to sample k + 1 is k), the vertex's arc length from that
+    chord's first end, and each chord's arc length.
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> chord, offset, span = vertex_chords(np.array([[1, 0], [2, 1], [0, 1]]), square)
+    >>> chord.tolist(), offset.tolist(), span.tolist()
+    ([2, 0, 1, 1], [1.0, 1.0, 1.0, 3.0], [2.0, 4.0, 2.0])
+    """
+    n = len(samples)
+    closed = np.vstack([ring, ring[:1]])
+    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    length, vertex_at = vertex_at[-1], vertex_at[:-1]
+    sample_at = shapely.line_locate_point(shapely.LineString(closed),
+                                          shapely.points(samples)) % length
+    start = int(np.argmin(sample_at))
+    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
+             + start) % n
+    span = (np.roll(sample_at, -1) - sample_at) % length
+    return chord, (vertex_at - sample_at[chord]) % length, span
+
+
 def hidden_bends(samples, ring, turns, tol):
     """Where a ring's chords hide part of it: for each chord of ``samples`` (in order along
     ``ring``; ``turns`` the turning angles at its vertices) whose arc reaches beyond the
@@ -121,10 +147,10 @@ def hidden_bends(samples, ring, turns, tol):
     vertex"). Vertices within ``tol`` of a chord or its ends count as on it.
 
     Returns None where nothing is hidden (a ring that turns one way only never is),
-    else ``(bends, chord, reflex, beyond)``: ``bends`` the tuples (arc length from e to w,
-    e, f, w, arc length to w from the chord's first end), shortest first; ``chord`` each vertex's chord (the one from
-    sample k to k + 1 is k), ``reflex`` the reflex vertices off the chord ends, ``beyond``
-    per chord whether its arc reaches beyond it.
+    else ``(bends, chord, reflex, beyond)``: ``bends`` the tuples (arc length from e to
+    w, e, f, w, arc length to w from the chord's first end), shortest first; ``chord``
+    each vertex's chord (:func:`vertex_chords`), ``reflex`` the reflex vertices off the
+    chord ends, ``beyond`` per chord whether its arc reaches beyond it.
 
     Examples
     --------
@@ -138,14 +164,7 @@ def hidden_bends(samples, ring, turns, tol):
     if not ((turns < 0).any() and (turns > 0).any()):
         return None             # an arc that turns one way only stays on one side of its chord
     n = len(samples)
-    closed = np.vstack([ring, ring[:1]])
-    vertex_at = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    length, vertex_at = vertex_at[-1], vertex_at[:-1]
-    sample_at = shapely.line_locate_point(shapely.LineString(closed),
-                                          shapely.points(samples)) % length
-    start = int(np.argmin(sample_at))
-    chord = (np.searchsorted(np.roll(sample_at, -start), vertex_at, side="right") - 1
-             + start) % n
+    chord, offset, span = vertex_chords(samples, ring)
     a, b = samples[chord], samples[(chord + 1) % n]
     apart = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
     height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
@@ -155,16 +174,12 @@ def hidden_bends(samples, ring, turns, tol):
     vertex = reflex[beyond[chord[reflex]]]
     if not len(vertex):
         return None
-    offset = (vertex_at[vertex] - sample_at[chord[vertex]]) % length
-    order = np.lexsort((offset, chord[vertex]))
-    vertex, offset = vertex[order], offset[order]
-    k = chord[vertex]
+    vertex = vertex[np.lexsort((offset[vertex], chord[vertex]))]
+    k, along = chord[vertex], offset[vertex]
     first = np.append(True, k[1:] != k[:-1])
     last = np.append(k[1:] != k[:-1], True)
-    span = (sample_at[(k + 1) % n] - sample_at[k]) % length
-    bends = [(offset[i], k[i], (k[i] + 1) % n, vertex[i], offset[i])
-             for i in np.flatnonzero(first)]
-    bends += [(span[i] - offset[i], (k[i] + 1) % n, k[i], vertex[i], offset[i])
+    bends = [(along[i], k[i], (k[i] + 1) % n, vertex[i], along[i]) for i in np.flatnonzero(first)]
+    bends += [(span[k[i]] - along[i], (k[i] + 1) % n, k[i], vertex[i], along[i])
               for i in np.flatnonzero(last)]
     return sorted(bends, key=lambda bend: bend[0]), chord, reflex, beyond
 

@@ -41,8 +41,9 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .boundary_sampling import (RESOLUTION, along, domain_of_rings, given_boundary, hidden_bends,
-                                guard_candidates, joined, onto_curves)
+from .boundary_sampling import (RESOLUTION, along, domain_of_rings, given_boundary,
+                                guard_candidates, hidden_bends, joined, onto_curves,
+                                vertex_chords)
 from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
@@ -574,30 +575,20 @@ def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
         if not len(crossing):
             break
         for r in np.unique(owner[crossing]):
-            added = [(k + 1, _deepest_bend(rings[r], *ends[r][k]))
-                     for k in crossing[owner[crossing] == r] - first[r]]
-            added = [(k, v) for k, v in added if v is not None]
+            ring, xy = rings[r], ring_xy[r]
+            chord, offset, _ = vertex_chords(xy, ring)
+            a, b = xy[chord], np.roll(xy, -1, axis=0)[chord]
+            # each vertex's height over its chord, on the region's side (left)
+            height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
+                - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
+            added = []
+            for k in crossing[owner[crossing] == r] - first[r]:
+                bend = np.flatnonzero((chord == k) & (offset > 0) & (height > 0))
+                if len(bend):       # the deepest bend the chord cuts across
+                    added.append((k + 1, ring[bend[np.argmax(height[bend])]]))
             if added:
-                ring_xy[r] = np.insert(ring_xy[r], [k for k, _ in added],
-                                       [v for _, v in added], axis=0)
+                ring_xy[r] = np.insert(xy, [k for k, _ in added], [v for _, v in added], axis=0)
     return ring_xy
-
-
-def _deepest_bend(ring, a, b):
-    """The vertex of ``ring`` on its arc from sample a to sample b (both on the ring, in
-    order) farthest from the chord ab on the region's side (its left), or None if none
-    is there."""
-    closed = np.vstack([ring, ring[:1]])
-    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    line = shapely.LineString(closed)
-    start, stop = (line.project(shapely.Point(p)) for p in (a, b))
-    offset = (cum[:-1] - start) % cum[-1]
-    ab = b - a
-    height = ab[0] * (ring[:, 1] - a[1]) - ab[1] * (ring[:, 0] - a[0])
-    inside = (offset > 0) & (offset < (stop - start) % cum[-1]) & (height > 0)
-    if not inside.any():
-        return None
-    return ring[np.flatnonzero(inside)[np.argmax(height[inside])]]
 
 
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
