@@ -85,7 +85,11 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     (28, "g09-tube-with-bosses p3", "uniform auto"),
     # a chord end 0.42 alpha before a 1.8° reflex vertex, the far end 1.025 alpha from it:
     # the wedge past the vertex was uncovered; the vertex is now a sample
-    (24, "g05-torus-ring p3", "uniform auto")])
+    (24, "g05-torus-ring p3", "uniform auto"),
+    # a wall 0.33 alpha thin between a bolt hole and the plate's edge: the hole's chord
+    # of 1.7 alpha had the edge's sample across its middle, in its lens, and was not
+    # joined; it now gets a rung across from that sample
+    (28, "g00-bolted-plate p4", "uniform fine")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

@@ -33,7 +33,7 @@ from .boundary_curves import samples_onto_curves
 from .errors import ArgumentError, RegionError
 from .region import Region
 
-__all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
+__all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends", "move_uncovers",
            "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords",
            "vertex_chords", "hidden_bends"]
 
@@ -184,6 +184,20 @@ def hidden_bends(samples, ring, turns, tol):
     return sorted(bends, key=lambda bend: bend[0]), chord, reflex, beyond
 
 
+def move_uncovers(samples, end, other, w, ring, found, radius) -> bool:
+    """Whether moving chord end ``end`` (of ``samples``, the chord's far end ``other``)
+    onto the reflex vertex ``ring[w]`` would uncover a reflex vertex of its other chord
+    that it was the far end within r of (where that chord's arc reaches beyond it):
+    ``found`` is :func:`hidden_bends`' answer, ``radius`` is r or gives it at points."""
+    _, chord, reflex, beyond = found
+    n = len(samples)
+    beside = (end - 1) % n if other == (end + 1) % n else end
+    near = reflex[chord[reflex] == beside] if beyond[beside] else reflex[:0]
+    r = radius(ring[near]) if callable(radius) else radius
+    covered = np.hypot(*(ring[near] - samples[end]).T) <= r
+    return bool(np.any(covered & (np.hypot(*(ring[near] - ring[w]).T) > r)))
+
+
 def chord_ends(rings):
     """The first and second end (indices) of every chord of ``rings``, ring after ring:
     chord k joins ``a[k]`` to ``b[k]``, the next sample of its ring.
@@ -231,12 +245,20 @@ def guard_candidates(boundary, rings, alpha) -> np.ndarray:
     inward = np.column_stack([-chord[:, 1], chord[:, 0]]) / np.maximum(g, 1e-300)[:, None]
     first = boundary[a] + 0.5 * chord + alpha[:, None] * inward        # height alpha
     corner = _corner_guards(boundary, rings, a, b, long, first, inward, alpha)
-    g, alpha, inward = g[long], alpha[long], inward[long]
+    return np.ascontiguousarray(np.concatenate(
+        [corner, bisector_guards(p[long], q[long], alpha[long]).reshape(-1, 2)]))
+
+
+def bisector_guards(p, q, alpha) -> np.ndarray:
+    """The guard candidates of chords p -> q (longer than √3 alpha) on their bisectors,
+    in the order :func:`guard_candidates` tries them: (levels, chords, 2), level 0 at
+    height alpha, the others at alpha ± f·t_c (f in ``_GUARD_SPREAD``)."""
+    chord = q - p
+    g = np.hypot(chord[:, 0], chord[:, 1])
+    inward = np.column_stack([-chord[:, 1], chord[:, 0]]) / np.maximum(g, 1e-300)[:, None]
     spread = np.sqrt(np.maximum(alpha ** 2 - g ** 2 / 4, 0.0)) * (1 - _GUARD_MARGIN)
     height = alpha + np.multiply.outer((0.0, *_GUARD_SPREAD), spread)    # (levels, chords)
-    middle = 0.5 * (p[long] + q[long])
-    return np.ascontiguousarray(np.concatenate(
-        [corner, (middle + height[..., None] * inward).reshape(-1, 2)]))
+    return 0.5 * (p + q) + height[..., None] * inward
 
 
 def _corner_guards(boundary, rings, a, b, long, first, inward, alpha) -> np.ndarray:

@@ -37,13 +37,14 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
-from .boundary_sampling import (RESOLUTION, along, domain_of_rings, given_boundary,
-                                guard_candidates, hidden_bends, joined, onto_curves,
-                                vertex_chords)
+from .boundary_sampling import (RESOLUTION, along, bisector_guards, chord_ends,
+                                domain_of_rings, given_boundary, guard_candidates, hidden_bends, joined,
+                                move_uncovers, onto_curves, vertex_chords)
 from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
@@ -62,6 +63,7 @@ _CROWDED_CELL = 256  # conforming refinement stops in a boundary cell with more 
 _REFINEMENT_BOXES = 2  # and everywhere above this many boxes per cell of the region
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
 _FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
+_LONGEST = math.sqrt(3) * (1 - _FIRST_PART_MARGIN)  # the longest chord the sampler makes / alpha
 STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
 _NOISY_INFLECTION_APART = 1.5  # the same where the boundary is known up to a tolerance
@@ -297,7 +299,7 @@ def corner_clearance(angle, alpha):
     angle = np.asarray(angle, float)
     guard = np.where(angle < np.pi / 3, alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2)),
                      alpha)
-    return np.minimum(guard, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
+    return np.minimum(guard, _LONGEST * alpha)
 
 
 def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
@@ -461,9 +463,14 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
         todo = np.flatnonzero(ratio < 1)
         scale[todo] = np.minimum(scale[todo] / ratio[todo] ** 2 * (1 + 1e-9), _MAX_CURVE_SCALE)
         # but a piece longer than √3 alpha must still split into parts (its first and
-        # last at least their scaled lower bounds): left whole, its chord could exceed
-        # 2 alpha, which no triangle of circumradius <= alpha has as an edge
-        fits = (hi - lo) / (np.maximum(after, alpha) + np.maximum(before, alpha))
+        # last at least their scaled lower bounds, and as many parts between as its
+        # length needs): left whole, its chord could exceed 2 alpha, which no triangle
+        # of circumradius <= alpha has as an edge, or cut off a whole bend (on
+        # spline.DXF a 4.4 alpha piece round a 0.4 alpha tip, at scale 1.5, could not be
+        # cut into parts of [1.5, √3] alpha: its chord left a lobe of the region out)
+        parts = np.maximum(np.ceil((hi - lo) / longest), 2.0)
+        fits = (hi - lo) / (np.maximum(after, alpha) + np.maximum(before, alpha)
+                            + (parts - 2) * alpha)
         splittable = hi - lo > longest
         scale[splittable] = np.minimum(scale[splittable],
                                        np.maximum(1.0, fits[splittable] * (1 - 1e-9)))
@@ -508,36 +515,76 @@ def _clearances(corners, angle, guard, cum, closed, alpha):
     return after, before
 
 
-def _unhidden(samples, ring, turns, alpha) -> np.ndarray:
-    """A toleranced ring's boundary samples (in order along ``ring``, ``turns`` the
-    turning angles at its vertices) with a sample added on each reflex vertex w that
-    hides part of the ring beyond a chord from the chord end e before it, where the far
-    end f, the only one that sees it, is farther than alpha from w
-    (:func:`.boundary_sampling.hidden_bends`).
+def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
+    """A ring's boundary samples (in order along ``ring``, ``turns`` the turning angles
+    at its vertices) with each reflex vertex w sampled that hides part of the ring beyond
+    a chord from the chord end e before it, where the far end f, the only one that sees
+    it, is farther than alpha from w (:func:`.boundary_sampling.hidden_bends`).
 
-    The graded sampler moves e onto w; here a move would take the chords beside e out of
-    [alpha, √3 alpha], so w is added as a sample of its own, when it is at least 0.3 alpha
-    from e and f (a pair closer than alpha, itemised as a small-ring exception). On a
-    held-out torus section e was 0.42 alpha before a 1.8° reflex vertex and f 1.025 alpha
-    from it: the wedge past w was uncovered."""
-    found = hidden_bends(samples, ring, turns, 1e-9 * alpha)
-    if found is None:
-        return samples
-    n, added = len(samples), {}
-    for _, end, other, w, from_start in found[0]:
-        e, f = samples[end], samples[other]
-        if (np.hypot(*(ring[w] - f)) > alpha
-                and min(np.hypot(*(ring[w] - e)), np.hypot(*(ring[w] - f))) >= 0.3 * alpha):
+    Where w is at least 0.3 alpha from e and f it is added as a sample of its own (a pair
+    closer than alpha, itemised as a small-ring exception): moving e that far would take
+    the chords beside it out of [alpha, √3 alpha]. On a held-out torus section e was 0.42
+    alpha before a 1.8° reflex vertex and f 1.025 alpha from it: the wedge past w was
+    uncovered. Nearer to e, e moves onto w (as the graded sampler does), if its other
+    chord stays in [alpha, √3 alpha] and no reflex vertex that e covered is uncovered: on
+    MIL.svg at alpha = extent / 150 a sample on a fillet was 0.007 alpha before the
+    fillet's last vertex, and 1.09 alpha of the straight side past it, beyond the chord,
+    was seen from no sample. Where e cannot move, the arc's reflex vertex nearest e but
+    0.3 alpha from it is added instead (an S-bend of MIL.svg at extent / 60). Each added
+    sample makes new chords, so the search is repeated (``passes``).
+
+    Examples
+    --------
+    >>> from .region import turning_angles
+    >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
+    >>> samples = np.array([[0, 0], [1.5, 0], [3, 0], [4, 0], [4, 1], [3.3, 1], [2.05, 1], [0, 1]])
+    >>> _unhidden(samples, ring, turning_angles(ring), 1.0)[6].tolist()   # onto (2, 1)
+    [2.0, 1.0]
+    """
+    for _ in range(passes):
+        found = hidden_bends(samples, ring, turns, 1e-9 * alpha)
+        if found is None:
+            return samples
+        bends, chord_of, reflex, _ = found
+        samples, n, added, moved = samples.copy(), len(samples), {}, False
+        for _, end, other, w, _ in bends:
+            e, f = samples[end], samples[other]
+            if np.hypot(*(ring[w] - f)) <= alpha:
+                continue
             chord = end if other == (end + 1) % n else other
-            added.setdefault(chord, {})[w] = from_start
-    if not added:
-        return samples
-    rows = []
-    for k in range(n):
-        rows.append(samples[k:k + 1])
-        if k in added:
-            rows.append(ring[sorted(added[k], key=added[k].get)])
-    return np.concatenate(rows)
+            if np.hypot(*(ring[w] - e)) < 0.3 * alpha:
+                beside = samples[(2 * end - other) % n]             # e's other neighbour
+                # onto the last vertex of the reflex run from w, as far as f stays alpha
+                # away and e's other chord at most √3 alpha long
+                step = 1 if other == (end + 1) % n else -1
+                k = (w + step) % len(ring)
+                while (turns[k] < 0 and chord_of[k] == chord
+                       and np.hypot(*(ring[k] - f)) >= alpha
+                       and np.hypot(*(ring[k] - beside)) <= _LONGEST * alpha):
+                    w, k = k, (k + step) % len(ring)
+                if (alpha <= np.hypot(*(ring[w] - beside)) <= _LONGEST * alpha
+                        and not move_uncovers(samples, end, other, w, ring, found, alpha)):
+                    samples[end], moved = ring[w], True
+                    continue
+                # e cannot move: the reflex vertex of the arc nearest e but 0.3 alpha away
+                near = reflex[chord_of[reflex] == chord]
+                away = np.hypot(*(ring[near] - e).T)
+                near, away = near[away >= 0.3 * alpha], away[away >= 0.3 * alpha]
+                if not len(near):
+                    continue
+                w = near[np.argmin(away)]
+            if np.hypot(*(ring[w] - f)) >= 0.3 * alpha:
+                added.setdefault(chord, set()).add(w)
+        if not (added or moved):
+            return samples
+        rows = []
+        for k in range(n):
+            rows.append(samples[k:k + 1])
+            if k in added:
+                order = np.argsort([np.hypot(*(ring[w] - samples[k])) for w in added[k]])
+                rows.append(ring[np.array(sorted(added[k]))[order]])
+        samples = np.concatenate(rows)
+    return samples
 
 
 def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
@@ -589,6 +636,158 @@ def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
             if added:
                 ring_xy[r] = np.insert(xy, [k for k, _ in added], [v for _, v in added], axis=0)
     return ring_xy
+
+
+def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
+    """Each ring's boundary samples (``ring_xy``, in order along ``rings``) with a rung
+    added to every chord that a sample across a wall thinner than alpha blocks: the
+    point of the chord's arc nearest that sample.
+
+    A chord ab of length L is an edge of a triangle of circumradius <= alpha only if no
+    sample p it sees lies in its *lens*, the part on the region's side of the disc of
+    radius alpha through a and b whose centre lies beyond the chord: the constrained
+    Delaunay triangle on ab is the first circle through a and b that reaches a sample,
+    and reaching p inside the lens takes a circle larger than alpha. Inside the region
+    only a boundary sample across a wall thinner than alpha - L/2·cot can be there (the
+    lens is within alpha of a or b when L <= √3 alpha, where the guards and interior
+    samples are not). On a held-out bolted plate at a fixed alpha the wall between a
+    bolt hole and the plate's edge was 0.33 alpha, the hole's chord 1.7 alpha and the
+    edge's sample across its middle; the chord was left unjoined. With the rung m the
+    sample is across m, at the end of both new chords, each then joined by a triangle
+    of circumradius about half its diagonal, as on a spike's ladder (:func:`_ladders`);
+    the pairs closer than alpha are itemised small-ring and thin-wall exceptions.
+
+    Examples
+    --------
+    >>> plate = np.array([[0, 0], [4, 0], [4, 2], [0, 2]], float)
+    >>> hole = np.array([[1, 0.3], [1, 1], [3, 1], [3, 0.3]], float)   # 0.3 from the edge
+    >>> edge = np.array([[0, 0], [1.6, 0], [3.2, 0], [4, 0], [4, 2], [2, 2], [0, 2]])
+    >>> xy = _rungs_across_walls([edge, hole], [plate, hole], 1.0)
+    >>> xy[0][:5].round(6).tolist()     # a rung across the hole's corner (1, 0.3)
+    [[0.0, 0.0], [1.0, 0.0], [1.6, 0.0], [3.2, 0.0], [4.0, 0.0]]
+    """
+    ring_xy = [np.asarray(xy, float) for xy in ring_xy]
+    for _ in range(passes):
+        points, index = joined(ring_xy)
+        first, second = chord_ends(index)
+        a, b = points[first], points[second]
+        along_chord = b - a
+        length = np.hypot(*along_chord.T)
+        middle = 0.5 * (a + b)
+        near = cKDTree(points).query_ball_point(middle, 0.5 * length)  # holds every lens
+        chord = np.repeat(np.arange(len(a)), [len(k) for k in near])
+        if not len(chord):
+            break
+        p = np.concatenate(near).astype(np.int64)
+        off = (p != first[chord]) & (p != second[chord])
+        chord, p = chord[off], p[off]
+        unit = along_chord[chord] / length[chord, None]
+        rel = (points[p] - middle[chord]) / alpha                    # in units of alpha
+        x = rel[:, 0] * unit[:, 0] + rel[:, 1] * unit[:, 1]
+        y = rel[:, 1] * unit[:, 0] - rel[:, 0] * unit[:, 1]          # left: the region's side
+        below = np.sqrt(np.maximum(1 - (0.5 * length[chord] / alpha) ** 2, 0.0))
+        depth = (1 - 1e-9) - x ** 2 - (y + below) ** 2
+        blocked = (y > RESOLUTION) & (depth > 0)
+        seer = points[p[blocked]]
+        blocked[blocked] = (_sees(seer, a[chord[blocked]], rings)
+                            & _sees(seer, b[chord[blocked]], rings))
+        if not blocked.any():
+            break
+        chord, p, depth = chord[blocked], p[blocked], depth[blocked]
+        order = np.lexsort((-depth, chord))                   # the deepest one per chord
+        chord, p = chord[order], p[order]
+        keep = np.append(True, chord[1:] != chord[:-1])
+        rungs = {}
+        for k, q in zip(chord[keep], p[keep]):
+            r = int(np.searchsorted(np.cumsum([len(i) for i in index]), k, side="right"))
+            rungs.setdefault(r, []).append((k - index[r][0], points[q]))
+        for r, found in rungs.items():
+            xy, ring = ring_xy[r], rings[r]
+            owner, offset, _ = vertex_chords(xy, ring)
+            added = []
+            for k, q in found:
+                arc = np.vstack([xy[k], ring[owner == k][np.argsort(offset[owner == k])],
+                                 xy[(k + 1) % len(xy)]])
+                m = _nearest_on_polyline(arc, q)
+                if min(np.hypot(*(m - arc[0])), np.hypot(*(m - arc[-1]))) > RESOLUTION * alpha:
+                    added.append((k + 1, m))
+            if added:
+                ring_xy[r] = np.insert(xy, [k for k, _ in added], [m for _, m in added], axis=0)
+    return ring_xy
+
+
+def _sees(p, q, rings) -> np.ndarray:
+    """Whether each point p sees its point q: the open segment meets no ring."""
+    tree = shapely.STRtree(np.array([shapely.linearrings(ring) for ring in rings]))
+    shrink = 1e-9 * (q - p)
+    lines = shapely.linestrings(np.stack([p + shrink, q - shrink], axis=1))
+    seen = np.ones(len(p), bool)
+    seen[tree.query(lines, predicate="intersects")[0]] = False
+    return seen
+
+
+def _guards_halved(ring_xy, region, alpha) -> list:
+    """Each ring's boundary samples (``ring_xy``, in order along ``region.rings``) with the
+    middle of its arc added to every chord longer than √3 alpha that no guard can keep:
+    each of its guard candidates (:func:`.boundary_sampling.bisector_guards`) is within
+    alpha of a boundary sample that sees it, or outside the region.
+
+    Such a chord is a mesh edge only with a third sample in the thin crescent where its
+    triangle has circumradius <= alpha, and its guard at height alpha is what puts one
+    there and keeps the darts out of the lens below (docs/conforming.md, "Why
+    consecutive boundary samples are mesh edges"). Where the region is not much wider
+    than alpha across the chord, the boundary samples across block every guard: the jaw
+    of wrench.dxf at alpha = extent / 20 had two chords of 1.998 alpha, a dart in each
+    lens and neither chord joined. Halved, the chord's two parts (just under alpha, a
+    small-ring exception) need no guard.
+
+    Examples
+    --------
+    >>> slot = np.array([[0, 0], [1.9, 0], [1.9, 1.0], [0, 1.0]], float)   # 1 wide
+    >>> xy = _guards_halved([slot], Region.from_shapely(shapely.Polygon(slot)), 1.0)
+    >>> xy[0].round(6).tolist()   # every guard of the 1.9 sides is within 1 of a corner
+    [[0.0, 0.0], [0.95, 0.0], [1.9, 0.0], [1.9, 1.0], [0.95, 1.0], [0.0, 1.0]]
+    """
+    points, index = joined(ring_xy)
+    first, second = chord_ends(index)
+    a, b = points[first], points[second]
+    long = np.flatnonzero(np.hypot(*(b - a).T) > math.sqrt(3) * alpha)
+    if not len(long):
+        return ring_xy
+    guards = bisector_guards(a[long], b[long], np.full(len(long), alpha))
+    levels = guards.shape[0]
+    at = guards.reshape(-1, 2)
+    rings = region.rings
+    free = shapely.contains_xy(region.geometry, at[:, 0], at[:, 1])
+    near = cKDTree(points).query_ball_point(at, alpha * (1 - 1e-12))
+    guard = np.repeat(np.arange(len(at)), [len(k) for k in near])
+    seer = np.concatenate(near).astype(np.int64)
+    seen = _sees(at[guard], points[seer], rings)
+    free[guard[seen]] = False
+    blocked = long[~free.reshape(levels, -1).any(axis=0)]
+    if not len(blocked):
+        return ring_xy
+    ring_xy = list(ring_xy)
+    sizes = np.cumsum([len(k) for k in index])
+    for r in np.unique(np.searchsorted(sizes, blocked, side="right")):
+        ring, xy = rings[r], ring_xy[r]
+        line = shapely.LineString(np.vstack([ring, ring[:1]]))
+        place = shapely.line_locate_point(line, shapely.points(xy))
+        k = blocked[np.searchsorted(sizes, blocked, side="right") == r] - index[r][0]
+        span = (place[(k + 1) % len(xy)] - place[k]) % line.length
+        middle = shapely.get_coordinates(shapely.line_interpolate_point(
+            line, (place[k] + span / 2) % line.length))
+        ring_xy[r] = np.insert(xy, k + 1, middle, axis=0)
+    return ring_xy
+
+
+def _nearest_on_polyline(polyline, q) -> np.ndarray:
+    """The point of ``polyline`` (its vertices in order) nearest to the point ``q``."""
+    start, step = polyline[:-1], np.diff(polyline, axis=0)
+    t = np.clip(np.einsum("ij,ij->i", q - start, step)
+                / np.maximum(np.einsum("ij,ij->i", step, step), 1e-300), 0.0, 1.0)
+    foot = start + t[:, None] * step
+    return foot[np.argmin(np.hypot(*(foot - q).T))]
 
 
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
@@ -772,12 +971,16 @@ class _Sampler:
                      else (_INFLECTION_APART, _INFLECTION_APART))
             ring_xy = [along(*ring_positions(ring, turning_angles(ring), feature_angle,
                                                alpha, rng, apart)) for ring in self.region.rings]
-            if self.region.tolerance:
-                ring_xy = [_unhidden(xy, ring, turning_angles(ring), alpha)
-                           for xy, ring in zip(ring_xy, self.region.rings)]
+            ring_xy = [_unhidden(xy, ring, turning_angles(ring), alpha)
+                       for xy, ring in zip(ring_xy, self.region.rings)]
             ring_xy = _clear_of_other_rings(ring_xy, self.region.rings)
+            ring_xy = _rungs_across_walls(ring_xy, self.region.rings, alpha)
+            ring_xy = _guards_halved(ring_xy, self.region, alpha)
             ring_xy, self.sampled_region = onto_curves(    # chords stay in [1, √3) alpha
-                self.region, ring_xy, alpha, math.sqrt(3) * alpha * (1 - _FIRST_PART_MARGIN))
+                self.region, ring_xy, alpha, _LONGEST * alpha)
+            if self.sampled_region is not None:     # the samples' moves may hide bends
+                ring_xy = [_unhidden(xy, ring, turning_angles(ring), alpha)
+                           for xy, ring in zip(ring_xy, self.sampled_region.rings)]
         boundary, self.rings = joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
