@@ -33,7 +33,7 @@ from .boundary_curves import samples_onto_curves
 from .errors import ArgumentError, RegionError
 from .region import Region
 
-__all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends", "move_uncovers",
+__all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
            "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords",
            "vertex_chords", "hidden_bends"]
 
@@ -182,20 +182,6 @@ def hidden_bends(samples, ring, turns, tol):
     bends += [(span[k[i]] - along[i], (k[i] + 1) % n, k[i], vertex[i], along[i])
               for i in np.flatnonzero(last)]
     return sorted(bends, key=lambda bend: bend[0]), chord, reflex, beyond
-
-
-def move_uncovers(samples, end, other, w, ring, found, radius) -> bool:
-    """Whether moving chord end ``end`` (of ``samples``, the chord's far end ``other``)
-    onto the reflex vertex ``ring[w]`` would uncover a reflex vertex of its other chord
-    that it was the far end within r of (where that chord's arc reaches beyond it):
-    ``found`` is :func:`hidden_bends`' answer, ``radius`` is r or gives it at points."""
-    _, chord, reflex, beyond = found
-    n = len(samples)
-    beside = (end - 1) % n if other == (end + 1) % n else end
-    near = reflex[chord[reflex] == beside] if beyond[beside] else reflex[:0]
-    r = radius(ring[near]) if callable(radius) else radius
-    covered = np.hypot(*(ring[near] - samples[end]).T) <= r
-    return bool(np.any(covered & (np.hypot(*(ring[near] - ring[w]).T) > r)))
 
 
 def chord_ends(rings):

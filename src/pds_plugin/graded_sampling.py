@@ -34,7 +34,7 @@ from .errors import BudgetError
 from .region import Region, turning_angles
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
                                 graded_chords, guard_candidates, hidden_bends, joined,
-                                move_uncovers, onto_curves)
+                                onto_curves)
 from .sampling import DEFAULT_MAX_SAMPLES, Samples, check_rings_apart, corner_clearance
 from .sizing import RadiusField
 
@@ -435,10 +435,19 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     found = hidden_bends(samples, ring, turns, tol)
     if found is None:
         return samples
+    bends, chord, reflex, beyond = found
+    n = len(samples)
     samples = samples.copy()
-    for _, end, other, w, _ in found[0]:        # the shortest moves first
-        if (np.hypot(*(ring[w] - samples[other])) > radius(ring[w][None])[0]
-                and not move_uncovers(samples, end, other, w, ring, found, radius)):
+    for _, end, other, w, _ in bends:           # the shortest moves first
+        if np.hypot(*(ring[w] - samples[other])) <= radius(ring[w][None])[0]:
+            continue
+        # the reflex vertices of end's other chord that end covered as their far end
+        # must stay covered (an arc all on Q's side leaves nothing to cover)
+        beside = (end - 1) % n if other == (end + 1) % n else end
+        near = reflex[chord[reflex] == beside] if beyond[beside] else reflex[:0]
+        r = radius(ring[near])
+        before = np.hypot(*(ring[near] - samples[end]).T) <= r
+        if not np.any(before & (np.hypot(*(ring[near] - ring[w]).T) > r)):
             _move_onto(samples, end, ring[w], fixed, radius)
     return samples
 

@@ -43,8 +43,8 @@ from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_alpha, check_positive_int
 from .boundary_sampling import (RESOLUTION, along, bisector_guards, chord_ends,
-                                domain_of_rings, given_boundary, guard_candidates, hidden_bends, joined,
-                                move_uncovers, onto_curves, vertex_chords)
+                                domain_of_rings, given_boundary, guard_candidates,
+                                hidden_bends, joined, onto_curves, vertex_chords)
 from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
@@ -525,13 +525,14 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
     closer than alpha, itemised as a small-ring exception): moving e that far would take
     the chords beside it out of [alpha, √3 alpha]. On a held-out torus section e was 0.42
     alpha before a 1.8° reflex vertex and f 1.025 alpha from it: the wedge past w was
-    uncovered. Nearer to e, e moves onto w (as the graded sampler does), if its other
-    chord stays in [alpha, √3 alpha] and no reflex vertex that e covered is uncovered: on
-    MIL.svg at alpha = extent / 150 a sample on a fillet was 0.007 alpha before the
-    fillet's last vertex, and 1.09 alpha of the straight side past it, beyond the chord,
-    was seen from no sample. Where e cannot move, the arc's reflex vertex nearest e but
-    0.3 alpha from it is added instead (an S-bend of MIL.svg at extent / 60). Each added
-    sample makes new chords, so the search is repeated (``passes``).
+    uncovered. Nearer to e, e moves onto w or further along the run of reflex vertices
+    that w starts (:func:`_move_along_run`): on MIL.svg at alpha = extent / 150 a sample
+    on a fillet was 0.007 alpha before the fillet's last vertex, and 1.09 alpha of the
+    straight side past it, beyond the chord, was seen from no sample; on a gentle concave
+    stretch the run's vertices were 0.17 alpha apart, each hiding the next. Where e
+    cannot move, the arc's reflex vertex nearest e but 0.3 alpha from it is added
+    instead (an S-bend of MIL.svg at extent / 60). Each added sample makes new chords,
+    so the search is repeated (``passes``).
 
     Examples
     --------
@@ -553,18 +554,9 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
                 continue
             chord = end if other == (end + 1) % n else other
             if np.hypot(*(ring[w] - e)) < 0.3 * alpha:
-                beside = samples[(2 * end - other) % n]             # e's other neighbour
-                # onto the last vertex of the reflex run from w, as far as f stays alpha
-                # away and e's other chord at most √3 alpha long
-                step = 1 if other == (end + 1) % n else -1
-                k = (w + step) % len(ring)
-                while (turns[k] < 0 and chord_of[k] == chord
-                       and np.hypot(*(ring[k] - f)) >= alpha
-                       and np.hypot(*(ring[k] - beside)) <= _LONGEST * alpha):
-                    w, k = k, (k + step) % len(ring)
-                if (alpha <= np.hypot(*(ring[w] - beside)) <= _LONGEST * alpha
-                        and not move_uncovers(samples, end, other, w, ring, found, alpha)):
-                    samples[end], moved = ring[w], True
+                moved_to = _move_along_run(samples, end, other, w, ring, turns, chord_of, alpha)
+                if moved_to is not None:
+                    samples[end], moved = ring[moved_to], True
                     continue
                 # e cannot move: the reflex vertex of the arc nearest e but 0.3 alpha away
                 near = reflex[chord_of[reflex] == chord]
@@ -585,6 +577,40 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
                 rows.append(ring[np.array(sorted(added[k]))[order]])
         samples = np.concatenate(rows)
     return samples
+
+
+def _move_along_run(samples, end, other, w, ring, turns, chord_of, alpha):
+    """Where chord end ``end`` (of a ring's ``samples``; ``other`` the chord's far end)
+    moves along the run of reflex vertices from ``w`` towards the far end: the last
+    vertex of the run, or the one before it, and so on back to ``w``, that keeps the
+    end's other chord in [alpha, √3 alpha], the far end alpha away, and no part of the
+    ring at the moved end's two chords hidden from the end beside it and farther than
+    alpha from the other (:func:`_hides`). None where no vertex of the run does."""
+    n = len(samples)
+    step = 1 if other == (end + 1) % n else -1
+    beside = samples[(2 * end - other) % n]              # e's other neighbour
+    run, k = [w], (w + step) % len(ring)
+    while turns[k] < 0 and chord_of[k] == chord_of[w]:
+        run.append(k)
+        k = (k + step) % len(ring)
+    tried = samples.copy()
+    for v in reversed(run):
+        if not (alpha <= np.hypot(*(ring[v] - beside)) <= _LONGEST * alpha
+                and np.hypot(*(ring[v] - samples[other])) >= alpha):
+            continue
+        tried[end] = ring[v]
+        if not _hides(tried, ring, turns, alpha, end):
+            return v
+    return None
+
+
+def _hides(samples, ring, turns, alpha, k) -> bool:
+    """Whether a chord at sample ``k`` of a ring's ``samples`` hides part of the ring
+    from its end before a reflex vertex, the far end farther than alpha from that
+    vertex (:func:`.boundary_sampling.hidden_bends`)."""
+    found = hidden_bends(samples, ring, turns, 1e-9 * alpha)
+    return found is not None and any(
+        np.hypot(*(ring[w] - samples[f])) > alpha for _, e, f, w, _ in found[0] if k in (e, f))
 
 
 def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
@@ -689,8 +715,8 @@ def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
         depth = (1 - 1e-9) - x ** 2 - (y + below) ** 2
         blocked = (y > RESOLUTION) & (depth > 0)
         seer = points[p[blocked]]
-        blocked[blocked] = (_sees(seer, a[chord[blocked]], rings)
-                            & _sees(seer, b[chord[blocked]], rings))
+        blocked[blocked] = (_sees(seer, a[chord[blocked]], ring_xy)
+                            & _sees(seer, b[chord[blocked]], ring_xy))
         if not blocked.any():
             break
         chord, p, depth = chord[blocked], p[blocked], depth[blocked]
@@ -716,14 +742,27 @@ def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
     return ring_xy
 
 
-def _sees(p, q, rings) -> np.ndarray:
-    """Whether each point p sees its point q: the open segment meets no ring."""
-    tree = shapely.STRtree(np.array([shapely.linearrings(ring) for ring in rings]))
+def _sees(p, q, ring_xy) -> np.ndarray:
+    """Whether each point p sees its point q through the chords between the boundary
+    samples ``ring_xy`` (each ring's, in order), the boundary the complex conforms to:
+    the open segment meets no chord."""
+    tree = shapely.STRtree(shapely.linearrings(np.concatenate(ring_xy),
+                                               indices=np.repeat(np.arange(len(ring_xy)),
+                                                                 [len(xy) for xy in ring_xy])))
     shrink = 1e-9 * (q - p)
     lines = shapely.linestrings(np.stack([p + shrink, q - shrink], axis=1))
     seen = np.ones(len(p), bool)
     seen[tree.query(lines, predicate="intersects")[0]] = False
     return seen
+
+
+def _inside_chords(points, ring_xy) -> np.ndarray:
+    """Whether each point is inside the polygons of the chords between the boundary
+    samples ``ring_xy``: inside an odd number of them (holes lie in their outlines)."""
+    polygons = [shapely.Polygon(xy) for xy in ring_xy]
+    tree = shapely.STRtree(polygons)
+    point, ring = tree.query(shapely.points(points), predicate="within")
+    return np.bincount(point, minlength=len(points)) % 2 == 1
 
 
 def _guards_halved(ring_xy, region, alpha) -> list:
@@ -758,11 +797,11 @@ def _guards_halved(ring_xy, region, alpha) -> list:
     levels = guards.shape[0]
     at = guards.reshape(-1, 2)
     rings = region.rings
-    free = shapely.contains_xy(region.geometry, at[:, 0], at[:, 1])
+    free = _inside_chords(at, ring_xy)
     near = cKDTree(points).query_ball_point(at, alpha * (1 - 1e-12))
     guard = np.repeat(np.arange(len(at)), [len(k) for k in near])
     seer = np.concatenate(near).astype(np.int64)
-    seen = _sees(at[guard], points[seer], rings)
+    seen = _sees(at[guard], points[seer], ring_xy)
     free[guard[seen]] = False
     blocked = long[~free.reshape(levels, -1).any(axis=0)]
     if not len(blocked):
