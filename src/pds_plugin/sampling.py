@@ -616,14 +616,17 @@ def _hides(samples, ring, turns, alpha, k) -> bool:
 def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
     """Each ring's boundary samples (``ring_xy``, in order along ``rings``) with a ring
     vertex added to every chord that crosses another ring: the farthest of its arc's
-    vertices from the chord on the region's side (the bend the chord cuts across).
+    vertices from the chord on the region's side (the bend the chord cuts across), else
+    the farthest beyond it.
 
     A chord over a reflex bend leaves the region by the bend's sagitta. Where another
     ring is nearer than that (a boss 0.05 alpha from a tube's 20° bends, on a held-out
     section) the chord crosses into the other ring's material, the chord polygons
     overlap, and no mesh conforms to them: samples were left isolated and chords
-    unjoined. The vertex added is at most a chord from its neighbours; closer than alpha
-    to them, it is an itemised small-ring exception.
+    unjoined. A chord across a convex bend (a plate's rounded corner at an alpha larger
+    than the corner) crosses a hole near the bend instead: it gets the arc's vertex
+    farthest beyond it. The vertex added is at most a chord from its neighbours; closer
+    than alpha to them, it is an itemised small-ring exception.
 
     Examples
     --------
@@ -656,9 +659,12 @@ def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
                 - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
             added = []
             for k in crossing[owner[crossing] == r] - first[r]:
-                bend = np.flatnonzero((chord == k) & (offset > 0) & (height > 0))
-                if len(bend):       # the deepest bend the chord cuts across
-                    added.append((k + 1, ring[bend[np.argmax(height[bend])]]))
+                arc = np.flatnonzero((chord == k) & (offset > 0))
+                inside = arc[height[arc] > 0]
+                if len(inside):     # the deepest bend the chord cuts across
+                    added.append((k + 1, ring[inside[np.argmax(height[inside])]]))
+                elif len(arc):      # or the arc's farthest point beyond it
+                    added.append((k + 1, ring[arc[np.argmin(height[arc])]]))
             if added:
                 ring_xy[r] = np.insert(xy, [k for k, _ in added], [v for _, v in added], axis=0)
     return ring_xy
