@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import tempfile
 import warnings
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +27,7 @@ import pds_plugin as pds
 PLATES = 4
 
 
+@lru_cache(maxsize=None)
 def laser_drawing(seed: int) -> pds.Region:
     """Sheet ``seed``: :data:`PLATES` plates of 60-110 x 40-80 units, each with a grid of
     features at a random pitch, read back from DXF."""

@@ -20,6 +20,7 @@ import pds_plugin as pds
 from conftest import shared_file
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+from _drawings import laser_drawing  # noqa: E402
 from _hostile import betti, mesh_union  # noqa: E402
 
 
@@ -88,11 +89,34 @@ def test_long_chords_in_a_narrow_band_are_halved(band, seed):
     # a 4.4 alpha piece round a lobe's 0.4 alpha tip could not be cut into parts of
     # [1.5, √3] alpha: it was left one chord, cutting the whole lobe off (coverage 2 alpha,
     # or chords across the lobe not joined)
-    ("spline.DXF", 45, 1), ("spline.DXF", 60, 1)])
+    ("spline.DXF", 45, 1), ("spline.DXF", 60, 1),
+    # a letter's lobe with an S-bend, seen whole from neither chord end; a tab behind a
+    # scoop seen whole only from the end 1.23 alpha away: the lobe's tip is now sampled
+    ("MIL.svg", 30, 0), ("MIL.svg", 20, 1)])
 def test_drawings_at_a_fixed_alpha_are_certified(name, fraction, seed):
     path = shared_file(name)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")       # the drawings' stray strokes and texts
         region = pds.load_svg(path) if name.endswith(".svg") else pds.load_dxf(path)
+    extent = max(np.ptp(np.reshape(region.bounds, (2, 2)), axis=0))
+    assert_certified(region, extent / fraction, seed)
+
+
+@pytest.mark.parametrize("sheet, fraction, seed", [
+    # a hole by a plate's rounded corner: the chord across the corner crossed the hole
+    # and the hole opened to the outside; the chord now gets the corner's vertex
+    (0, 30, 0),
+    # a small hole's sample in the plate edge's lens, which it sees through the hole's
+    # chord triangle though the hole's own bottom vertex hides it from the edge
+    (3, 150, 0),
+    # a hole's sample that its move onto the exact circle took into the edge's lens
+    (0, 100, 0),
+    # a hole's sample in the lens of a chord across a rounded corner, nearest to the
+    # chord's end: its rung is the corner's point across from it, not the end
+    (3, 20, 1)])
+def test_laser_cut_sheets_at_a_fixed_alpha_are_certified(sheet, fraction, seed):
+    """Generated DXF sheets (bench/_drawings.py): 4 plates, 100-260 holes, slots and
+    hexagons, walls down to a tenth of a hole's radius."""
+    region = laser_drawing(sheet)
     extent = max(np.ptp(np.reshape(region.bounds, (2, 2)), axis=0))
     assert_certified(region, extent / fraction, seed)

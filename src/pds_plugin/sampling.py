@@ -515,6 +515,13 @@ def _clearances(corners, angle, guard, cum, closed, alpha):
     return after, before
 
 
+def _seen(samples, ring, alpha) -> np.ndarray:
+    """A ring's boundary samples with what hides part of the ring beyond a chord from
+    the chord's ends sampled (:func:`_unhidden`, :func:`_lobes_split`)."""
+    turns = turning_angles(ring)
+    return _lobes_split(_unhidden(samples, ring, turns, alpha), ring, turns, alpha)
+
+
 def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
     """A ring's boundary samples (in order along ``ring``, ``turns`` the turning angles
     at its vertices) with each reflex vertex w sampled that hides part of the ring beyond
@@ -579,23 +586,88 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
     return samples
 
 
+def _lobes_split(samples, ring, turns, alpha, passes=3) -> np.ndarray:
+    """A ring's boundary samples (in order along ``ring``, ``turns`` the turning angles at
+    its vertices) with a sample added to every chord whose arc lies all beyond it, bends
+    both ways, and is not seen whole within alpha from a chord end: the arc's vertex
+    farthest beyond the chord.
+
+    The region beyond such a chord, a lobe, is covered only by the samples that see it;
+    where its boundary bends back (a reflex vertex) an end may see only part of it. On
+    MIL.svg at alpha = extent / 30 a letter's lobe 1.5 alpha round with an S-bend was
+    seen whole from neither end ("not all seen from one of them"); at extent / 20 a tab
+    behind a scoop was seen whole only from the end 1.23 alpha from its corner. The
+    sample on its tip cuts it in two, each seen from the ends of its chord.
+
+    Examples
+    --------
+    >>> from .region import turning_angles
+    >>> ring = np.array([[0, -1], [1, -1], [1, 0], [1.5, 0.5], [1.2, 1.2], [0.5, 0.3],
+    ...                  [-0.2, 1.2], [-0.5, 0.5], [0, 0]], float)   # two lobes on a neck
+    >>> samples = ring[[0, 1, 2, 8]]
+    >>> _lobes_split(samples, ring, turning_angles(ring), 1.0)[3].tolist()
+    [1.2, 1.2]
+    """
+    tol = 1e-9 * alpha
+    for _ in range(passes):
+        n = len(samples)
+        chord, offset, _ = vertex_chords(samples, ring)
+        a, b = samples[chord], samples[(chord + 1) % n]
+        height = ((b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1])
+                  - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])) / np.maximum(
+                      np.hypot(*(b - a).T), 1e-300)
+        off_ends = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
+
+        def count(mask):
+            return np.bincount(chord[off_ends & mask], minlength=n)
+        lobes = np.flatnonzero((count(height < -tol) > 0) & (count(height > tol) == 0)
+                               & (count(turns < 0) > 0) & (count(turns > 0) > 0))
+        added = {}
+        for k in lobes:
+            on = np.flatnonzero((chord == k) & off_ends)
+            on = on[np.argsort(offset[on])]
+            piece = np.vstack([samples[k], ring[on], samples[(k + 1) % n]])
+            seers = [end for end in (piece[0], piece[-1]) if _star_shaped(piece, end, tol)]
+            if not seers or np.min([np.hypot(*(piece - end).T) for end in seers],
+                                   axis=0).max() > alpha:
+                added[k] = ring[on[np.argmin(height[on])]]
+        if not added:
+            return samples
+        keys = sorted(added)
+        samples = np.insert(samples, [k + 1 for k in keys], [added[k] for k in keys], axis=0)
+    return samples
+
+
+def _star_shaped(piece, point, tol) -> bool:
+    """Whether every point of the simple polygon ``piece`` sees ``point``: ``point`` is
+    on the inner side of every edge's line, up to ``tol``."""
+    edges = np.roll(piece, -1, axis=0) - piece
+    doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1)
+                     - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
+    to_point = point - piece
+    side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
+    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
+
+
 def _move_along_run(samples, end, other, w, ring, turns, chord_of, alpha):
     """Where chord end ``end`` (of a ring's ``samples``; ``other`` the chord's far end)
     moves along the run of reflex vertices from ``w`` towards the far end: the last
     vertex of the run, or the one before it, and so on back to ``w``, that keeps the
-    end's other chord in [alpha, √3 alpha], the far end alpha away, and no part of the
+    end's other chord in [alpha, √3 alpha] (or no shorter than it was), the far end
+    alpha away, and no part of the
     ring at the moved end's two chords hidden from the end beside it and farther than
     alpha from the other (:func:`_hides`). None where no vertex of the run does."""
     n = len(samples)
     step = 1 if other == (end + 1) % n else -1
     beside = samples[(2 * end - other) % n]              # e's other neighbour
+    shortest = min(alpha, np.hypot(*(samples[end] - beside)))     # not shorter than it was
     run, k = [w], (w + step) % len(ring)
     while turns[k] < 0 and chord_of[k] == chord_of[w]:
         run.append(k)
         k = (k + step) % len(ring)
     tried = samples.copy()
     for v in reversed(run):
-        if not (alpha <= np.hypot(*(ring[v] - beside)) <= _LONGEST * alpha
+        if not (shortest <= np.hypot(*(ring[v] - beside)) <= _LONGEST * alpha
                 and np.hypot(*(ring[v] - samples[other])) >= alpha):
             continue
         tried[end] = ring[v]
@@ -673,7 +745,7 @@ def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
 def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
     """Each ring's boundary samples (``ring_xy``, in order along ``rings``) with a rung
     added to every chord that a sample across a wall thinner than alpha blocks: the
-    point of the chord's arc nearest that sample.
+    point of the chord's arc across from that sample.
 
     A chord ab of length L is an edge of a triangle of circumradius <= alpha only if no
     sample p it sees lies in its *lens*, the part on the region's side of the disc of
@@ -684,7 +756,9 @@ def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
     lens is within alpha of a or b when L <= √3 alpha, where the guards and interior
     samples are not). On a held-out bolted plate at a fixed alpha the wall between a
     bolt hole and the plate's edge was 0.33 alpha, the hole's chord 1.7 alpha and the
-    edge's sample across its middle; the chord was left unjoined. With the rung m the
+    edge's sample across its middle; the chord was left unjoined. The rung m is the
+    arc's point across from that sample along the chord (:func:`_across_from`; on a
+    rounded corner the nearest point would be the chord's end). With the rung m the
     sample is across m, at the end of both new chords, each then joined by a triangle
     of circumradius about half its diagonal, as on a spike's ladder (:func:`_ladders`);
     the pairs closer than alpha are itemised small-ring and thin-wall exceptions.
@@ -740,7 +814,7 @@ def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
             for k, q in found:
                 arc = np.vstack([xy[k], ring[owner == k][np.argsort(offset[owner == k])],
                                  xy[(k + 1) % len(xy)]])
-                m = _nearest_on_polyline(arc, q)
+                m = _across_from(arc, q)
                 if min(np.hypot(*(m - arc[0])), np.hypot(*(m - arc[-1]))) > RESOLUTION * alpha:
                     added.append((k + 1, m))
             if added:
@@ -826,13 +900,26 @@ def _guards_halved(ring_xy, region, alpha) -> list:
     return ring_xy
 
 
-def _nearest_on_polyline(polyline, q) -> np.ndarray:
-    """The point of ``polyline`` (its vertices in order) nearest to the point ``q``."""
-    start, step = polyline[:-1], np.diff(polyline, axis=0)
-    t = np.clip(np.einsum("ij,ij->i", q - start, step)
-                / np.maximum(np.einsum("ij,ij->i", step, step), 1e-300), 0.0, 1.0)
-    foot = start + t[:, None] * step
-    return foot[np.argmin(np.hypot(*(foot - q).T))]
+def _across_from(arc, q) -> np.ndarray:
+    """The point of ``arc`` (a polyline from a chord's first end to its second) across
+    from the point ``q``: where the arc first reaches q's place along the chord (its
+    projection); the arc's end nearest q if it never does.
+
+    Examples
+    --------
+    >>> corner = np.array([[0, 0], [1, 0.2], [1.5, 0.8], [1.6, 1.5]])   # a rounded corner
+    >>> _across_from(corner, np.array([0.5, 1.0])).round(3).tolist()
+    [1.118, 0.341]
+    """
+    direction = arc[-1] - arc[0]
+    along = (arc - arc[0]) @ direction / (direction @ direction)
+    place = (q - arc[0]) @ direction / (direction @ direction)
+    crossing = np.flatnonzero((along[:-1] - place) * (along[1:] - place) <= 0)
+    if not len(crossing):
+        return arc[0] if place < 0.5 else arc[-1]
+    i = crossing[0]
+    t = (place - along[i]) / (along[i + 1] - along[i]) if along[i + 1] != along[i] else 0.0
+    return arc[i] + t * (arc[i + 1] - arc[i])
 
 
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
@@ -1016,16 +1103,16 @@ class _Sampler:
                      else (_INFLECTION_APART, _INFLECTION_APART))
             ring_xy = [along(*ring_positions(ring, turning_angles(ring), feature_angle,
                                                alpha, rng, apart)) for ring in self.region.rings]
-            ring_xy = [_unhidden(xy, ring, turning_angles(ring), alpha)
-                       for xy, ring in zip(ring_xy, self.region.rings)]
+            ring_xy = [_seen(xy, ring, alpha) for xy, ring in zip(ring_xy, self.region.rings)]
             ring_xy = _clear_of_other_rings(ring_xy, self.region.rings)
             ring_xy = _rungs_across_walls(ring_xy, self.region.rings, alpha)
             ring_xy = _guards_halved(ring_xy, self.region, alpha)
             ring_xy, self.sampled_region = onto_curves(    # chords stay in [1, √3) alpha
                 self.region, ring_xy, alpha, _LONGEST * alpha)
-            if self.sampled_region is not None:     # the samples' moves may hide bends
-                ring_xy = [_unhidden(xy, ring, turning_angles(ring), alpha)
-                           for xy, ring in zip(ring_xy, self.sampled_region.rings)]
+            if self.sampled_region is not None:     # moved, they may hide bends, enter lenses
+                rings = self.sampled_region.rings
+                ring_xy = _rungs_across_walls(
+                    [_seen(xy, ring, alpha) for xy, ring in zip(ring_xy, rings)], rings, alpha)
         boundary, self.rings = joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
