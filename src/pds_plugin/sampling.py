@@ -561,12 +561,14 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
                 continue
             chord = end if other == (end + 1) % n else other
             if np.hypot(*(ring[w] - e)) < 0.3 * alpha:
-                moved_to = _move_along_run(samples, end, other, w, ring, turns, chord_of, alpha)
+                run, after = _reflex_run(samples, end, other, w, ring, turns, chord_of)
+                moved_to = _move_along_run(samples, end, other, run, ring, turns, alpha)
                 if moved_to is not None:
                     samples[end], moved = ring[moved_to], True
                     continue
-                # e cannot move: the reflex vertex of the arc nearest e but 0.3 alpha away
-                near = reflex[chord_of[reflex] == chord]
+                # e cannot move: the reflex vertex of the arc nearest e but 0.3 alpha away,
+                # or the vertex ending the run, where the ring turns back beyond the chord
+                near = np.union1d(reflex[chord_of[reflex] == chord], after)
                 away = np.hypot(*(ring[near] - e).T)
                 near, away = near[away >= 0.3 * alpha], away[away >= 0.3 * alpha]
                 if not len(near):
@@ -649,22 +651,28 @@ def _star_shaped(piece, point, tol) -> bool:
     return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
 
 
-def _move_along_run(samples, end, other, w, ring, turns, chord_of, alpha):
-    """Where chord end ``end`` (of a ring's ``samples``; ``other`` the chord's far end)
-    moves along the run of reflex vertices from ``w`` towards the far end: the last
-    vertex of the run, or the one before it, and so on back to ``w``, that keeps the
-    end's other chord in [alpha, √3 alpha] (or no shorter than it was), the far end
-    alpha away, and no part of the
-    ring at the moved end's two chords hidden from the end beside it and farther than
-    alpha from the other (:func:`_hides`). None where no vertex of the run does."""
-    n = len(samples)
-    step = 1 if other == (end + 1) % n else -1
-    beside = samples[(2 * end - other) % n]              # e's other neighbour
-    shortest = min(alpha, np.hypot(*(samples[end] - beside)))     # not shorter than it was
+def _reflex_run(samples, end, other, w, ring, turns, chord_of):
+    """The run of reflex vertices of a chord's arc that starts at ``w`` and goes on
+    towards the chord's far end ``other`` from ``end``, and the arc's vertex that ends it
+    (empty where the arc ends first)."""
+    step = 1 if other == (end + 1) % len(samples) else -1
     run, k = [w], (w + step) % len(ring)
     while turns[k] < 0 and chord_of[k] == chord_of[w]:
         run.append(k)
         k = (k + step) % len(ring)
+    return run, [k] if chord_of[k] == chord_of[w] else []
+
+
+def _move_along_run(samples, end, other, run, ring, turns, alpha):
+    """Where chord end ``end`` (of a ring's ``samples``; ``other`` the chord's far end)
+    moves along the ``run`` of reflex vertices towards the far end (:func:`_reflex_run`):
+    the last vertex of the run, or the one before it, and so on back to its first, that
+    keeps the end's other chord in [alpha, √3 alpha] (or no shorter than it was), the
+    far end alpha away, and no part of the ring at the moved end's two chords hidden
+    from the end beside it and farther than alpha from the other (:func:`_hides`).
+    None where no vertex of the run does."""
+    beside = samples[(2 * end - other) % len(samples)]              # e's other neighbour
+    shortest = min(alpha, np.hypot(*(samples[end] - beside)))     # not shorter than it was
     tried = samples.copy()
     for v in reversed(run):
         if not (shortest <= np.hypot(*(ring[v] - beside)) <= _LONGEST * alpha
