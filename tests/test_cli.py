@@ -300,11 +300,11 @@ def test_mil_svg_needs_no_plane_and_reports_lost_holes(tmp_path, capsys):
     assert entry["region"]["betti"] == [1, 8]            # ../shared/data/README.md
     assert entry["plane"] == {"origin": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0]}
     certificate = entry["certificate"]
-    # separation and Theorem 1 hold; the coverage of the slivers beyond chords at the
-    # small holes (about 1.6 alpha across, S-shaped sides) is measured from the chord
-    # ends that see them, and is over alpha at this coarse alpha (docs/conforming.md)
-    assert certificate["min_separation"] >= 1 - 1e-9 and certificate["quality_ok"]
-    assert certificate["topology_ok"]                    # a conforming mesh keeps the holes
+    # certified at this coarse alpha: the S-shaped sides of the small holes (about 1.6
+    # alpha across) get samples where a chord end does not see the region beyond its
+    # chord, each pair closer than alpha an itemised exception (docs/conforming.md,
+    # "Fixed alphas"); a conforming mesh keeps the holes
+    assert certificate["ok_with_exceptions"] and certificate["topology_ok"]
     # the paper's complex: 40 is too coarse for the small holes
     assert main([svg, "-o", tmp_path / "mil.ply", "--alpha", "40", "--report", report,
                  "--no-conforming"]) == 0
