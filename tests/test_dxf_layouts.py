@@ -5,7 +5,9 @@ The oracle is the same parts drawn alone in model space: reading the sheet must 
 region bit for bit, whatever the sheet format around it."""
 
 import math
+import sys
 import warnings
+from pathlib import Path
 
 import ezdxf
 import numpy as np
@@ -13,6 +15,9 @@ import pytest
 
 import pds_plugin as pds
 from pds_plugin import ArgumentError, RegionError, load_dxf
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+from _drawings import rounded_plate  # noqa: E402
 
 PAPER = (841.0, 594.0)                      # A1 landscape, millimetres
 MARGIN = 10.0
@@ -39,24 +44,13 @@ def draw_plates(doc, space, plates, holes):
         upper = k % 2
         x0, y0 = 40 + (k // 2) * 120.0, (90.0, 20.0)[upper]
         target = view if upper else space
-        _rounded_rectangle(target, x0, y0, width, height)
+        rounded_plate(target, x0, y0, width, height, CORNER)
         for j in range(count):
             target.add_circle((x0 + 10 + 12 * (j % columns), y0 + 10 + 12 * (j // columns)),
                               HOLE)
         area += width * height - (4 - math.pi) * CORNER**2 - count * math.pi * HOLE**2
     space.add_blockref("Drawing View1", (0, 300))
     return area
-
-
-def _rounded_rectangle(space, x0, y0, width, height):
-    r, x1, y1 = CORNER, x0 + width, y0 + height
-    space.add_line((x0 + r, y0), (x1 - r, y0))
-    space.add_line((x1, y0 + r), (x1, y1 - r))
-    space.add_line((x1 - r, y1), (x0 + r, y1))
-    space.add_line((x0, y1 - r), (x0, y0 + r))
-    for (cx, cy), start in [((x1 - r, y0 + r), 270), ((x1 - r, y1 - r), 0),
-                            ((x0 + r, y1 - r), 90), ((x0 + r, y0 + r), 180)]:
-        space.add_arc((cx, cy), r, start, start + 90)
 
 
 def draw_sheet_format(space, layer="0", paper=PAPER, trim=False):
