@@ -73,7 +73,8 @@ class Region:
         or 1e-7 of the extent (``PINCH_STEP``), the tolerance raised to that if smaller;
         and cracks thinner than half the tolerance (slits into the material, the seams
         of bodies an export left unmerged) are closed, which grows the region by at most
-        their width.
+        their width. The simplification then takes what is left of the tolerance, and at
+        least half of it (the tolerance raised by what healing took beyond half).
 
         Parameters
         ----------
@@ -142,8 +143,12 @@ class Region:
         geometry = shapely.orient_polygons(MultiPolygon(polygons))
         _check_scale(geometry)
         healed, moved = _healed(geometry, tolerance)
-        tolerance = max(tolerance, moved)
-        region = cls(_within_tolerance(healed, tolerance - moved), _checked_frame(frame),
+        # the simplification keeps at least half the tolerance where healing took more:
+        # closing a zigzag's tips vertex by vertex adds their widths up to the whole
+        # tolerance, and left the zigzag itself unsimplified (a held-out tube section)
+        simplify = max(tolerance - moved, tolerance / 2)
+        tolerance = max(tolerance, moved + simplify)
+        region = cls(_within_tolerance(healed, simplify), _checked_frame(frame),
                      tolerance, geometry, curves)
         if moved:
             region._healed = healed, moved
