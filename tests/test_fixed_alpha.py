@@ -42,7 +42,7 @@ def plate_with_hole_near_its_edge(wall):
 def test_walls_thinner_than_alpha_get_rungs(seed):
     """A wall 0.2 alpha thin between a hole and the plate's edge: a chord with a sample
     across the middle of its lens was left unjoined (seeds 8, 9 and 11), until the
-    chord gets a rung across from that sample (sampling._rungs_across_walls)."""
+    chord gets a rung across from that sample (boundary_rules._rungs_across_walls)."""
     assert_certified(plate_with_hole_near_its_edge(0.2), 1.0, seed)
 
 
@@ -64,7 +64,7 @@ def test_long_chords_in_a_narrow_band_are_halved(band, seed):
     1.35 alpha wide: every side is one chord (too short for two parts beside its
     corners), the outer ring's samples block all its guards, a dart fell into its lens
     and the chord was not joined, on every seed; halved, it needs no guard
-    (sampling._guards_halved)."""
+    (boundary_rules._guards_halved)."""
     t = np.linspace(0, 2 * np.pi, 6, endpoint=False) + 0.1
     hexagon = shapely.Polygon(np.column_stack([1.99 * np.cos(t), 1.99 * np.sin(t)]))
     disc = shapely.Point(0, 0).buffer(1.99 + band, quad_segs=64)
@@ -74,7 +74,7 @@ def test_long_chords_in_a_narrow_band_are_halved(band, seed):
 @pytest.mark.parametrize("name, fraction, seed", [
     # a sample on a fillet 0.007 alpha before the fillet's last vertex: 1.09 alpha of the
     # straight side past it, beyond the chord, was seen from no sample (it now moves
-    # onto the vertex, sampling._unhidden)
+    # onto the vertex, boundary_rules._unhidden)
     ("MIL.svg", 150, 0),
     # an S-bend whose reflex vertex was 0.17 alpha from the chord end, too close to add
     # and too far to move onto: the reflex vertex 0.3 alpha on is added

@@ -37,14 +37,14 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from scipy.spatial import cKDTree
 
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
+from . import boundary_rules
 from ._checks import check_alpha, check_positive_int
-from .boundary_sampling import (RESOLUTION, along, bisector_guards, chord_ends,
-                                domain_of_rings, given_boundary, guard_candidates,
-                                hidden_bends, joined, onto_curves, vertex_chords)
+from .boundary_rules import LONGEST_CHORD
+from .boundary_sampling import (RESOLUTION, along, domain_of_rings, given_boundary,
+                                guard_candidates, joined, onto_curves)
 from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
@@ -62,8 +62,6 @@ _CURVE_PASSES = 6     # boundary splits redone with longer arcs where a chord is
 _CROWDED_CELL = 256  # conforming refinement stops in a boundary cell with more open boxes
 _REFINEMENT_BOXES = 2  # and everywhere above this many boxes per cell of the region
 _MAX_CURVE_SCALE = 1.5  # the longest those arcs get, / alpha (they stay <= √3 alpha)
-_FIRST_PART_MARGIN = 1e-6  # first parts beside sharp corners stay this much below √3 alpha
-_LONGEST = math.sqrt(3) * (1 - _FIRST_PART_MARGIN)  # the longest chord the sampler makes / alpha
 STRAIGHT_TURN = 1e-9   # turns (radians) below this are straight: rounding, not a bend
 _INFLECTION_APART = 3.0  # inflections sampled only this far (/ alpha) from other breaks
 _NOISY_INFLECTION_APART = 1.5  # the same where the boundary is known up to a tolerance
@@ -299,7 +297,7 @@ def corner_clearance(angle, alpha):
     angle = np.asarray(angle, float)
     guard = np.where(angle < np.pi / 3, alpha / (2 * np.sin(np.maximum(angle, 1e-300) / 2)),
                      alpha)
-    return np.minimum(guard, _LONGEST * alpha)
+    return np.minimum(guard, LONGEST_CHORD * alpha)
 
 
 def _inflections(cum, turns, sharp, alpha, apart=_INFLECTION_APART,
@@ -515,421 +513,6 @@ def _clearances(corners, angle, guard, cum, closed, alpha):
     return after, before
 
 
-def _seen(samples, ring, alpha) -> np.ndarray:
-    """A ring's boundary samples with what hides part of the ring beyond a chord from
-    the chord's ends sampled (:func:`_unhidden`, :func:`_lobes_split`)."""
-    turns = turning_angles(ring)
-    return _lobes_split(_unhidden(samples, ring, turns, alpha), ring, turns, alpha)
-
-
-def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
-    """A ring's boundary samples (in order along ``ring``, ``turns`` the turning angles
-    at its vertices) with each reflex vertex w sampled that hides part of the ring beyond
-    a chord from the chord end e before it, where the far end f, the only one that sees
-    it, is farther than alpha from w (:func:`.boundary_sampling.hidden_bends`).
-
-    Where w is at least 0.3 alpha from e and f it is added as a sample of its own (a pair
-    closer than alpha, itemised as a small-ring exception): moving e that far would take
-    the chords beside it out of [alpha, √3 alpha]. On a held-out torus section e was 0.42
-    alpha before a 1.8° reflex vertex and f 1.025 alpha from it: the wedge past w was
-    uncovered. Nearer to e, e moves onto w or further along the run of reflex vertices
-    that w starts (:func:`_move_along_run`): on MIL.svg at alpha = extent / 150 a sample
-    on a fillet was 0.007 alpha before the fillet's last vertex, and 1.09 alpha of the
-    straight side past it, beyond the chord, was seen from no sample; on a gentle concave
-    stretch the run's vertices were 0.17 alpha apart, each hiding the next. Where e
-    cannot move, the arc's reflex vertex nearest e but 0.3 alpha from it is added
-    instead (an S-bend of MIL.svg at extent / 60). Each added sample makes new chords,
-    so the search is repeated (``passes``).
-
-    Examples
-    --------
-    >>> from .region import turning_angles
-    >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
-    >>> samples = np.array([[0, 0], [1.5, 0], [3, 0], [4, 0], [4, 1], [3.3, 1], [2.05, 1], [0, 1]])
-    >>> _unhidden(samples, ring, turning_angles(ring), 1.0)[6].tolist()   # onto (2, 1)
-    [2.0, 1.0]
-    """
-    for _ in range(passes):
-        found = hidden_bends(samples, ring, turns, 1e-9 * alpha)
-        if found is None:
-            return samples
-        bends, chord_of, reflex, _ = found
-        samples, n, added, moved = samples.copy(), len(samples), {}, False
-        for _, end, other, w, _ in bends:
-            e, f = samples[end], samples[other]
-            if np.hypot(*(ring[w] - f)) <= alpha:
-                continue
-            chord = end if other == (end + 1) % n else other
-            if np.hypot(*(ring[w] - e)) < 0.3 * alpha:
-                run, after = _reflex_run(samples, end, other, w, ring, turns, chord_of)
-                moved_to = _move_along_run(samples, end, other, run, ring, turns, alpha)
-                if moved_to is not None:
-                    samples[end], moved = ring[moved_to], True
-                    continue
-                # e cannot move: the reflex vertex of the arc nearest e but 0.3 alpha away,
-                # or the vertex ending the run, where the ring turns back beyond the chord
-                near = np.union1d(reflex[chord_of[reflex] == chord], after)
-                away = np.hypot(*(ring[near] - e).T)
-                near, away = near[away >= 0.3 * alpha], away[away >= 0.3 * alpha]
-                if not len(near):
-                    continue
-                w = near[np.argmin(away)]
-            if np.hypot(*(ring[w] - f)) >= 0.3 * alpha:
-                added.setdefault(chord, set()).add(w)
-        if not (added or moved):
-            return samples
-        rows = []
-        for k in range(n):
-            rows.append(samples[k:k + 1])
-            if k in added:
-                order = np.argsort([np.hypot(*(ring[w] - samples[k])) for w in added[k]])
-                rows.append(ring[np.array(sorted(added[k]))[order]])
-        samples = np.concatenate(rows)
-    return samples
-
-
-def _lobes_split(samples, ring, turns, alpha, passes=3) -> np.ndarray:
-    """A ring's boundary samples (in order along ``ring``, ``turns`` the turning angles at
-    its vertices) with a sample added to every chord whose arc lies all beyond it, bends
-    both ways, and is not seen whole within alpha from a chord end: the arc's vertex
-    farthest beyond the chord.
-
-    The region beyond such a chord, a lobe, is covered only by the samples that see it;
-    where its boundary bends back (a reflex vertex) an end may see only part of it. On
-    MIL.svg at alpha = extent / 30 a letter's lobe 1.5 alpha round with an S-bend was
-    seen whole from neither end ("not all seen from one of them"); at extent / 20 a tab
-    behind a scoop was seen whole only from the end 1.23 alpha from its corner. The
-    sample on its tip cuts it in two, each seen from the ends of its chord.
-
-    Examples
-    --------
-    >>> from .region import turning_angles
-    >>> ring = np.array([[0, -1], [1, -1], [1, 0], [1.5, 0.5], [1.2, 1.2], [0.5, 0.3],
-    ...                  [-0.2, 1.2], [-0.5, 0.5], [0, 0]], float)   # two lobes on a neck
-    >>> samples = ring[[0, 1, 2, 8]]
-    >>> _lobes_split(samples, ring, turning_angles(ring), 1.0)[3].tolist()
-    [1.2, 1.2]
-    """
-    tol = 1e-9 * alpha
-    for _ in range(passes):
-        n = len(samples)
-        chord, offset, _ = vertex_chords(samples, ring)
-        a, b = samples[chord], samples[(chord + 1) % n]
-        height = ((b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1])
-                  - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])) / np.maximum(
-                      np.hypot(*(b - a).T), 1e-300)
-        off_ends = (np.hypot(*(ring - a).T) > tol) & (np.hypot(*(ring - b).T) > tol)
-
-        def count(mask):
-            return np.bincount(chord[off_ends & mask], minlength=n)
-        lobes = np.flatnonzero((count(height < -tol) > 0) & (count(height > tol) == 0)
-                               & (count(turns < 0) > 0) & (count(turns > 0) > 0))
-        added = {}
-        for k in lobes:
-            on = np.flatnonzero((chord == k) & off_ends)
-            on = on[np.argsort(offset[on])]
-            piece = np.vstack([samples[k], ring[on], samples[(k + 1) % n]])
-            seers = [end for end in (piece[0], piece[-1]) if _star_shaped(piece, end, tol)]
-            if not seers or np.min([np.hypot(*(piece - end).T) for end in seers],
-                                   axis=0).max() > alpha:
-                added[k] = ring[on[np.argmin(height[on])]]
-        if not added:
-            return samples
-        keys = sorted(added)
-        samples = np.insert(samples, [k + 1 for k in keys], [added[k] for k in keys], axis=0)
-    return samples
-
-
-def _star_shaped(piece, point, tol) -> bool:
-    """Whether every point of the simple polygon ``piece`` sees ``point``: ``point`` is
-    on the inner side of every edge's line, up to ``tol``."""
-    edges = np.roll(piece, -1, axis=0) - piece
-    doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1)
-                     - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
-    to_point = point - piece
-    side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
-    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
-
-
-def _reflex_run(samples, end, other, w, ring, turns, chord_of):
-    """The run of reflex vertices of a chord's arc that starts at ``w`` and goes on
-    towards the chord's far end ``other`` from ``end``, and the arc's vertex that ends it
-    (empty where the arc ends first)."""
-    step = 1 if other == (end + 1) % len(samples) else -1
-    run, k = [w], (w + step) % len(ring)
-    while turns[k] < 0 and chord_of[k] == chord_of[w]:
-        run.append(k)
-        k = (k + step) % len(ring)
-    return run, [k] if chord_of[k] == chord_of[w] else []
-
-
-def _move_along_run(samples, end, other, run, ring, turns, alpha):
-    """Where chord end ``end`` (of a ring's ``samples``; ``other`` the chord's far end)
-    moves along the ``run`` of reflex vertices towards the far end (:func:`_reflex_run`):
-    the last vertex of the run, or the one before it, and so on back to its first, that
-    keeps the end's other chord in [alpha, √3 alpha] (or no shorter than it was), the
-    far end alpha away, and no part of the ring at the moved end's two chords hidden
-    from the end beside it and farther than alpha from the other (:func:`_hides`).
-    None where no vertex of the run does."""
-    beside = samples[(2 * end - other) % len(samples)]              # e's other neighbour
-    shortest = min(alpha, np.hypot(*(samples[end] - beside)))     # not shorter than it was
-    tried = samples.copy()
-    for v in reversed(run):
-        if not (shortest <= np.hypot(*(ring[v] - beside)) <= _LONGEST * alpha
-                and np.hypot(*(ring[v] - samples[other])) >= alpha):
-            continue
-        tried[end] = ring[v]
-        if not _hides(tried, ring, turns, alpha, end):
-            return v
-    return None
-
-
-def _hides(samples, ring, turns, alpha, k) -> bool:
-    """Whether a chord at sample ``k`` of a ring's ``samples`` hides part of the ring
-    from its end before a reflex vertex, the far end farther than alpha from that
-    vertex (:func:`.boundary_sampling.hidden_bends`)."""
-    found = hidden_bends(samples, ring, turns, 1e-9 * alpha)
-    return found is not None and any(
-        np.hypot(*(ring[w] - samples[f])) > alpha for _, e, f, w, _ in found[0] if k in (e, f))
-
-
-def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
-    """Each ring's boundary samples (``ring_xy``, in order along ``rings``) with a ring
-    vertex added to every chord that crosses another ring: the farthest of its arc's
-    vertices from the chord on the region's side (the bend the chord cuts across), else
-    the farthest beyond it.
-
-    A chord over a reflex bend leaves the region by the bend's sagitta. Where another
-    ring is nearer than that (a boss 0.05 alpha from a tube's 20° bends, on a held-out
-    section) the chord crosses into the other ring's material, the chord polygons
-    overlap, and no mesh conforms to them: samples were left isolated and chords
-    unjoined. A chord across a convex bend (a plate's rounded corner at an alpha larger
-    than the corner) crosses a hole near the bend instead: it gets the arc's vertex
-    farthest beyond it. The vertex added is at most a chord from its neighbours; closer
-    than alpha to them, it is an itemised small-ring exception.
-
-    Examples
-    --------
-    >>> notched = np.array([[0, 0], [3, 0], [3, 1], [1.5, 0.8], [0, 1]], float)
-    >>> pin = np.array([[1.4, 0.9], [1.6, 0.9], [1.5, 1.1]])   # a part in the notch
-    >>> xy = _clear_of_other_rings([notched[[0, 1, 2, 4]], pin], [notched, pin[::-1]])
-    >>> xy[0].tolist()
-    [[0.0, 0.0], [3.0, 0.0], [3.0, 1.0], [1.5, 0.8], [0.0, 1.0]]
-    """
-    if len(rings) < 2:
-        return ring_xy
-    ring_xy = [np.asarray(xy, float) for xy in ring_xy]
-    tree = shapely.STRtree(np.array([shapely.linearrings(ring) for ring in rings]))
-    for _ in range(passes):
-        ends = [np.stack([xy, np.roll(xy, -1, axis=0)], axis=1) for xy in ring_xy]
-        sizes = [len(e) for e in ends]
-        owner = np.repeat(np.arange(len(rings)), sizes)
-        first = np.concatenate([[0], np.cumsum(sizes)])
-        chord, other = tree.query(shapely.linestrings(np.concatenate(ends)),
-                                  predicate="intersects")
-        crossing = np.unique(chord[other != owner[chord]])
-        if not len(crossing):
-            break
-        for r in np.unique(owner[crossing]):
-            ring, xy = rings[r], ring_xy[r]
-            chord, offset, _ = vertex_chords(xy, ring)
-            a, b = xy[chord], np.roll(xy, -1, axis=0)[chord]
-            # each vertex's height over its chord, on the region's side (left)
-            height = (b[:, 0] - a[:, 0]) * (ring[:, 1] - a[:, 1]) \
-                - (b[:, 1] - a[:, 1]) * (ring[:, 0] - a[:, 0])
-            added = []
-            for k in crossing[owner[crossing] == r] - first[r]:
-                arc = np.flatnonzero((chord == k) & (offset > 0))
-                inside = arc[height[arc] > 0]
-                if len(inside):     # the deepest bend the chord cuts across
-                    added.append((k + 1, ring[inside[np.argmax(height[inside])]]))
-                elif len(arc):      # or the arc's farthest point beyond it
-                    added.append((k + 1, ring[arc[np.argmin(height[arc])]]))
-            if added:
-                ring_xy[r] = np.insert(xy, [k for k, _ in added], [v for _, v in added], axis=0)
-    return ring_xy
-
-
-def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
-    """Each ring's boundary samples (``ring_xy``, in order along ``rings``) with a rung
-    added to every chord that a sample across a wall thinner than alpha blocks: the
-    point of the chord's arc across from that sample.
-
-    A chord ab of length L is an edge of a triangle of circumradius <= alpha only if no
-    sample p it sees lies in its *lens*, the part on the region's side of the disc of
-    radius alpha through a and b whose centre lies beyond the chord: the constrained
-    Delaunay triangle on ab is the first circle through a and b that reaches a sample,
-    and reaching p inside the lens takes a circle larger than alpha. Inside the region
-    only a boundary sample across a wall thinner than alpha - L/2·cot can be there (the
-    lens is within alpha of a or b when L <= √3 alpha, where the guards and interior
-    samples are not). On a held-out bolted plate at a fixed alpha the wall between a
-    bolt hole and the plate's edge was 0.33 alpha, the hole's chord 1.7 alpha and the
-    edge's sample across its middle; the chord was left unjoined. The rung m is the
-    arc's point across from that sample along the chord (:func:`_across_from`; on a
-    rounded corner the nearest point would be the chord's end). With the rung m the
-    sample is across m, at the end of both new chords, each then joined by a triangle
-    of circumradius about half its diagonal, as on a spike's ladder (:func:`_ladders`);
-    the pairs closer than alpha are itemised small-ring and thin-wall exceptions.
-
-    Examples
-    --------
-    >>> plate = np.array([[0, 0], [4, 0], [4, 2], [0, 2]], float)
-    >>> hole = np.array([[1, 0.3], [1, 1], [3, 1], [3, 0.3]], float)   # 0.3 from the edge
-    >>> edge = np.array([[0, 0], [1.6, 0], [3.2, 0], [4, 0], [4, 2], [2, 2], [0, 2]])
-    >>> xy = _rungs_across_walls([edge, hole], [plate, hole], 1.0)
-    >>> xy[0][:5].round(6).tolist()     # a rung across the hole's corner (1, 0.3)
-    [[0.0, 0.0], [1.0, 0.0], [1.6, 0.0], [3.2, 0.0], [4.0, 0.0]]
-    """
-    ring_xy = [np.asarray(xy, float) for xy in ring_xy]
-    for _ in range(passes):
-        points, index = joined(ring_xy)
-        first, second = chord_ends(index)
-        a, b = points[first], points[second]
-        along_chord = b - a
-        length = np.hypot(*along_chord.T)
-        middle = 0.5 * (a + b)
-        near = cKDTree(points).query_ball_point(middle, 0.5 * length)  # holds every lens
-        chord = np.repeat(np.arange(len(a)), [len(k) for k in near])
-        if not len(chord):
-            break
-        p = np.concatenate(near).astype(np.int64)
-        off = (p != first[chord]) & (p != second[chord])
-        chord, p = chord[off], p[off]
-        unit = along_chord[chord] / length[chord, None]
-        rel = (points[p] - middle[chord]) / alpha                    # in units of alpha
-        x = rel[:, 0] * unit[:, 0] + rel[:, 1] * unit[:, 1]
-        y = rel[:, 1] * unit[:, 0] - rel[:, 0] * unit[:, 1]          # left: the region's side
-        below = np.sqrt(np.maximum(1 - (0.5 * length[chord] / alpha) ** 2, 0.0))
-        depth = (1 - 1e-9) - x ** 2 - (y + below) ** 2
-        blocked = (y > RESOLUTION) & (depth > 0)
-        seer = points[p[blocked]]
-        blocked[blocked] = (_sees(seer, a[chord[blocked]], ring_xy)
-                            & _sees(seer, b[chord[blocked]], ring_xy))
-        if not blocked.any():
-            break
-        chord, p, depth = chord[blocked], p[blocked], depth[blocked]
-        order = np.lexsort((-depth, chord))                   # the deepest one per chord
-        chord, p = chord[order], p[order]
-        keep = np.append(True, chord[1:] != chord[:-1])
-        rungs = {}
-        for k, q in zip(chord[keep], p[keep]):
-            r = int(np.searchsorted(np.cumsum([len(i) for i in index]), k, side="right"))
-            rungs.setdefault(r, []).append((k - index[r][0], points[q]))
-        for r, found in rungs.items():
-            xy, ring = ring_xy[r], rings[r]
-            owner, offset, _ = vertex_chords(xy, ring)
-            added = []
-            for k, q in found:
-                arc = np.vstack([xy[k], ring[owner == k][np.argsort(offset[owner == k])],
-                                 xy[(k + 1) % len(xy)]])
-                m = _across_from(arc, q)
-                if min(np.hypot(*(m - arc[0])), np.hypot(*(m - arc[-1]))) > RESOLUTION * alpha:
-                    added.append((k + 1, m))
-            if added:
-                ring_xy[r] = np.insert(xy, [k for k, _ in added], [m for _, m in added], axis=0)
-    return ring_xy
-
-
-def _sees(p, q, ring_xy) -> np.ndarray:
-    """Whether each point p sees its point q through the chords between the boundary
-    samples ``ring_xy`` (each ring's, in order), the boundary the complex conforms to:
-    the open segment meets no chord."""
-    tree = shapely.STRtree(shapely.linearrings(np.concatenate(ring_xy),
-                                               indices=np.repeat(np.arange(len(ring_xy)),
-                                                                 [len(xy) for xy in ring_xy])))
-    shrink = 1e-9 * (q - p)
-    lines = shapely.linestrings(np.stack([p + shrink, q - shrink], axis=1))
-    seen = np.ones(len(p), bool)
-    seen[tree.query(lines, predicate="intersects")[0]] = False
-    return seen
-
-
-def _inside_chords(points, ring_xy) -> np.ndarray:
-    """Whether each point is inside the polygons of the chords between the boundary
-    samples ``ring_xy``: inside an odd number of them (holes lie in their outlines)."""
-    polygons = [shapely.Polygon(xy) for xy in ring_xy]
-    tree = shapely.STRtree(polygons)
-    point, ring = tree.query(shapely.points(points), predicate="within")
-    return np.bincount(point, minlength=len(points)) % 2 == 1
-
-
-def _guards_halved(ring_xy, region, alpha) -> list:
-    """Each ring's boundary samples (``ring_xy``, in order along ``region.rings``) with the
-    middle of its arc added to every chord longer than √3 alpha that no guard can keep:
-    each of its guard candidates (:func:`.boundary_sampling.bisector_guards`) is within
-    alpha of a boundary sample that sees it, or outside the region.
-
-    Such a chord is a mesh edge only with a third sample in the thin crescent where its
-    triangle has circumradius <= alpha, and its guard at height alpha is what puts one
-    there and keeps the darts out of the lens below (docs/conforming.md, "Why
-    consecutive boundary samples are mesh edges"). Where the region is not much wider
-    than alpha across the chord, the boundary samples across block every guard: the jaw
-    of wrench.dxf at alpha = extent / 20 had two chords of 1.998 alpha, a dart in each
-    lens and neither chord joined. Halved, the chord's two parts (just under alpha, a
-    small-ring exception) need no guard.
-
-    Examples
-    --------
-    >>> slot = np.array([[0, 0], [1.9, 0], [1.9, 1.0], [0, 1.0]], float)   # 1 wide
-    >>> xy = _guards_halved([slot], Region.from_shapely(shapely.Polygon(slot)), 1.0)
-    >>> xy[0].round(6).tolist()   # every guard of the 1.9 sides is within 1 of a corner
-    [[0.0, 0.0], [0.95, 0.0], [1.9, 0.0], [1.9, 1.0], [0.95, 1.0], [0.0, 1.0]]
-    """
-    points, index = joined(ring_xy)
-    first, second = chord_ends(index)
-    a, b = points[first], points[second]
-    long = np.flatnonzero(np.hypot(*(b - a).T) > math.sqrt(3) * alpha)
-    if not len(long):
-        return ring_xy
-    guards = bisector_guards(a[long], b[long], np.full(len(long), alpha))
-    levels = guards.shape[0]
-    at = guards.reshape(-1, 2)
-    rings = region.rings
-    free = _inside_chords(at, ring_xy)
-    near = cKDTree(points).query_ball_point(at, alpha * (1 - 1e-12))
-    guard = np.repeat(np.arange(len(at)), [len(k) for k in near])
-    seer = np.concatenate(near).astype(np.int64)
-    seen = _sees(at[guard], points[seer], ring_xy)
-    free[guard[seen]] = False
-    blocked = long[~free.reshape(levels, -1).any(axis=0)]
-    if not len(blocked):
-        return ring_xy
-    ring_xy = list(ring_xy)
-    sizes = np.cumsum([len(k) for k in index])
-    for r in np.unique(np.searchsorted(sizes, blocked, side="right")):
-        ring, xy = rings[r], ring_xy[r]
-        line = shapely.LineString(np.vstack([ring, ring[:1]]))
-        place = shapely.line_locate_point(line, shapely.points(xy))
-        k = blocked[np.searchsorted(sizes, blocked, side="right") == r] - index[r][0]
-        span = (place[(k + 1) % len(xy)] - place[k]) % line.length
-        middle = shapely.get_coordinates(shapely.line_interpolate_point(
-            line, (place[k] + span / 2) % line.length))
-        ring_xy[r] = np.insert(xy, k + 1, middle, axis=0)
-    return ring_xy
-
-
-def _across_from(arc, q) -> np.ndarray:
-    """The point of ``arc`` (a polyline from a chord's first end to its second) across
-    from the point ``q``: where the arc first reaches q's place along the chord (its
-    projection); the arc's end nearest q if it never does.
-
-    Examples
-    --------
-    >>> corner = np.array([[0, 0], [1, 0.2], [1.5, 0.8], [1.6, 1.5]])   # a rounded corner
-    >>> _across_from(corner, np.array([0.5, 1.0])).round(3).tolist()
-    [1.118, 0.341]
-    """
-    direction = arc[-1] - arc[0]
-    along = (arc - arc[0]) @ direction / (direction @ direction)
-    place = (q - arc[0]) @ direction / (direction @ direction)
-    crossing = np.flatnonzero((along[:-1] - place) * (along[1:] - place) <= 0)
-    if not len(crossing):
-        return arc[0] if place < 0.5 else arc[-1]
-    i = crossing[0]
-    t = (place - along[i]) / (along[i + 1] - along[i]) if along[i + 1] != along[i] else 0.0
-    return arc[i] + t * (arc[i + 1] - arc[i])
-
-
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
     """The positions ``at`` with the middle of every piece added whose chord is 2 alpha or
     longer: no triangle of circumradius <= alpha has such an edge, and the sample at its
@@ -1111,16 +694,11 @@ class _Sampler:
                      else (_INFLECTION_APART, _INFLECTION_APART))
             ring_xy = [along(*ring_positions(ring, turning_angles(ring), feature_angle,
                                                alpha, rng, apart)) for ring in self.region.rings]
-            ring_xy = [_seen(xy, ring, alpha) for xy, ring in zip(ring_xy, self.region.rings)]
-            ring_xy = _clear_of_other_rings(ring_xy, self.region.rings)
-            ring_xy = _rungs_across_walls(ring_xy, self.region.rings, alpha)
-            ring_xy = _guards_halved(ring_xy, self.region, alpha)
+            ring_xy = boundary_rules.before_curves(ring_xy, self.region, alpha)
             ring_xy, self.sampled_region = onto_curves(    # chords stay in [1, √3) alpha
-                self.region, ring_xy, alpha, _LONGEST * alpha)
-            if self.sampled_region is not None:     # moved, they may hide bends, enter lenses
-                rings = self.sampled_region.rings
-                ring_xy = _rungs_across_walls(
-                    [_seen(xy, ring, alpha) for xy, ring in zip(ring_xy, rings)], rings, alpha)
+                self.region, ring_xy, alpha, LONGEST_CHORD * alpha)
+            if self.sampled_region is not None:
+                ring_xy = boundary_rules.after_curves(ring_xy, self.sampled_region.rings, alpha)
         boundary, self.rings = joined(ring_xy)
         self._reserve(len(boundary))
         # the sampler asks only about points within alpha of a sample (conflicts, and
