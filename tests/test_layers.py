@@ -6,8 +6,7 @@ layers of the README's Layout section:
 
     kernels, errors, checks -> region, boundary curves -> the stages' shared modules
     (boundary sampling, local complex) -> boundary rules -> sampling, complex, sizing ->
-    graded sampling and
-    complex -> mesh -> analysis, tags, quadratic
+    graded sampling and complex -> mesh -> analysis, tags, quadratic
     -> pipeline -> sources, sinks, partition -> workflows, batch, remeshing -> cli
     -> the package's lazy names
 """
