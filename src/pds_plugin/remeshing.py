@@ -33,7 +33,8 @@ from shapely.geometry import Polygon
 
 from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
-from .partition import (Frame, InterfaceReport, chain_sample_radii, graded_sample_chains,
+from .partition import (Frame, InterfaceReport, agreeing_fields, chain_sample_radii,
+                        graded_sample_chains,
                         interface_report, junction_fields, mesh_part, sample_chains,
                         with_sample_cones)
 from .region import check_tolerance, turning_angles
@@ -283,9 +284,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         pinned = np.flatnonzero(on_kept).tolist()
         if graded:
             own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
+            own = agreeing_fields(rings, frames, own, pinned)
             chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
                                           seed=seed, pinned=pinned)
-            sizes = chain_sample_radii(chains, frames, own)
+            sizes = _agreeing_sizes(chains, frames, own, chain_sample_radii(chains, frames, own))
         else:
             chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed,
                                    pinned=pinned)
@@ -328,6 +330,38 @@ def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes
     mesh, joined = mesh_part(patch.region, alpha, given, seed, field=field, **options)
     cache[key] = mesh if joined else None
     return cache[key]
+
+
+def _agreeing_sizes(chains, frames, fields, sizes):
+    """The chain samples' radii ``sizes`` lowered until every patch's field with its
+    cones (:func:`_patch_mesh`) reads them at its own samples: at a sample s, the
+    smallest of its patches' fields combined with cones of ``sizes`` at their samples,
+    again until none is lower (to rounding). A cone of a patch's sample whose r another
+    patch lowered (a neighbour's finer field, a pair made apart) can reach the patch's
+    samples on other chains, which the patches beyond them do not see;
+    :func:`pds_plugin.partition.agreeing_fields` leaves that to the spacing of the
+    chains' dense points, and a chain sample's separation lowering
+    (:func:`pds_plugin.partition.chain_sample_radii`) to this. Then the patches read the
+    same r at every sample they share."""
+    ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
+    points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
+              for frame, i in zip(frames, ids)]
+    for _ in range(_AGREEMENT_ROUNDS):
+        lowest = sizes.copy()
+        for field, i, xy in zip(fields, ids, points):
+            np.minimum.at(lowest, i, with_sample_cones(field, xy, sizes[i])(xy))
+        lower = lowest < sizes * (1 - _AGREEMENT_TOL)
+        if not lower.any():
+            break
+        sizes = np.where(lower, lowest, sizes)
+    return sizes
+
+
+_AGREEMENT_ROUNDS = 16
+"""Rounds of :func:`_agreeing_sizes` at most (each carries a lowering across a patch)."""
+
+_AGREEMENT_TOL = 1e-9
+"""A sample's r read lower than this (relative) by another patch is rounding."""
 
 
 def _as_trimesh(mesh) -> "trimesh.Trimesh":
