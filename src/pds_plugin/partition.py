@@ -48,7 +48,8 @@ from .sizing import graded_request
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
-           "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii", "with_sample_cones",
+           "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii",
+           "with_sample_cones",
            "ChainSamples",
            "mesh_part", "interface_report", "InterfaceReport"]
 

@@ -54,8 +54,9 @@ defaults to about 1 % of it as well)."""
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
 _INSIDE = 1e-9          # a barycentric coordinate down to -this still puts a point in
 _CHECKED_CORNER = LADDER_ANGLE  # 33.56°: spikes that rings get mirror pairs at and graded
-# chains do not; a patch with a sharper corner is certified as it is meshed, and kept if
-# its certificate does not hold
+# chains do not; a patch with a sharper corner, or with a vertex that is one of another
+# patch's (:func:`_at_a_spike`), is certified as it is meshed, and kept if its certificate
+# does not hold
 
 KEEP_NARROWER = 1.0
 """A patch narrower than this many alpha (twice its area over its perimeter: a strip's
@@ -299,7 +300,9 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         # where no guard fits) is kept instead, and the chains sampled again without it;
         # so is a patch with a corner sharper than 33.56° whose certificate does not hold
         # (a spike where three faces meet: its legs' samples closer than the clearance)
-        joined = [mesh is not None and (not patch.sharp or mesh.certificate().ok_with_exceptions)
+        pointed = np.concatenate([p.corners for p in remeshed] + [np.zeros(0, np.int64)])
+        joined = [mesh is not None and (not _at_a_spike(patch, pointed)
+                                        or mesh.certificate().ok_with_exceptions)
                   for patch, mesh in zip(remeshed, meshes)]
         if all(joined):
             break
@@ -362,6 +365,17 @@ _AGREEMENT_ROUNDS = 16
 
 _AGREEMENT_TOL = 1e-9
 """A sample's r read lower than this (relative) by another patch is rounding."""
+
+
+def _at_a_spike(patch, pointed) -> bool:
+    """Is a corner of ``patch`` sharper than :data:`_CHECKED_CORNER`, or is one of its
+    vertices such a corner of another patch (``pointed``)? The chains leaving that
+    vertex keep their first part long, clear of the spike, with r there the smaller: in
+    a patch whose own corner is not sharp (random cut block 44: 90° beside a 32° spike)
+    that part is a chord longer than twice the r at its end, and the graded sampler
+    keeps out of its lens (limit the smaller end's r / (1 - L)) where the certificate
+    excuses only r(x) / (1 - L): a point between was 1.013 r from every sample."""
+    return bool(len(patch.corners)) or bool(np.isin(np.concatenate(patch.rings), pointed).any())
 
 
 def _as_trimesh(mesh) -> "trimesh.Trimesh":
@@ -428,7 +442,7 @@ class _Patch:
     frame: Frame
     region: object
     basis: tuple
-    sharp: bool = False
+    corners: np.ndarray
 
 
 def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
@@ -506,8 +520,9 @@ def _patch(vertices, faces, normals, areas, members, edges, Region):
                     for ring in region.rings]
     except KeyError:
         return None
-    sharp = min(float(np.min(np.pi - turning_angles(ring))) for ring in region.rings)
-    return _Patch(members, ring_ids, frame, region, basis, sharp < _CHECKED_CORNER)
+    corners = np.concatenate([ids[np.pi - turning_angles(ring) < _CHECKED_CORNER]
+                              for ids, ring in zip(ring_ids, region.rings)])
+    return _Patch(members, ring_ids, frame, region, basis, corners)
 
 
 def _manifold_patches(patches) -> list:
