@@ -288,13 +288,15 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             own = agreeing_fields(rings, frames, own, pinned)
             chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
                                           seed=seed, pinned=pinned)
-            sizes = _agreeing_sizes(chains, frames, own, chain_sample_radii(chains, frames, own))
+            sizes, coned = _agreeing_sizes(chains, frames, own,
+                                           chain_sample_radii(chains, frames, own))
         else:
             chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed,
                                    pinned=pinned)
-            sizes = None
+            sizes = coned = None
         meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache,
-                              own[k] if graded else None, sizes)
+                              own[k] if graded else None, sizes,
+                              coned[k] if graded else None)
                   for k, patch in enumerate(remeshed)]
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
@@ -311,13 +313,15 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                      len(patches), alpha, graded)
 
 
-def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None):
+def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None,
+                coned=None):
     """The mesh of patch ``k`` with its chains' samples, or None if its boundary edges
     are not exactly the chords between them (it would not join its neighbours) with any
     of the interiors :func:`pds_plugin.partition.mesh_part` draws. Graded: with its own
     ``field`` combined with cones of ``sizes`` at its chain samples
     (:func:`pds_plugin.partition.chain_sample_radii`), so that it reads the radius its
-    neighbours read at their shared samples.
+    neighbours read at their shared samples (``coned``: that field, made by
+    :func:`_agreeing_sizes`).
     ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
     change when another was dropped is not meshed again (the same mesh, bit for bit)."""
     ring_ids = chains.rings[k]
@@ -329,7 +333,7 @@ def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes
     if key in cache:
         return cache[key]
     if field is not None:
-        field = with_sample_cones(field, np.concatenate(given), sizes[ids])
+        field = coned
     mesh, joined = mesh_part(patch.region, alpha, given, seed, field=field, **options)
     cache[key] = mesh if joined else None
     return cache[key]
@@ -345,19 +349,24 @@ def _agreeing_sizes(chains, frames, fields, sizes):
     :func:`pds_plugin.partition.agreeing_fields` leaves that to the spacing of the
     chains' dense points, and a chain sample's separation lowering
     (:func:`pds_plugin.partition.chain_sample_radii`) to this. Then the patches read the
-    same r at every sample they share."""
+    same r at every sample they share. Returns the radii and, per patch, its field with
+    the cones (what :func:`_patch_mesh` meshes it with)."""
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
               for frame, i in zip(frames, ids)]
+    def coned_fields():
+        return [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
+
     for _ in range(_AGREEMENT_ROUNDS):
+        coned = coned_fields()
         lowest = sizes.copy()
-        for field, i, xy in zip(fields, ids, points):
-            np.minimum.at(lowest, i, with_sample_cones(field, xy, sizes[i])(xy))
+        for field, i, xy in zip(coned, ids, points):
+            np.minimum.at(lowest, i, field(xy))
         lower = lowest < sizes * (1 - _AGREEMENT_TOL)
         if not lower.any():
-            break
+            return sizes, coned
         sizes = np.where(lower, lowest, sizes)
-    return sizes
+    return sizes, coned_fields()
 
 
 _AGREEMENT_ROUNDS = 16
