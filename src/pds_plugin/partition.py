@@ -366,10 +366,10 @@ def _groups(labels):
     """(label, indices) for each label >= 0 of ``labels``, in increasing label order."""
     order = np.argsort(labels, kind="stable")
     ordered = labels[order]
-    cuts = np.flatnonzero(np.diff(ordered)) + 1
-    for at in np.split(order, cuts):
-        if len(at) and labels[at[0]] >= 0:
-            yield int(labels[at[0]]), at
+    cuts = np.concatenate([[0], np.flatnonzero(ordered[1:] != ordered[:-1]) + 1, [len(order)]])
+    for lo, hi in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
+        if hi > lo and ordered[lo] >= 0:
+            yield int(ordered[lo]), order[lo:hi]
 
 
 def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
