@@ -126,7 +126,8 @@ class Frame:
     def __getitem__(self, ids):
         ids = np.asarray(ids, dtype=np.int64)
         at = np.searchsorted(self.ids, ids)
-        if np.any(at >= len(self.ids)) or np.any(self.ids[np.minimum(at, len(self.ids) - 1)] != ids):
+        if ids.size and (not len(self.ids)
+                         or not np.array_equal(self.ids.take(at, mode="clip"), ids)):
             raise KeyError("a vertex outside this frame")
         return self.xy[at]
 
