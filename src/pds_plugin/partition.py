@@ -48,7 +48,8 @@ from .sizing import graded_request
 from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
-           "graded_sample_chains", "junction_fields", "chain_sample_radii", "with_sample_cones",
+           "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii",
+           "with_sample_cones",
            "ChainSamples",
            "mesh_part", "interface_report", "InterfaceReport"]
 
@@ -125,7 +126,8 @@ class Frame:
     def __getitem__(self, ids):
         ids = np.asarray(ids, dtype=np.int64)
         at = np.searchsorted(self.ids, ids)
-        if np.any(at >= len(self.ids)) or np.any(self.ids[np.minimum(at, len(self.ids) - 1)] != ids):
+        if ids.size and (not len(self.ids)
+                         or not np.array_equal(self.ids.take(at, mode="clip"), ids)):
             raise KeyError("a vertex outside this frame")
         return self.xy[at]
 
@@ -302,39 +304,44 @@ class _ChainSet:
         side = np.array([[s[0], s[1] if len(s) > 1 else -1] for s in sides], dtype=np.int64)
         self.side = side
         self.frames, self.fields = frames, fields
+        # every chain vertex in its owners' frames (side 0, side 1): one look-up per region
+        owners = np.repeat(side, self.count, axis=0)
+        self.corner = np.full((2, len(self.vertex), 2), np.nan)
+        for s in (0, 1):
+            for r, at in _groups(owners[:, s]):
+                self.corner[s, at] = frames[r][self.vertex[at]]
+
+    def read(self, cid, segment, t, side):
+        """The points in the frame of each one's owner ``side`` (0 or 1), and that
+        owner's r there (NaN and inf for chains with one owner)."""
+        following = np.where(self.closed[cid], (segment + 1) % self.count[cid],
+                             np.minimum(segment + 1, self.count[cid] - 1))
+        a = self.corner[side, self.offset[cid] + segment]
+        b = self.corner[side, self.offset[cid] + following]
+        xy = a + t[:, None] * (b - a)
+        radius = np.full(len(cid), np.inf)
+        for r, at in _groups(self.side[cid, side]):
+            radius[at] = self.fields[r](xy[at])
+        return xy, radius
 
     def evaluate(self, cid, segment, t):
         """The points in their chain's first owner's frame, and r there."""
-        following = np.where(self.closed[cid], (segment + 1) % self.count[cid],
-                             np.minimum(segment + 1, self.count[cid] - 1))
-        u = self.vertex[self.offset[cid] + segment]
-        v = self.vertex[self.offset[cid] + following]
-        point = np.concatenate([np.arange(len(cid)), np.flatnonzero(self.side[cid, 1] >= 0)])
-        region = np.concatenate([self.side[cid, 0], self.side[cid[point[len(cid):]], 1]])
-        order = np.argsort(region, kind="stable")
-        point, region = point[order], region[order]
-        starts = np.flatnonzero(np.diff(np.concatenate([[-1], region, [-2]])))
-        xy, radius = np.empty((len(cid), 2)), np.full(len(cid), np.inf)
-        for lo, hi in zip(starts[:-1], starts[1:]):
-            r, at = int(region[lo]), point[lo:hi]
-            frame = self.frames[r]
-            a, b = frame[u[at]], frame[v[at]]
-            p = a + t[at, None] * (b - a)
-            radius[at] = np.minimum(radius[at], self.fields[r](p))
-            first = self.side[cid[at], 0] == r
-            xy[at[first]] = p[first]
+        xy, radius = self.read(cid, segment, t, 0)
+        if np.any(self.side[cid, 1] >= 0):
+            radius = np.minimum(radius, self.read(cid, segment, t, 1)[1])
         return xy, radius
 
     def dense(self, grading):
         """Every chain's points: its vertices, and midpoints inserted until every part
         is at most 0.3 of the lowest r the field can have on it (as
         ``graded_sampling._tau_rings`` densifies rings); an open chain's last vertex is
-        (n - 1, 0). Returns (chain, segment, fraction), chain by chain in order."""
+        (n - 1, 0). Returns (chain, segment, fraction), chain by chain in order (each
+        round reads the fields at the inserted points only)."""
         cid = np.repeat(np.arange(len(self.count)), self.count)
         segment = np.arange(len(cid)) - np.repeat(self.offset, self.count)
         t = np.zeros(len(cid))
+        xy, radius = self.evaluate(cid, segment, t)
         for _ in range(60):
-            xy, radius = self.evaluate(cid, segment, t)
             last = np.append(cid[1:] != cid[:-1], True)
             following = np.arange(1, len(cid) + 1)
             first_of = np.flatnonzero(np.insert(cid[1:] != cid[:-1], 0, True))
@@ -346,10 +353,24 @@ class _ChainSet:
                 break
             k = np.flatnonzero(split)
             t_end = np.where(segment[following[k]] == segment[k], t[following[k]], 1.0)
-            cid = np.insert(cid, k + 1, cid[k])
-            segment = np.insert(segment, k + 1, segment[k])
-            t = np.insert(t, k + 1, 0.5 * (t[k] + t_end))
+            new = (cid[k], segment[k], 0.5 * (t[k] + t_end))
+            new_xy, new_radius = self.evaluate(*new)
+            cid = np.insert(cid, k + 1, new[0])
+            segment = np.insert(segment, k + 1, new[1])
+            t = np.insert(t, k + 1, new[2])
+            xy = np.insert(xy, k + 1, new_xy, axis=0)
+            radius = np.insert(radius, k + 1, new_radius)
         return cid, segment, t
+
+
+def _groups(labels):
+    """(label, indices) for each label >= 0 of ``labels``, in increasing label order."""
+    order = np.argsort(labels, kind="stable")
+    ordered = labels[order]
+    cuts = np.concatenate([[0], np.flatnonzero(ordered[1:] != ordered[:-1]) + 1, [len(order)]])
+    for lo, hi in zip(cuts[:-1].tolist(), cuts[1:].tolist()):
+        if hi > lo and ordered[lo] >= 0:
+            yield int(ordered[lo]), order[lo:hi]
 
 
 def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
@@ -609,6 +630,78 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
                       apart / (TAU_MARGIN * clearance[0]))
     return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
             for r, index in enumerate(held)]
+
+
+def agreeing_fields(rings, frames, fields, pinned=()) -> list:
+    """The regions' fields lowered until the regions that share a chain read the same r
+    along it, before :func:`graded_sample_chains` (regions in planes of their own, each
+    with its field: the patches of :func:`pds_plugin.remesh`).
+
+    A chain is cut with the smallest of its owners' fields, and each region is meshed
+    with its own field combined by min with cones at all its chain samples
+    (:func:`chain_sample_radii`). Where a neighbour's field is the smaller on one chain
+    of a region, those cones lower the region's field on its other chains too, below
+    the r they were cut with: a chord there is then longer than twice the region's r,
+    beside it the graded sampler places no sample (the chord's lens), and the point of
+    the chord between its ends is left uncovered (random cut block 6: a strip whose
+    lower chain's neighbour is fine, its upper chain cut at alpha). So, at the chains'
+    dense points (spacing at most 0.3 r, as the chain sampler's), each owner whose
+    field is above the smallest of the owners' gets a cone of that value there, again
+    until no owner is above (each round carries a lowering across one region). A
+    chain's points lie on both of its owners' boundaries, so the cone is the same
+    distance function in both planes along it. Fields that already agree are returned
+    as they are.
+
+    Returns
+    -------
+    list of RadiusField
+        Per region, its field (the same object where nothing was lowered).
+
+    Examples
+    --------
+    >>> from pds_plugin.sizing import RadiusField
+    >>> xy = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]], float)
+    >>> left, right = [np.array([0, 1, 4, 5])], [np.array([1, 2, 3, 4])]
+    >>> fine = RadiusField([[0.5, 0.5]], [0.05], grading=0.2, cap=0.4)
+    >>> coarse = RadiusField(np.zeros((0, 2)), [], grading=0.2, cap=0.4)
+    >>> a, b = agreeing_fields([left, right], [xy, xy], [fine, coarse])
+    >>> edge = np.column_stack([np.ones(5), np.linspace(0, 1, 5)])     # the shared chain
+    >>> bool(np.allclose(a(edge), b(edge), rtol=0.02)), a is fine
+    (True, True)
+    """
+    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+    owner, _ = _edge_owners(rings, frames)
+    chains = _chains(rings, owner, _junctions(owner, pinned))
+    sides = [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
+    shared = [c for c, s in enumerate(sides) if len(s) == 2]
+    fields = list(fields)
+    grading = max(field.grading for field in fields) if fields else 0.0
+    todo = shared
+    for _ in range(_AGREEMENT_ROUNDS):
+        if not todo:
+            break
+        chain_set = _ChainSet([chains[c] for c in todo], [sides[c] for c in todo], frames,
+                              fields)
+        cid, segment, t = chain_set.dense(grading)
+        reads = [chain_set.read(cid, segment, t, side) for side in (0, 1)]
+        lowest = np.minimum(reads[0][1], reads[1][1])
+        lowered = set()
+        for side, (xy, radius) in enumerate(reads):
+            above = radius > lowest * (1 + _AGREEMENT_TOL)
+            for r, at in _groups(np.where(above, chain_set.side[cid, side], -1)):
+                fields[r] = with_sample_cones(fields[r], xy[at], lowest[at])
+                lowered.add(r)
+        todo = [c for c in shared if lowered.intersection(sides[c])]
+    return fields
+
+
+_AGREEMENT_ROUNDS = 16
+"""Rounds of :func:`agreeing_fields` at most: a lowering reaches at most (cap - r) / L
+beyond its chain, a few regions."""
+
+_AGREEMENT_TOL = 1e-9
+"""Relative differences of the owners' r below this are rounding (the same point read
+in two planes), not a lowering."""
 
 
 def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:

@@ -33,7 +33,8 @@ from shapely.geometry import Polygon
 
 from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
-from .partition import (Frame, InterfaceReport, chain_sample_radii, graded_sample_chains,
+from .partition import (Frame, InterfaceReport, agreeing_fields, chain_sample_radii,
+                        graded_sample_chains,
                         interface_report, junction_fields, mesh_part, sample_chains,
                         with_sample_cones)
 from .region import check_tolerance, turning_angles
@@ -53,8 +54,9 @@ defaults to about 1 % of it as well)."""
 _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
 _INSIDE = 1e-9          # a barycentric coordinate down to -this still puts a point in
 _CHECKED_CORNER = LADDER_ANGLE  # 33.56°: spikes that rings get mirror pairs at and graded
-# chains do not; a patch with a sharper corner is certified as it is meshed, and kept if
-# its certificate does not hold
+# chains do not; a patch with a sharper corner, or with a vertex that is one of another
+# patch's (:func:`_at_a_spike`), is certified as it is meshed, and kept if its certificate
+# does not hold
 
 KEEP_NARROWER = 1.0
 """A patch narrower than this many alpha (twice its area over its perimeter: a strip's
@@ -283,21 +285,26 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         pinned = np.flatnonzero(on_kept).tolist()
         if graded:
             own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
+            own = agreeing_fields(rings, frames, own, pinned)
             chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
                                           seed=seed, pinned=pinned)
-            sizes = chain_sample_radii(chains, frames, own)
+            sizes, coned = _agreeing_sizes(chains, frames, own,
+                                           chain_sample_radii(chains, frames, own))
         else:
             chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed,
                                    pinned=pinned)
-            sizes = None
+            sizes = coned = None
         meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache,
-                              own[k] if graded else None, sizes)
+                              own[k] if graded else None, sizes,
+                              coned[k] if graded else None)
                   for k, patch in enumerate(remeshed)]
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
         # so is a patch with a corner sharper than 33.56° whose certificate does not hold
         # (a spike where three faces meet: its legs' samples closer than the clearance)
-        joined = [mesh is not None and (not patch.sharp or mesh.certificate().ok_with_exceptions)
+        pointed = np.concatenate([p.corners for p in remeshed] + [np.zeros(0, np.int64)])
+        joined = [mesh is not None and (not _at_a_spike(patch, pointed)
+                                        or mesh.certificate().ok_with_exceptions)
                   for patch, mesh in zip(remeshed, meshes)]
         if all(joined):
             break
@@ -306,13 +313,15 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                      len(patches), alpha, graded)
 
 
-def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None):
+def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None,
+                coned=None):
     """The mesh of patch ``k`` with its chains' samples, or None if its boundary edges
     are not exactly the chords between them (it would not join its neighbours) with any
     of the interiors :func:`pds_plugin.partition.mesh_part` draws. Graded: with its own
     ``field`` combined with cones of ``sizes`` at its chain samples
     (:func:`pds_plugin.partition.chain_sample_radii`), so that it reads the radius its
-    neighbours read at their shared samples.
+    neighbours read at their shared samples (``coned``: that field, made by
+    :func:`_agreeing_sizes`).
     ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
     change when another was dropped is not meshed again (the same mesh, bit for bit)."""
     ring_ids = chains.rings[k]
@@ -324,10 +333,58 @@ def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes
     if key in cache:
         return cache[key]
     if field is not None:
-        field = with_sample_cones(field, np.concatenate(given), sizes[ids])
+        field = coned
     mesh, joined = mesh_part(patch.region, alpha, given, seed, field=field, **options)
     cache[key] = mesh if joined else None
     return cache[key]
+
+
+def _agreeing_sizes(chains, frames, fields, sizes):
+    """The chain samples' radii ``sizes`` lowered until every patch's field with its
+    cones (:func:`_patch_mesh`) reads them at its own samples: at a sample s, the
+    smallest of its patches' fields combined with cones of ``sizes`` at their samples,
+    again until none is lower (to rounding). A cone of a patch's sample whose r another
+    patch lowered (a neighbour's finer field, a pair made apart) can reach the patch's
+    samples on other chains, which the patches beyond them do not see;
+    :func:`pds_plugin.partition.agreeing_fields` leaves that to the spacing of the
+    chains' dense points, and a chain sample's separation lowering
+    (:func:`pds_plugin.partition.chain_sample_radii`) to this. Then the patches read the
+    same r at every sample they share. Returns the radii and, per patch, its field with
+    the cones (what :func:`_patch_mesh` meshes it with)."""
+    ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
+    points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
+              for frame, i in zip(frames, ids)]
+    def coned_fields():
+        return [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
+
+    for _ in range(_AGREEMENT_ROUNDS):
+        coned = coned_fields()
+        lowest = sizes.copy()
+        for field, i, xy in zip(coned, ids, points):
+            np.minimum.at(lowest, i, field(xy))
+        lower = lowest < sizes * (1 - _AGREEMENT_TOL)
+        if not lower.any():
+            return sizes, coned
+        sizes = np.where(lower, lowest, sizes)
+    return sizes, coned_fields()
+
+
+_AGREEMENT_ROUNDS = 16
+"""Rounds of :func:`_agreeing_sizes` at most (each carries a lowering across a patch)."""
+
+_AGREEMENT_TOL = 1e-9
+"""A sample's r read lower than this (relative) by another patch is rounding."""
+
+
+def _at_a_spike(patch, pointed) -> bool:
+    """Is a corner of ``patch`` sharper than :data:`_CHECKED_CORNER`, or is one of its
+    vertices such a corner of another patch (``pointed``)? The chains leaving that
+    vertex keep their first part long, clear of the spike, with r there the smaller: in
+    a patch whose own corner is not sharp (random cut block 44: 90° beside a 32° spike)
+    that part is a chord longer than twice the r at its end, and the graded sampler
+    keeps out of its lens (limit the smaller end's r / (1 - L)) where the certificate
+    excuses only r(x) / (1 - L): a point between was 1.013 r from every sample."""
+    return bool(len(patch.corners)) or bool(np.isin(np.concatenate(patch.rings), pointed).any())
 
 
 def _as_trimesh(mesh) -> "trimesh.Trimesh":
@@ -394,7 +451,7 @@ class _Patch:
     frame: Frame
     region: object
     basis: tuple
-    sharp: bool = False
+    corners: np.ndarray
 
 
 def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
@@ -472,8 +529,9 @@ def _patch(vertices, faces, normals, areas, members, edges, Region):
                     for ring in region.rings]
     except KeyError:
         return None
-    sharp = min(float(np.min(np.pi - turning_angles(ring))) for ring in region.rings)
-    return _Patch(members, ring_ids, frame, region, basis, sharp < _CHECKED_CORNER)
+    corners = np.concatenate([ids[np.pi - turning_angles(ring) < _CHECKED_CORNER]
+                              for ids, ring in zip(ring_ids, region.rings)])
+    return _Patch(members, ring_ids, frame, region, basis, corners)
 
 
 def _manifold_patches(patches) -> list:

@@ -256,16 +256,13 @@ class StepSolid:
 
     def __init__(self, solid, tolerance=None):
         shape = load(solid)                # first: it says which extra OCP comes with
-        from OCP.TopoDS import TopoDS
-
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
-        self.solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
+        self.solids, (low, high), self.planes = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
                               f"volume: a surface model?); export the part as a solid, or "
                               f"sew its faces into one")
-        low, high = _box(self.solids)
         self.scale = float(np.linalg.norm(high - low))
         self.center = (low + high) / 2
         if not (np.isfinite(self.scale) and self.scale > 0):
@@ -273,7 +270,6 @@ class StepSolid:
         self.tolerance = (RELATIVE_TOLERANCE * self.scale if tolerance is None
                           else check_positive(tolerance, "tolerance"))
         self.adaptive = tolerance is None       # arcs finer, for the area (_arc_tolerance)
-        self.planes = _planar_faces(self.solids)
 
     def heights(self, origin, normal) -> np.ndarray:
         """The solid's lowest and highest signed distance to the plane."""
@@ -488,6 +484,33 @@ class StepSolid:
             f"the plane at normal·x = {offset:.9g} cuts no material of {self.name}, which "
             f"spans normal·x in [{offset + low[2]:.9g}, {offset + high[2]:.9g}] (it only "
             f"touches the solid, or passes through a gap between parts); move the plane")
+
+
+def _facts(shape) -> tuple:
+    """The solids of ``shape``, the corners of their bounding box and their planar faces
+    (:func:`_planar_faces`), kept for the last :data:`_KEPT` shapes: a section of a loaded
+    shape (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms
+    per call on a small part (a shape is not changed in place; the same object, at the
+    same place and orientation, is the same solid)."""
+    from OCP.TopoDS import TopoDS
+
+    key = hash(shape)
+    kept = _KEPT_FACTS.get(key)
+    if kept is not None and kept[0].IsEqual(shape):
+        return kept[1]
+    solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
+    facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
+             _planar_faces(solids))
+    _KEPT_FACTS[key] = (shape, facts)
+    while len(_KEPT_FACTS) > _KEPT:
+        _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
+    return facts
+
+
+_KEPT = 2
+"""Shapes whose :func:`_facts` are kept (each keeps its shape alive)."""
+
+_KEPT_FACTS: dict = {}
 
 
 class _Faces(list):
