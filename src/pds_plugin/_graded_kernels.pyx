@@ -18,13 +18,15 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 
 import numpy as np
 
-from cython.parallel cimport prange
+from cython.parallel cimport parallel, prange
 from libc.math cimport sqrt
+from libc.stdlib cimport free, malloc
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
+from ._sizing_kernels cimport CONE_STACK, ConeTree, cone_at, cone_tree_of, quarters_at
 from ._visibility_kernels cimport (CellMarks, ChordGrid, Chords, bin_chords_by, box_seen,
-                                   chords_of, mark_cell, point_inside, sees)
+                                   box_state, chords_of, mark_cell, point_inside, sees)
 
 cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
@@ -335,27 +337,105 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     return count
 
 
-def darts_kept(bx, by, size, low, high, edge, u, order, tuple domain, double grading,
-               tuple bins, nxt, points, radius, double x0, double y0, vis):
+cdef class Field:
+    """The radius field as the kernels ask it: its cone tree searched in C (a field
+    without a user sizing: ``fast``), else the field itself called (``RadiusField``).
+    Each search starts from an upper bound of r (``ABOVE`` times the ``high`` bound of
+    the box a point is in): it prunes more and finds the same exact minimum."""
+    cdef ConeTree tree
+    cdef bint fast
+    cdef object field
+    cdef object keep            # the arrays the tree points into
+
+    def __init__(self, field):
+        self.field = field
+        self.fast = field.sizing is None and field._tree is not None
+        if self.fast:
+            self.keep = (field.features, field.sizes, field._tree)
+            self.tree = cone_tree_of(field.features, field.sizes, field.grading, field.cap,
+                                     field._tree)
+
+    cdef object at(self, double[:, ::1] xy, const double[::1] high):
+        """r at the points ``xy``, each in a box where r <= ``high``."""
+        cdef Py_ssize_t n = xy.shape[0], k
+        if not self.fast:
+            return np.asarray(self.field(np.asarray(xy)), float)
+        out_array = np.empty(n)
+        cdef double[::1] out = out_array
+        cdef int64_t *stack
+        cdef double *bound
+        with nogil, parallel(num_threads=threads_for(n)):
+            stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+            bound = <double *>malloc(CONE_STACK * sizeof(double))
+            for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+                out[k] = cone_at(&self.tree, xy[k, 0], xy[k, 1],
+                                 min(self.tree.cap, ABOVE * high[k]), stack, bound)
+            free(bound)
+            free(stack)
+        return out_array
+
+    cdef object at_quarters(self, const double[::1] x, const double[::1] y,
+                            const double[::1] size, const double[::1] high):
+        """r at the centres of the quarters of the boxes (``RadiusField.at_quarters``'
+        order), r <= ``high`` on each box."""
+        cdef Py_ssize_t n = x.shape[0], k, j
+        if not self.fast:
+            return np.asarray(self.field.at_quarters(np.asarray(x), np.asarray(y),
+                                                     np.asarray(size)), float)
+        out_array = np.empty(4 * n)
+        cdef double[::1] out = out_array
+        cdef int64_t *stack
+        cdef double *best
+        with nogil, parallel(num_threads=threads_for(n)):
+            stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+            best = <double *>malloc(4 * sizeof(double))
+            for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+                for j in range(4):
+                    best[j] = min(self.tree.cap, ABOVE * high[k])
+                quarters_at(&self.tree, x[k], y[k], size[k], best, stack)
+                for j in range(4):
+                    out[j * n + k] = best[j]
+            free(best)
+            free(stack)
+        return out_array
+
+
+cdef double ABOVE = 1.0 + 1e-9      # r at a point of a box is at most ABOVE x its ``high``:
+                                    # high is r at the centre + L x the half-diagonal, and
+                                    # rounding is far below 1e-9 of it
+cdef double SQRT2 = sqrt(2.0)       # math.sqrt(2), as the sampler's bounds use it
+
+
+def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple bins, nxt,
+          points, radius, Py_ssize_t count, double x0, double y0, vis):
     """One dart in each box [bx, bx+size]², at ``(bx + u[:, 0] size, by + u[:, 1] size)``,
-    taken in ``order``: the (k, 2) darts, in that order, that are in the region (boxes
-    flagged ``edge`` are tested against ``domain``, the chord bundle and cell sides of
-    ``_visibility_kernels.points_inside``) and that no sample refuses whatever r(x) is
-    in [low, high] of the dart's box: a sample q that the dart x sees with
-    |x - q| < min(low, r(q)) <= min(r(x), r(q)). Samples are only ever added, so
-    :func:`insert_where_free` would refuse those darts too; testing them first (in
-    parallel) spares the radius field and the sequential insertion."""
+    taken in ``order``; the darts in the region (boxes flagged ``edge`` are tested
+    against ``domain``, the chord bundle and cell sides of
+    ``_visibility_kernels.points_inside``) that no sample refuses whatever r(x) is in
+    [low, high] of the dart's box (a sample q that the dart x sees with
+    |x - q| < min(low, r(q)) <= min(r(x), r(q)): samples are only ever added, so
+    :func:`insert_where_free` would refuse those darts too; testing them first, in
+    parallel, spares the radius field and the sequential insertion) get r from
+    ``field`` and are inserted in that order where :func:`insert_where_free` allows.
+    ``boxes`` = (bx, by, size, low, high, edge); the sample arrays must have room for
+    one sample per box. Returns the new sample count."""
+    bx, by, size, low, high, edge = boxes
     cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high
     cdef const uint8_t[::1] ed = edge.view(np.uint8)
     cdef const double[:, ::1] uu = u
     cdef const int64_t[::1] od = order
     cdef const int8_t[::1] sides = domain[1]
     cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef const double[::1] cb = chord_bound
     cdef Chords region = chords_of(domain[0])
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
-    cdef Py_ssize_t n = od.shape[0], m = 0, k, t
+    cdef int32_t[::1] nx = nxt
+    cdef double[:, ::1] pt = points
+    cdef double[::1] rd = radius
+    cdef double grading = field.field.grading
+    cdef Py_ssize_t n = od.shape[0], m = 0, kept = 0, k, t
     cdef double dx, dy
     cdef Query query
     darts_array = np.empty((n, 2))
@@ -372,7 +452,7 @@ def darts_kept(bx, by, size, low, high, edge, u, order, tuple domain, double gra
                 dt[m, 0], dt[m, 1], dl[m], dh[m] = dx, dy, lw[k], hg[k]
                 m += 1
     if not m:
-        return darts_array[:0]
+        return count
     cdef int64_t[::1] spatial = _spatial_order(np.ascontiguousarray(darts_array[:m, 0]),
                                                np.ascontiguousarray(darts_array[:m, 1]),
                                                &b, x0, y0)
@@ -382,7 +462,20 @@ def darts_kept(bx, by, size, low, high, edge, u, order, tuple domain, double gra
         query = Query(dt[k, 0], dt[k, 1], 0.0, dl[k], &p, &c)
         out[k] = _any_sample(&query, _conflicts, _level(dl[k] * (1.0 - grading), &b),
                              _level(dh[k] * (1.0 + grading), &b), 0, &b)
-    return darts_array[:m][~refused_array[:m]]
+    with nogil:
+        for t in range(m):
+            if not out[t]:
+                dt[kept, 0], dt[kept, 1], dh[kept] = dt[t, 0], dt[t, 1], dh[t]
+                kept += 1
+    if not kept:
+        return count
+    cdef const double[::1] r = field.at(dt[:kept], dh[:kept])
+    with nogil:
+        for t in range(kept):
+            if _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c):
+                _place(dt[t, 0], dt[t, 1], r[t], &b, nx, pt, rd, count, x0, y0)
+                count += 1
+    return count
 
 
 cdef int64_t[::1] _spatial_order(const double[::1] x, const double[::1] y, const Bins *b,
@@ -425,6 +518,19 @@ cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double hi
                        _level(high + grading * low, b), since, b, True)
 
 
+cdef void _uncovered(const double[::1] x, const double[::1] y, const double[::1] s,
+                     const double[::1] lw, const double[::1] hg, double grading,
+                     const double[::1] cb, Py_ssize_t since, const Bins *b, const Placed *p,
+                     const Chords *c, const int64_t[::1] order, uint8_t[::1] keep) noexcept nogil:
+    """:func:`uncovered_boxes` into ``keep``, the boxes taken in ``order``."""
+    cdef Py_ssize_t n = x.shape[0], k, t
+    for t in prange(n, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        k = order[t]
+        keep[k] = lw[k] <= 0.0 or not (
+            _box_covered(x[k], y[k], s[k], lw[k], hg[k], grading, since, b, p, c)
+            or (since == 0 and _box_in_lens(x[k], y[k], s[k], lw[k], hg[k], grading, cb, c)))
+
+
 def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple bins, nxt,
                     points, radius, double x0, double y0, vis, Py_ssize_t since=0):
     """True for boxes [bx, bx+size]² that no single sample q covers and that are not in
@@ -437,14 +543,75 @@ def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple 
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
-    cdef Py_ssize_t n = x.shape[0], k, t
-    keep_array = np.empty(n, np.bool_)
+    keep_array = np.empty(x.shape[0], np.bool_)
     cdef uint8_t[::1] keep = keep_array.view(np.uint8)
     cdef int64_t[::1] order = _spatial_order(x, y, &b, x0, y0)
-    for t in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(n)):
-        k = order[t]
-        keep[k] = lw[k] <= 0.0 or not (
-            _box_covered(x[k], y[k], s[k], lw[k], hg[k], grading, since, &b, &p, &c)
-            or (since == 0 and _box_in_lens(x[k], y[k], s[k], lw[k], hg[k], grading, cb, &c)))
+    with nogil:
+        _uncovered(x, y, s, lw, hg, grading, cb, since, &b, &p, &c, order, keep)
     return keep_array
+
+
+def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_boxes,
+               Field field, tuple domain, chord_bound, tuple bins, nxt, points, radius,
+               double x0, double y0, vis):
+    """One refinement level: of ``boxes`` = (bx, by, size, low, high, edge), found open
+    before sample ``since``, those still open (:func:`uncovered_boxes`) and at least
+    ``resolution`` x low in size are split in four; the quarters (lower left ones of all
+    boxes first, then lower right, upper left, upper right) that may reach into the
+    region (edge quarters tested by ``_visibility_kernels.box_state`` against
+    ``domain``), with r at their centres from ``field`` and its bounds
+    r -+ L x half-diagonal on each, are returned if open (:func:`uncovered_boxes`).
+    If there would be more than ``max_boxes`` quarters, their number instead."""
+    bx, by, size, low, high, edge = boxes
+    cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high, cb = chord_bound
+    cdef const uint8_t[::1] ed = edge.view(np.uint8)
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
+    cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
+    cdef Chords c = chords_of(vis)
+    cdef double grading = field.field.grading, half, spread
+    cdef Py_ssize_t n = x.shape[0], m = 0, k, i, j, q, kept = 0
+    cdef int state
+    open_array = np.empty(n, np.bool_)
+    cdef uint8_t[::1] still = open_array.view(np.uint8)
+    cdef int64_t[::1] order = _spatial_order(x, y, &b, x0, y0)
+    with nogil:
+        _uncovered(x, y, s, lw, hg, grading, cb, since, &b, &p, &c, order, still)
+    cdef double[::1] fx = np.empty(n), fy = np.empty(n), fs = np.empty(n), fh = np.empty(n)
+    cdef uint8_t[::1] fe = np.empty(n, np.uint8)
+    with nogil:
+        for k in range(n):
+            if still[k] and s[k] >= resolution * lw[k]:
+                fx[m], fy[m], fs[m], fh[m], fe[m] = x[k], y[k], s[k], hg[k], ed[k]
+                m += 1
+    if 4 * m > max_boxes:
+        return 4 * m
+    cdef const double[::1] r = field.at_quarters(fx[:m], fy[:m], fs[:m], fh[:m])
+    children = np.empty((6, 4 * m))
+    cdef double[:, ::1] ch = children
+    edges = np.empty(4 * m, np.bool_)
+    cdef uint8_t[::1] ce = edges.view(np.uint8)
+    with nogil:
+        for j in range(4):
+            for i in range(m):
+                half = 0.5 * fs[i]
+                ch[0, kept] = fx[i] + half if j & 1 else fx[i]
+                ch[1, kept] = fy[i] + half if j & 2 else fy[i]
+                ce[kept] = fe[i]
+                if fe[i]:
+                    state = box_state(&region, sd, ch[0, kept], ch[1, kept], half)
+                    if state == 0:
+                        continue
+                    ce[kept] = state != 2
+                spread = grading * (half / SQRT2)
+                ch[2, kept] = half
+                ch[3, kept] = r[j * m + i] - spread
+                ch[4, kept] = r[j * m + i] + spread
+                kept += 1
+    cx, cy, cs, cl, chh = (np.ascontiguousarray(children[a, :kept]) for a in range(5))
+    keep_array = uncovered_boxes(cx, cy, cs, cl, chh, grading, chord_bound, bins, nxt, points,
+                                 radius, x0, y0, vis)
+    return (cx[keep_array], cy[keep_array], cs[keep_array], cl[keep_array],
+            chh[keep_array], edges[:kept][keep_array])

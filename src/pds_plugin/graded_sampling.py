@@ -591,31 +591,25 @@ class _GradedSampler:
         """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
         Boxes are (x, y, size, low, high, edge): ``low`` and ``high`` bounds of r on the
         box, ``edge`` whether it may reach outside the chord polygons. A box found open
-        is tested again, after the darts, against the new samples only."""
+        is tested again, after the darts, against the new samples only. Each level of
+        the refinement is one kernel call (``_graded_kernels.split_open``: the coverage
+        test, the split, r at the quarters, the in/out test and the coverage test of the
+        quarters) and one throw."""
+        self.kernel_field = kern.Field(self.field)
         boxes, since = self._leaves(), 0
         for _ in range(_PASSES):
             boxes, since = self._open(boxes, since), self.count
             self._throw(boxes, rng)
         while len(boxes[0]):
-            boxes = self._open(boxes, since)
-            fine = boxes[2] >= RESOLUTION * boxes[3]
-            children = self._children(tuple(a[fine] for a in boxes))
-            boxes, since = self._open(children), self.count     # darts only where no
-            self._throw(boxes, rng)                              # disc covers already
-
-    def _children(self, boxes):
-        """The four quarters of each box kept by :meth:`_inside`, with their bounds of r
-        (:meth:`_boxes`; r at their centres from one cone search per box)."""
-        bx, by, size, low, high, edge = boxes
-        self._check_boxes(4 * len(bx))
-        r = self.field.at_quarters(bx, by, size)
-        half = 0.5 * size
-        bx = np.concatenate([bx, bx + half, bx, bx + half])
-        by = np.concatenate([by, by, by + half, by + half])
-        half = np.concatenate([half, half, half, half])
-        keep, edge = self._inside(bx, by, half, np.concatenate([edge, edge, edge, edge]))
-        size = half[keep]
-        return (bx[keep], by[keep], size, *self._bounds(r[keep], size), edge)
+            boxes = kern.split_open(boxes, since, RESOLUTION,
+                                    _MAX_BOXES_PER_SAMPLE * self.max_samples,
+                                    self.kernel_field, self.domain, self.chord_bound,
+                                    self.bins, self.nxt, self.points, self.radius, self.x0,
+                                    self.y0, self.vis)
+            if isinstance(boxes, int):
+                self._check_boxes(boxes)
+            since = self.count                  # darts only where no disc covers already
+            self._throw(boxes, rng)
 
     def _inside(self, bx, by, size, edge):
         """Which boxes to keep, and their ``edge`` flags: of those that may reach outside
@@ -688,12 +682,13 @@ class _GradedSampler:
         return tuple(a[keep] for a in boxes)
 
     def _throw(self, boxes, rng):
-        """One dart uniform in each box; darts in the region thrown in random order."""
-        bx, by, size, low, high, edge = boxes
-        u = rng.random((len(bx), 2))
-        order = rng.permutation(len(bx))
-        darts = kern.darts_kept(bx, by, size, low, high, edge, u, order, self.domain,
-                                self.field.grading, self.bins, self.nxt, self.points,
-                                self.radius, self.x0, self.y0, self.vis)
-        if len(darts):
-            self._insert(darts, np.arange(len(darts)))
+        """One dart uniform in each box; darts in the region thrown in random order
+        (``_graded_kernels.throw``: the refusal test, r and the insertion)."""
+        n = len(boxes[0])
+        u = rng.random((n, 2))
+        order = rng.permutation(n)
+        self._reserve(n)
+        self.count = kern.throw(boxes, u, order, self.kernel_field, self.domain,
+                                self.chord_bound, self.bins, self.nxt, self.points,
+                                self.radius, self.count, self.x0, self.y0, self.vis)
+        self._check_count()
