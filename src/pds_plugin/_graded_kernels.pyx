@@ -406,6 +406,93 @@ cdef double ABOVE = 1.0 + 1e-9      # r at a point of a box is at most ABOVE x i
 cdef double SQRT2 = sqrt(2.0)       # math.sqrt(2), as the sampler's bounds use it
 
 
+def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
+           Py_ssize_t max_boxes, Field field, tuple domain):
+    """The quadtree's leaves over the grid of nx x ny boxes of ``side`` from (xmin, ymin)
+    (row by row): each level's boxes that may reach into the region (all of the grid's
+    and the edge quarters tested by ``_visibility_kernels.box_state`` against
+    ``domain``; ``edge`` whether one may reach outside), with r at their centres from
+    ``field`` and its bounds low, high = r -+ L x half-diagonal; those with side at most
+    low are leaves, the others split in four (lower left quarters of all of them first,
+    then lower right, upper left, upper right). Returns (bx, by, size, low, high, edge)
+    of the leaves, level by level, or the number of boxes if the leaves so far and the
+    next level's boxes would be more than ``max_boxes``."""
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
+    cdef double grading = field.field.grading, half, spread
+    cdef Py_ssize_t n = nx * ny, m, k, j, i, split, total = 0
+    cdef double[::1] x = np.empty(n), y = np.empty(n), s = np.full(n, side)
+    cdef double[::1] parent_high = np.full(n, np.inf)
+    cdef uint8_t[::1] e = np.ones(n, np.uint8)
+    cdef int8_t[::1] state
+    cdef double[:, ::1] centre
+    cdef const double[::1] r
+    cdef double[:, ::1] kept
+    cdef uint8_t[::1] kept_edge
+    for k in range(n):
+        x[k] = xmin + side * (k % nx)
+        y[k] = ymin + side * (k // nx)
+    done = []
+    while n:
+        state = np.empty(n, np.int8)
+        for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                        num_threads=threads_for(n)):
+            state[k] = box_state(&region, sd, x[k], y[k], s[k]) if e[k] else 2
+        m = 0
+        with nogil:
+            for k in range(n):
+                if state[k] != 0:
+                    x[m], y[m], s[m], parent_high[m] = x[k], y[k], s[k], parent_high[k]
+                    e[m] = e[k] and state[k] != 2
+                    m += 1
+        centre = np.empty((m, 2))
+        for k in range(m):
+            centre[k, 0] = x[k] + 0.5 * s[k]
+            centre[k, 1] = y[k] + 0.5 * s[k]
+        r = field.at(centre, parent_high[:m])
+        kept_array = np.empty((5, m))
+        kept = kept_array
+        kept_edge_array = np.empty(m, np.bool_)
+        kept_edge = kept_edge_array.view(np.uint8)
+        j = 0
+        split = 0
+        with nogil:
+            for k in range(m):
+                spread = grading * (s[k] / SQRT2)
+                if s[k] <= r[k] - spread:
+                    kept[0, j], kept[1, j], kept[2, j] = x[k], y[k], s[k]
+                    kept[3, j], kept[4, j] = r[k] - spread, r[k] + spread
+                    kept_edge[j] = e[k]
+                    j += 1
+                else:                       # the boxes to split, first in place
+                    x[split], y[split], s[split], e[split] = x[k], y[k], s[k], e[k]
+                    parent_high[split] = r[k] + spread
+                    split += 1
+        done.append((kept_array[:, :j], kept_edge_array[:j]))
+        total += j
+        if total + 4 * split > max_boxes:
+            return total + 4 * split
+        n = 4 * split
+        x = np.concatenate([x[:split]] * 4)
+        y = np.concatenate([y[:split]] * 4)
+        s = np.concatenate([s[:split]] * 4)
+        e = np.concatenate([e[:split]] * 4)
+        parent_high = np.concatenate([parent_high[:split]] * 4)
+        for i in range(1, 4):
+            for k in range(split):
+                half = 0.5 * s[k]
+                if i & 1:
+                    x[i * split + k] = x[k] + half
+                if i & 2:
+                    y[i * split + k] = y[k] + half
+        for k in range(n):
+            s[k] = 0.5 * s[k]
+    bounds = np.concatenate([part[0] for part in done], axis=1)
+    return (*(np.ascontiguousarray(row) for row in bounds),
+            np.concatenate([part[1] for part in done]))
+
+
 def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple bins, nxt,
           points, radius, Py_ssize_t count, double x0, double y0, vis):
     """One dart in each box [bx, bx+size]², at ``(bx + u[:, 0] size, by + u[:, 1] size)``,

@@ -611,54 +611,17 @@ class _GradedSampler:
             since = self.count                  # darts only where no disc covers already
             self._throw(boxes, rng)
 
-    def _inside(self, bx, by, size, edge):
-        """Which boxes to keep, and their ``edge`` flags: of those that may reach outside
-        (``edge``), the ones outside the chord polygons dropped and the ones inside
-        marked so."""
-        state = vis_kern.boxes_state(*self.domain, bx[edge], by[edge], size[edge])
-        keep = np.ones(len(bx), bool)
-        keep[edge] = state != vis_kern.BOX_OUTSIDE
-        edge = edge.copy()
-        edge[edge] = state != vis_kern.BOX_INSIDE
-        return keep, edge[keep]
-
-    def _boxes(self, bx, by, size, edge):
-        """The boxes kept by :meth:`_inside`, with the bounds of r on each from r at its
-        centre."""
-        keep, edge = self._inside(bx, by, size, edge)
-        bx, by, size = bx[keep], by[keep], size[keep]
-        centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
-        return (bx, by, size, *self._bounds(self.field(centre), size), edge)
-
-    def _bounds(self, centre_r, size):
-        """Lower and upper bounds of r on boxes of side ``size`` with r ``centre_r`` at
-        their centres: r(centre) -+ L times the half-diagonal."""
-        spread = self.field.grading * (size / math.sqrt(2))
-        return centre_r - spread, centre_r + spread
-
     def _leaves(self):
-        """Quadtree leaves over the region: boxes split while their side exceeds r_low,
-        boxes outside the chord polygons dropped."""
+        """Quadtree leaves over the region (``_graded_kernels.leaves``): boxes split while
+        their side exceeds r_low, boxes outside the chord polygons dropped."""
         s = self.field.cap / math.sqrt(2)
         xmin, ymin, xmax, ymax = self.region.bounds
         nx, ny = int(math.ceil((xmax - xmin) / s)) or 1, int(math.ceil((ymax - ymin) / s)) or 1
-        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny))
-        bx, by = xmin + s * ix.ravel(), ymin + s * iy.ravel()
-        size = np.full(len(bx), s)
-        edge = np.ones(len(bx), bool)
-        done, total = [], 0
-        while len(bx):
-            bx, by, size, low, high, edge = self._boxes(bx, by, size, edge)
-            leaf = size <= low
-            done.append(tuple(a[leaf] for a in (bx, by, size, low, high, edge)))
-            total += int(leaf.sum())
-            self._check_boxes(total + 4 * int((~leaf).sum()))
-            bx, by, size, edge = bx[~leaf], by[~leaf], size[~leaf], edge[~leaf]
-            half = 0.5 * size
-            bx = np.concatenate([bx, bx + half, bx, bx + half])
-            by = np.concatenate([by, by, by + half, by + half])
-            size, edge = (np.concatenate([a, a, a, a]) for a in (half, edge))
-        return tuple(np.concatenate(parts) for parts in zip(*done))
+        leaves = kern.leaves(xmin, ymin, s, nx, ny, _MAX_BOXES_PER_SAMPLE * self.max_samples,
+                             self.kernel_field, self.domain)
+        if isinstance(leaves, int):
+            self._check_boxes(leaves)
+        return leaves
 
     def _check_boxes(self, count: int):
         """Refuse a refinement that would hold more than _MAX_BOXES_PER_SAMPLE boxes per
