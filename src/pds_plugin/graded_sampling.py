@@ -108,8 +108,9 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
+    chords = sampler.vis._replace(out=sampler.vis.out[:sampler.count].copy())
     return Samples(points, on_boundary, field.cap, sampler.rings,
-                   sampler.radius[:sampler.count].copy(), sampler.sampled_region)
+                   sampler.radius[:sampler.count].copy(), sampler.sampled_region, chords)
 
 
 def _tau_rings(rings, field, grading):
