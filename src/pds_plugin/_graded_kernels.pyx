@@ -523,20 +523,23 @@ def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple b
     cdef double[::1] rd = radius
     cdef double grading = field.field.grading
     cdef Py_ssize_t n = od.shape[0], m = 0, kept = 0, k, t
-    cdef double dx, dy
     cdef Query query
     darts_array = np.empty((n, 2))
     cdef double[:, ::1] dt = darts_array
     refused_array = np.zeros(n, np.bool_)
     cdef uint8_t[::1] out = refused_array.view(np.uint8)
     cdef double[::1] dl = np.empty(n), dh = np.empty(n)
+    for t in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n)):
+        k = od[t]
+        dt[t, 0] = x[k] + uu[k, 0] * s[k]
+        dt[t, 1] = y[k] + uu[k, 1] * s[k]
+        out[t] = ed[k] and not point_inside(&region, sd, dt[t, 0], dt[t, 1])
     with nogil:
-        for t in range(n):
-            k = od[t]
-            dx = x[k] + uu[k, 0] * s[k]
-            dy = y[k] + uu[k, 1] * s[k]
-            if not ed[k] or point_inside(&region, sd, dx, dy):
-                dt[m, 0], dt[m, 1], dl[m], dh[m] = dx, dy, lw[k], hg[k]
+        for t in range(n):                  # the darts in the region, in order
+            if not out[t]:
+                k = od[t]
+                dt[m, 0], dt[m, 1], dl[m], dh[m] = dt[t, 0], dt[t, 1], lw[k], hg[k]
                 m += 1
     if not m:
         return count
@@ -659,8 +662,7 @@ def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef double grading = field.field.grading, half, spread
-    cdef Py_ssize_t n = x.shape[0], m = 0, k, i, j, q, kept = 0
-    cdef int state
+    cdef Py_ssize_t n = x.shape[0], m = 0, k, i, q, kept = 0
     open_array = np.empty(n, np.bool_)
     cdef uint8_t[::1] still = open_array.view(np.uint8)
     cdef int64_t[::1] order = _spatial_order(x, y, &b, x0, y0)
@@ -676,27 +678,30 @@ def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_
     if 4 * m > max_boxes:
         return 4 * m
     cdef const double[::1] r = field.at_quarters(fx[:m], fy[:m], fs[:m], fh[:m])
-    children = np.empty((6, 4 * m))
+    children = np.empty((5, 4 * m))
     cdef double[:, ::1] ch = children
     edges = np.empty(4 * m, np.bool_)
     cdef uint8_t[::1] ce = edges.view(np.uint8)
+    cdef int8_t[::1] states = np.empty(4 * m, np.int8)
+    for q in prange(4 * m, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(4 * m)):
+        i = q % m
+        half = 0.5 * fs[i]
+        ch[0, q] = fx[i] + half if (q // m) & 1 else fx[i]
+        ch[1, q] = fy[i] + half if (q // m) & 2 else fy[i]
+        states[q] = box_state(&region, sd, ch[0, q], ch[1, q], half) if fe[i] else 2
     with nogil:
-        for j in range(4):
-            for i in range(m):
-                half = 0.5 * fs[i]
-                ch[0, kept] = fx[i] + half if j & 1 else fx[i]
-                ch[1, kept] = fy[i] + half if j & 2 else fy[i]
-                ce[kept] = fe[i]
-                if fe[i]:
-                    state = box_state(&region, sd, ch[0, kept], ch[1, kept], half)
-                    if state == 0:
-                        continue
-                    ce[kept] = state != 2
-                spread = grading * (half / SQRT2)
-                ch[2, kept] = half
-                ch[3, kept] = r[j * m + i] - spread
-                ch[4, kept] = r[j * m + i] + spread
-                kept += 1
+        for q in range(4 * m):             # the quarters in the region, in order
+            if states[q] == 0:
+                continue
+            i = q % m
+            half = 0.5 * fs[i]
+            spread = grading * (half / SQRT2)
+            ch[0, kept], ch[1, kept], ch[2, kept] = ch[0, q], ch[1, q], half
+            ch[3, kept] = r[q] - spread
+            ch[4, kept] = r[q] + spread
+            ce[kept] = fe[i] and states[q] != 2
+            kept += 1
     cx, cy, cs, cl, chh = (np.ascontiguousarray(children[a, :kept]) for a in range(5))
     keep_array = uncovered_boxes(cx, cy, cs, cl, chh, grading, chord_bound, bins, nxt, points,
                                  radius, x0, y0, vis)
