@@ -269,15 +269,17 @@ cdef bint _covers(const Query *query, Py_ssize_t q) noexcept nogil:
 
 
 cdef bint _free(double x, double y, double rx, double grading, const double[::1] chord_bound,
-                const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
+                const Bins *b, const Placed *p, const Chords *c,
+                Py_ssize_t since=0) noexcept nogil:
     """True if no sample q that (x, y) sees has |x - q| < min(r(x), r(q)), and x does
     not encroach on a chord (:func:`_encroaches`). A conflicting q has r(q) within
-    r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels."""
-    if _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
+    r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels. With ``since`` > 0,
+    only the samples numbered ``since`` or later are asked, and not the chords."""
+    if since == 0 and _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
         return False
     cdef Query query = Query(x, y, 0.0, rx, p, c)
     return not _any_sample(&query, _conflicts, _level(rx * (1.0 - grading), b),
-                           _level(rx * (1.0 + grading), b), 0, b)
+                           _level(rx * (1.0 + grading), b), since, b)
 
 
 cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double[:, ::1] points,
@@ -560,9 +562,13 @@ def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple b
     if not kept:
         return count
     cdef const double[::1] r = field.at(dt[:kept], dh[:kept])
-    with nogil:
+    for t in prange(kept, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(kept)):
+        out[t] = not _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, 0)
+    cdef Py_ssize_t before = count    # the samples before the throw are known: _free against
+    with nogil:                       # them above, in parallel; against the new ones here
         for t in range(kept):
-            if _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c):
+            if not out[t] and _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, before):
                 _place(dt[t, 0], dt[t, 1], r[t], &b, nx, pt, rd, count, x0, y0)
                 count += 1
     return count
