@@ -357,9 +357,11 @@ cdef class Field:
             self.tree = cone_tree_of(field.features, field.sizes, field.grading, field.cap,
                                      field._tree)
 
-    cdef object at(self, double[:, ::1] xy, const double[::1] high):
-        """r at the points ``xy``, each in a box where r <= ``high``."""
-        cdef Py_ssize_t n = xy.shape[0], k
+    cdef object at(self, double[:, ::1] xy, const double[::1] high,
+                   const int64_t[::1] order):
+        """r at the points ``xy``, each in a box where r <= ``high``, searched in
+        ``order`` (:func:`_spatial_order`: neighbours meet the same nodes in the cache)."""
+        cdef Py_ssize_t n = xy.shape[0], k, t
         if not self.fast:
             return np.asarray(self.field(np.asarray(xy)), float)
         out_array = np.empty(n)
@@ -369,7 +371,8 @@ cdef class Field:
         with nogil, parallel(num_threads=threads_for(n)):
             stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
             bound = <double *>malloc(CONE_STACK * sizeof(double))
-            for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            for t in prange(n, schedule="dynamic", chunksize=CHUNK):
+                k = order[t]
                 out[k] = cone_at(&self.tree, xy[k, 0], xy[k, 1],
                                  min(self.tree.cap, ABOVE * high[k]), stack, bound)
             free(bound)
@@ -377,10 +380,11 @@ cdef class Field:
         return out_array
 
     cdef object at_quarters(self, const double[::1] x, const double[::1] y,
-                            const double[::1] size, const double[::1] high):
+                            const double[::1] size, const double[::1] high,
+                            const int64_t[::1] order):
         """r at the centres of the quarters of the boxes (``RadiusField.at_quarters``'
-        order), r <= ``high`` on each box."""
-        cdef Py_ssize_t n = x.shape[0], k, j
+        order), r <= ``high`` on each box, the boxes searched in ``order``."""
+        cdef Py_ssize_t n = x.shape[0], k, j, t
         if not self.fast:
             return np.asarray(self.field.at_quarters(np.asarray(x), np.asarray(y),
                                                      np.asarray(size)), float)
@@ -391,7 +395,8 @@ cdef class Field:
         with nogil, parallel(num_threads=threads_for(n)):
             stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
             best = <double *>malloc(4 * sizeof(double))
-            for k in prange(n, schedule="dynamic", chunksize=CHUNK):
+            for t in prange(n, schedule="dynamic", chunksize=CHUNK):
+                k = order[t]
                 for j in range(4):
                     best[j] = min(self.tree.cap, ABOVE * high[k])
                 quarters_at(&self.tree, x[k], y[k], size[k], best, stack)
@@ -452,7 +457,10 @@ def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
         for k in range(m):
             centre[k, 0] = x[k] + 0.5 * s[k]
             centre[k, 1] = y[k] + 0.5 * s[k]
-        r = field.at(centre, parent_high[:m])
+        r = field.at(centre, parent_high[:m],
+                     _grid_order(np.ascontiguousarray(centre[:, 0]),
+                                 np.ascontiguousarray(centre[:, 1]), xmin, ymin, nx * side,
+                                 ny * side))
         kept_array = np.empty((5, m))
         kept = kept_array
         kept_edge_array = np.empty(m, np.bool_)
@@ -561,7 +569,10 @@ def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple b
                 kept += 1
     if not kept:
         return count
-    cdef const double[::1] r = field.at(dt[:kept], dh[:kept])
+    cdef double[::1] kx = np.empty(kept), ky = np.empty(kept)
+    for t in range(kept):
+        kx[t], ky[t] = dt[t, 0], dt[t, 1]
+    cdef const double[::1] r = field.at(dt[:kept], dh[:kept], _spatial_order(kx, ky, &b, x0, y0))
     for t in prange(kept, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(kept)):
         out[t] = not _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, 0)
@@ -578,10 +589,16 @@ cdef int64_t[::1] _spatial_order(const double[::1] x, const double[::1] y, const
                                  double x0, double y0):
     """An order of the points (x, y) by rows of a coarse grid over the pyramid (about 4
     points a cell), row by row and cell by cell (a stable counting sort): queries taken
-    in it meet the bins and samples of their neighbours, still in the cache, instead of
-    missing it at almost every bin. The answers do not depend on the order."""
+    in it meet the bins and samples of their neighbours (or the nodes of the field's
+    tree), still in the cache, instead of missing it at almost every bin. The answers
+    do not depend on the order."""
+    return _grid_order(x, y, x0, y0, b.nxs[0] * b.hs[0], b.nys[0] * b.hs[0])
+
+
+cdef int64_t[::1] _grid_order(const double[::1] x, const double[::1] y, double x0, double y0,
+                              double width, double height):
+    """:func:`_spatial_order` over the rectangle from (x0, y0) of ``width`` x ``height``."""
     cdef Py_ssize_t n = x.shape[0], k, cell
-    cdef double width = b.nxs[0] * b.hs[0], height = b.nys[0] * b.hs[0]
     cdef double side = max(2.0 * sqrt(width * height / max(n, 1)), 1e-300)
     cdef Py_ssize_t nx = min(<Py_ssize_t>(width / side) + 1, n + 1)
     cdef Py_ssize_t ny = min(<Py_ssize_t>(height / side) + 1, n + 1)
@@ -683,7 +700,8 @@ def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_
                 m += 1
     if 4 * m > max_boxes:
         return 4 * m
-    cdef const double[::1] r = field.at_quarters(fx[:m], fy[:m], fs[:m], fh[:m])
+    cdef const double[::1] r = field.at_quarters(fx[:m], fy[:m], fs[:m], fh[:m],
+                                                 _spatial_order(fx[:m], fy[:m], &b, x0, y0))
     children = np.empty((5, 4 * m))
     cdef double[:, ::1] ch = children
     edges = np.empty(4 * m, np.bool_)
