@@ -154,6 +154,53 @@ def test_the_same_seed_gives_the_same_mesh_bit_for_bit():
     assert first.vertices.tobytes() != other.vertices.tobytes()
 
 
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_sizing_above_the_field_changes_no_sample(threads):
+    """A user sizing makes the kernels ask the field through Python (``RadiusField``);
+    without one they search its cones in C from each box's upper bound of r. Where
+    the sizing never binds, both give the same samples bit for bit."""
+    from pds_plugin import _parallel
+    region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3))
+                                     .difference(Point(20, 2.5).buffer(1.0)))
+    previous = _parallel.set_threads(threads)
+    try:
+        plain = graded_mesh(region, seed=5)
+        sized = graded_mesh(region, seed=5, sizing=lambda x, y: np.full(np.shape(x), 1e9))
+    finally:
+        _parallel.set_threads(previous)
+    assert plain.vertices.tobytes() == sized.vertices.tobytes()
+    assert plain.faces.tobytes() == sized.faces.tobytes()
+
+
+def test_the_complex_on_the_samplers_chords_is_the_complex_on_its_own():
+    """The graded complex takes the sampler's binned chords (``Samples.chords``) instead
+    of binning them again: the same triangles; chords of another sampling are refused."""
+    from pds_plugin.graded_complex import graded_alpha_complex
+    from pds_plugin.graded_sampling import graded_poisson_disc
+    from pds_plugin.sizing import radius_field
+    region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
+    field = radius_field(region)
+    samples = graded_poisson_disc(region, field, seed=2)
+    own = graded_alpha_complex(samples.points, samples.radius, field.grading,
+                               boundary=samples.rings)
+    shared = graded_alpha_complex(samples.points, samples.radius, field.grading,
+                                  boundary=samples.rings, chords=samples.chords)
+    assert len(own) and own.tobytes() == shared.tobytes()
+    other = graded_poisson_disc(region, field, seed=3)
+    if len(other.chords.out) != len(samples.points):
+        with pytest.raises(ArgumentError, match="chords must index the"):
+            graded_alpha_complex(samples.points, samples.radius, field.grading,
+                                 boundary=samples.rings, chords=other.chords)
+
+
+@pytest.mark.parametrize("max_samples", [100, 200])
+def test_a_refinement_too_large_for_the_budget_is_refused(max_samples):
+    region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
+    with pytest.raises(BudgetError, match=f"would refine .* boxes at once, more than 4 per "
+                                          f"sample of max_samples={max_samples}"):
+        graded_mesh(region, max_samples=max_samples)
+
+
 def test_gaps_and_notches_do_not_shrink_the_field_and_stay_open():
     # two plates 0.02 apart and a notch 0.02 wide: along the gap and the notch's walls
     # the radius stays the plates' scale (only the notch's 0.02 bottom edge is small,

@@ -18,13 +18,15 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 
 import numpy as np
 
-from cython.parallel cimport prange
+from cython.parallel cimport parallel, prange
 from libc.math cimport sqrt
+from libc.stdlib cimport free, malloc
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
+from ._sizing_kernels cimport CONE_STACK, ConeTree, cone_at, cone_tree_of, quarters_at
 from ._visibility_kernels cimport (CellMarks, ChordGrid, Chords, bin_chords_by, box_seen,
-                                   chords_of, mark_cell, point_inside, sees)
+                                   box_state, chords_of, mark_cell, point_inside, sees)
 
 cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
@@ -267,15 +269,17 @@ cdef bint _covers(const Query *query, Py_ssize_t q) noexcept nogil:
 
 
 cdef bint _free(double x, double y, double rx, double grading, const double[::1] chord_bound,
-                const Bins *b, const Placed *p, const Chords *c) noexcept nogil:
+                const Bins *b, const Placed *p, const Chords *c,
+                Py_ssize_t since=0) noexcept nogil:
     """True if no sample q that (x, y) sees has |x - q| < min(r(x), r(q)), and x does
     not encroach on a chord (:func:`_encroaches`). A conflicting q has r(q) within
-    r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels."""
-    if _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
+    r(x) (1 ± L) (the field is L-Lipschitz), which picks the levels. With ``since`` > 0,
+    only the samples numbered ``since`` or later are asked, and not the chords."""
+    if since == 0 and _encroaches(x, y, rx / (1.0 - grading), chord_bound, c):
         return False
     cdef Query query = Query(x, y, 0.0, rx, p, c)
     return not _any_sample(&query, _conflicts, _level(rx * (1.0 - grading), b),
-                           _level(rx * (1.0 + grading), b), 0, b)
+                           _level(rx * (1.0 + grading), b), since, b)
 
 
 cdef void _place(double x, double y, double r, Bins *b, int32_t[::1] nxt, double[:, ::1] points,
@@ -335,44 +339,220 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     return count
 
 
-def darts_kept(bx, by, size, low, high, edge, u, order, tuple domain, double grading,
-               tuple bins, nxt, points, radius, double x0, double y0, vis):
+cdef class Field:
+    """The radius field as the kernels ask it: its cone tree searched in C (a field
+    without a user sizing: ``fast``), else the field itself called (``RadiusField``).
+    Each search starts from an upper bound of r (``ABOVE`` times the ``high`` bound of
+    the box a point is in): it prunes more and finds the same exact minimum."""
+    cdef ConeTree tree
+    cdef bint fast
+    cdef object field
+    cdef object keep            # the arrays the tree points into
+
+    def __init__(self, field):
+        self.field = field
+        self.fast = field.sizing is None and field._tree is not None
+        if self.fast:
+            self.keep = (field.features, field.sizes, field._tree)
+            self.tree = cone_tree_of(field.features, field.sizes, field.grading, field.cap,
+                                     field._tree)
+
+    cdef object at(self, double[:, ::1] xy, const double[::1] high,
+                   const int64_t[::1] order):
+        """r at the points ``xy``, each in a box where r <= ``high``, searched in
+        ``order`` (:func:`_spatial_order`: neighbours meet the same nodes in the cache)."""
+        cdef Py_ssize_t n = xy.shape[0], k, t
+        if not self.fast:
+            return np.asarray(self.field(np.asarray(xy)), float)
+        out_array = np.empty(n)
+        cdef double[::1] out = out_array
+        cdef int64_t *stack
+        cdef double *bound
+        with nogil, parallel(num_threads=threads_for(n)):
+            stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+            bound = <double *>malloc(CONE_STACK * sizeof(double))
+            for t in prange(n, schedule="dynamic", chunksize=CHUNK):
+                k = order[t]
+                out[k] = cone_at(&self.tree, xy[k, 0], xy[k, 1],
+                                 min(self.tree.cap, ABOVE * high[k]), stack, bound)
+            free(bound)
+            free(stack)
+        return out_array
+
+    cdef object at_quarters(self, const double[::1] x, const double[::1] y,
+                            const double[::1] size, const double[::1] high,
+                            const int64_t[::1] order):
+        """r at the centres of the quarters of the boxes (``RadiusField.at_quarters``'
+        order), r <= ``high`` on each box, the boxes searched in ``order``."""
+        cdef Py_ssize_t n = x.shape[0], k, j, t
+        if not self.fast:
+            return np.asarray(self.field.at_quarters(np.asarray(x), np.asarray(y),
+                                                     np.asarray(size)), float)
+        out_array = np.empty(4 * n)
+        cdef double[::1] out = out_array
+        cdef int64_t *stack
+        cdef double *best
+        with nogil, parallel(num_threads=threads_for(n)):
+            stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+            best = <double *>malloc(4 * sizeof(double))
+            for t in prange(n, schedule="dynamic", chunksize=CHUNK):
+                k = order[t]
+                for j in range(4):
+                    best[j] = min(self.tree.cap, ABOVE * high[k])
+                quarters_at(&self.tree, x[k], y[k], size[k], best, stack)
+                for j in range(4):
+                    out[j * n + k] = best[j]
+            free(best)
+            free(stack)
+        return out_array
+
+
+cdef double ABOVE = 1.0 + 1e-9      # r at a point of a box is at most ABOVE x its ``high``:
+                                    # high is r at the centre + L x the half-diagonal, and
+                                    # rounding is far below 1e-9 of it
+cdef double SQRT2 = sqrt(2.0)       # math.sqrt(2), as the sampler's bounds use it
+
+
+def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
+           Py_ssize_t max_boxes, Field field, tuple domain):
+    """The quadtree's leaves over the grid of nx x ny boxes of ``side`` from (xmin, ymin)
+    (row by row): each level's boxes that may reach into the region (all of the grid's
+    and the edge quarters tested by ``_visibility_kernels.box_state`` against
+    ``domain``; ``edge`` whether one may reach outside), with r at their centres from
+    ``field`` and its bounds low, high = r -+ L x half-diagonal; those with side at most
+    low are leaves, the others split in four (lower left quarters of all of them first,
+    then lower right, upper left, upper right). Returns (bx, by, size, low, high, edge)
+    of the leaves, level by level, or the number of boxes if the leaves so far and the
+    next level's boxes would be more than ``max_boxes``."""
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
+    cdef double grading = field.field.grading, half, spread
+    cdef Py_ssize_t n = nx * ny, m, k, j, i, split, total = 0
+    cdef double[::1] x = np.empty(n), y = np.empty(n), s = np.full(n, side)
+    cdef double[::1] parent_high = np.full(n, np.inf)
+    cdef uint8_t[::1] e = np.ones(n, np.uint8)
+    cdef int8_t[::1] state
+    cdef double[:, ::1] centre
+    cdef const double[::1] r
+    cdef double[:, ::1] kept
+    cdef uint8_t[::1] kept_edge
+    for k in range(n):
+        x[k] = xmin + side * (k % nx)
+        y[k] = ymin + side * (k // nx)
+    done = []
+    while n:
+        state = np.empty(n, np.int8)
+        for k in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                        num_threads=threads_for(n)):
+            state[k] = box_state(&region, sd, x[k], y[k], s[k]) if e[k] else 2
+        m = 0
+        with nogil:
+            for k in range(n):
+                if state[k] != 0:
+                    x[m], y[m], s[m], parent_high[m] = x[k], y[k], s[k], parent_high[k]
+                    e[m] = e[k] and state[k] != 2
+                    m += 1
+        centre = np.empty((m, 2))
+        for k in range(m):
+            centre[k, 0] = x[k] + 0.5 * s[k]
+            centre[k, 1] = y[k] + 0.5 * s[k]
+        r = field.at(centre, parent_high[:m],
+                     _grid_order(np.ascontiguousarray(centre[:, 0]),
+                                 np.ascontiguousarray(centre[:, 1]), xmin, ymin, nx * side,
+                                 ny * side))
+        kept_array = np.empty((5, m))
+        kept = kept_array
+        kept_edge_array = np.empty(m, np.bool_)
+        kept_edge = kept_edge_array.view(np.uint8)
+        j = 0
+        split = 0
+        with nogil:
+            for k in range(m):
+                spread = grading * (s[k] / SQRT2)
+                if s[k] <= r[k] - spread:
+                    kept[0, j], kept[1, j], kept[2, j] = x[k], y[k], s[k]
+                    kept[3, j], kept[4, j] = r[k] - spread, r[k] + spread
+                    kept_edge[j] = e[k]
+                    j += 1
+                else:                       # the boxes to split, first in place
+                    x[split], y[split], s[split], e[split] = x[k], y[k], s[k], e[k]
+                    parent_high[split] = r[k] + spread
+                    split += 1
+        done.append((kept_array[:, :j], kept_edge_array[:j]))
+        total += j
+        if total + 4 * split > max_boxes:
+            return total + 4 * split
+        n = 4 * split
+        x = np.concatenate([x[:split]] * 4)
+        y = np.concatenate([y[:split]] * 4)
+        s = np.concatenate([s[:split]] * 4)
+        e = np.concatenate([e[:split]] * 4)
+        parent_high = np.concatenate([parent_high[:split]] * 4)
+        for i in range(1, 4):
+            for k in range(split):
+                half = 0.5 * s[k]
+                if i & 1:
+                    x[i * split + k] = x[k] + half
+                if i & 2:
+                    y[i * split + k] = y[k] + half
+        for k in range(n):
+            s[k] = 0.5 * s[k]
+    bounds = np.concatenate([part[0] for part in done], axis=1)
+    return (*(np.ascontiguousarray(row) for row in bounds),
+            np.concatenate([part[1] for part in done]))
+
+
+def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple bins, nxt,
+          points, radius, Py_ssize_t count, double x0, double y0, vis):
     """One dart in each box [bx, bx+size]², at ``(bx + u[:, 0] size, by + u[:, 1] size)``,
-    taken in ``order``: the (k, 2) darts, in that order, that are in the region (boxes
-    flagged ``edge`` are tested against ``domain``, the chord bundle and cell sides of
-    ``_visibility_kernels.points_inside``) and that no sample refuses whatever r(x) is
-    in [low, high] of the dart's box: a sample q that the dart x sees with
-    |x - q| < min(low, r(q)) <= min(r(x), r(q)). Samples are only ever added, so
-    :func:`insert_where_free` would refuse those darts too; testing them first (in
-    parallel) spares the radius field and the sequential insertion."""
+    taken in ``order``; the darts in the region (boxes flagged ``edge`` are tested
+    against ``domain``, the chord bundle and cell sides of
+    ``_visibility_kernels.points_inside``) that no sample refuses whatever r(x) is in
+    [low, high] of the dart's box (a sample q that the dart x sees with
+    |x - q| < min(low, r(q)) <= min(r(x), r(q)): samples are only ever added, so
+    :func:`insert_where_free` would refuse those darts too; testing them first, in
+    parallel, spares the radius field and the sequential insertion) get r from
+    ``field`` and are inserted in that order where :func:`insert_where_free` allows.
+    ``boxes`` = (bx, by, size, low, high, edge); the sample arrays must have room for
+    one sample per box. Returns the new sample count."""
+    bx, by, size, low, high, edge = boxes
     cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high
     cdef const uint8_t[::1] ed = edge.view(np.uint8)
     cdef const double[:, ::1] uu = u
     cdef const int64_t[::1] od = order
     cdef const int8_t[::1] sides = domain[1]
     cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef const double[::1] cb = chord_bound
     cdef Chords region = chords_of(domain[0])
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
-    cdef Py_ssize_t n = od.shape[0], m = 0, k, t
-    cdef double dx, dy
+    cdef int32_t[::1] nx = nxt
+    cdef double[:, ::1] pt = points
+    cdef double[::1] rd = radius
+    cdef double grading = field.field.grading
+    cdef Py_ssize_t n = od.shape[0], m = 0, kept = 0, k, t
     cdef Query query
     darts_array = np.empty((n, 2))
     cdef double[:, ::1] dt = darts_array
     refused_array = np.zeros(n, np.bool_)
     cdef uint8_t[::1] out = refused_array.view(np.uint8)
     cdef double[::1] dl = np.empty(n), dh = np.empty(n)
+    for t in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(n)):
+        k = od[t]
+        dt[t, 0] = x[k] + uu[k, 0] * s[k]
+        dt[t, 1] = y[k] + uu[k, 1] * s[k]
+        out[t] = ed[k] and not point_inside(&region, sd, dt[t, 0], dt[t, 1])
     with nogil:
-        for t in range(n):
-            k = od[t]
-            dx = x[k] + uu[k, 0] * s[k]
-            dy = y[k] + uu[k, 1] * s[k]
-            if not ed[k] or point_inside(&region, sd, dx, dy):
-                dt[m, 0], dt[m, 1], dl[m], dh[m] = dx, dy, lw[k], hg[k]
+        for t in range(n):                  # the darts in the region, in order
+            if not out[t]:
+                k = od[t]
+                dt[m, 0], dt[m, 1], dl[m], dh[m] = dt[t, 0], dt[t, 1], lw[k], hg[k]
                 m += 1
     if not m:
-        return darts_array[:0]
+        return count
     cdef int64_t[::1] spatial = _spatial_order(np.ascontiguousarray(darts_array[:m, 0]),
                                                np.ascontiguousarray(darts_array[:m, 1]),
                                                &b, x0, y0)
@@ -382,17 +562,43 @@ def darts_kept(bx, by, size, low, high, edge, u, order, tuple domain, double gra
         query = Query(dt[k, 0], dt[k, 1], 0.0, dl[k], &p, &c)
         out[k] = _any_sample(&query, _conflicts, _level(dl[k] * (1.0 - grading), &b),
                              _level(dh[k] * (1.0 + grading), &b), 0, &b)
-    return darts_array[:m][~refused_array[:m]]
+    with nogil:
+        for t in range(m):
+            if not out[t]:
+                dt[kept, 0], dt[kept, 1], dh[kept] = dt[t, 0], dt[t, 1], dh[t]
+                kept += 1
+    if not kept:
+        return count
+    cdef double[::1] kx = np.empty(kept), ky = np.empty(kept)
+    for t in range(kept):
+        kx[t], ky[t] = dt[t, 0], dt[t, 1]
+    cdef const double[::1] r = field.at(dt[:kept], dh[:kept], _spatial_order(kx, ky, &b, x0, y0))
+    for t in prange(kept, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(kept)):
+        out[t] = not _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, 0)
+    cdef Py_ssize_t before = count    # the samples before the throw are known: _free against
+    with nogil:                       # them above, in parallel; against the new ones here
+        for t in range(kept):
+            if not out[t] and _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, before):
+                _place(dt[t, 0], dt[t, 1], r[t], &b, nx, pt, rd, count, x0, y0)
+                count += 1
+    return count
 
 
 cdef int64_t[::1] _spatial_order(const double[::1] x, const double[::1] y, const Bins *b,
                                  double x0, double y0):
     """An order of the points (x, y) by rows of a coarse grid over the pyramid (about 4
     points a cell), row by row and cell by cell (a stable counting sort): queries taken
-    in it meet the bins and samples of their neighbours, still in the cache, instead of
-    missing it at almost every bin. The answers do not depend on the order."""
+    in it meet the bins and samples of their neighbours (or the nodes of the field's
+    tree), still in the cache, instead of missing it at almost every bin. The answers
+    do not depend on the order."""
+    return _grid_order(x, y, x0, y0, b.nxs[0] * b.hs[0], b.nys[0] * b.hs[0])
+
+
+cdef int64_t[::1] _grid_order(const double[::1] x, const double[::1] y, double x0, double y0,
+                              double width, double height):
+    """:func:`_spatial_order` over the rectangle from (x0, y0) of ``width`` x ``height``."""
     cdef Py_ssize_t n = x.shape[0], k, cell
-    cdef double width = b.nxs[0] * b.hs[0], height = b.nys[0] * b.hs[0]
     cdef double side = max(2.0 * sqrt(width * height / max(n, 1)), 1e-300)
     cdef Py_ssize_t nx = min(<Py_ssize_t>(width / side) + 1, n + 1)
     cdef Py_ssize_t ny = min(<Py_ssize_t>(height / side) + 1, n + 1)
@@ -425,6 +631,19 @@ cdef bint _box_covered(double x_lo, double y_lo, double s, double low, double hi
                        _level(high + grading * low, b), since, b, True)
 
 
+cdef void _uncovered(const double[::1] x, const double[::1] y, const double[::1] s,
+                     const double[::1] lw, const double[::1] hg, double grading,
+                     const double[::1] cb, Py_ssize_t since, const Bins *b, const Placed *p,
+                     const Chords *c, const int64_t[::1] order, uint8_t[::1] keep) noexcept nogil:
+    """:func:`uncovered_boxes` into ``keep``, the boxes taken in ``order``."""
+    cdef Py_ssize_t n = x.shape[0], k, t
+    for t in prange(n, schedule="dynamic", chunksize=CHUNK, num_threads=threads_for(n)):
+        k = order[t]
+        keep[k] = lw[k] <= 0.0 or not (
+            _box_covered(x[k], y[k], s[k], lw[k], hg[k], grading, since, b, p, c)
+            or (since == 0 and _box_in_lens(x[k], y[k], s[k], lw[k], hg[k], grading, cb, c)))
+
+
 def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple bins, nxt,
                     points, radius, double x0, double y0, vis, Py_ssize_t since=0):
     """True for boxes [bx, bx+size]² that no single sample q covers and that are not in
@@ -437,14 +656,78 @@ def uncovered_boxes(bx, by, size, low, high, double grading, chord_bound, tuple 
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
-    cdef Py_ssize_t n = x.shape[0], k, t
-    keep_array = np.empty(n, np.bool_)
+    keep_array = np.empty(x.shape[0], np.bool_)
     cdef uint8_t[::1] keep = keep_array.view(np.uint8)
     cdef int64_t[::1] order = _spatial_order(x, y, &b, x0, y0)
-    for t in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(n)):
-        k = order[t]
-        keep[k] = lw[k] <= 0.0 or not (
-            _box_covered(x[k], y[k], s[k], lw[k], hg[k], grading, since, &b, &p, &c)
-            or (since == 0 and _box_in_lens(x[k], y[k], s[k], lw[k], hg[k], grading, cb, &c)))
+    with nogil:
+        _uncovered(x, y, s, lw, hg, grading, cb, since, &b, &p, &c, order, keep)
     return keep_array
+
+
+def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_boxes,
+               Field field, tuple domain, chord_bound, tuple bins, nxt, points, radius,
+               double x0, double y0, vis):
+    """One refinement level: of ``boxes`` = (bx, by, size, low, high, edge), found open
+    before sample ``since``, those still open (:func:`uncovered_boxes`) and at least
+    ``resolution`` x low in size are split in four; the quarters (lower left ones of all
+    boxes first, then lower right, upper left, upper right) that may reach into the
+    region (edge quarters tested by ``_visibility_kernels.box_state`` against
+    ``domain``), with r at their centres from ``field`` and its bounds
+    r -+ L x half-diagonal on each, are returned if open (:func:`uncovered_boxes`).
+    If there would be more than ``max_boxes`` quarters, their number instead."""
+    bx, by, size, low, high, edge = boxes
+    cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high, cb = chord_bound
+    cdef const uint8_t[::1] ed = edge.view(np.uint8)
+    cdef const int8_t[::1] sides = domain[1]
+    cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
+    cdef Chords region = chords_of(domain[0])
+    cdef Bins b = _bins_of(bins)
+    cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
+    cdef Chords c = chords_of(vis)
+    cdef double grading = field.field.grading, half, spread
+    cdef Py_ssize_t n = x.shape[0], m = 0, k, i, q, kept = 0
+    open_array = np.empty(n, np.bool_)
+    cdef uint8_t[::1] still = open_array.view(np.uint8)
+    cdef int64_t[::1] order = _spatial_order(x, y, &b, x0, y0)
+    with nogil:
+        _uncovered(x, y, s, lw, hg, grading, cb, since, &b, &p, &c, order, still)
+    cdef double[::1] fx = np.empty(n), fy = np.empty(n), fs = np.empty(n), fh = np.empty(n)
+    cdef uint8_t[::1] fe = np.empty(n, np.uint8)
+    with nogil:
+        for k in range(n):
+            if still[k] and s[k] >= resolution * lw[k]:
+                fx[m], fy[m], fs[m], fh[m], fe[m] = x[k], y[k], s[k], hg[k], ed[k]
+                m += 1
+    if 4 * m > max_boxes:
+        return 4 * m
+    cdef const double[::1] r = field.at_quarters(fx[:m], fy[:m], fs[:m], fh[:m],
+                                                 _spatial_order(fx[:m], fy[:m], &b, x0, y0))
+    children = np.empty((5, 4 * m))
+    cdef double[:, ::1] ch = children
+    edges = np.empty(4 * m, np.bool_)
+    cdef uint8_t[::1] ce = edges.view(np.uint8)
+    cdef int8_t[::1] states = np.empty(4 * m, np.int8)
+    for q in prange(4 * m, nogil=True, schedule="dynamic", chunksize=CHUNK,
+                    num_threads=threads_for(4 * m)):
+        i = q % m
+        half = 0.5 * fs[i]
+        ch[0, q] = fx[i] + half if (q // m) & 1 else fx[i]
+        ch[1, q] = fy[i] + half if (q // m) & 2 else fy[i]
+        states[q] = box_state(&region, sd, ch[0, q], ch[1, q], half) if fe[i] else 2
+    with nogil:
+        for q in range(4 * m):             # the quarters in the region, in order
+            if states[q] == 0:
+                continue
+            i = q % m
+            half = 0.5 * fs[i]
+            spread = grading * (half / SQRT2)
+            ch[0, kept], ch[1, kept], ch[2, kept] = ch[0, q], ch[1, q], half
+            ch[3, kept] = r[q] - spread
+            ch[4, kept] = r[q] + spread
+            ce[kept] = fe[i] and states[q] != 2
+            kept += 1
+    cx, cy, cs, cl, chh = (np.ascontiguousarray(children[a, :kept]) for a in range(5))
+    keep_array = uncovered_boxes(cx, cy, cs, cl, chh, grading, chord_bound, bins, nxt, points,
+                                 radius, x0, y0, vis)
+    return (cx[keep_array], cy[keep_array], cs[keep_array], cl[keep_array],
+            chh[keep_array], edges[:kept][keep_array])

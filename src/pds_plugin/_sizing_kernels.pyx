@@ -18,7 +18,7 @@ from ._parallel cimport threads_for
 
 cdef enum:
     CHUNK = 256     # iterations a thread takes at a time
-    STACK = 256     # nodes a search holds at most (twice the tree's depth)
+    STACK = CONE_STACK
 
 
 def build_cone_tree(xy, s, Py_ssize_t leaf_size):
@@ -112,6 +112,14 @@ cdef inline double _box_distance(double x, double y, const double[:, ::1] box,
     return sqrt(dx * dx + dy * dy)
 
 
+cdef inline double _node_distance(double x, double y, const ConeTree *t,
+                                  Py_ssize_t k) noexcept nogil:
+    """:func:`_box_distance` on the struct view of the tree."""
+    cdef double dx = max(t.box[4 * k] - x, 0.0, x - t.box[4 * k + 2])
+    cdef double dy = max(t.box[4 * k + 1] - y, 0.0, y - t.box[4 * k + 3])
+    return sqrt(dx * dx + dy * dy)
+
+
 cdef inline Py_ssize_t _push_children(double x, double y, Py_ssize_t k, double L,
                                       const int64_t[::1] left, const int64_t[::1] right,
                                       const double[:, ::1] box, const double[::1] smin,
@@ -126,37 +134,49 @@ cdef inline Py_ssize_t _push_children(double x, double y, Py_ssize_t k, double L
     return top + 2
 
 
-cdef double _cone_minimum(double x, double y, const double[:, ::1] xy, const double[::1] s,
-                          double L, double cap, const int64_t[::1] perm,
-                          const int64_t[::1] first, const int64_t[::1] stop,
-                          const int64_t[::1] left, const int64_t[::1] right,
-                          const double[:, ::1] box, const double[::1] smin,
-                          int64_t *stack, double *bound) noexcept nogil:
-    """min(cap, min_i(s_i + L|x - f_i|)) at (x, y): a depth-first search of the tree,
+cdef ConeTree cone_tree_of(features, sizes, double L, double cap, tuple tree) except *:
+    """The struct view of a ``build_cone_tree`` tree of ``features`` with ``sizes`` (the
+    arrays must outlive it; at least one feature)."""
+    cdef const double[:, ::1] f = features
+    cdef const double[::1] sz = sizes
+    cdef const int64_t[::1] pm = tree[0], fs = tree[1], st = tree[2], lf = tree[3], rt = tree[4]
+    cdef const double[:, ::1] bx = tree[5]
+    cdef const double[::1] sm = tree[6]
+    return ConeTree(&f[0, 0], &sz[0], &pm[0], &fs[0], &st[0], &lf[0], &rt[0], &bx[0, 0],
+                    &sm[0], L, cap)
+
+
+cdef double cone_at(const ConeTree *t, double x, double y, double best, int64_t *stack,
+                    double *bound) noexcept nogil:
+    """min(best, min_i(s_i + L|x - f_i|)) at (x, y): a depth-first search of the tree,
     the more promising child first, pruning nodes whose bound smin + L·distance is no
-    better than the best so far. Each node's bound is computed once, when it is pushed
-    (``bound`` beside ``stack``); a node pruned then would be pruned when popped (the
-    best only falls), and the value is the same exact minimum whatever is pruned."""
-    cdef double best = cap, dx, dy, value, bound_a, bound_b
-    cdef Py_ssize_t top = 1, k, t, i, a, b
+    better than the best so far (``best``: cap, or any number known to be above the
+    minimum, which only prunes more). Each node's bound is computed once, when it is
+    pushed (``bound`` beside ``stack``); a node pruned then would be pruned when popped
+    (the best only falls). A bound is never above the value of a feature in its node,
+    as computed (rounding is monotone), so the node of the minimum is visited unless
+    ``best`` already equals it: the value is min(best, the exact minimum) whatever is
+    pruned."""
+    cdef double L = t.L, dx, dy, value, bound_a, bound_b
+    cdef Py_ssize_t top = 1, k, j, i, a, b
     stack[0] = 0
-    bound[0] = smin[0] + L * _box_distance(x, y, box, 0)
+    bound[0] = t.smin[0] + L * _node_distance(x, y, t, 0)
     while top:
         top -= 1
         if bound[top] >= best:
             continue
         k = stack[top]
-        if left[k] < 0:
-            for t in range(first[k], stop[k]):
-                i = perm[t]
-                dx, dy = xy[i, 0] - x, xy[i, 1] - y
-                value = s[i] + L * sqrt(dx * dx + dy * dy)
+        if t.left[k] < 0:
+            for j in range(t.first[k], t.stop[k]):
+                i = t.perm[j]
+                dx, dy = t.xy[2 * i] - x, t.xy[2 * i + 1] - y
+                value = t.s[i] + L * sqrt(dx * dx + dy * dy)
                 if value < best:
                     best = value
             continue
-        a, b = left[k], right[k]
-        bound_a = smin[a] + L * _box_distance(x, y, box, a)
-        bound_b = smin[b] + L * _box_distance(x, y, box, b)
+        a, b = t.left[k], t.right[k]
+        bound_a = t.smin[a] + L * _node_distance(x, y, t, a)
+        bound_b = t.smin[b] + L * _node_distance(x, y, t, b)
         if bound_a < bound_b:                   # the more promising child on top
             a, b = b, a
             bound_a, bound_b = bound_b, bound_a
@@ -173,10 +193,7 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
                  smin):
     """min(cap, min_i(s_i + L|x - f_i|)) at each query point, exactly."""
     cdef const double[:, ::1] q = queries
-    cdef const double[:, ::1] f = xy
-    cdef const double[::1] sz = s, sm = smin
-    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
-    cdef const double[:, ::1] bx = box
+    cdef ConeTree t = cone_tree_of(xy, s, L, cap, (perm, first, stop, left, right, box, smin))
     cdef Py_ssize_t n = q.shape[0], k
     out_array = np.empty(n)
     cdef double[::1] out = out_array
@@ -186,29 +203,24 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         bound = <double *>malloc(STACK * sizeof(double))
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
-            out[k] = _cone_minimum(q[k, 0], q[k, 1], f, sz, L, cap, pm, fs, st, lf, rt, bx, sm,
-                                   stack, bound)
+            out[k] = cone_at(&t, q[k, 0], q[k, 1], cap, stack, bound)
         free(bound)
         free(stack)
     return out_array
 
 
-cdef void _quarter_minimum(double x_lo, double y_lo, double size, const double[:, ::1] xy,
-                           const double[::1] s, double L, double cap,
-                           const int64_t[::1] perm, const int64_t[::1] first,
-                           const int64_t[::1] stop, const int64_t[::1] left,
-                           const int64_t[::1] right, const double[:, ::1] box,
-                           const double[::1] smin, int64_t *stack,
-                           double *best) noexcept nogil:
-    """:func:`_cone_minimum` at the centres of the four quarters of the box
+cdef void quarters_at(const ConeTree *t, double x_lo, double y_lo, double size, double *best,
+                      int64_t *stack) noexcept nogil:
+    """:func:`cone_at` at the centres of the four quarters of the box
     [x_lo, x_lo + size]² at once, into best[0..3] (lower left, lower right, upper left,
-    upper right), each centre computed as the sampler computes it. One search: a node
-    is pruned when its bound is no better than the best so far for all four, so each
-    value is the exact minimum, the same as four searches give."""
-    cdef double half = 0.5 * size, dx, dy, value
+    upper right; each starts as cap or a number known to be above the minimum there),
+    each centre computed as the sampler computes it. One search: a node is pruned when
+    its bound is no better than the best so far for all four, so each value is the
+    same as four searches give."""
+    cdef double half = 0.5 * size, dx, dy, value, L = t.L, da, db
     cdef double qx[4]
     cdef double qy[4]
-    cdef Py_ssize_t top = 1, k, t, i, j
+    cdef Py_ssize_t top = 1, k, m, i, j, a, b
     cdef bint needed
     qx[0] = x_lo + 0.5 * half
     qx[1] = (x_lo + half) + 0.5 * half
@@ -216,30 +228,34 @@ cdef void _quarter_minimum(double x_lo, double y_lo, double size, const double[:
     qy[0] = y_lo + 0.5 * half
     qy[2] = (y_lo + half) + 0.5 * half
     qy[1], qy[3] = qy[0], qy[2]
-    for j in range(4):
-        best[j] = cap
     stack[0] = 0
     while top:
         top -= 1
         k = stack[top]
         needed = False
         for j in range(4):
-            if smin[k] + L * _box_distance(qx[j], qy[j], box, k) < best[j]:
+            if t.smin[k] + L * _node_distance(qx[j], qy[j], t, k) < best[j]:
                 needed = True
                 break
         if not needed:
             continue
-        if left[k] < 0:
-            for t in range(first[k], stop[k]):
-                i = perm[t]
+        if t.left[k] < 0:
+            for m in range(t.first[k], t.stop[k]):
+                i = t.perm[m]
                 for j in range(4):
-                    dx, dy = xy[i, 0] - qx[j], xy[i, 1] - qy[j]
-                    value = s[i] + L * sqrt(dx * dx + dy * dy)
+                    dx, dy = t.xy[2 * i] - qx[j], t.xy[2 * i + 1] - qy[j]
+                    value = t.s[i] + L * sqrt(dx * dx + dy * dy)
                     if value < best[j]:
                         best[j] = value
             continue
-        top = _push_children(x_lo + half, y_lo + half, k, L, left, right, box, smin, stack,
-                             top)
+        a, b = t.left[k], t.right[k]      # the more promising child for the box's centre on top
+        da = _node_distance(x_lo + half, y_lo + half, t, a) + t.smin[a] / L
+        db = _node_distance(x_lo + half, y_lo + half, t, b) + t.smin[b] / L
+        if da < db:
+            a, b = b, a
+        stack[top] = a
+        stack[top + 1] = b
+        top += 2
 
 
 def quarter_cone_minimum(bx, by, size, xy, s, double L, double cap, perm, first, stop, left,
@@ -248,10 +264,7 @@ def quarter_cone_minimum(bx, by, size, xy, s, double L, double cap, perm, first,
     [bx, bx + size] x [by, by + size], exactly: an (4 n,) array, the lower left quarters
     of the n boxes first, then the lower right, upper left and upper right ones."""
     cdef const double[::1] x = bx, y = by, sd = size
-    cdef const double[:, ::1] f = xy
-    cdef const double[::1] sz = s, sm = smin
-    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
-    cdef const double[:, ::1] bb = box
+    cdef ConeTree t = cone_tree_of(xy, s, L, cap, (perm, first, stop, left, right, box, smin))
     cdef Py_ssize_t n = x.shape[0], k, j
     out_array = np.empty(4 * n)
     cdef double[::1] out = out_array
@@ -261,8 +274,9 @@ def quarter_cone_minimum(bx, by, size, xy, s, double L, double cap, perm, first,
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))      # one of each per thread
         best = <double *>malloc(4 * sizeof(double))
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
-            _quarter_minimum(x[k], y[k], sd[k], f, sz, L, cap, pm, fs, st, lf, rt, bb, sm,
-                             stack, best)
+            for j in range(4):
+                best[j] = cap
+            quarters_at(&t, x[k], y[k], sd[k], best, stack)
             for j in range(4):
                 out[j * n + k] = best[j]
         free(best)

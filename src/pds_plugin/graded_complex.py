@@ -28,7 +28,8 @@ __all__ = ["graded_alpha_complex"]
 _MAX_BINS = 4_000_000
 
 
-def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np.ndarray:
+def graded_alpha_complex(points, radius, grading: float, *, boundary=None,
+                         chords=None) -> np.ndarray:
     """The constrained Delaunay triangles of ``points`` with circumradius at most
     min r(v) / (1 - L) over their vertices v, counter-clockwise, as an (M, 3) int64
     array.
@@ -44,6 +45,12 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np
     boundary : sequence of (k,) int array_like, optional
         Rings of point indices with the region on their left (``Samples.rings``): the
         complex is then constrained to the region they bound.
+    chords : ChordBundle, optional
+        The chords of ``boundary``, each binned within its reach
+        (:func:`.boundary_sampling.graded_chords` with
+        :func:`.boundary_sampling.chord_reach` of these points and radii), its ``out``
+        indexed like ``points``: the graded sampler's (``Samples.chords``), taken
+        instead of binning the chords again. The triangles are the same.
 
     Returns
     -------
@@ -53,7 +60,8 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np
     ------
     ArgumentTypeError, ArgumentError
         If the points are not distinct finite 2D points, ``radius`` is not positive and
-        one per point, or ``grading`` is not in (0, 1).
+        one per point, ``grading`` is not in (0, 1) or ``chords`` does not index the
+        points.
     BudgetError
         If too many triangles need the exact empty-circle test.
 
@@ -83,7 +91,13 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None) -> np
     order, start = ckern.bin_points(points, lo[0], lo[1], h, nx, ny)
     binned = np.ascontiguousarray(points[order])
     check_distinct(binned, order, start)
-    vis = _chords(points, rings, radius, grading)
+    if chords is None or not rings:
+        vis = _chords(points, rings, radius, grading)
+    elif len(chords.out) != len(points):
+        raise ArgumentError(f"chords must index the {len(points)} points (its out has "
+                            f"{len(chords.out)} entries): pass the sampling's Samples.chords")
+    else:
+        vis = chords
     vis = vis._replace(out=np.ascontiguousarray(vis.out[order]))     # indexed like binned
     bound = np.ascontiguousarray(bound[order])
     return order[local_faces(binned, order, start, lo[0], lo[1], h, nx, ny, vis,

@@ -108,8 +108,9 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
+    chords = sampler.vis._replace(out=sampler.vis.out[:sampler.count].copy())
     return Samples(points, on_boundary, field.cap, sampler.rings,
-                   sampler.radius[:sampler.count].copy(), sampler.sampled_region)
+                   sampler.radius[:sampler.count].copy(), sampler.sampled_region, chords)
 
 
 def _tau_rings(rings, field, grading):
@@ -591,80 +592,37 @@ class _GradedSampler:
         """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
         Boxes are (x, y, size, low, high, edge): ``low`` and ``high`` bounds of r on the
         box, ``edge`` whether it may reach outside the chord polygons. A box found open
-        is tested again, after the darts, against the new samples only."""
+        is tested again, after the darts, against the new samples only. Each level of
+        the refinement is one kernel call (``_graded_kernels.split_open``: the coverage
+        test, the split, r at the quarters, the in/out test and the coverage test of the
+        quarters) and one throw."""
+        self.kernel_field = kern.Field(self.field)
         boxes, since = self._leaves(), 0
         for _ in range(_PASSES):
             boxes, since = self._open(boxes, since), self.count
             self._throw(boxes, rng)
         while len(boxes[0]):
-            boxes = self._open(boxes, since)
-            fine = boxes[2] >= RESOLUTION * boxes[3]
-            children = self._children(tuple(a[fine] for a in boxes))
-            boxes, since = self._open(children), self.count     # darts only where no
-            self._throw(boxes, rng)                              # disc covers already
-
-    def _children(self, boxes):
-        """The four quarters of each box kept by :meth:`_inside`, with their bounds of r
-        (:meth:`_boxes`; r at their centres from one cone search per box)."""
-        bx, by, size, low, high, edge = boxes
-        self._check_boxes(4 * len(bx))
-        r = self.field.at_quarters(bx, by, size)
-        half = 0.5 * size
-        bx = np.concatenate([bx, bx + half, bx, bx + half])
-        by = np.concatenate([by, by, by + half, by + half])
-        half = np.concatenate([half, half, half, half])
-        keep, edge = self._inside(bx, by, half, np.concatenate([edge, edge, edge, edge]))
-        size = half[keep]
-        return (bx[keep], by[keep], size, *self._bounds(r[keep], size), edge)
-
-    def _inside(self, bx, by, size, edge):
-        """Which boxes to keep, and their ``edge`` flags: of those that may reach outside
-        (``edge``), the ones outside the chord polygons dropped and the ones inside
-        marked so."""
-        state = vis_kern.boxes_state(*self.domain, bx[edge], by[edge], size[edge])
-        keep = np.ones(len(bx), bool)
-        keep[edge] = state != vis_kern.BOX_OUTSIDE
-        edge = edge.copy()
-        edge[edge] = state != vis_kern.BOX_INSIDE
-        return keep, edge[keep]
-
-    def _boxes(self, bx, by, size, edge):
-        """The boxes kept by :meth:`_inside`, with the bounds of r on each from r at its
-        centre."""
-        keep, edge = self._inside(bx, by, size, edge)
-        bx, by, size = bx[keep], by[keep], size[keep]
-        centre = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
-        return (bx, by, size, *self._bounds(self.field(centre), size), edge)
-
-    def _bounds(self, centre_r, size):
-        """Lower and upper bounds of r on boxes of side ``size`` with r ``centre_r`` at
-        their centres: r(centre) -+ L times the half-diagonal."""
-        spread = self.field.grading * (size / math.sqrt(2))
-        return centre_r - spread, centre_r + spread
+            boxes = kern.split_open(boxes, since, RESOLUTION,
+                                    _MAX_BOXES_PER_SAMPLE * self.max_samples,
+                                    self.kernel_field, self.domain, self.chord_bound,
+                                    self.bins, self.nxt, self.points, self.radius, self.x0,
+                                    self.y0, self.vis)
+            if isinstance(boxes, int):
+                self._check_boxes(boxes)
+            since = self.count                  # darts only where no disc covers already
+            self._throw(boxes, rng)
 
     def _leaves(self):
-        """Quadtree leaves over the region: boxes split while their side exceeds r_low,
-        boxes outside the chord polygons dropped."""
+        """Quadtree leaves over the region (``_graded_kernels.leaves``): boxes split while
+        their side exceeds r_low, boxes outside the chord polygons dropped."""
         s = self.field.cap / math.sqrt(2)
         xmin, ymin, xmax, ymax = self.region.bounds
         nx, ny = int(math.ceil((xmax - xmin) / s)) or 1, int(math.ceil((ymax - ymin) / s)) or 1
-        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny))
-        bx, by = xmin + s * ix.ravel(), ymin + s * iy.ravel()
-        size = np.full(len(bx), s)
-        edge = np.ones(len(bx), bool)
-        done, total = [], 0
-        while len(bx):
-            bx, by, size, low, high, edge = self._boxes(bx, by, size, edge)
-            leaf = size <= low
-            done.append(tuple(a[leaf] for a in (bx, by, size, low, high, edge)))
-            total += int(leaf.sum())
-            self._check_boxes(total + 4 * int((~leaf).sum()))
-            bx, by, size, edge = bx[~leaf], by[~leaf], size[~leaf], edge[~leaf]
-            half = 0.5 * size
-            bx = np.concatenate([bx, bx + half, bx, bx + half])
-            by = np.concatenate([by, by, by + half, by + half])
-            size, edge = (np.concatenate([a, a, a, a]) for a in (half, edge))
-        return tuple(np.concatenate(parts) for parts in zip(*done))
+        leaves = kern.leaves(xmin, ymin, s, nx, ny, _MAX_BOXES_PER_SAMPLE * self.max_samples,
+                             self.kernel_field, self.domain)
+        if isinstance(leaves, int):
+            self._check_boxes(leaves)
+        return leaves
 
     def _check_boxes(self, count: int):
         """Refuse a refinement that would hold more than _MAX_BOXES_PER_SAMPLE boxes per
@@ -688,12 +646,13 @@ class _GradedSampler:
         return tuple(a[keep] for a in boxes)
 
     def _throw(self, boxes, rng):
-        """One dart uniform in each box; darts in the region thrown in random order."""
-        bx, by, size, low, high, edge = boxes
-        u = rng.random((len(bx), 2))
-        order = rng.permutation(len(bx))
-        darts = kern.darts_kept(bx, by, size, low, high, edge, u, order, self.domain,
-                                self.field.grading, self.bins, self.nxt, self.points,
-                                self.radius, self.x0, self.y0, self.vis)
-        if len(darts):
-            self._insert(darts, np.arange(len(darts)))
+        """One dart uniform in each box; darts in the region thrown in random order
+        (``_graded_kernels.throw``: the refusal test, r and the insertion)."""
+        n = len(boxes[0])
+        u = rng.random((n, 2))
+        order = rng.permutation(n)
+        self._reserve(n)
+        self.count = kern.throw(boxes, u, order, self.kernel_field, self.domain,
+                                self.chord_bound, self.bins, self.nxt, self.points,
+                                self.radius, self.count, self.x0, self.y0, self.vis)
+        self._check_count()

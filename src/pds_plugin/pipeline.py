@@ -157,7 +157,7 @@ def _graded_mesh(region, alpha, seed, conforming, grading, sizing, options) -> P
                          options.get("feature_angle", 30.0))
     samples = graded_poisson_disc(region, field, seed, **options)
     faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
-                                 boundary=samples.rings)
+                                 boundary=samples.rings, chords=samples.chords)
     sampled = region if samples.region is None else samples.region   # moved onto its arcs
     return PlanarMesh(samples.points, faces, samples.on_boundary, sampled, field.cap, True,
                       field=field)

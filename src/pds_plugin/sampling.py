@@ -91,6 +91,11 @@ class Samples:
         Conforming samplings of a region with exact curves (``region.curves``): the
         region refined through the boundary samples, which were moved onto its arcs
         (:func:`pds_plugin.boundary_curves.samples_onto_curves`); None otherwise.
+    chords : ChordBundle or None
+        Graded samplings: the rings' chords, each binned within its reach
+        (:func:`pds_plugin.boundary_sampling.graded_chords`), which
+        :func:`pds_plugin.graded_complex.graded_alpha_complex` takes instead of binning
+        them again; None otherwise.
 
     Examples
     --------
@@ -106,6 +111,7 @@ class Samples:
     rings: tuple = ()
     radius: np.ndarray | None = None
     region: Region | None = None
+    chords: object = None
 
     def __len__(self) -> int:
         return len(self.points)
