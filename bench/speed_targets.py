@@ -46,6 +46,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import pds_plugin as pds                                   # noqa: E402
 
+from _drawings import rounded_plate                        # noqa: E402
 from _environment import machine                           # noqa: E402
 from _regions import DATA                                  # noqa: E402
 from _runners import _area_for_vertices, _pslg             # noqa: E402
@@ -72,14 +73,7 @@ def drawing_region() -> pds.Region:
         columns, rows = 7, math.ceil(count / 7)
         width, height = 8 + 12 * columns, 8 + 12 * rows
         x0, y0 = 40 + (k // 2) * 120.0, (90.0, 20.0)[k % 2] + 300.0 * (k % 2)
-        x1, y1 = x0 + width, y0 + height
-        space.add_line((x0 + corner, y0), (x1 - corner, y0))
-        space.add_line((x1, y0 + corner), (x1, y1 - corner))
-        space.add_line((x1 - corner, y1), (x0 + corner, y1))
-        space.add_line((x0, y1 - corner), (x0, y0 + corner))
-        for (cx, cy), start in [((x1 - corner, y0 + corner), 270), ((x1 - corner, y1 - corner), 0),
-                                ((x0 + corner, y1 - corner), 90), ((x0 + corner, y0 + corner), 180)]:
-            space.add_arc((cx, cy), corner, start, start + 90)
+        rounded_plate(space, x0, y0, width, height, corner)
         for j in range(count):
             space.add_circle((x0 + 10 + 12 * (j % columns), y0 + 10 + 12 * (j // columns)), radius)
     with tempfile.TemporaryDirectory() as folder:
