@@ -121,5 +121,6 @@ def _check_work(points, alpha, counts) -> None:
     if crowd > _MAX_NEIGHBOURS:
         raise BudgetError(f"{crowd} points lie within 2 alpha={2 * alpha:.6g} of one point, "
                           f"more than {_MAX_NEIGHBOURS} (a Poisson sampling has about 20): alpha "
-                          f"is far larger than the points' spacing; use a smaller alpha (or "
-                          f"subsample the points)")
+                          f"is far larger than the points' spacing (of a region: than its holes "
+                          f"and features, each of which keeps samples of its own); use a smaller "
+                          f"alpha, or subsample a point set")
