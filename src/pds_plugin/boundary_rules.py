@@ -25,7 +25,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from .boundary_sampling import (RESOLUTION, bisector_guards, chord_ends, hidden_bends, joined,
-                                vertex_chords)
+                                star_shaped_from, vertex_chords)
 from .region import Region, turning_angles
 
 __all__ = ["before_curves", "after_curves", "LONGEST_CHORD"]
@@ -41,7 +41,6 @@ def before_curves(ring_xy, region: Region, alpha: float) -> list:
 
     Examples
     --------
-    >>> import shapely
     >>> plate = Region.from_shapely(shapely.box(0, 0, 4, 1.3).difference(
     ...     shapely.box(1, 0.3, 3, 1)))                              # walls 0.3 thin
     >>> xy = [np.array([[0, 0], [1.6, 0], [3.2, 0], [4, 0], [4, 1.3], [2, 1.3], [0, 1.3]]),
@@ -92,7 +91,6 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
 
     Examples
     --------
-    >>> from .region import turning_angles
     >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
     >>> samples = np.array([[0, 0], [1.5, 0], [3, 0], [4, 0], [4, 1], [3.3, 1], [2.05, 1], [0, 1]])
     >>> _unhidden(samples, ring, turning_angles(ring), 1.0)[6].tolist()   # onto (2, 1)
@@ -131,8 +129,7 @@ def _unhidden(samples, ring, turns, alpha, passes=3) -> np.ndarray:
         for k in range(n):
             rows.append(samples[k:k + 1])
             if k in added:
-                order = np.argsort([np.hypot(*(ring[w] - samples[k])) for w in added[k]])
-                rows.append(ring[np.array(sorted(added[k]))[order]])
+                rows.append(ring[sorted(added[k], key=lambda w: np.hypot(*(ring[w] - samples[k])))])
         samples = np.concatenate(rows)
     return samples
 
@@ -152,7 +149,6 @@ def _lobes_split(samples, ring, turns, alpha, passes=3) -> np.ndarray:
 
     Examples
     --------
-    >>> from .region import turning_angles
     >>> ring = np.array([[0, -1], [1, -1], [1, 0], [1.5, 0.5], [1.2, 1.2], [0.5, 0.3],
     ...                  [-0.2, 1.2], [-0.5, 0.5], [0, 0]], float)   # two lobes on a neck
     >>> samples = ring[[0, 1, 2, 8]]
@@ -160,6 +156,8 @@ def _lobes_split(samples, ring, turns, alpha, passes=3) -> np.ndarray:
     [1.2, 1.2]
     """
     tol = 1e-9 * alpha
+    if not ((turns < 0).any() and (turns > 0).any()):
+        return samples                          # a lobe bends both ways
     for _ in range(passes):
         n = len(samples)
         chord, offset, _ = vertex_chords(samples, ring)
@@ -178,7 +176,7 @@ def _lobes_split(samples, ring, turns, alpha, passes=3) -> np.ndarray:
             on = np.flatnonzero((chord == k) & off_ends)
             on = on[np.argsort(offset[on])]
             piece = np.vstack([samples[k], ring[on], samples[(k + 1) % n]])
-            seers = [end for end in (piece[0], piece[-1]) if _star_shaped(piece, end, tol)]
+            seers = [end for end in (piece[0], piece[-1]) if star_shaped_from(piece, end, tol)]
             if not seers or np.min([np.hypot(*(piece - end).T) for end in seers],
                                    axis=0).max() > alpha:
                 added[k] = ring[on[np.argmin(height[on])]]
@@ -187,17 +185,6 @@ def _lobes_split(samples, ring, turns, alpha, passes=3) -> np.ndarray:
         keys = sorted(added)
         samples = np.insert(samples, [k + 1 for k in keys], [added[k] for k in keys], axis=0)
     return samples
-
-
-def _star_shaped(piece, point, tol) -> bool:
-    """Whether every point of the simple polygon ``piece`` sees ``point``: ``point`` is
-    on the inner side of every edge's line, up to ``tol``."""
-    edges = np.roll(piece, -1, axis=0) - piece
-    doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1)
-                     - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
-    to_point = point - piece
-    side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
-    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
 
 
 def _reflex_run(samples, end, other, w, ring, turns, chord_of):
@@ -351,18 +338,18 @@ def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
         below = np.sqrt(np.maximum(1 - (0.5 * length[chord] / alpha) ** 2, 0.0))
         depth = (1 - 1e-9) - x ** 2 - (y + below) ** 2
         blocked = (y > RESOLUTION) & (depth > 0)
-        seer = points[p[blocked]]
-        blocked[blocked] = (_sees(seer, a[chord[blocked]], ring_xy)
-                            & _sees(seer, b[chord[blocked]], ring_xy))
+        seer, chords = points[p[blocked]], _chords_tree(ring_xy)
+        blocked[blocked] = (_sees(seer, a[chord[blocked]], chords)
+                            & _sees(seer, b[chord[blocked]], chords))
         if not blocked.any():
             break
         chord, p, depth = chord[blocked], p[blocked], depth[blocked]
         order = np.lexsort((-depth, chord))                   # the deepest one per chord
         chord, p = chord[order], p[order]
         keep = np.append(True, chord[1:] != chord[:-1])
-        rungs = {}
+        rungs, ends = {}, np.cumsum([len(i) for i in index])
         for k, q in zip(chord[keep], p[keep]):
-            r = int(np.searchsorted(np.cumsum([len(i) for i in index]), k, side="right"))
+            r = int(np.searchsorted(ends, k, side="right"))
             rungs.setdefault(r, []).append((k - index[r][0], points[q]))
         for r, found in rungs.items():
             xy, ring = ring_xy[r], rings[r]
@@ -379,17 +366,21 @@ def _rungs_across_walls(ring_xy, rings, alpha, passes=4) -> list:
     return ring_xy
 
 
-def _sees(p, q, ring_xy) -> np.ndarray:
-    """Whether each point p sees its point q through the chords between the boundary
-    samples ``ring_xy`` (each ring's, in order), the boundary the complex conforms to:
+def _chords_tree(ring_xy):
+    """A tree of the chords between the boundary samples ``ring_xy`` (each ring's, in
+    order), the boundary the complex conforms to, for :func:`_sees`."""
+    return shapely.STRtree(shapely.linearrings(
+        np.concatenate(ring_xy), indices=np.repeat(np.arange(len(ring_xy)),
+                                                   [len(xy) for xy in ring_xy])))
+
+
+def _sees(p, q, chords) -> np.ndarray:
+    """Whether each point p sees its point q through the ``chords`` (:func:`_chords_tree`):
     the open segment meets no chord."""
-    tree = shapely.STRtree(shapely.linearrings(np.concatenate(ring_xy),
-                                               indices=np.repeat(np.arange(len(ring_xy)),
-                                                                 [len(xy) for xy in ring_xy])))
     shrink = 1e-9 * (q - p)
     lines = shapely.linestrings(np.stack([p + shrink, q - shrink], axis=1))
     seen = np.ones(len(p), bool)
-    seen[tree.query(lines, predicate="intersects")[0]] = False
+    seen[chords.query(lines, predicate="intersects")[0]] = False
     return seen
 
 
@@ -438,7 +429,7 @@ def _guards_halved(ring_xy, region, alpha) -> list:
     near = cKDTree(points).query_ball_point(at, alpha * (1 - 1e-12))
     guard = np.repeat(np.arange(len(at)), [len(k) for k in near])
     seer = np.concatenate(near).astype(np.int64)
-    seen = _sees(at[guard], points[seer], ring_xy)
+    seen = _sees(at[guard], points[seer], _chords_tree(ring_xy))
     free[guard[seen]] = False
     blocked = long[~free.reshape(levels, -1).any(axis=0)]
     if not len(blocked):

@@ -6,7 +6,8 @@ their complexes are constrained by (:mod:`.complex`, :mod:`.graded_complex`).
 - :func:`along`: the points at positions along a ring (arc length, or τ = ∫ dt / r);
 - :func:`onto_curves`: boundary samples moved onto a drawing's exact arcs;
 - :func:`vertex_chords`: the chord each ring vertex lies under; :func:`hidden_bends`:
-  the reflex vertices that hide part of a ring beyond its chords;
+  the reflex vertices that hide part of a ring beyond its chords; :func:`star_shaped_from`:
+  whether a polygon is seen whole from a point (the samplers' and the certificate's test);
 - :func:`joined`: the samples of every ring in one array, each ring's indices, the
   rings the chords join; :func:`chord_ends`: each chord's two ends;
 - :func:`guard_candidates`: guard samples inside chords too long to split, in the order
@@ -35,7 +36,7 @@ from .region import Region
 
 __all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
            "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords",
-           "vertex_chords", "hidden_bends"]
+           "vertex_chords", "hidden_bends", "star_shaped_from"]
 
 RESOLUTION = 1e-10
 """The smallest refinement box and boundary margin of both samplers, relative to the
@@ -182,6 +183,27 @@ def hidden_bends(samples, ring, turns, tol):
     bends += [(span[k[i]] - along[i], (k[i] + 1) % n, k[i], vertex[i], along[i])
               for i in np.flatnonzero(last)]
     return sorted(bends, key=lambda bend: bend[0]), chord, reflex, beyond
+
+
+def star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
+    """Whether every point of the simple polygon ``piece`` (its vertices in order, either
+    orientation) sees ``point`` inside it: ``point`` lies on the inner side of every
+    edge's line (the polygon's kernel), up to ``tol``.
+
+    Examples
+    --------
+    >>> kinked = np.array([[0, 0], [4, 0], [4, 2], [2, 1.8], [0, 2]], float)
+    >>> [star_shaped_from(kinked, kinked[k], 1e-12) for k in range(3)]   # (0, 2) hides behind the kink from (4, 2)
+    [True, True, False]
+    >>> notch = np.array([[0, 0], [4, 0], [4, 2], [2, 0.2], [0, 2]], float)
+    >>> star_shaped_from(notch, notch[4], 1e-12)
+    False
+    """
+    edges = np.roll(piece, -1, axis=0) - piece
+    doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1) - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
+    to_point = point - piece
+    side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
+    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
 
 
 def chord_ends(rings):

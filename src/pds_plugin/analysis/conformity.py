@@ -26,6 +26,7 @@ import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
 from .._certificate_kernels import segment_distances, signed_areas
+from ..boundary_sampling import star_shaped_from
 from .feature import point_segment
 
 __all__ = ["BoundaryReport", "SampledBoundary", "boundary_report", "PROBES_PER_ALPHA"]
@@ -280,7 +281,7 @@ class SampledBoundary:
             area += abs(float((piece[:, 0] * np.roll(piece[:, 1], -1)
                                - piece[:, 1] * np.roll(piece[:, 0], -1)).sum()) / 2)
             ends = [e for e, at in ((a, piece[0]), (b, piece[-1]))
-                    if np.allclose(e, at, rtol=0, atol=tol) and _star_shaped_from(piece, e, tol)]
+                    if np.allclose(e, at, rtol=0, atol=tol) and star_shaped_from(piece, e, tol)]
             seers = self._seers.get(int(k), [])
             bounds = [] if len(ends) == 2 else [
                 _seen_in_parts(piece, a, b, apex, tol, self._relative),
@@ -671,27 +672,6 @@ def _farthest(curves, targets, step) -> float:
     return farthest
 
 
-def _star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
-    """Whether every point of the simple polygon ``piece`` (its vertices in order, either
-    orientation) sees ``point`` inside it: ``point`` lies on the inner side of every
-    edge's line (the polygon's kernel), up to ``tol``.
-
-    Examples
-    --------
-    >>> kinked = np.array([[0, 0], [4, 0], [4, 2], [2, 1.8], [0, 2]], float)
-    >>> [_star_shaped_from(kinked, kinked[k], 1e-12) for k in range(3)]   # (0, 2) hides behind the kink from (4, 2)
-    [True, True, False]
-    >>> notch = np.array([[0, 0], [4, 0], [4, 2], [2, 0.2], [0, 2]], float)
-    >>> _star_shaped_from(notch, notch[4], 1e-12)
-    False
-    """
-    edges = np.roll(piece, -1, axis=0) - piece
-    doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1) - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
-    to_point = point - piece
-    side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
-    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
-
-
 def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: float,
                    measure=lambda bound: bound[0]):
     """A bound on the coverage of a piece of region beyond the chord ab (its arc running
@@ -730,18 +710,18 @@ def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: f
         if cut[i] is None:
             continue
         first = np.concatenate([piece[:i + 1], [cut[i]]])
-        if i > 0 and not (holds_a and _star_shaped_from(first, a, tol)):
+        if i > 0 and not (holds_a and star_shaped_from(first, a, tol)):
             continue
         for j in range(i, last + 1):             # the part seen from b: from vertex j
             if cut[j] is None:
                 continue
             second = np.concatenate([[cut[j]], piece[j:]])
-            if j < last and not (holds_b and _star_shaped_from(second, b, tol)):
+            if j < last and not (holds_b and star_shaped_from(second, b, tol)):
                 continue
             parts = ([(first, a)] if i > 0 else []) + ([(second, b)] if j < last else [])
             if j > i:                            # the middle, seen from the apex
                 middle = np.concatenate([[cut[i]], piece[i:j + 1], [cut[j]]])
-                if apex is None or not _star_shaped_from(
+                if apex is None or not star_shaped_from(
                         np.concatenate([piece[i:j + 1], [apex]]), apex, tol):
                     continue
                 parts.append((middle, apex))
@@ -862,12 +842,12 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
         """The best bound of the part from arc vertex i to j over the samples seeing it."""
         part = np.concatenate([[foot[i]], piece[i:j + 1], [foot[j]]])
         found = []
-        if i == 0 and holds_a and _star_shaped_from(part, a, tol):
+        if i == 0 and holds_a and star_shaped_from(part, a, tol):
             found.append(a)
-        if j == last and holds_b and _star_shaped_from(part, b, tol):
+        if j == last and holds_b and star_shaped_from(part, b, tol):
             found.append(b)
         for point, lo, hi in above:
-            if lo <= along[i] and along[j] <= hi and _star_shaped_from(
+            if lo <= along[i] and along[j] <= hi and star_shaped_from(
                     np.concatenate([[point], part]), point, tol):
                 found.append(point)
         bounds = []
