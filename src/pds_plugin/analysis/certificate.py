@@ -11,8 +11,9 @@ A conforming mesh (``mesh.conforming``) is measured with the **visibility rule**
 points see each other when the segment between them stays in the region (up to the
 chords' sagitta: in the union of the region and the sampled boundary polygon Q). Its
 separation is the shortest distance between samples that see each other or share an
-edge; its coverage gap the largest distance from a point of the region to a sample it
-sees. Both are exact from the mesh itself once the mesh is verified to be Q
+edge; its coverage gap the largest distance from a point of the region to a sample along
+a path through the region: straight to a sample it sees, or around a reflex vertex of
+the boundary that hides it (docs/conforming.md, "Routes around a kink"). Both are exact from the mesh itself once the mesh is verified to be Q
 (docs/conforming.md, "What the certificate measures"): every point of a triangle sees the
 triangle's corners, and the farthest point of a triangle from its nearest corner is its
 circumcentre, or on its longest edge when the triangle is obtuse; the slivers of region

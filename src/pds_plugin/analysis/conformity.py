@@ -700,11 +700,6 @@ def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: f
     last = len(piece) - 1
     cut = _cuts(piece, a, direction, along, apex)
 
-    def reach(points, seer):
-        d = np.hypot(*(points - seer).T)
-        k = int(np.argmax(d))
-        return float(d[k]), points[k]
-
     best = None
     for i in range(last + 1):                   # the part seen from a: up to vertex i
         if cut[i] is None:
@@ -725,7 +720,7 @@ def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: f
                         np.concatenate([piece[i:j + 1], [apex]]), apex, tol):
                     continue
                 parts.append((middle, apex))
-            bound = max((reach(part, seer) for part, seer in parts), key=measure)
+            bound = max((_reach(part, seer) for part, seer in parts), key=measure)
             if best is None or measure(bound) < measure(best):
                 best = bound
     return best
@@ -813,8 +808,12 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     sees the stretch of the chord from ``lo`` to ``hi`` along it from a through Q. A part
     W whose base on the chord lies in the stretch of such a sample s is seen from s when
     the polygon of s and W (s, then W without its base) is star-shaped from s: it is W
-    and the triangle of s over the base, which s sees, so it lies in D. Returns the
-    largest distance from a point of the piece to the sample that sees its part, and
+    and the triangle of s over the base, which s sees, so it lies in D. A part may also
+    be reached from a chord end e around an arc vertex p of it that hides some of it
+    from e: when e sees p (the piece from e to p is star-shaped from e) and the part is
+    star-shaped from p, every point x of it is at most |ep| + |px| from e along a path
+    through the piece (docs/conforming.md, "Routes around a kink"). Returns the largest
+    such distance from a point of the piece to the sample that reaches its part, and
     where, minimised over the cuts (by dynamic programming over the arc vertices,
     ``measure`` of the worst part); None when no cut works or the arc turns back along
     the chord.
@@ -828,6 +827,9 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     >>> seer = (np.array([1.2, 0.8]), 0.0, 2.0)             # a sample of Q seeing all of ab
     >>> round(_seen_from_samples(kinked, a, b, [seer], 1e-12)[0], 3)   # it sees the bump
     1.005
+    >>> hidden = np.array([[0, 0], [0.6, -0.05], [0.8, -0.02], [1.0, -0.08], [1.4, -0.1], [3, 0]])
+    >>> _seen_from_samples(hidden, hidden[0], hidden[-1], [], 1e-12)   # 2.2 in straight lines
+    (1.6031219541881399, array([ 1.4, -0.1]))
     """
     strip = _along_chord(piece, a, b, tol)
     if strip is None:
@@ -839,22 +841,24 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
              if direction[0] * (point[1] - a[1]) - direction[1] * (point[0] - a[0]) > tol]
 
     def part_bound(i, j):
-        """The best bound of the part from arc vertex i to j over the samples seeing it."""
+        """The best bound of the part from arc vertex i to j over the routes reaching it."""
         part = np.concatenate([[foot[i]], piece[i:j + 1], [foot[j]]])
-        found = []
-        if i == 0 and holds_a and star_shaped_from(part, a, tol):
-            found.append(a)
-        if j == last and holds_b and star_shaped_from(part, b, tol):
-            found.append(b)
-        for point, lo, hi in above:
-            if lo <= along[i] and along[j] <= hi and star_shaped_from(
-                    np.concatenate([[point], part]), point, tol):
-                found.append(point)
-        bounds = []
-        for seer in found:
-            distance = np.hypot(*(part - seer).T)
-            k = int(np.argmax(distance))
-            bounds.append((float(distance[k]), part[k]))
+        bounds = [_reach(part, point) for point, lo, hi in above
+                  if lo <= along[i] and along[j] <= hi
+                  and star_shaped_from(np.concatenate([[point], part]), point, tol)]
+        reached = {}             # arc vertex m -> the chord ends that see it (m itself: 0, last)
+        if i == 0 and holds_a:
+            for m in range(j + 1):
+                if m == 0 or star_shaped_from(np.concatenate([piece[:m + 1], [foot[m]]]), a, tol):
+                    reached.setdefault(m, []).append(a)
+        if j == last and holds_b:
+            for m in range(i, last + 1):
+                if m == last or star_shaped_from(np.concatenate([[foot[m]], piece[m:]]), b, tol):
+                    reached.setdefault(m, []).append(b)
+        for m, ends in reached.items():
+            if star_shaped_from(part, piece[m], tol):
+                distance, at = _reach(part, piece[m])
+                bounds += [(distance + float(np.hypot(*(piece[m] - end))), at) for end in ends]
         return min(bounds, key=measure) if bounds else None
 
     best = [None] * (last + 1)
@@ -870,6 +874,13 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
             if best[j] is None or measure(worst) < measure(best[j]):
                 best[j] = worst
     return best[last]
+
+
+def _reach(points: np.ndarray, seer: np.ndarray) -> tuple:
+    """The largest distance from ``seer`` to ``points``, and the point at it."""
+    distance = np.hypot(*(points - seer).T)
+    k = int(np.argmax(distance))
+    return float(distance[k]), points[k]
 
 
 def say_located(problems: list, count: int, what: str, where) -> None:
