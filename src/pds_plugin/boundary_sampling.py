@@ -188,7 +188,8 @@ def hidden_bends(samples, ring, turns, tol):
 def star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
     """Whether every point of the simple polygon ``piece`` (its vertices in order, either
     orientation) sees ``point`` inside it: ``point`` lies on the inner side of every
-    edge's line (the polygon's kernel), up to ``tol``.
+    edge's line (the polygon's kernel), up to ``tol``; edges shorter than ``tol`` (a vertex
+    repeated, as where a cut meets the chord at an arc vertex on it) are left out.
 
     Examples
     --------
@@ -203,7 +204,8 @@ def star_shaped_from(piece: np.ndarray, point: np.ndarray, tol: float) -> bool:
     doubled = float((piece[:, 0] * np.roll(piece[:, 1], -1) - piece[:, 1] * np.roll(piece[:, 0], -1)).sum())
     to_point = point - piece
     side = (edges[:, 0] * to_point[:, 1] - edges[:, 1] * to_point[:, 0]) * np.sign(doubled)
-    return bool((side >= -tol * np.hypot(edges[:, 0], edges[:, 1])).all())
+    length = np.hypot(edges[:, 0], edges[:, 1])
+    return bool(((side >= -tol * length) | (length <= tol)).all())   # a repeated vertex bounds nothing
 
 
 def chord_ends(rings):

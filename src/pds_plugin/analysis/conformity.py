@@ -809,10 +809,12 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     W whose base on the chord lies in the stretch of such a sample s is seen from s when
     the polygon of s and W (s, then W without its base) is star-shaped from s: it is W
     and the triangle of s over the base, which s sees, so it lies in D. A part may also
-    be reached from a chord end e around an arc vertex p of it that hides some of it
-    from e: when e sees p (the piece from e to p is star-shaped from e) and the part is
-    star-shaped from p, every point x of it is at most |ep| + |px| from e along a path
-    through the piece (docs/conforming.md, "Routes around a kink"). Returns the largest
+    be reached from a chord end e along a path: along the chord to the piece's end s
+    next to e (e itself if the piece holds it, else where the arc crosses the chord),
+    then to an arc vertex p that s sees (the piece from s to p is star-shaped from s);
+    if the part is star-shaped from p, every point x of it is at most
+    |es| + |sp| + |px| from e along a path through D (docs/conforming.md, "Routes
+    around a kink"). Returns the largest
     such distance from a point of the piece to the sample that reaches its part, and
     where, minimised over the cuts (by dynamic programming over the arc vertices,
     ``measure`` of the worst part); None when no cut works or the arc turns back along
@@ -846,19 +848,21 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
         bounds = [_reach(part, point) for point, lo, hi in above
                   if lo <= along[i] and along[j] <= hi
                   and star_shaped_from(np.concatenate([[point], part]), point, tol)]
-        reached = {}             # arc vertex m -> the chord ends that see it (m itself: 0, last)
-        if i == 0 and holds_a:
+        reached = {}           # arc vertex m -> lengths of paths to it from a chord end
+        if i == 0:             # from a to the piece's start along the chord, then on
+            start = float(np.hypot(*(piece[0] - a)))
             for m in range(j + 1):
-                if m == 0 or star_shaped_from(np.concatenate([piece[:m + 1], [foot[m]]]), a, tol):
-                    reached.setdefault(m, []).append(a)
-        if j == last and holds_b:
+                if m == 0 or star_shaped_from(np.concatenate([piece[:m + 1], [foot[m]]]), piece[0], tol):
+                    reached.setdefault(m, []).append(start + float(np.hypot(*(piece[m] - piece[0]))))
+        if j == last:
+            start = float(np.hypot(*(piece[last] - b)))
             for m in range(i, last + 1):
-                if m == last or star_shaped_from(np.concatenate([[foot[m]], piece[m:]]), b, tol):
-                    reached.setdefault(m, []).append(b)
-        for m, ends in reached.items():
+                if m == last or star_shaped_from(np.concatenate([[foot[m]], piece[m:]]), piece[last], tol):
+                    reached.setdefault(m, []).append(start + float(np.hypot(*(piece[m] - piece[last]))))
+        for m, lengths in reached.items():
             if star_shaped_from(part, piece[m], tol):
                 distance, at = _reach(part, piece[m])
-                bounds += [(distance + float(np.hypot(*(piece[m] - end))), at) for end in ends]
+                bounds += [(distance + length, at) for length in lengths]
         return min(bounds, key=measure) if bounds else None
 
     best = [None] * (last + 1)
