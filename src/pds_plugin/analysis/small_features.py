@@ -309,11 +309,19 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
                     _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
                                     segments[second[meet]], alpha, tol, cause, feature, bound,
                                     place, scales, points[on_boundary], flanking[meet])
-    # thin walls: samples on two boundary segments apart from each other
+    # thin walls: samples on two boundary segments apart from each other, or meeting at a
+    # corner the pair is far from (a tip sharper than any clearance: each sample is at
+    # least its distance to the other's segment from it)
     wall = other & (cause < 0)
     if wall.any():
         lines = shapely.linestrings(segments)
         width = shapely.distance(lines[segment_p[wall]], lines[segment_q[wall]])
+        touch = width == 0
+        if touch.any():
+            rows = np.flatnonzero(wall)[touch]
+            width[touch] = np.maximum(
+                shapely.distance(shapely.points(points[p[rows]]), lines[segment_q[rows]]),
+                shapely.distance(shapely.points(points[q[rows]]), lines[segment_p[rows]]))
         rows = np.flatnonzero(wall)[width > 0]
         cause[rows], bound[rows] = _THIN_WALL, width[width > 0]
         feature[rows] = width[width > 0] / unit[rows]
