@@ -116,6 +116,11 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     # meet at the tip, so their distance was 0): a thin wall now, as thick as the sample
     # is from the other segment
     (39, "g07-housing p1", "uniform fine"), (44, "g17-housing p1", "uniform auto"),
+    # an 11.7° tip of a bracket's sliver 0.8 alpha wide: its 1.85 alpha chord had every
+    # guard blocked and was halved, which put a sample inside the tip's clearance and
+    # made the tip's triangle obtuse (R = 2 alpha), the tip isolated; the chord is the
+    # tip triangle's edge and is left whole
+    (44, "g14-bracket p1", "uniform auto"),
     # a 29° tip of a pocket: its triangle 2 % too large for the complex, the tip sample
     # isolated; the field's walls beyond the tip's disc (above) made its neighbours' r
     # smaller and its triangle one the complex keeps
