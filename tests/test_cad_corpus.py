@@ -115,7 +115,7 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     # 0.005 across the tip from the notch's vertex was "unexplained" (its two segments
     # meet at the tip, so their distance was 0): a thin wall now, as thick as the sample
     # is from the other segment
-    (39, "g07-housing p1", "uniform fine"), (44, "g17-housing p1", "uniform auto"),
+    (39, "g07-housing p1", "uniform fine"), (44, "g17-housing p4", "uniform fine"),
     # an 11.7° tip of a bracket's sliver 0.8 alpha wide: its 1.85 alpha chord had every
     # guard blocked and was halved, which put a sample inside the tip's clearance and
     # made the tip's triangle obtuse (R = 2 alpha), the tip isolated; the chord is the
