@@ -119,42 +119,69 @@ def _tau_rings(rings, field, grading):
     the points, and the normalized arc length τ = ∫ dt / r at its points and closing
     point (trapezoid rule). The number of points grows with ∫ dt / r, not with
     length / min r. All rings are densified together (one field evaluation per round for
-    all of them)."""
+    all of them); each round places the old points and the new midpoints by one index
+    map instead of an ``np.insert`` per array, and a ring's next point comes from the
+    flags of the rings' first points (a small section takes about ten rounds, and these
+    calls were most of their cost)."""
     points = np.concatenate(rings)
-    ring = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+    counts = np.array([len(r) for r in rings])
+    head = np.zeros(len(points), bool)          # each ring's first point
+    head[np.cumsum(counts) - counts] = True
     radius = field(points)
     first = np.ones(len(points), bool)
-    for _ in range(60):
-        after = _next_index(ring)
-        following = points[after]
+    for round_ in range(61):          # at most 60 rounds of splits
+        n = len(points)
+        heads = np.flatnonzero(head)
+        after = np.arange(1, n + 1)
+        after[np.append(heads[1:], n) - 1] = heads
+        following = _rows(points, after)
         step = np.hypot(*(following - points).T)
+        if round_ == 60:
+            break
         low = np.minimum(radius, radius[after]) - 0.5 * grading * step
         split = step > 0.3 * low
         if not split.any():
             break
         middle = 0.5 * (points[split] + following[split])
-        at = np.flatnonzero(split) + 1
-        points = np.insert(points, at, middle, axis=0)
-        radius = np.insert(radius, at, field(middle))
-        first = np.insert(first, at, False)
-        ring = np.insert(ring, at, ring[split])
-    ends = np.cumsum(np.bincount(ring, minlength=len(rings)))
-    out = []
-    for lo, hi in zip(np.concatenate([[0], ends[:-1]]), ends):
-        p, r = points[lo:hi], radius[lo:hi]
-        step = np.hypot(*np.diff(np.vstack([p, p[:1]]), axis=0).T)
-        inv = 1.0 / np.append(r, r[0])
-        tau = np.concatenate([[0.0], np.cumsum(0.5 * step * (inv[:-1] + inv[1:]))])
-        out.append((p, r, first[lo:hi], tau))
+        # point i moves past the midpoints inserted before it; a midpoint follows its point
+        old = np.arange(n) + np.cumsum(split) - split
+        new = old[split] + 1
+        points, radius, first, head = _spread(old, new, points, middle, radius, field(middle),
+                                              first, head)
+    inv = 1.0 / radius
+    part = 0.5 * step * (inv + inv[after])      # τ of each part to the ring's next point
+    tau_of = np.empty(len(points) + len(rings))
+    out, lo = [], 0
+    for k, count in enumerate(np.bincount(np.cumsum(head) - 1, minlength=len(rings))):
+        hi = lo + count
+        tau = tau_of[lo + k:hi + k + 1]
+        tau[0] = 0.0
+        np.cumsum(part[lo:hi], out=tau[1:])
+        out.append((points[lo:hi], radius[lo:hi], first[lo:hi], tau))
+        lo = hi
     return out
 
 
-def _next_index(ring):
-    """The index of the next point along its ring (points of each ring consecutive)."""
-    change = ring[1:] != ring[:-1]
-    following = np.arange(1, len(ring) + 1)
-    following[np.append(change, True)] = np.flatnonzero(np.insert(change, 0, True))
-    return following
+def _rows(points, index):
+    """``points[index]`` for an (n, 2) float array, through a complex view (numpy takes
+    single items much faster than rows)."""
+    rows = np.ascontiguousarray(points).view(np.complex128)[index, 0]
+    return rows.view(np.float64).reshape(-1, 2)
+
+
+def _spread(old, new, points, middle, radius, middle_radius, first, head):
+    """The arrays of :func:`_tau_rings` with the midpoints (``middle``, r there) at the
+    indices ``new`` and the old entries at ``old``; new points are no ring's vertex and
+    no ring's first point."""
+    m = len(old) + len(new)
+    grown_points, grown_radius = np.empty((m, 2)), np.empty(m)
+    grown_first, grown_head = np.zeros(m, bool), np.zeros(m, bool)
+    grown = grown_points.view(np.complex128)[:, 0]
+    grown[old] = points.view(np.complex128)[:, 0]
+    grown[new] = np.ascontiguousarray(middle).view(np.complex128)[:, 0]
+    grown_radius[old], grown_radius[new] = radius, middle_radius
+    grown_first[old], grown_head[old] = first, head
+    return grown_points, grown_radius, grown_first, grown_head
 
 
 def tau_positions(tau, corners, after, before, unit, rng):
