@@ -184,6 +184,46 @@ def _spread(old, new, points, middle, radius, middle_radius, first, head):
     return grown_points, grown_radius, grown_first, grown_head
 
 
+def _turning_angles(rings):
+    """:func:`pds_plugin.region.turning_angles` of every ring, computed for all rings at
+    once (the same arithmetic, so the same angles bit for bit)."""
+    points = np.concatenate(rings)
+    counts = np.array([len(ring) for ring in rings])
+    begin = np.cumsum(counts) - counts
+    following = np.arange(1, len(points) + 1)
+    following[begin + counts - 1] = begin
+    previous = np.arange(-1, len(points) - 1)
+    previous[begin] = begin + counts - 1
+    out = _rows(points, following) - points
+    into = points - _rows(points, previous)
+    cross = into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0]
+    dot = (into * out).sum(axis=1)
+    return np.split(np.arctan2(cross, dot), np.cumsum(counts)[:-1])
+
+
+def _plain_positions(taus, starts, unit):
+    """:func:`tau_positions` of rings without sharp corners (``taus`` their τ at their
+    dense points and closing point, ``starts`` the random fraction of τ where each
+    begins), all rings at once; a ring of fewer than three parts goes through
+    :func:`tau_positions` itself. The same positions bit for bit: a drawing's 373 round
+    holes took a dozen numpy calls each."""
+    if not taus:
+        return []
+    length = np.array([tau[-1] for tau in taus])
+    lo = starts * length
+    span = (lo + length) - lo
+    parts = np.maximum(np.floor(span / unit), 1).astype(np.int64)
+    ring = np.repeat(np.arange(len(taus)), parts - 1)
+    k = np.arange(len(ring)) - np.repeat(np.cumsum(parts - 1) - (parts - 1), parts - 1) + 1
+    inner = lo[ring] + span[ring] * k / parts[ring]
+    owner = np.concatenate([np.arange(len(taus)), ring])
+    at = np.concatenate([lo, inner]) % length[owner]
+    at = at[np.lexsort((at, owner))]
+    ends = np.cumsum(parts)
+    return [tau_positions(tau, lo[j:j + 1], [unit], [unit], unit, None) if parts[j] < 3
+            else at[ends[j] - parts[j]:ends[j]] for j, tau in enumerate(taus)]
+
+
 def tau_positions(tau, corners, after, before, unit, rng):
     """Positions (in τ) of a ring's boundary samples, increasing: its sharp corners (or
     one random point if it has none) and each piece between them split into the most
@@ -570,21 +610,37 @@ class _GradedSampler:
             return self._place_boundary(given)
         L = self.field.grading
         unit = TAU_MARGIN / (1.0 - 0.5 * L)
-        ring_xy = []
         rings = self.region.rings
-        for ring, (dense, radius, first, tau) in zip(rings, _tau_rings(rings, self.field, L)):
-            turns = turning_angles(ring)
-            sharp_vertex = np.abs(turns) >= np.radians(feature_angle)
-            sharp = np.zeros(len(dense), bool)
-            sharp[first] = sharp_vertex
-            corner = np.flatnonzero(sharp)
-            after, before = _corner_clearance(dense, radius, tau, corner, turns[sharp_vertex],
-                                              unit, first, L)
-            at = tau_positions(tau, tau[corner], after, before, unit, rng)
-            samples = along(at, tau, np.vstack([dense, dense[:1]]))
-            fixed = _fixed(at, tau[corner], after > unit, before > unit)
+        dense_rings = _tau_rings(rings, self.field, L)
+        all_turns = _turning_angles(rings)
+        sharp_turn = np.radians(feature_angle)
+        plain = [k for k, turns in enumerate(all_turns) if not np.any(np.abs(turns) >= sharp_turn)]
+        # a ring without sharp corners starts at a random point (tau_positions), drawn
+        # here for all of them in ring order, as the ring by ring loop drew them
+        plain_at = dict(zip(plain, _plain_positions([dense_rings[k][3] for k in plain],
+                                                    rng.random(len(plain)), unit)))
+        ring_xy = []
+        for k, (ring, (dense, radius, first, tau)) in enumerate(zip(rings, dense_rings)):
+            turns = all_turns[k]
+            if k in plain_at:
+                at = plain_at[k]
+                samples = along(at, tau, np.vstack([dense, dense[:1]]))
+                fixed = np.zeros(len(at), bool)
+            else:
+                sharp_vertex = np.abs(turns) >= sharp_turn
+                sharp = np.zeros(len(dense), bool)
+                sharp[first] = sharp_vertex
+                corner = np.flatnonzero(sharp)
+                after, before = _corner_clearance(dense, radius, tau, corner,
+                                                  turns[sharp_vertex], unit, first, L)
+                at = tau_positions(tau, tau[corner], after, before, unit, rng)
+                samples = along(at, tau, np.vstack([dense, dense[:1]]))
+                fixed = _fixed(at, tau[corner], after > unit, before > unit)
             samples = _uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1], self.field)
-            ring_xy.append(_unhidden(samples, fixed, ring, turns, self.field, 1e-9 * self.field.cap))
+            if (turns < 0).any() and (turns > 0).any():     # else nothing is hidden
+                samples = _unhidden(samples, fixed, ring, turns, self.field,
+                                    1e-9 * self.field.cap)
+            ring_xy.append(samples)
         ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
         return self._place_boundary(ring_xy)
 
