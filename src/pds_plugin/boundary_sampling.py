@@ -434,12 +434,29 @@ def graded_chords(points, rings, reach, n_points: int, x0: float, y0: float, wid
     >>> len(vis.xy), vis.out.tolist(), vis.nx * vis.ny + 1 == len(vis.start)
     (4, [0, 1, 2, 3], True)
     """
-    a, b = chord_ends(rings)
-    length = np.hypot(*(points[b] - points[a]).T)
-    vis = vis_kern.chord_bundle(points, rings, n_points, float(length.max()))
+    xy, prev, out = _ring_chords(points, rings, n_points)
+    length = np.hypot(*(xy[:, 1] - xy[:, 0]).T)
     entries = np.sum((length + 2 * reach) ** 2)
     h = max(smallest_cell, math.sqrt(entries / min(_MAX_CHORD_ENTRIES,
                                                    _CHORD_CELLS * len(length))))
     nx, ny = int(width / h) + 1, int(height / h) + 1
-    start, items = graded_kern.bin_chords_by_reach(vis.xy, reach, x0, y0, h, nx, ny)
-    return vis._replace(start=start, items=items, x0=x0, y0=y0, h=h, nx=nx, ny=ny)
+    start, items = graded_kern.bin_chords_by_reach(xy, reach, x0, y0, h, nx, ny)
+    return vis_kern.ChordBundle(xy, prev, out, start, items, x0, y0, h, nx, ny)
+
+
+def _ring_chords(points, rings, n_points: int):
+    """The chords of ``rings`` as :func:`._visibility_kernels.chord_bundle` lists them,
+    without its grid (:func:`graded_chords` bins them by reach instead): their ends
+    (m, 2, 2), the chord before each along its ring, and each sample's outgoing chord
+    (-1 for the ``n_points`` entries no ring holds). All rings at once."""
+    a = np.concatenate(rings).astype(np.int64, copy=False)
+    counts = np.array([len(ring) for ring in rings], np.int64)
+    begin = np.cumsum(counts) - counts
+    following = np.arange(1, len(a) + 1)
+    following[begin + counts - 1] = begin
+    prev = np.arange(-1, len(a) - 1)
+    prev[begin] = begin + counts - 1
+    out = np.full(n_points, -1, np.int64)
+    out[a] = np.arange(len(a))
+    xy = np.ascontiguousarray(np.stack([points[a], points[a[following]]], axis=1), float)
+    return xy, prev, out
