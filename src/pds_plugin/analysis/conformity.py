@@ -814,8 +814,8 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     then to an arc vertex p that s sees (the piece from s to p is star-shaped from s);
     if the part is star-shaped from p, every point x of it is at most
     |es| + |sp| + |px| from e along a path through D (docs/conforming.md, "Routes
-    around a kink"). Returns the largest
-    such distance from a point of the piece to the sample that reaches its part, and
+    around a kink"). Returns the largest such distance from a point of the piece to the
+    sample that reaches its part, and
     where, minimised over the cuts (by dynamic programming over the arc vertices,
     ``measure`` of the worst part); None when no cut works or the arc turns back along
     the chord.
@@ -842,6 +842,14 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     above = [(point, lo, hi) for point, lo, hi in seers
              if direction[0] * (point[1] - a[1]) - direction[1] * (point[0] - a[0]) > tol]
 
+    # whether the piece's end next to a (b) sees arc vertex m: the run of the piece from
+    # that end to m, closed by the perpendicular to the chord, is star-shaped from it
+    sees_from_end = {
+        0: [m == 0 or star_shaped_from(np.concatenate([piece[:m + 1], [foot[m]]]), piece[0], tol)
+            for m in range(last + 1)],
+        last: [m == last or star_shaped_from(np.concatenate([[foot[m]], piece[m:]]), piece[last], tol)
+               for m in range(last + 1)]}
+
     def part_bound(i, j):
         """The best bound of the part from arc vertex i to j over the routes reaching it."""
         part = np.concatenate([[foot[i]], piece[i:j + 1], [foot[j]]])
@@ -849,16 +857,13 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
                   if lo <= along[i] and along[j] <= hi
                   and star_shaped_from(np.concatenate([[point], part]), point, tol)]
         reached = {}           # arc vertex m -> lengths of paths to it from a chord end
-        if i == 0:             # from a to the piece's start along the chord, then on
-            start = float(np.hypot(*(piece[0] - a)))
-            for m in range(j + 1):
-                if m == 0 or star_shaped_from(np.concatenate([piece[:m + 1], [foot[m]]]), piece[0], tol):
-                    reached.setdefault(m, []).append(start + float(np.hypot(*(piece[m] - piece[0]))))
-        if j == last:
-            start = float(np.hypot(*(piece[last] - b)))
-            for m in range(i, last + 1):
-                if m == last or star_shaped_from(np.concatenate([[foot[m]], piece[m:]]), piece[last], tol):
-                    reached.setdefault(m, []).append(start + float(np.hypot(*(piece[m] - piece[last]))))
+        for end, start, pivots in ([(a, 0, range(j + 1))] if i == 0 else []) + (
+                [(b, last, range(i, last + 1))] if j == last else []):
+            along_chord = float(np.hypot(*(piece[start] - end)))
+            for m in pivots:
+                if sees_from_end[start][m]:
+                    reached.setdefault(m, []).append(
+                        along_chord + float(np.hypot(*(piece[m] - piece[start]))))
         for m, lengths in reached.items():
             if star_shaped_from(part, piece[m], tol):
                 distance, at = _reach(part, piece[m])
