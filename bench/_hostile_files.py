@@ -506,7 +506,7 @@ def svg_structure_cases():
         case("no xmlns", f'<svg viewBox="0 0 10 10">{rect}</svg>'),
         case("wrong namespace", f'<svg xmlns="http://example.com/x" viewBox="0 0 10 10">{rect}'
              '</svg>'),
-        case("upper-case tags", f'<SVG xmlns="http://www.w3.org/2000/svg"><RECT width="10" '
+        case("upper-case tags", '<SVG xmlns="http://www.w3.org/2000/svg"><RECT width="10" '
              'height="10"/></SVG>'),
         case("external DTD", '<?xml version="1.0"?><!DOCTYPE svg SYSTEM '
              '"http://example.com/evil.dtd">' + svg(rect)),

@@ -3,7 +3,6 @@
 import numpy as np
 import shapely
 from hypothesis import strategies as st
-from shapely import affinity
 from shapely.geometry import Point, Polygon, box
 
 import pds_plugin as pds

@@ -20,7 +20,6 @@ import math
 import os
 import re
 import struct
-import subprocess
 import sys
 import warnings
 from pathlib import Path

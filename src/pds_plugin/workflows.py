@@ -10,8 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from .errors import ArgumentError, ArgumentTypeError, SourceError
 from .mesh import PlanarMesh
 from .pipeline import mesh_region
