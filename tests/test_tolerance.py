@@ -332,11 +332,12 @@ def test_the_region_beyond_a_chord_over_a_kink_is_measured_from_the_end_that_see
 def test_the_region_beyond_a_chord_hidden_from_both_ends_is_measured_from_the_apex():
     """Beyond the chord from b = (2, 0) to a = (0, 0) the arc has a bump between two
     reflex kinks (as where a plane crosses two seams of a tessellated torus within one
-    chord): neither end sees the bump, so without the mesh's triangles the chord is
-    uncertain ("the boundary bends both ways"). The third corner of the triangle on the
-    chord sees it: the piece is cut into a part seen from a, one from the apex and one
-    from b. Brute force: every one of 20,000 points of the sliver sees one of a, b and the
-    apex through the sliver and the triangle, within the measured gap."""
+    chord): neither end sees the bump in a straight line, only around a kink, so without
+    the mesh's triangles the bound is a path's (it was "uncertain" before paths were
+    measured). The third corner of the triangle on the chord sees it: the piece is cut
+    into a part seen from a, one from the apex and one from b. Brute force: every one of
+    20,000 points of the sliver sees one of a, b and the apex through the sliver and the
+    triangle, within the measured gap."""
     from pds_plugin.analysis.conformity import SampledBoundary
 
     arc = [(1.6, 0.1), (1.4, 0.05), (1.2, 0.12), (1.0, 0.06), (0.6, 0.1)]
@@ -345,7 +346,8 @@ def test_the_region_beyond_a_chord_hidden_from_both_ends_is_measured_from_the_ap
     points = np.array([b, a, (0, -2), (2, -2), apex])
     on_boundary = np.array([True, True, True, True, False])
     faces = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
-    assert SampledBoundary(region, points, on_boundary, 1.2).uncertain.any()
+    alone = SampledBoundary(region, points, on_boundary, 1.2)
+    assert not alone.uncertain.any()
     sampled = SampledBoundary(region, points, on_boundary, 1.2, faces)
     assert not sampled.uncertain.any()
     gap, _ = sampled.sliver_gap()
