@@ -125,6 +125,12 @@ def _tau_rings(rings, field, grading):
     calls were most of their cost)."""
     points = np.concatenate(rings)
     counts = np.array([len(r) for r in rings])
+    done = kern.densified_rings(kern.Field(field), points, counts, grading)
+    if done is not None:                        # the same, in one kernel call
+        points, radius, first, counts, tau_of = done
+        ends = np.cumsum(counts)
+        return [(points[hi - c:hi], radius[hi - c:hi], first[hi - c:hi], tau_of[hi - c + k:hi + k + 1])
+                for k, (c, hi) in enumerate(zip(counts, ends))]
     head = np.zeros(len(points), bool)          # each ring's first point
     head[np.cumsum(counts) - counts] = True
     radius = field(points)
