@@ -31,7 +31,7 @@ from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
-from .region import Region, turning_angles
+from .region import Region
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
                                 graded_chords, guard_candidates, hidden_bends, joined,
                                 onto_curves)
@@ -129,8 +129,8 @@ def _tau_rings(rings, field, grading):
     if done is not None:                        # the same, in one kernel call
         points, radius, first, counts, tau_of = done
         ends = np.cumsum(counts)
-        return [(points[hi - c:hi], radius[hi - c:hi], first[hi - c:hi], tau_of[hi - c + k:hi + k + 1])
-                for k, (c, hi) in enumerate(zip(counts, ends))]
+        return [(points[hi - c:hi], radius[hi - c:hi], first[hi - c:hi],
+                 tau_of[hi - c + k:hi + k + 1]) for k, (c, hi) in enumerate(zip(counts, ends))]
     head = np.zeros(len(points), bool)          # each ring's first point
     head[np.cumsum(counts) - counts] = True
     radius = field(points)
@@ -535,6 +535,7 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
 
     Examples
     --------
+    >>> from pds_plugin.region import turning_angles
     >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
     >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
     >>> moved = _unhidden(samples, np.zeros(5, bool), ring, turning_angles(ring),
