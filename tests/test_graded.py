@@ -177,10 +177,11 @@ def test_the_boundary_stage_for_all_rings_at_once_is_the_ring_by_ring_one(case, 
     """The graded boundary stage densifies every ring in one kernel call
     (``_graded_kernels.densified_rings``), places the rings without sharp corners all
     at once (``_plain_positions``) and asks only the rings ``_crossed_rings`` flags to
-    be uncrossed: each gives, bit for bit, what the ring by ring computation it replaces
-    gives (the numpy rounds of ``_tau_rings``, kept for fields with a user sizing;
-    ``tau_positions``; ``_uncrossed`` on every ring, which moves a sample only on the
-    edge whose vertices are 1e-8 off a line)."""
+    be uncrossed and unhidden: each gives, bit for bit, what the ring by ring
+    computation it replaces gives (the numpy rounds of ``_tau_rings``, kept for fields
+    with a user sizing; ``tau_positions``; ``_uncrossed`` and ``_unhidden`` on every
+    ring: the first moves a sample only on the edge whose vertices are 1e-8 off a
+    line)."""
     from pds_plugin import graded_sampling as gs
     from pds_plugin.sizing import RadiusField, radius_field
     shape = {
@@ -216,10 +217,11 @@ def test_the_boundary_stage_for_all_rings_at_once_is_the_ring_by_ring_one(case, 
     crossed_rings = gs._crossed_rings
     monkeypatch.setattr(gs, "_crossed_rings", spy)
     flagged = gs.graded_poisson_disc(region, field, seed=3)
-    monkeypatch.setattr(gs, "_crossed_rings", lambda samples, *_: np.ones(len(samples), bool))
+    monkeypatch.setattr(gs, "_crossed_rings",
+                        lambda samples, *_: (np.ones(len(samples), bool),) * 2)
     every = gs.graded_poisson_disc(region, field, seed=3)
     assert flagged.points.tobytes() == every.points.tobytes()
-    assert flags[0].any() == (case == "off a line")
+    assert flags[0][0].any() == (case == "off a line")
 
 
 def test_the_complex_on_the_samplers_chords_is_the_complex_on_its_own():
