@@ -55,6 +55,8 @@ STAGES = [  # (owner, attribute, label): the label's indent is its nesting
     (sampling._Sampler, "add_interior", "  interior: darts, refinement"),
     (pipeline, "graded_poisson_disc", "graded sampling"),
     (graded_sampling._GradedSampler, "add_boundary", "  boundary samples"),
+    (graded_sampling, "_tau_rings", "    dense rings, τ"),
+    (graded_sampling, "_unhidden", "    chord ends onto reflex vertices"),
     (graded_sampling._GradedSampler, "_place_boundary", "    chords, bins, guards"),
     (graded_sampling._GradedSampler, "add_interior", "  interior: leaves, darts, refinement"),
     (graded_sampling._GradedSampler, "_leaves", "    quadtree leaves"),

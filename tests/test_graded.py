@@ -172,6 +172,58 @@ def test_a_sizing_above_the_field_changes_no_sample(threads):
     assert plain.faces.tobytes() == sized.faces.tobytes()
 
 
+@pytest.mark.parametrize("case", ["holes", "off a line", "thin"])
+def test_the_boundary_stage_for_all_rings_at_once_is_the_ring_by_ring_one(case, monkeypatch):
+    """The graded boundary stage densifies every ring in one kernel call
+    (``_graded_kernels.densified_rings``), places the rings without sharp corners all
+    at once (``_plain_positions``) and asks only the rings ``_crossed_rings`` flags to
+    be uncrossed and unhidden: each gives, bit for bit, what the ring by ring
+    computation it replaces gives (the numpy rounds of ``_tau_rings``, kept for fields
+    with a user sizing; ``tau_positions``; ``_uncrossed`` and ``_unhidden`` on every
+    ring: the first moves a sample only on the edge whose vertices are 1e-8 off a
+    line)."""
+    from pds_plugin import graded_sampling as gs
+    from pds_plugin.sizing import RadiusField, radius_field
+    shape = {
+        "holes": box(0, 0, 30, 6).difference(box(2, 2, 2.3, 2.3))
+                 .difference(Point(20, 3).buffer(1.5, quad_segs=6))
+                 .difference(Point(10, 3).buffer(0.2, quad_segs=3)),
+        "off a line": shapely.Polygon([(0, 0), (3, 0), (3, 1), *[
+            (x, 1 + s * 1e-8) for x, s in zip(np.linspace(3, 0, 6)[1:-1], (-1, 1, -1, -1))],
+            (0, 1)]),
+        "thin": box(0, 0, 10, 0.05).union(box(4, 0, 4.03, 2)),
+    }[case]
+    region = pds.Region.from_shapely(shape)
+    field = radius_field(region)
+    slow = RadiusField(field.features, field.sizes, field.grading, field.cap,
+                       sizing=lambda x, y: np.full(np.shape(x), 1e9))
+    fast, rounds = (gs._tau_rings(region.rings, f, field.grading) for f in (field, slow))
+    assert len(fast) == len(rounds) == len(region.rings)
+    for mine, theirs in zip(fast, rounds):
+        for a, b in zip(mine, theirs):
+            assert a.dtype == b.dtype and a.tobytes() == b.tobytes()
+    unit = gs.TAU_MARGIN / (1.0 - 0.5 * field.grading)
+    starts = np.random.default_rng(1).random(len(fast))
+    for (_, _, _, tau), start, at in zip(fast, starts, gs._plain_positions(
+            [tau for *_, tau in fast], starts, unit)):
+        alone = gs.tau_positions(tau, np.array([start * tau[-1]]), [unit], [unit], unit, None)
+        assert at.tobytes() == alone.tobytes()
+    flags = []
+
+    def spy(*args):
+        flags.append(crossed_rings(*args))
+        return flags[-1]
+
+    crossed_rings = gs._crossed_rings
+    monkeypatch.setattr(gs, "_crossed_rings", spy)
+    flagged = gs.graded_poisson_disc(region, field, seed=3)
+    monkeypatch.setattr(gs, "_crossed_rings",
+                        lambda samples, *_: (np.ones(len(samples), bool),) * 2)
+    every = gs.graded_poisson_disc(region, field, seed=3)
+    assert flagged.points.tobytes() == every.points.tobytes()
+    assert flags[0][0].any() == (case == "off a line")
+
+
 def test_the_complex_on_the_samplers_chords_is_the_complex_on_its_own():
     """The graded complex takes the sampler's binned chords (``Samples.chords``) instead
     of binning them again: the same triangles; chords of another sampling are refused."""

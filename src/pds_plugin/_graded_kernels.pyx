@@ -19,8 +19,8 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 import numpy as np
 
 from cython.parallel cimport parallel, prange
-from libc.math cimport sqrt
-from libc.stdlib cimport free, malloc
+from libc.math cimport hypot, sqrt
+from libc.stdlib cimport free, malloc, realloc
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
 
 from ._parallel cimport threads_for
@@ -437,6 +437,142 @@ cdef class Field:
                     out[j * n + k] = box[4 * t + j]
             free(box)
         return out_array
+
+
+cdef struct Dense:
+    # the growing output of :func:`densified_rings`
+    double *xy
+    double *r
+    uint8_t *vertex
+    Py_ssize_t n, room
+    int64_t *stack
+    double *bound
+
+
+cdef bint _emit(Dense *d, double x, double y, double r, bint vertex) noexcept nogil:
+    """Append a point (False if memory ran out)."""
+    cdef Py_ssize_t room
+    cdef double *xy
+    cdef double *rr
+    cdef uint8_t *vv
+    if d.n == d.room:
+        room = 2 * d.room
+        xy = <double *>realloc(d.xy, 2 * room * sizeof(double))
+        if xy == NULL:
+            return False
+        d.xy = xy
+        rr = <double *>realloc(d.r, room * sizeof(double))
+        if rr == NULL:
+            return False
+        d.r = rr
+        vv = <uint8_t *>realloc(d.vertex, room * sizeof(uint8_t))
+        if vv == NULL:
+            return False
+        d.vertex = vv
+        d.room = room
+    d.xy[2 * d.n], d.xy[2 * d.n + 1], d.r[d.n], d.vertex[d.n] = x, y, r, vertex
+    d.n += 1
+    return True
+
+
+cdef bint _bisect(Dense *d, const ConeTree *t, double px, double py, double rp, double qx,
+                  double qy, double rq, double grading, int depth) noexcept nogil:
+    """The points strictly between p and q (r there ``rp``, ``rq``) in order: the midpoint
+    and those of both halves, while the part is longer than 0.3 of the lowest r the
+    field can have on it, at most 60 halvings deep."""
+    cdef double step = hypot(qx - px, qy - py)
+    cdef double low = min(rp, rq) - 0.5 * grading * step
+    cdef double mx, my, rm
+    if depth >= 60 or not step > 0.3 * low:
+        return True
+    mx, my = 0.5 * (px + qx), 0.5 * (py + qy)
+    rm = cone_at(t, mx, my, t.cap, d.stack, d.bound)
+    return (_bisect(d, t, px, py, rp, mx, my, rm, grading, depth + 1)
+            and _emit(d, mx, my, rm, False)
+            and _bisect(d, t, mx, my, rm, qx, qy, rq, grading, depth + 1))
+
+
+def densified_rings(Field field, points, counts, double grading):
+    """``graded_sampling._tau_rings`` in one call for a field searched in C (None for a
+    field with a user sizing): the rings (``points`` concatenated, ``counts`` points
+    each) densified by halving every part longer than 0.3 of the lowest r the field can
+    have on it, r at the points, which are the rings' own vertices, and τ = ∫ dt / r
+    at each ring's points and closing point (trapezoid rule), all rings' τ one after the
+    other. Returns (points, r, vertex flags, points per ring, τ), the same numbers bit
+    for bit as the numpy rounds: each part is halved or not by its own ends, so halving
+    part by part, depth first, finds the same points in ring order, and every midpoint,
+    r, step and sum is computed as there."""
+    if not field.fast:
+        return None
+    cdef const double[:, ::1] xy = points
+    cdef const int64_t[::1] count = counts
+    cdef const ConeTree *t = &field.tree
+    cdef Py_ssize_t rings = count.shape[0], ring, j, k, lo = 0, n0, i, nxt
+    cdef double step
+    cdef double *r0 = <double *>malloc(max(xy.shape[0], 1) * sizeof(double))
+    cdef Dense d
+    d.room = max(4 * xy.shape[0], 16)
+    d.n = 0
+    d.xy = <double *>malloc(2 * d.room * sizeof(double))
+    d.r = <double *>malloc(d.room * sizeof(double))
+    d.vertex = <uint8_t *>malloc(d.room * sizeof(uint8_t))
+    d.stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+    d.bound = <double *>malloc(CONE_STACK * sizeof(double))
+    dense_counts = np.empty(rings, np.int64)
+    cdef int64_t[::1] dc = dense_counts
+    cdef bint ok = (r0 != NULL and d.xy != NULL and d.r != NULL and d.vertex != NULL
+                    and d.stack != NULL and d.bound != NULL)
+    with nogil:
+        if ok:
+            for i in range(xy.shape[0]):
+                r0[i] = cone_at(t, xy[i, 0], xy[i, 1], t.cap, d.stack, d.bound)
+        for ring in range(rings):
+            if not ok:
+                break
+            n0 = d.n
+            for j in range(count[ring]):
+                i = lo + j
+                k = lo + (j + 1) % count[ring]
+                ok = (_emit(&d, xy[i, 0], xy[i, 1], r0[i], True)
+                      and _bisect(&d, t, xy[i, 0], xy[i, 1], r0[i], xy[k, 0], xy[k, 1], r0[k],
+                                  grading, 0))
+                if not ok:
+                    break
+            dc[ring] = d.n - n0
+            lo += count[ring]
+    if ok:
+        dense = np.empty((d.n, 2))
+        radius = np.empty(d.n)
+        vertex = np.empty(d.n, np.bool_)
+        tau = np.empty(d.n + rings)
+    cdef double[:, ::1] dn
+    cdef double[::1] rd, ta
+    cdef uint8_t[::1] vx
+    if ok:
+        dn, rd, ta, vx = dense, radius, tau, vertex.view(np.uint8)
+        with nogil:
+            for i in range(d.n):
+                dn[i, 0], dn[i, 1] = d.xy[2 * i], d.xy[2 * i + 1]
+                rd[i], vx[i] = d.r[i], d.vertex[i]
+            lo = 0
+            for ring in range(rings):
+                ta[lo + ring] = 0.0
+                for j in range(dc[ring]):
+                    i = lo + j
+                    nxt = lo + (j + 1) % dc[ring]
+                    step = hypot(dn[nxt, 0] - dn[i, 0], dn[nxt, 1] - dn[i, 1])
+                    ta[lo + ring + j + 1] = (ta[lo + ring + j]
+                                             + 0.5 * step * (1.0 / rd[i] + 1.0 / rd[nxt]))
+                lo += dc[ring]
+    free(r0)
+    free(d.xy)
+    free(d.r)
+    free(d.vertex)
+    free(d.stack)
+    free(d.bound)
+    if not ok:
+        raise MemoryError()
+    return dense, radius, vertex, dense_counts, tau
 
 
 cdef double ABOVE = 1.0 + 1e-9      # r at a point of a box is at most ABOVE x its ``high``:

@@ -31,7 +31,7 @@ from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from ._checks import check_positive_int
 from .errors import BudgetError
-from .region import Region, turning_angles
+from .region import Region
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
                                 graded_chords, guard_candidates, hidden_bends, joined,
                                 onto_curves)
@@ -125,6 +125,12 @@ def _tau_rings(rings, field, grading):
     calls were most of their cost)."""
     points = np.concatenate(rings)
     counts = np.array([len(r) for r in rings])
+    done = kern.densified_rings(kern.Field(field), points, counts, grading)
+    if done is not None:                        # the same, in one kernel call
+        points, radius, first, counts, tau_of = done
+        ends = np.cumsum(counts)
+        return [(points[hi - c:hi], radius[hi - c:hi], first[hi - c:hi],
+                 tau_of[hi - c + k:hi + k + 1]) for k, (c, hi) in enumerate(zip(counts, ends))]
     head = np.zeros(len(points), bool)          # each ring's first point
     head[np.cumsum(counts) - counts] = True
     radius = field(points)
@@ -470,13 +476,17 @@ def _uncrossed(samples, at, fixed, vertices, vertex_at, length, field):
     return samples
 
 
-def _crossed_rings(ring_samples, ring_at, rings, ring_vertex_at, tol):
+def _crossed_rings(ring_samples, ring_at, rings, ring_vertex_at, ring_turns, tol):
     """For each ring (its boundary samples at positions ``ring_at``, its vertices at
-    ``ring_vertex_at``): whether some chord has ring vertices both beyond it and on or
-    inside it (off its ends), the only chords :func:`_uncrossed` may move an end of. The
-    same tests as there, all rings at once: a ring where this is False comes out of
-    :func:`_uncrossed` unchanged, and the drawing's 383 rings took a dozen numpy calls
-    each there."""
+    ``ring_vertex_at``, turning by ``ring_turns``): whether some chord has ring vertices
+    both beyond it and on or inside it (off its ends), the only chords
+    :func:`_uncrossed` may move an end of; and whether a reflex vertex off its chord's
+    ends may be on a chord whose arc reaches beyond it, the only case where
+    :func:`_unhidden` moves anything (``boundary_sampling.hidden_bends``). The same tests
+    as there, all rings at once (the second with half their tolerances, so that it never
+    misses what they find: hidden_bends measures along the ring from the samples'
+    projections, here their τ), where the ring by ring calls took a dozen numpy calls
+    each on the drawing's 383 rings and a shapely projection each on a section's."""
     counts = np.array([len(at) for at in ring_at])
     sizes = np.array([len(ring) for ring in rings])
     ring_of_sample = np.repeat(np.arange(len(rings)), counts)
@@ -495,15 +505,20 @@ def _crossed_rings(ring_samples, ring_at, rings, ring_vertex_at, tol):
     a = samples[chord]
     b = samples[begin[ring_of_vertex] + (local + 1) % counts[ring_of_vertex]]
     vertices = np.concatenate(rings)
-    apart = (np.hypot(*(vertices - a).T) > tol) & (np.hypot(*(vertices - b).T) > tol)
-    chord, vertices, a, b = (v[apart] for v in (chord, vertices, a, b))
+    end = np.minimum(np.hypot(*(vertices - a).T), np.hypot(*(vertices - b).T))
     ab = b - a
     height = (ab[:, 0] * (vertices[:, 1] - a[:, 1]) - ab[:, 1] * (vertices[:, 0] - a[:, 0])) \
         / np.hypot(ab[:, 0], ab[:, 1])
+    loose = end > 0.5 * tol
+    reaches = np.bincount(chord, loose & (height < -0.5 * tol), minlength=len(samples)) > 0
+    reflex = loose & (np.concatenate(ring_turns) < 0)
+    hides = np.bincount(ring_of_vertex, reflex & reaches[chord], minlength=len(rings)) > 0
+    apart = end > tol
+    chord, height = chord[apart], height[apart]
     height[np.abs(height) <= tol] = 0.0
     beyond = np.bincount(chord, height < 0, minlength=len(samples)) > 0
     back = np.bincount(chord, height >= 0, minlength=len(samples)) > 0
-    return np.bincount(ring_of_sample, beyond & back, minlength=len(rings)) > 0
+    return np.bincount(ring_of_sample, beyond & back, minlength=len(rings)) > 0, hides
 
 
 def _unhidden(samples, fixed, ring, turns, radius, tol):
@@ -529,6 +544,7 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
 
     Examples
     --------
+    >>> from pds_plugin.region import turning_angles
     >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
     >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
     >>> moved = _unhidden(samples, np.zeros(5, bool), ring, turning_angles(ring),
@@ -672,8 +688,9 @@ class _GradedSampler:
                 fixed = _fixed(at, tau[corner], after > unit, before > unit)
             placed.append((along(at, tau, np.vstack([dense, dense[:1]])), at, fixed))
         tol = 1e-9 * self.field.cap
-        crossed = _crossed_rings([p[0] for p in placed], [p[1] for p in placed], rings,
-                                 [tau[:-1][first] for _, _, first, tau in dense_rings], tol)
+        crossed, hides = _crossed_rings(
+            [p[0] for p in placed], [p[1] for p in placed], rings,
+            [tau[:-1][first] for _, _, first, tau in dense_rings], all_turns, tol)
         ring_xy = []
         for k, ((samples, at, fixed), ring) in enumerate(zip(placed, rings)):
             if crossed[k]:
@@ -681,7 +698,7 @@ class _GradedSampler:
                 samples = _uncrossed(samples, at, fixed, ring, tau[:-1][first], tau[-1],
                                      self.field)
             turns = all_turns[k]
-            if (turns < 0).any() and (turns > 0).any():     # else nothing is hidden
+            if (crossed[k] or hides[k]) and (turns < 0).any() and (turns > 0).any():
                 samples = _unhidden(samples, fixed, ring, turns, self.field, tol)
             ring_xy.append(samples)
         ring_xy, self.sampled_region = onto_curves(self.region, ring_xy, self.field, np.inf)
