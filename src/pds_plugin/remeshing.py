@@ -307,10 +307,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                         or mesh.certificate().ok_with_exceptions)
                   for patch, mesh in zip(remeshed, meshes)]
         if all(joined):
-            break
+            # patches whose volume change no move within the tolerance undoes (a bent
+            # quad of a float32 export, with no interior point) are kept, likewise
+            result, unkept = _assemble(source, vertices, faces, kept, remeshed, meshes,
+                                       chains, tolerance, len(patches), alpha, graded)
+            if not unkept:
+                return result
+            joined = [id(patch) not in unkept for patch in remeshed]
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
-    return _assemble(source, vertices, faces, kept, remeshed, meshes, chains, tolerance,
-                     len(patches), alpha, graded)
 
 
 def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None,
@@ -553,7 +557,8 @@ def _manifold_patches(patches) -> list:
 def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
               patch_count, alpha, graded) -> RemeshResult:
     """Join the patches' meshes and the kept faces (split where samples fall on their
-    edges) into one mesh, checked."""
+    edges) into one mesh, checked; and the ids of the patches to keep as they were for
+    the volume (:func:`_volume_kept`)."""
     import trimesh
 
     junction = (chains.u == chains.v) & (chains.t == 0)
@@ -572,8 +577,8 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
         new_faces.append(to_out[mesh.faces])
         patch_of.append(np.full(len(mesh.faces), k))
     (closed_in, euler_in, volume_in) = _surface_facts(vertices, faces)
-    distance = _volume_kept(points, lifted, new_faces, patches, vertices, faces,
-                            volume_in if closed_in else 0.0, tolerance)
+    distance, unkept = _volume_kept(points, lifted, new_faces, patches, vertices, faces,
+                                    volume_in if closed_in else 0.0, tolerance)
     split, centres = _split_kept(faces[kept], chains, number, count, vertices)
     points.append(centres)
     new_faces.append(split)
@@ -605,7 +610,7 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     return RemeshResult(out, np.concatenate(patch_of).astype(np.int64), tuple(meshes),
                         report, alpha, patch_count, patch_count - len(patches),
                         (closed_in, closed_out), (euler_in, euler_out), volume_error,
-                        distance, tolerance, bool(graded))
+                        distance, tolerance, bool(graded)), unkept
 
 
 def _surface_facts(vertices, faces) -> tuple[bool, int, float]:
@@ -681,7 +686,9 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     bound the same volume as its input faces, when the remeshed patches together would
     change the (closed, ``volume`` != 0) solid's volume by more than an eighth of
     :data:`_VOLUME_TOL`; return the largest distance from an interior point to the
-    plane of its input triangle.
+    plane of its input triangle, and the patches that must be kept as they were
+    (:func:`_volume_spoilers`: what is left of their changes still adds up to over
+    half of it).
 
     A patch of a float32 export tilted in space is planar to its rounding only: its new
     triangles, whose vertices lie on its input triangles, cut across their creases and
@@ -694,7 +701,7 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     interior points) is changed in place; ``lifted`` holds per patch the first index of
     its interior points in the concatenation, their triangles' normals and their signed
     distances to those planes."""
-    heights = [height for _, _, height in lifted]
+    heights, unkept = [height for _, _, height in lifted], set()
     if volume:
         every = np.concatenate(points)
         change, slope = [], []
@@ -715,7 +722,25 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
                 shift = float(np.clip(-change[k] / slope[k], -room, room))
                 points[2 + k] = points[2 + k] + shift * patch.basis[3]
                 heights[k] = height + shift * (normal @ patch.basis[3])
-    return max((float(np.abs(h).max()) for h in heights if len(h)), default=0.0)
+                change[k] += shift * slope[k]
+            unkept = _volume_spoilers(change, patches, volume)
+    return max((float(np.abs(h).max()) for h in heights if len(h)), default=0.0), unkept
+
+
+def _volume_spoilers(change, patches, volume) -> set:
+    """The ids of the patches to keep as they were so that the others' volume changes
+    ``change`` add up to at most a quarter of :data:`_VOLUME_TOL` of ``volume``, the
+    largest of the sign of the sum first; none if they add up to at most half of it."""
+    total = sum(change)
+    if abs(total) <= _VOLUME_TOL / 2 * abs(volume):
+        return set()
+    sign, unkept = np.sign(total), set()
+    for k in np.argsort(-sign * np.asarray(change), kind="stable").tolist():
+        if sign * total <= _VOLUME_TOL / 4 * abs(volume) or sign * change[k] <= 0:
+            break
+        unkept.add(id(patches[k]))
+        total -= change[k]
+    return unkept
 
 
 def _determinants(corner):
