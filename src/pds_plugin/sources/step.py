@@ -70,8 +70,9 @@ the section's area (a proven bound, :func:`_splines_within`): with the arcs'
 ways: the graded sampler now moves that chord's end, docs/step.md.)"""
 ARC_REFINEMENT = 300
 """Circles, ellipses and B-splines are flattened at most this many times finer than the
-default tolerance (17 times the vertices): enough for the 5 mm shank of a 100 mm bolt
-(100 times finer missed 1.3e-6 of its area; docs/step.md)."""
+default tolerance scaled by the section's size over the solid's (17 times the vertices):
+enough for the 5 mm shank of a 100 mm bolt (100 times finer missed 1.3e-6 of its area;
+docs/step.md), and, scaled, for a small circle of a large part."""
 _ON_PLANE = 1e-9        # a planar face within this fraction of the solid's size is on the plane
 _STEP_OFF = 1e-6        # on_face moves the plane by this fraction of the solid's size
 
@@ -318,7 +319,9 @@ class StepSolid:
             area = self._polygons(coarse, offset, to_3d).area
         curves = [c for _, cs in cuts for c in cs]
         budget = AREA_ERROR * area
-        floor = self.tolerance / ARC_REFINEMENT
+        # the floor scales with the section: a 3 mm circle of a 75 mm part (a sphere cut
+        # near its pole) missed 1.1e-6 of its area at the part's floor
+        floor = self.tolerance * min(1.0, _extent(curves) / self.scale) / ARC_REFINEMENT
         # an inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its
         # arc's segment; an arc is at most its larger radius times |sweep| long (OCCT's
         # radii u, v are perpendicular)
@@ -551,6 +554,20 @@ def _listed(shapes) -> list:
     if size <= 2:
         return [shapes.First(), shapes.Last()][2 - size:] if size else []
     return list(shapes)
+
+
+def _extent(curves) -> float:
+    """The diagonal of a box holding the curves (circles and ellipses whole)."""
+    low, high = np.full(2, np.inf), np.full(2, -np.inf)
+    for curve in curves:
+        if curve.center is not None:
+            reach = np.hypot(*curve.radii.T)        # |x| <= hypot(ux, vx), likewise y
+            low = np.minimum(low, curve.center - reach)
+            high = np.maximum(high, curve.center + reach)
+        else:
+            low = np.minimum(low, curve.points.min(axis=0))
+            high = np.maximum(high, curve.points.max(axis=0))
+    return float(np.hypot(*(high - low)))
 
 
 def _wire_area(faces, curves) -> float:
