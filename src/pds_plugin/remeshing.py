@@ -702,29 +702,32 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     its interior points in the concatenation, their triangles' normals and their signed
     distances to those planes."""
     heights, unkept = [height for _, _, height in lifted], set()
-    if volume:
-        every = np.concatenate(points)
-        change, slope = [], []
-        for (start, _, height), patch, triangles in zip(lifted, patches, new_faces):
-            origin, normal = patch.basis[0], patch.basis[3]
-            corner = every[triangles] - origin
-            moved = (triangles >= start) & (triangles < start + len(height))
-            old = vertices[faces[patch.faces]] - origin
-            change.append(_determinants(corner).sum() / 6 - _determinants(old).sum() / 6)
-            slope.append(sum(_determinants(np.where((np.arange(3) == k)[:, None], normal,
-                                                     corner))[moved[:, k]].sum()
-                             for k in range(3)) / 6)
-        if abs(sum(change)) > _VOLUME_TOL / 8 * abs(volume):
-            for k, ((start, normal, height), patch) in enumerate(zip(lifted, patches)):
-                room = tolerance - np.abs(height).max(initial=0.0)
-                if not (slope[k] and room > 0):
-                    continue
-                shift = float(np.clip(-change[k] / slope[k], -room, room))
-                points[2 + k] = points[2 + k] + shift * patch.basis[3]
-                heights[k] = height + shift * (normal @ patch.basis[3])
-                change[k] += shift * slope[k]
-            unkept = _volume_spoilers(change, patches, volume)
-    return max((float(np.abs(h).max()) for h in heights if len(h)), default=0.0), unkept
+    if not volume:
+        return _largest(heights), unkept
+    every = np.concatenate(points)
+    change = [_determinants(every[triangles] - patch.basis[0]).sum() / 6
+              - _determinants(vertices[faces[patch.faces]] - patch.basis[0]).sum() / 6
+              for patch, triangles in zip(patches, new_faces)]
+    if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
+        return _largest(heights), unkept
+    for k, ((start, normal, height), patch, triangles) in enumerate(zip(lifted, patches,
+                                                                         new_faces)):
+        room = tolerance - np.abs(height).max(initial=0.0)
+        corner = every[triangles] - patch.basis[0]
+        moved = (triangles >= start) & (triangles < start + len(height))
+        slope = sum(_determinants(np.where((np.arange(3) == j)[:, None], patch.basis[3],
+                                           corner))[moved[:, j]].sum() for j in range(3)) / 6
+        if not (slope and room > 0):
+            continue
+        shift = float(np.clip(-change[k] / slope, -room, room))
+        points[2 + k] = points[2 + k] + shift * patch.basis[3]
+        heights[k] = height + shift * (normal @ patch.basis[3])
+        change[k] += shift * slope
+    return _largest(heights), _volume_spoilers(change, patches, volume)
+
+
+def _largest(heights) -> float:
+    return max((float(np.abs(h).max()) for h in heights if len(h)), default=0.0)
 
 
 def _volume_spoilers(change, patches, volume) -> set:

@@ -700,12 +700,12 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
     two rows of ``to_2d``), flattened within ``tolerance`` (circles and ellipses within
     ``arcs``, or as their two ends if None); it runs the other way if ``reversed_`` (the
     edge's orientation in its wire)."""
-    curve = _flattened(edge, tolerance, frame, arcs)
+    curve = _flattened(edge, tolerance, frame, arcs, face)
     if reversed_:
         curve = replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
                         sweep=-curve.sweep, bezier=None if curve.bezier is None else
                         tuple(control[::-1] for control in curve.bezier[::-1]))
-    return replace(curve, face=face)
+    return curve
 
 
 def _finer(curve, tolerance) -> SectionCurve:
@@ -746,9 +746,10 @@ def _splines_within(splines, budget, tolerance, floor) -> dict:
         t = max(floor, t / 1.5)
 
 
-def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
+def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
     """One edge of a cut by a plane, in its ``frame``'s 2D coordinates, flattened within
-    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None)."""
+    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None),
+    labelled ``face``."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_CurveType as Kind
@@ -759,7 +760,7 @@ def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
     if kind == Kind.GeomAbs_Line:
         return SectionCurve("line", np.array([_xy(curve.Value(first), frame),
                                                 _xy(curve.Value(last), frame)]),
-                            edge_tolerance=bound)
+                            edge_tolerance=bound, face=face)
     if kind in (Kind.GeomAbs_Circle, Kind.GeomAbs_Ellipse):
         if kind == Kind.GeomAbs_Circle:
             conic = curve.Circle()
@@ -777,12 +778,12 @@ def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
         if BRep_Tool.IsClosed_s(edge):
             points[-1] = points[0]           # a whole turn ends where it starts
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
-                            center, radii, bound, first, last - first)
+                            center, radii, bound, first, last - first, face=face)
     if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
         pieces = _bezier_pieces(curve, kind, first, last, frame)
         if pieces is not None:
             return SectionCurve("bspline", _bezier_chain(pieces, tolerance),
-                                edge_tolerance=bound, bezier=tuple(pieces))
+                                edge_tolerance=bound, bezier=tuple(pieces), face=face)
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
 
     sampler = GCPnts_QuasiUniformDeflection(curve, tolerance, first, last)
@@ -790,7 +791,7 @@ def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
         raise SourceError("OpenCASCADE could not flatten a curve of the section; pass a "
                           "larger tolerance or move the plane")
     points = np.array([_xy(sampler.Value(i), frame) for i in range(1, sampler.NbPoints() + 1)])
-    return SectionCurve("adaptive", points, edge_tolerance=bound)
+    return SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
 
 
 def _bezier_chain(pieces, tolerance) -> np.ndarray:
