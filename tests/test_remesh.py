@@ -288,3 +288,35 @@ def test_a_tilted_float32_part_keeps_its_volume(builder, seed, graded):
     assert abs(result.mesh.volume - source.volume) <= 1e-9 * abs(source.volume)
     assert _on_input(result, source) <= result.tolerance
     assert result.mesh.is_watertight and result.mesh.euler_number == source.euler_number
+
+
+def test_a_solid_of_two_bodies_sharing_an_edge_keeps_that_edge_and_is_certified():
+    """Two boxes touching along an edge (shared.STL's case, and a held-out bracket whose
+    float32 rounding merged two vertices): that edge has four triangles in the input.
+    The patches along it are kept, so the output has the same edge with the same four
+    triangles; the interface check counts it as the input's own (``inherited_edges``)
+    instead of failing the remesh, and still fails a defect the remesh would add."""
+    from pds_plugin.partition import interface_report
+
+    first = trimesh.creation.box((1.0, 1.0, 1.0))
+    second = trimesh.creation.box((1.0, 1.0, 1.0)).apply_translation((1.0, 1.0, 0.0))
+    source = trimesh.util.concatenate([first, second])
+    source.merge_vertices()
+    assert (np.unique(np.sort(source.edges, axis=1), axis=0, return_counts=True)[1] == 4).any()
+    result = pds.remesh(source, 0.15, seed=0)
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    # the edge of four triangles, and each of its directions run by two of them
+    assert result.interfaces.inherited_edges == 3 and "non-manifold edge" in str(result)
+    assert result.euler_number[0] == result.euler_number[1]
+    assert abs(result.mesh.volume - source.volume) <= 1e-12 * source.volume
+    # an edge with more triangles than the input had is still a problem
+    from pds_plugin.remeshing import _inherited
+
+    faces, count = np.asarray(source.faces), len(source.vertices)
+    runs, edges = _inherited(faces, count, np.ones(count, bool), np.arange(count))
+    assert len(runs) == 2 and edges[:, 2].tolist() == [4]
+    outer = np.zeros(count, bool)
+    assert interface_report(source.vertices, faces, [], outer, (runs, edges)).ok
+    fewer = edges - [0, 0, 1]
+    assert not interface_report(source.vertices, faces, [], outer, (runs, fewer)).ok
+    assert not interface_report(source.vertices, faces, [], outer).ok

@@ -181,8 +181,10 @@ class RemeshResult:
                  f"{self.volume_error:.3g}, vertices on the input to {self.surface_distance:.3g}",
                  f"  remeshed triangles: min angle {angles.min(initial=180.0):.2f}°, 1st "
                  f"percentile {np.percentile(angles, 1) if len(angles) else float('nan'):.2f}°",
-                 f"  interfaces {'ok' if self.interfaces.ok else 'FAILED'}; patch certificates "
-                 f"failed: {failed}"]
+                 f"  interfaces {'ok' if self.interfaces.ok else 'FAILED'}"
+                 + (f" ({self.interfaces.inherited_edges} non-manifold edge(s) of the input "
+                    f"kept as they were)" if self.interfaces.inherited_edges else "")
+                 + f"; patch certificates failed: {failed}"]
         lines += [f"    {problem}" for problem in self.interfaces.problems]
         return "\n".join(lines)
 
@@ -603,7 +605,8 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     flags[:len(vertices)] = on_rim
     flags[number[on_rim[chains.u] & on_rim[chains.v]]] = True
     outer = flags[used]
-    report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer)
+    report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer,
+                              _inherited(faces, len(vertices), used, renumber))
     (closed_out, euler_out, volume_out) = _surface_facts(out.vertices, out.faces)
     volume_error = (abs(volume_out - volume_in) / abs(volume_in)
                     if closed_in and volume_in else float("nan"))
@@ -611,6 +614,25 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
                         report, alpha, patch_count, patch_count - len(patches),
                         (closed_in, closed_out), (euler_in, euler_out), volume_error,
                         distance, tolerance, bool(graded)), unkept
+
+
+def _inherited(faces, count, used, renumber) -> tuple:
+    """The input's own defects, for :func:`~pds_plugin.partition.interface_report`, in
+    the output's numbering (the input's vertices come first there): rows (a, b, n) of
+    its directed edges run by n > 1 triangles, and of its edges (a < b) of n > 2
+    triangles (two bodies sharing an edge: such edges' patches are kept, and the edges
+    with them). Edges with a vertex the output does not use are left out."""
+    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    rows = []
+    for pairs, least in ((directed, 2), (np.sort(directed, axis=1), 3)):
+        codes, counts = np.unique(pairs[:, 0] * count + pairs[:, 1], return_counts=True)
+        edge = np.column_stack(divmod(codes[counts >= least], count))
+        keep = used[:count][edge].all(axis=1)
+        pair = renumber[edge[keep]]
+        if least == 3:
+            pair = np.sort(pair, axis=1)
+        rows.append(np.column_stack([pair, counts[counts >= least][keep]]))
+    return tuple(rows)
 
 
 def _surface_facts(vertices, faces) -> tuple[bool, int, float]:
