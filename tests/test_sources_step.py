@@ -418,3 +418,24 @@ def test_quadratic_nodes_of_a_step_section_lie_on_its_circles():
     assert round_.sum() > 50 and off[round_].max() <= 1e-12 * 12
     cert = q.certificate()
     assert cert.ok and cert.quadratic.ok
+
+
+def test_the_plane_frame_is_trimeshs_bit_for_bit_whatever_the_caller_does_with_it():
+    """plane_frames keeps trimesh's rotation per normal (planes._rotation): each call
+    gives plane_transform's matrix exactly, even after a caller changed the one it got
+    (a shared cached array would carry the change to the next section)."""
+    from trimesh.geometry import plane_transform
+
+    from pds_plugin.sources.planes import plane_frames
+
+    rng = np.random.default_rng(22)
+    for _ in range(200):
+        origin, normal = rng.normal(size=3) * 100, rng.normal(size=3)
+        normal /= np.linalg.norm(normal)
+        if rng.random() < 0.3:
+            normal = np.eye(3)[rng.integers(3)] * rng.choice([-1.0, 1.0])
+        to_2d, to_3d = plane_frames(origin, normal)
+        assert np.array_equal(to_2d, plane_transform(origin, normal))
+        assert np.allclose(to_3d @ to_2d, np.eye(4), atol=1e-12)
+        to_2d[:] = 0.0                                     # the caller's own copy
+        assert np.array_equal(plane_frames(origin, normal)[0], plane_transform(origin, normal))
