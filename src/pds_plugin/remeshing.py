@@ -718,8 +718,8 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     every interior point by the same ``d`` along the unit normal ``n`` changes the
     patch's signed volume exactly linearly in ``d`` (in each triangle's determinant,
     a term with two columns along ``n`` vanishes), so one division finds the ``d`` that
-    undoes the change; it is clipped to the room the tolerance leaves at the patch's
-    points. ``points`` (the input vertices, the chain samples, then each patch's
+    undoes the change; it is clipped to 0.99 of the room the tolerance leaves at the
+    patch's points (a margin for rounding). ``points`` (the input vertices, the chain samples, then each patch's
     interior points) is changed in place; ``lifted`` holds per patch the first index of
     its interior points in the concatenation, their triangles' normals and their signed
     distances to those planes."""
@@ -734,7 +734,7 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
         return _largest(heights), unkept
     for k, ((start, normal, height), patch, triangles) in enumerate(zip(lifted, patches,
                                                                          new_faces)):
-        room = tolerance - np.abs(height).max(initial=0.0)
+        room = 0.99 * (tolerance - np.abs(height).max(initial=0.0))   # rounding's margin
         corner = every[triangles] - patch.basis[0]
         moved = (triangles >= start) & (triangles < start + len(height))
         slope = sum(_determinants(np.where((np.arange(3) == j)[:, None], patch.basis[3],
