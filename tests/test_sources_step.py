@@ -193,6 +193,26 @@ def test_sections_of_lines_and_arcs_have_occts_area_to_1e_6_at_the_default(name,
 
 
 @needs_ocp
+def test_a_small_section_of_a_large_part_has_occts_area_to_1e_6():
+    """A held-out knob (a sphere of radius 19 on a cone, 75 mm across) cut 0.24 mm above
+    the sphere's pole: a circle of radius 2.9 whose flattening the part's floor
+    (ARC_REFINEMENT times finer than 1e-5 of 75 mm) left 1.1e-6 short of its area;
+    the floor now scales with the section's size."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCone, BRepPrimAPI_MakeSphere
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+
+    radius = 18.86
+    sphere = BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, radius), radius).Shape()
+    cone = BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0, 0, -radius), gp_Dir(0, 0, 1)),
+                                0.3 * radius, 0.9 * radius, radius).Shape()
+    shape = parts._fuse(sphere, cone)
+    origin, normal = (0.0, 0.0, 0.24), (0.0, 0.0, 1.0)
+    region = pds.section(shape, origin, normal)
+    assert [c.kind for c in step.section_curves(shape, origin, normal)] == ["circle"]
+    assert region.area == pytest.approx(occt_section_area(shape, origin, normal), rel=1e-6)
+
+
+@needs_ocp
 def test_a_tilted_plane_cuts_bores_into_exact_ellipses():
     shape = parts.plate_with_holes()
     origin, normal = (50, 30, 5), (0.05, 0.0, 1.0)
@@ -398,3 +418,24 @@ def test_quadratic_nodes_of_a_step_section_lie_on_its_circles():
     assert round_.sum() > 50 and off[round_].max() <= 1e-12 * 12
     cert = q.certificate()
     assert cert.ok and cert.quadratic.ok
+
+
+def test_the_plane_frame_is_trimeshs_bit_for_bit_whatever_the_caller_does_with_it():
+    """plane_frames keeps trimesh's rotation per normal (planes._rotation): each call
+    gives plane_transform's matrix exactly, even after a caller changed the one it got
+    (a shared cached array would carry the change to the next section)."""
+    from trimesh.geometry import plane_transform
+
+    from pds_plugin.sources.planes import plane_frames
+
+    rng = np.random.default_rng(22)
+    for _ in range(200):
+        origin, normal = rng.normal(size=3) * 100, rng.normal(size=3)
+        normal /= np.linalg.norm(normal)
+        if rng.random() < 0.3:
+            normal = np.eye(3)[rng.integers(3)] * rng.choice([-1.0, 1.0])
+        to_2d, to_3d = plane_frames(origin, normal)
+        assert np.array_equal(to_2d, plane_transform(origin, normal))
+        assert np.allclose(to_3d @ to_2d, np.eye(4), atol=1e-12)
+        to_2d[:] = 0.0                                     # the caller's own copy
+        assert np.array_equal(plane_frames(origin, normal)[0], plane_transform(origin, normal))

@@ -1502,6 +1502,10 @@ class InterfaceReport:
         or lie on an interface: a T-junction or a gap.
     problems : tuple of str
         The first few of them, located.
+    inherited_edges : int
+        Edges that are non-manifold or run twice the same way exactly as in the input
+        they were kept from (``inherited``: a remeshed solid of two bodies sharing an
+        edge), not counted above.
     """
 
     duplicate_vertices: int
@@ -1510,6 +1514,7 @@ class InterfaceReport:
     unjoined_interface_edges: int
     open_edges: int
     problems: tuple
+    inherited_edges: int = 0
 
     @property
     def ok(self) -> bool:
@@ -1525,7 +1530,7 @@ class InterfaceReport:
         return values
 
 
-def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport:
+def interface_report(vertices, faces, interface_edges, outer, inherited=None) -> InterfaceReport:
     """Check that triangles meshed part by part join along their interfaces.
 
     Parameters
@@ -1537,6 +1542,11 @@ def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport
         The edges that two parts share.
     outer : (N,) array_like of bool
         The samples of the outer boundary (none for a closed surface).
+    inherited : tuple of two (K, 3) array_like of int, optional
+        The input these triangles were kept from: rows (a, b, n) of the directed edges
+        it ran more than once (n times), and of its edges (a < b) of more than two
+        triangles (n). A directed edge run as often here, and an edge with as many
+        triangles here, are the input's own and counted apart (``inherited_edges``).
 
     Returns
     -------
@@ -1569,6 +1579,10 @@ def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport
     directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
     run_codes, run_count = np.unique(directed[:, 0] * base + directed[:, 1],
                                      return_counts=True)
+    runs, many_edges = ((np.asarray(rows, dtype=np.int64).reshape(-1, 3) for rows in inherited)
+                        if inherited is not None else (np.zeros((0, 3), np.int64),) * 2)
+    kept_run = _as_before(run_codes, run_count, runs, base) & (run_count > 1)
+    run_count = np.where(kept_run, 1, run_count)
     for code in run_codes[run_count > 1][:3]:
         edge = np.array(divmod(int(code), base))
         problems.append(f"two triangles run the edge at {_where(vertices[edge].mean(axis=0))} "
@@ -1576,7 +1590,9 @@ def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport
     undirected = np.sort(directed, axis=1)
     edge_code, uses = np.unique(undirected[:, 0] * base + undirected[:, 1], return_counts=True)
     edges = np.column_stack([edge_code // base, edge_code % base])
-    for edge in edges[uses > 2][:3]:
+    kept_many = _as_before(edge_code, uses, many_edges, base) & (uses > 2)
+    many = (uses > 2) & ~kept_many
+    for edge in edges[many][:3]:
         problems.append(f"the edge at {_where(vertices[edge].mean(axis=0))} has {uses.max()} triangles")
     interface_code = interface[:, 0] * (len(vertices) + 1) + interface[:, 1]
     position = np.searchsorted(edge_code, interface_code)
@@ -1592,8 +1608,21 @@ def interface_report(vertices, faces, interface_edges, outer) -> InterfaceReport
     for edge in single[open_edge][:3]:
         problems.append(f"an open edge inside at {_where(vertices[edge].mean(axis=0))}")
     return InterfaceReport(duplicate, int(np.count_nonzero(run_count > 1)),
-                           int(np.count_nonzero(uses > 2)), int(np.count_nonzero(~shared)),
-                           int(np.count_nonzero(open_edge)), tuple(problems))
+                           int(np.count_nonzero(many)), int(np.count_nonzero(~shared)),
+                           int(np.count_nonzero(open_edge)), tuple(problems),
+                           int(np.count_nonzero(kept_run) + np.count_nonzero(kept_many)))
+
+
+def _as_before(codes, counts, known, base) -> np.ndarray:
+    """Which edges (sorted integer ``codes`` a base + b, each used ``counts`` times) the
+    ``known`` rows (a, b, n) list with the same n."""
+    if not len(known) or not len(codes):
+        return np.zeros(len(codes), bool)
+    known_codes = known[:, 0] * base + known[:, 1]
+    order = np.argsort(known_codes)
+    known_codes, known_counts = known_codes[order], known[order, 2]
+    at = np.minimum(np.searchsorted(known_codes, codes), len(known_codes) - 1)
+    return (known_codes[at] == codes) & (known_counts[at] == counts)
 
 
 def _where(point) -> str:

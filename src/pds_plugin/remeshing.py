@@ -181,8 +181,10 @@ class RemeshResult:
                  f"{self.volume_error:.3g}, vertices on the input to {self.surface_distance:.3g}",
                  f"  remeshed triangles: min angle {angles.min(initial=180.0):.2f}°, 1st "
                  f"percentile {np.percentile(angles, 1) if len(angles) else float('nan'):.2f}°",
-                 f"  interfaces {'ok' if self.interfaces.ok else 'FAILED'}; patch certificates "
-                 f"failed: {failed}"]
+                 f"  interfaces {'ok' if self.interfaces.ok else 'FAILED'}"
+                 + (f" ({self.interfaces.inherited_edges} non-manifold edge(s) of the input "
+                    f"kept as they were)" if self.interfaces.inherited_edges else "")
+                 + f"; patch certificates failed: {failed}"]
         lines += [f"    {problem}" for problem in self.interfaces.problems]
         return "\n".join(lines)
 
@@ -307,10 +309,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                         or mesh.certificate().ok_with_exceptions)
                   for patch, mesh in zip(remeshed, meshes)]
         if all(joined):
-            break
+            # patches whose volume change no move within the tolerance undoes (a bent
+            # quad of a float32 export, with no interior point) are kept, likewise
+            result, unkept = _assemble(source, vertices, faces, kept, remeshed, meshes,
+                                       chains, tolerance, len(patches), alpha, graded)
+            if not unkept:
+                return result
+            joined = [id(patch) not in unkept for patch in remeshed]
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
-    return _assemble(source, vertices, faces, kept, remeshed, meshes, chains, tolerance,
-                     len(patches), alpha, graded)
 
 
 def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None,
@@ -553,24 +559,28 @@ def _manifold_patches(patches) -> list:
 def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
               patch_count, alpha, graded) -> RemeshResult:
     """Join the patches' meshes and the kept faces (split where samples fall on their
-    edges) into one mesh, checked."""
+    edges) into one mesh, checked; and the ids of the patches to keep as they were for
+    the volume (:func:`_volume_kept`)."""
     import trimesh
 
     junction = (chains.u == chains.v) & (chains.t == 0)
     number = np.where(junction, chains.u, len(vertices) + np.cumsum(~junction) - 1)
     points = [vertices, chains.points(vertices)[~junction]]
     count = len(vertices) + int(np.count_nonzero(~junction))
-    new_faces, patch_of, distance = [], [], 0.0
+    new_faces, patch_of, lifted = [], [], []
     for k, (patch, mesh) in enumerate(zip(patches, meshes)):
         ring_ids = chains.rings[k]
         n_given = sum(len(ids) for ids in ring_ids)
-        inner, gap = _on_input(mesh.vertices[n_given:], patch, vertices, faces)
-        distance = max(distance, gap)
+        inner, normal, height = _on_input(mesh.vertices[n_given:], patch, vertices, faces)
         to_out = np.concatenate([number[np.concatenate(ring_ids)], count + np.arange(len(inner))])
         points.append(inner)
+        lifted.append((count, normal, height))
         count += len(inner)
         new_faces.append(to_out[mesh.faces])
         patch_of.append(np.full(len(mesh.faces), k))
+    (closed_in, euler_in, volume_in) = _surface_facts(vertices, faces)
+    distance, unkept = _volume_kept(points, lifted, new_faces, patches, vertices, faces,
+                                    volume_in if closed_in else 0.0, tolerance)
     split, centres = _split_kept(faces[kept], chains, number, count, vertices)
     points.append(centres)
     new_faces.append(split)
@@ -595,15 +605,34 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     flags[:len(vertices)] = on_rim
     flags[number[on_rim[chains.u] & on_rim[chains.v]]] = True
     outer = flags[used]
-    report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer)
-    (closed_in, euler_in, volume_in) = _surface_facts(vertices, faces)
+    report = interface_report(out.vertices, out.faces, renumber[number[chords]], outer,
+                              _inherited(faces, len(vertices), used, renumber))
     (closed_out, euler_out, volume_out) = _surface_facts(out.vertices, out.faces)
     volume_error = (abs(volume_out - volume_in) / abs(volume_in)
                     if closed_in and volume_in else float("nan"))
     return RemeshResult(out, np.concatenate(patch_of).astype(np.int64), tuple(meshes),
                         report, alpha, patch_count, patch_count - len(patches),
                         (closed_in, closed_out), (euler_in, euler_out), volume_error,
-                        distance, tolerance, bool(graded))
+                        distance, tolerance, bool(graded)), unkept
+
+
+def _inherited(faces, count, used, renumber) -> tuple:
+    """The input's own defects, for :func:`~pds_plugin.partition.interface_report`, in
+    the output's numbering (the input's vertices come first there): rows (a, b, n) of
+    its directed edges run by n > 1 triangles, and of its edges (a < b) of n > 2
+    triangles (two bodies sharing an edge: such edges' patches are kept, and the edges
+    with them). Edges with a vertex the output does not use are left out."""
+    directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    rows = []
+    for pairs, least in ((directed, 2), (np.sort(directed, axis=1), 3)):
+        codes, counts = np.unique(pairs[:, 0] * count + pairs[:, 1], return_counts=True)
+        edge = np.column_stack(divmod(codes[counts >= least], count))
+        keep = used[:count][edge].all(axis=1)
+        pair = renumber[edge[keep]]
+        if least == 3:
+            pair = np.sort(pair, axis=1)
+        rows.append(np.column_stack([pair, counts[counts >= least][keep]]))
+    return tuple(rows)
 
 
 def _surface_facts(vertices, faces) -> tuple[bool, int, float]:
@@ -634,18 +663,14 @@ def _surface_facts(vertices, faces) -> tuple[bool, int, float]:
                   and np.all(code[2::2] != code[1:-1:2]))
     used = np.zeros(len(vertices), bool)
     used[start] = True
-    corner = vertices[faces] - vertices[used].mean(axis=0)
-    a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
-    volume = float((a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
-                    + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
-                    + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0])).sum() / 6)
+    volume = float(_determinants(vertices[faces] - vertices[used].mean(axis=0)).sum() / 6)
     return closed, int(used.sum()) - edges + len(faces), volume
 
 
 def _on_input(xy, patch, vertices, faces):
     """The 3D points of a patch's interior samples ``xy``, each on the input triangle it
-    lies in (barycentric), and the largest distance from one of them to that triangle's
-    plane.
+    lies in (barycentric), that triangle's unit normal, and each point's signed distance
+    to that triangle's plane (rounding).
 
     Each point goes to the triangle whose bounding box holds it and whose smallest
     barycentric coordinate is the largest (the triangle it is in; of two that share an
@@ -653,7 +678,7 @@ def _on_input(xy, patch, vertices, faces):
     holds it within :data:`_INSIDE`: no geometric predicate per pair (shapely's
     ``intersects`` took a quarter of the remesh of shared.STL)."""
     if not len(xy):
-        return np.zeros((0, 3)), 0.0
+        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
     triangles = faces[patch.faces]
     corners = patch.frame[triangles.ravel()].reshape(-1, 3, 2)
     low, high = corners.min(axis=1), corners.max(axis=1)
@@ -674,8 +699,82 @@ def _on_input(xy, patch, vertices, faces):
     out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
     normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
-    gap = float(np.abs(np.einsum("ij,ij->i", out - p[:, 0], normal)).max())
-    return out, gap
+    return out, normal, np.einsum("ij,ij->i", out - p[:, 0], normal)
+
+
+def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, tolerance):
+    """Move each patch's interior points along its normal, within the coplanarity
+    ``tolerance`` of the input triangles they lie on, so that the patch's triangles
+    bound the same volume as its input faces, when the remeshed patches together would
+    change the (closed, ``volume`` != 0) solid's volume by more than an eighth of
+    :data:`_VOLUME_TOL`; return the largest distance from an interior point to the
+    plane of its input triangle, and the patches that must be kept as they were
+    (:func:`_volume_spoilers`: what is left of their changes still adds up to over
+    half of it).
+
+    A patch of a float32 export tilted in space is planar to its rounding only: its new
+    triangles, whose vertices lie on its input triangles, cut across their creases and
+    bound another volume (2.6e-9 of a held-out filleted plate, docs/remesh.md). Moving
+    every interior point by the same ``d`` along the unit normal ``n`` changes the
+    patch's signed volume exactly linearly in ``d`` (in each triangle's determinant,
+    a term with two columns along ``n`` vanishes), so one division finds the ``d`` that
+    undoes the change; it is clipped to 0.99 of the room the tolerance leaves at the
+    patch's points (a margin for rounding). ``points`` (the input vertices, the chain samples, then each patch's
+    interior points) is changed in place; ``lifted`` holds per patch the first index of
+    its interior points in the concatenation, their triangles' normals and their signed
+    distances to those planes."""
+    heights, unkept = [height for _, _, height in lifted], set()
+    if not volume:
+        return _largest(heights), unkept
+    every = np.concatenate(points)
+    change = [_determinants(every[triangles] - patch.basis[0]).sum() / 6
+              - _determinants(vertices[faces[patch.faces]] - patch.basis[0]).sum() / 6
+              for patch, triangles in zip(patches, new_faces)]
+    if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
+        return _largest(heights), unkept
+    for k, ((start, normal, height), patch, triangles) in enumerate(zip(lifted, patches,
+                                                                         new_faces)):
+        room = 0.99 * (tolerance - np.abs(height).max(initial=0.0))   # rounding's margin
+        corner = every[triangles] - patch.basis[0]
+        moved = (triangles >= start) & (triangles < start + len(height))
+        slope = sum(_determinants(np.where((np.arange(3) == j)[:, None], patch.basis[3],
+                                           corner))[moved[:, j]].sum() for j in range(3)) / 6
+        if not (slope and room > 0):
+            continue
+        shift = float(np.clip(-change[k] / slope, -room, room))
+        points[2 + k] = points[2 + k] + shift * patch.basis[3]
+        heights[k] = height + shift * (normal @ patch.basis[3])
+        change[k] += shift * slope
+    return _largest(heights), _volume_spoilers(change, patches, volume)
+
+
+def _largest(heights) -> float:
+    return max((float(np.abs(h).max()) for h in heights if len(h)), default=0.0)
+
+
+def _volume_spoilers(change, patches, volume) -> set:
+    """The ids of the patches to keep as they were so that the others' volume changes
+    ``change`` add up to at most a quarter of :data:`_VOLUME_TOL` of ``volume``, the
+    largest of the sign of the sum first; none if they add up to at most half of it."""
+    total = sum(change)
+    if abs(total) <= _VOLUME_TOL / 2 * abs(volume):
+        return set()
+    sign, unkept = np.sign(total), set()
+    for k in np.argsort(-sign * np.asarray(change), kind="stable").tolist():
+        if sign * total <= _VOLUME_TOL / 4 * abs(volume) or sign * change[k] <= 0:
+            break
+        unkept.add(id(patches[k]))
+        total -= change[k]
+    return unkept
+
+
+def _determinants(corner):
+    """det[a, b, c] of each triangle's corners (k, 3, 3), six times its signed volume
+    about the origin."""
+    a, b, c = corner[:, 0], corner[:, 1], corner[:, 2]
+    return (a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
+            + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
+            + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0]))
 
 
 def _barycentric(xy, a, b, c):

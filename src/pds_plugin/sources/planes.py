@@ -4,6 +4,8 @@ plane gives the same 2D coordinates whatever the solid comes from."""
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from .._checks import check_vector
@@ -30,7 +32,8 @@ def checked_plane(origin, normal) -> tuple[np.ndarray, np.ndarray]:
 
 
 def plane_frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
-    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0) and its exact inverse.
+    """``to_2d`` (trimesh's plane_transform: the plane onto z = 0, bit for bit) and its
+    exact inverse.
 
     Examples
     --------
@@ -38,13 +41,23 @@ def plane_frames(origin, normal) -> tuple[np.ndarray, np.ndarray]:
     >>> bool(np.allclose(to_3d @ to_2d, np.eye(4)))
     True
     """
-    from trimesh.geometry import plane_transform
-
-    to_2d = plane_transform(origin, normal)
+    to_2d = _rotation(np.asarray(normal, dtype=float).tobytes()).copy()
+    to_2d[:3, 3] = -np.dot(to_2d, np.append(origin, 1))[:3]    # as plane_transform does
     to_3d = np.eye(4)
     to_3d[:3, :3] = to_2d[:3, :3].T   # a rotation: its inverse is its transpose
     to_3d[:3, 3] = origin             # (0, 0) is the plane origin
     return to_2d, to_3d
+
+
+@lru_cache(maxsize=64)
+def _rotation(normal: bytes) -> np.ndarray:
+    """trimesh's ``align_vectors(normal, [0, 0, 1])`` (two SVDs, 0.1 ms), once per normal:
+    parallel planes (``pds.sections``, a part cut in turn) share it. Not to be changed."""
+    from trimesh.geometry import align_vectors
+
+    rotation = align_vectors(np.frombuffer(normal), [0, 0, 1])
+    rotation.flags.writeable = False
+    return rotation
 
 
 def checked_on_face(on_face):

@@ -70,8 +70,9 @@ the section's area (a proven bound, :func:`_splines_within`): with the arcs'
 ways: the graded sampler now moves that chord's end, docs/step.md.)"""
 ARC_REFINEMENT = 300
 """Circles, ellipses and B-splines are flattened at most this many times finer than the
-default tolerance (17 times the vertices): enough for the 5 mm shank of a 100 mm bolt
-(100 times finer missed 1.3e-6 of its area; docs/step.md)."""
+default tolerance scaled by the section's size over the solid's (17 times the vertices):
+enough for the 5 mm shank of a 100 mm bolt (100 times finer missed 1.3e-6 of its area;
+docs/step.md), and, scaled, for a small circle of a large part."""
 _ON_PLANE = 1e-9        # a planar face within this fraction of the solid's size is on the plane
 _STEP_OFF = 1e-6        # on_face moves the plane by this fraction of the solid's size
 
@@ -318,7 +319,9 @@ class StepSolid:
             area = self._polygons(coarse, offset, to_3d).area
         curves = [c for _, cs in cuts for c in cs]
         budget = AREA_ERROR * area
-        floor = self.tolerance / ARC_REFINEMENT
+        # the floor scales with the section: a 3 mm circle of a 75 mm part (a sphere cut
+        # near its pole) missed 1.1e-6 of its area at the part's floor
+        floor = self.tolerance * min(1.0, _extent(curves) / self.scale) / ARC_REFINEMENT
         # an inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its
         # arc's segment; an arc is at most its larger radius times |sweep| long (OCCT's
         # radii u, v are perpendicular)
@@ -553,6 +556,20 @@ def _listed(shapes) -> list:
     return list(shapes)
 
 
+def _extent(curves) -> float:
+    """The diagonal of a box holding the curves (circles and ellipses whole)."""
+    low, high = np.full(2, np.inf), np.full(2, -np.inf)
+    for curve in curves:
+        if curve.center is not None:
+            reach = np.hypot(*curve.radii.T)        # |x| <= hypot(ux, vx), likewise y
+            low = np.minimum(low, curve.center - reach)
+            high = np.maximum(high, curve.center + reach)
+        else:
+            low = np.minimum(low, curve.points.min(axis=0))
+            high = np.maximum(high, curve.points.max(axis=0))
+    return float(np.hypot(*(high - low)))
+
+
 def _wire_area(faces, curves) -> float:
     """The area of a cut's faces from their wires (outer wire less the others), each
     wire's the sum of its curves' :func:`_swept_area` (exact along circles and ellipses),
@@ -683,12 +700,12 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
     two rows of ``to_2d``), flattened within ``tolerance`` (circles and ellipses within
     ``arcs``, or as their two ends if None); it runs the other way if ``reversed_`` (the
     edge's orientation in its wire)."""
-    curve = _flattened(edge, tolerance, frame, arcs)
+    curve = _flattened(edge, tolerance, frame, arcs, face)
     if reversed_:
         curve = replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
                         sweep=-curve.sweep, bezier=None if curve.bezier is None else
                         tuple(control[::-1] for control in curve.bezier[::-1]))
-    return replace(curve, face=face)
+    return curve
 
 
 def _finer(curve, tolerance) -> SectionCurve:
@@ -729,9 +746,10 @@ def _splines_within(splines, budget, tolerance, floor) -> dict:
         t = max(floor, t / 1.5)
 
 
-def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
+def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
     """One edge of a cut by a plane, in its ``frame``'s 2D coordinates, flattened within
-    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None)."""
+    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None),
+    labelled ``face``."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_CurveType as Kind
@@ -742,7 +760,7 @@ def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
     if kind == Kind.GeomAbs_Line:
         return SectionCurve("line", np.array([_xy(curve.Value(first), frame),
                                                 _xy(curve.Value(last), frame)]),
-                            edge_tolerance=bound)
+                            edge_tolerance=bound, face=face)
     if kind in (Kind.GeomAbs_Circle, Kind.GeomAbs_Ellipse):
         if kind == Kind.GeomAbs_Circle:
             conic = curve.Circle()
@@ -760,12 +778,12 @@ def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
         if BRep_Tool.IsClosed_s(edge):
             points[-1] = points[0]           # a whole turn ends where it starts
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
-                            center, radii, bound, first, last - first)
+                            center, radii, bound, first, last - first, face=face)
     if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
         pieces = _bezier_pieces(curve, kind, first, last, frame)
         if pieces is not None:
             return SectionCurve("bspline", _bezier_chain(pieces, tolerance),
-                                edge_tolerance=bound, bezier=tuple(pieces))
+                                edge_tolerance=bound, bezier=tuple(pieces), face=face)
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
 
     sampler = GCPnts_QuasiUniformDeflection(curve, tolerance, first, last)
@@ -773,7 +791,7 @@ def _flattened(edge, tolerance, frame, arcs=None) -> SectionCurve:
         raise SourceError("OpenCASCADE could not flatten a curve of the section; pass a "
                           "larger tolerance or move the plane")
     points = np.array([_xy(sampler.Value(i), frame) for i in range(1, sampler.NbPoints() + 1)])
-    return SectionCurve("adaptive", points, edge_tolerance=bound)
+    return SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
 
 
 def _bezier_chain(pieces, tolerance) -> np.ndarray:
