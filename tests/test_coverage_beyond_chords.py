@@ -203,9 +203,9 @@ def test_a_held_out_graded_section_reports_its_worst_piece_beyond_the_chords(mon
     chord ends onto the reflex vertices that hide pieces beyond their chords switched off
     (graded_sampling._unhidden): the code before the ratio fix certified it at 0.93 while
     one of its pieces was bounded only at 1.29 r in straight lines (brute force: points
-    1.26 r from every sample they see). Along paths around the hiding vertex that piece
-    is within 0.90 r. The certificate's coverage is at least the ratio of every piece's
-    bound to r at its place."""
+    1.26 r from every sample they see). Along paths around the hiding vertex, and cut
+    inside its long edges, that piece is within 0.68 r. The certificate's coverage is at
+    least the ratio of every piece's bound to r at its place."""
     import sys
     from pathlib import Path
 
@@ -230,5 +230,5 @@ def test_a_held_out_graded_section_reports_its_worst_piece_beyond_the_chords(mon
                               np.asarray(mesh.faces).reshape(-1, 3), mesh.field)
     gap, where, _, _ = sampled._pieces
     ratios = gap / mesh.field(where)
-    assert 0.8 < ratios.max() <= certificate.coverage_gap * (1 + 1e-12)
+    assert 0.5 < ratios.max() <= certificate.coverage_gap * (1 + 1e-12)
     assert certificate.ok
