@@ -121,6 +121,9 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     # made the tip's triangle obtuse (R = 2 alpha), the tip isolated; the chord is the
     # tip triangle's edge and is left whole
     (44, "g14-bracket p1", "uniform auto"),
+    # ... but only at a convex tip: a reflex corner's triangle with its neighbours lies
+    # outside the region (a shaft's notch, seed 34: the chord was left unjoined)
+    (34, "g16-shaft p3", "uniform fine"),
     # a notch's vertex, the piece's only arc vertex, was its only cut: the edge from it
     # to the far chord end was that end's (1.26 alpha); cuts inside edges now
     (46, "g13-flange p2", "uniform auto"),

@@ -439,8 +439,8 @@ def _guards_halved(ring_xy, region, alpha) -> list:
     following[first] = second
     preceding = np.empty(len(points), np.int64)
     preceding[second] = first
-    tips = [np.hypot(*(points[preceding[e]] - points[following[e]]).T) <= 2 * alpha * np.sin(
-        _angle_at(points[e], points[preceding[e]], points[following[e]])) for e in (first, second)]
+    tips = [_kept_tip(points[preceding[e]], points[e], points[following[e]], alpha)
+            for e in (first, second)]
     blocked = blocked[~(tips[0][blocked] | tips[1][blocked])]
     if not len(blocked):
         return ring_xy
@@ -458,10 +458,15 @@ def _guards_halved(ring_xy, region, alpha) -> list:
     return ring_xy
 
 
-def _angle_at(c, p, q) -> np.ndarray:
-    """The angle p c q (radians, in [0, π]) of each triangle."""
-    u, v = p - c, q - c
-    return np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
+def _kept_tip(p, c, q, alpha) -> np.ndarray:
+    """Whether each boundary sample c, between p and q along its ring (the region on the
+    left), is a convex corner whose triangle p c q has circumradius at most ``alpha``:
+    a triangle inside the region that the complex keeps, with the chords cp and cq as
+    edges. (A reflex c's triangle lies outside the region: held-out seed 34.)"""
+    u, v = c - p, q - c
+    turn = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    angle = np.arctan2(np.abs(turn), -(u * v).sum(axis=1))     # the angle p c q
+    return (turn > 0) & (np.hypot(*(q - p).T) <= 2 * alpha * np.sin(angle))
 
 
 def _across_from(arc, q) -> np.ndarray:
