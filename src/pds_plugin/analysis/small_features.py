@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from ..sampling import corner_clearance
+from ..sampling import LADDER_ANGLE, corner_clearance
 from ..sizing import angle_bound
 from .conformity import ON_BOUNDARY_TOL, SampledBoundary, edge_keys, point_text, say_located
 from .quality import ASPECT_BOUND
@@ -309,23 +309,36 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
                     _explain_corner(meet, points[a[meet]], points[b[meet]], segments[first[meet]],
                                     segments[second[meet]], alpha, tol, cause, feature, bound,
                                     place, scales, points[on_boundary], flanking[meet])
-    # thin walls: samples on two boundary segments apart from each other, or meeting at a
-    # corner the pair is far from (a tip sharper than any clearance: each sample is at
-    # least its distance to the other's segment from it)
+    # thin walls: samples on two boundary segments apart from each other, or on the two
+    # sides of a spike sharper than any clearance separates (LADDER_ANGLE), as thick as
+    # the larger distance from either sample to the other's side
     wall = other & (cause < 0)
     if wall.any():
         lines = shapely.linestrings(segments)
         width = shapely.distance(lines[segment_p[wall]], lines[segment_q[wall]])
-        touch = width == 0
-        if touch.any():
-            rows = np.flatnonzero(wall)[touch]
-            width[touch] = np.maximum(
+        rows = np.flatnonzero(wall)
+        tip = (width == 0) & (_spike_angle(segments[segment_p[rows]], segments[segment_q[rows]])
+                              < LADDER_ANGLE)
+        if tip.any():
+            rows = rows[tip]
+            width[tip] = np.maximum(
                 shapely.distance(shapely.points(points[p[rows]]), lines[segment_q[rows]]),
                 shapely.distance(shapely.points(points[q[rows]]), lines[segment_p[rows]]))
         rows = np.flatnonzero(wall)[width > 0]
         cause[rows], bound[rows] = _THIN_WALL, width[width > 0]
         feature[rows] = width[width > 0] / unit[rows]
     return cause, feature, bound, place
+
+
+def _spike_angle(first, second) -> np.ndarray:
+    """The angle between two segments (k, 2, 2) that share an end, at that end (π where
+    they share none)."""
+    angle = np.full(len(first), np.pi)
+    for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        shared = np.all(first[:, i] == second[:, j], axis=1)
+        u, v = first[shared, 1 - i] - first[shared, i], second[shared, 1 - j] - second[shared, j]
+        angle[shared] = np.abs(np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1)))
+    return angle
 
 
 def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound, place,
