@@ -439,9 +439,10 @@ def _guards_halved(ring_xy, region, alpha) -> list:
     following[first] = second
     preceding = np.empty(len(points), np.int64)
     preceding[second] = first
-    tips = [_kept_tip(points[preceding[e]], points[e], points[following[e]], alpha)
-            for e in (first, second)]
-    blocked = blocked[~(tips[0][blocked] | tips[1][blocked])]
+    tip = np.zeros(len(blocked), bool)
+    for end in (first[blocked], second[blocked]):
+        tip |= _kept_tip(points[preceding[end]], points[end], points[following[end]], alpha)
+    blocked = blocked[~tip]
     if not len(blocked):
         return ring_xy
     ring_xy = list(ring_xy)

@@ -331,7 +331,8 @@ class Certificate:
         def mark(good):
             return "ok" if good else "FAILED"
         if self.visibility:
-            rule = "to samples seen through the region (visibility rule)"
+            rule = ("to samples seen through the region, coverage along paths in it "
+                    "(visibility rule)")
         elif self.claims_conforming:
             rule = "separation to samples seen through the region, coverage Euclidean"
         else:

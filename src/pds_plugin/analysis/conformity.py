@@ -834,11 +834,11 @@ def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, t
     >>> _seen_from_samples(hidden, hidden[0], hidden[-1], [], 1e-12)   # 2.2 in straight lines
     (1.6031219541881399, array([ 1.4, -0.1]))
     """
+    piece = _subdivided(piece, np.hypot(*(b - a)) / _CUTS_PER_CHORD)
     strip = _along_chord(piece, a, b, tol)
     if strip is None:
         return None
-    piece = _subdivided(piece, np.hypot(*(b - a)) / _CUTS_PER_CHORD)
-    direction, along, holds_a, holds_b = _along_chord(piece, a, b, tol)
+    direction, along, holds_a, holds_b = strip
     foot = a + along[:, None] * direction
     last = len(piece) - 1
     above = [(point, lo, hi) for point, lo, hi in seers
