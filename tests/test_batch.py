@@ -271,12 +271,14 @@ def test_leftovers_of_killed_writers_are_removed_for_this_batch_only(parts, tmp_
     out = tmp_path / "out"
     out.mkdir()
     ours = out / ".ring_z-0.9.0123456789abcdef.tmp.ply"        # a SIGKILLed worker's
+    # killed inside the PLY writer, whose own temporary name wraps the worker's
+    nested = out / "..ring_z-0.9.0123456789abcdef.tmp.fedcba9876543210.tmp.ply"
     theirs = out / ".other.0123456789abcdef.tmp.ply"
-    for path in (ours, theirs):
+    for path in (ours, nested, theirs):
         path.write_bytes(b"ply\nhalf")
     with ThreadPoolExecutor(1) as pool:
         mesh_batch([job], out, executor=pool, progress=False, base_dir=parts)
-    assert not ours.exists() and theirs.exists()
+    assert not ours.exists() and not nested.exists() and theirs.exists()
 
 
 def test_a_job_failing_after_success_leaves_no_stale_record(parts, tmp_path):

@@ -80,7 +80,9 @@ def atomic_path(path):
 def leftovers(folder) -> dict[Path, Path]:
     """The temporary files :func:`atomic_path` left in ``folder`` (only a process killed
     outright, e.g. by SIGKILL, leaves one), each with the final name it was meant for.
-    One listing of the folder, however many files it holds.
+    A temporary file of a temporary file (a writer's own :func:`atomic_path` inside a
+    caller's) is meant for the caller's final name. One listing of the folder, however
+    many files it holds.
 
     Parameters
     ----------
@@ -97,13 +99,20 @@ def leftovers(folder) -> dict[Path, Path]:
     >>> folder = pathlib.Path(tempfile.mkdtemp())
     >>> _ = (folder / ".mesh.0123456789abcdef.tmp.ply").write_bytes(b"half")
     >>> _ = (folder / "mesh.ply").write_bytes(b"whole")
-    >>> [(p.name, final.name) for p, final in leftovers(folder).items()]
-    [('.mesh.0123456789abcdef.tmp.ply', 'mesh.ply')]
+    >>> _ = (folder / "..mesh.0123456789abcdef.tmp.fedcba9876543210.tmp.ply").touch()
+    >>> sorted((p.name, final.name) for p, final in leftovers(folder).items())
+    [('..mesh.0123456789abcdef.tmp.fedcba9876543210.tmp.ply', 'mesh.ply'), ('.mesh.0123456789abcdef.tmp.ply', 'mesh.ply')]
     """
     folder = Path(folder)
     found = {}
     for entry in os.scandir(folder):
-        match = _LEFTOVER.fullmatch(entry.name)
-        if match and entry.is_file(follow_symlinks=False):
-            found[folder / entry.name] = folder / f"{match['stem']}{match['suffix']}"
+        if entry.is_file(follow_symlinks=False) and _LEFTOVER.fullmatch(entry.name):
+            found[folder / entry.name] = folder / _final_name(entry.name)
     return found
+
+
+def _final_name(name: str) -> str:
+    """The name a temporary name (maybe of another temporary name) was meant for."""
+    while match := _LEFTOVER.fullmatch(name):
+        name = f"{match['stem']}{match['suffix']}"
+    return name
