@@ -28,11 +28,18 @@ from .boundary_sampling import (RESOLUTION, bisector_guards, chord_ends, hidden_
                                 star_shaped_from, vertex_chords)
 from .region import Region, turning_angles
 
-__all__ = ["before_curves", "after_curves", "LONGEST_CHORD"]
+__all__ = ["before_curves", "after_curves", "LONGEST_CHORD", "LONGEST_MOVED_CHORD"]
 
 LONGEST_CHORD = math.sqrt(3) * (1 - 1e-6)
 """The longest chord the uniform sampler makes, / alpha: first parts beside sharp corners
 stay this much below √3 alpha."""
+
+LONGEST_MOVED_CHORD = math.sqrt(3) * (1 - 1e-9)
+"""The longest chord, / alpha, that moving a sample onto its exact curve may make: the
+move may use the room LONGEST_CHORD leaves below √3 alpha. Beside a corner where a line
+meets an arc the move is tiny (the flattened arc meets the arc there), but it lengthened
+a first chord made at LONGEST_CHORD alpha, and was undone: the sample stayed on the
+flattened arc, 1.6e-7 of the radius off the exact curve (a held-out STEP knob)."""
 
 
 def before_curves(ring_xy, region: Region, alpha: float) -> list:

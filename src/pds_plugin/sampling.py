@@ -42,7 +42,7 @@ from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from . import boundary_rules
 from ._checks import check_alpha, check_positive_int
-from .boundary_rules import LONGEST_CHORD
+from .boundary_rules import LONGEST_CHORD, LONGEST_MOVED_CHORD
 from .boundary_sampling import (RESOLUTION, along, domain_of_rings, given_boundary,
                                 guard_candidates, joined, onto_curves)
 from .errors import BudgetError, RegionError
@@ -702,7 +702,7 @@ class _Sampler:
                                                alpha, rng, apart)) for ring in self.region.rings]
             ring_xy = boundary_rules.before_curves(ring_xy, self.region, alpha)
             ring_xy, self.sampled_region = onto_curves(    # chords stay in [1, √3) alpha
-                self.region, ring_xy, alpha, LONGEST_CHORD * alpha)
+                self.region, ring_xy, alpha, LONGEST_MOVED_CHORD * alpha)
             if self.sampled_region is not None:
                 ring_xy = boundary_rules.after_curves(ring_xy, self.sampled_region.rings, alpha)
         boundary, self.rings = joined(ring_xy)
