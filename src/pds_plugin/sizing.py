@@ -485,18 +485,21 @@ def _nearest_other(region, dense, at, ring, incident):
     distance to the nearest densified point not on those two pieces whose midpoint with
     the corner is in the region (inf if none).
 
-    The nearest neighbours are searched in widening rounds (24, 96, then all points), and
+    The nearest neighbours are searched in widening rounds (24, 96, 384, ... points), and
     within a round only each corner's nearest few candidates off its pieces are tested
     against the region (4, then 16, 64, ... more where no midpoint was inside): a
     corner's answer is the smallest distance of a qualifying point, so it depends on
     neither the rounds nor the batches, and the first batch usually settles it (the
     in-region test of all 96 neighbours of every corner was a third of the field's
-    construction on small sections)."""
+    construction on small sections). The rounds grow fourfold: a corner of a small hole
+    sees its own hole's points first, all with their midpoints in the hole, and a third
+    round of all points for each such corner took 1.4 s on a drawing of 400 holes."""
     xy, n = dense["xy"], len(dense["xy"])
     tree = cKDTree(xy)
     far = np.full(len(at), np.inf)
     todo = np.arange(len(at))
-    for count in (_K, 4 * _K, n):
+    count = _K
+    while True:
         count = min(count, n)
         d, idx = tree.query(at[todo], k=count)
         d, idx = d.reshape(len(todo), -1), idx.reshape(len(todo), -1)
@@ -517,8 +520,8 @@ def _nearest_other(region, dense, at, ring, incident):
             batch *= 4
         todo = todo[np.isinf(far[todo])]
         if not len(todo) or count >= n:
-            break
-    return far
+            return far
+        count *= 4
 
 
 def _shoulders(ring, v, size):
