@@ -316,6 +316,43 @@ def test_a_spike_is_one_feature_for_conforming_meshes():
     assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 1000
 
 
+def circular_lens(half=6.75, tip_degrees=14.3, segments=400):
+    """A plane near a cylinder's tangent: a chord 2 half long and its arc, meeting at
+    tips of tip_degrees, the arc finely tessellated; and the lens's middle width."""
+    tip = math.radians(tip_degrees)
+    radius = half / math.sin(tip)
+    theta = np.linspace(-tip, tip, segments)
+    arc = np.column_stack([radius * (np.cos(theta) - math.cos(tip)), radius * np.sin(theta)])
+    return Polygon(arc), radius * (1 - math.cos(tip))
+
+
+def test_a_circular_lens_counts_at_its_middle():
+    """A circular lens is 1 - s/2h of its tips' straight sides at s from a tip: at no
+    point below one half, so with "half as wide" as the spike rule's bound no pair across
+    it was a wall, and the feature size fell back to the distance from a tip's first
+    vertex to the chord (0.008 here: uniform "auto" of a STEP knob's section, which holds
+    such a lens, made 5 million samples in 40 s). It counts from 0.8 h on (LENS_RATIO)."""
+    import pds_plugin as pds
+
+    lens, middle = circular_lens()
+    size = feature_size(Region.from_shapely(lens))
+    assert size.kind == "wall" and 0.9 * middle < size.value <= middle
+    mesh = pds.mesh_region(Region.from_shapely(lens), "auto", seed=0)
+    assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 1000
+
+
+def test_walls_never_join_two_components():
+    """A wall never joins two components (the segment between them leaves the region):
+    beside a body, the lens's feature is still its own middle. The search skips the
+    other components' segments (it tested every one facing the lens's tip pairs across
+    the gap against the region first: 5 s for a STEP knob's section)."""
+    lens, middle = circular_lens()
+    body = box(-30, -15, -0.5, 15)
+    size = feature_size(Region.from_shapely(lens.union(body)))
+    assert size.kind == "wall" and 0.9 * middle < size.value <= middle
+    assert len({f.ring_name for f in size.features}) == 1     # both on the lens
+
+
 def test_a_lens_between_two_spikes_is_a_wall():
     """A sliver of a shaft's section (held out, seed 22): 18° spikes at both ends of a
     lens 0.055 wide. The lens is thinner than either spike's straight sides would be,

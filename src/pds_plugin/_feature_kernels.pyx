@@ -27,6 +27,7 @@ cdef struct Boundary:
     const double *p0               # (n, 2) segment starts (vertex k starts segment k)
     const double *p1               # (n, 2) segment ends
     const int64_t *ring            # ring of each segment
+    const int64_t *component       # component of each segment (its ring's)
     const int64_t *local           # index within its ring
     const int64_t *size            # its ring's segment count
     const int64_t *previous        # the segment before each in its ring
@@ -181,7 +182,8 @@ cdef Py_ssize_t _nearest(const Boundary *b, Py_ssize_t v, Py_ssize_t near_lo,
     adjacent to j (so that v and its foot are closest points of a and j); -1 if none.
     Its distance, foot and that segment a go to out[0..3]. Nodes on v's own ring within local indices near_lo .. near_lo +
     near_count - 1 (a stretch of ring every segment of which is adjacent to both) are
-    skipped whole."""
+    skipped whole. A wall never joins two components (the segment between them leaves
+    the region): for walls the other components' segments are skipped."""
     cdef double x = b.p0[2 * v], y = b.p0[2 * v + 1], best = INFINITY, e
     cdef double ax, ay, abx, aby, length2, t, fx, fy, dx, dy
     cdef Py_ssize_t best_j = -1, top = 1, k, s, j, a, c
@@ -199,6 +201,8 @@ cdef Py_ssize_t _nearest(const Boundary *b, Py_ssize_t v, Py_ssize_t near_lo,
         if left[k] < 0:
             for s in range(first[k], stop[k]):
                 j = perm[s]
+                if walls and b.component[j] != b.component[v]:
+                    continue
                 far_before = not _adjacent(b, before, j)
                 far_after = not _adjacent(b, v, j)
                 if not (far_before or far_after):
@@ -268,7 +272,7 @@ def segment_tree(p0, p1, ring, local, Py_ssize_t leaf_size, tree):
 
 
 def nearest_nonadjacent(rows, near_lo, near_count, limit, after_d, after_j, bint walls,
-                        p0, p1, ring, local, size, previous, cumulative, total,
+                        p0, p1, ring, component, local, size, previous, cumulative, total,
                         double adjacent_turning, double tolerance, perm, first, stop, left,
                         right, box, span):
     """For each vertex v = rows[r] (the start of segment v): the nearest segment j not
@@ -280,9 +284,10 @@ def nearest_nonadjacent(rows, near_lo, near_count, limit, after_d, after_j, bint
     ``after`` gives the next one."""
     cdef Boundary b
     cdef const double[:, ::1] a0 = p0, a1 = p1
-    cdef const int64_t[::1] rg = ring, lc = local, sz = size, pv = previous
+    cdef const int64_t[::1] rg = ring, cp = component, lc = local, sz = size, pv = previous
     cdef const double[::1] cm = cumulative, tt = total
     b.p0, b.p1, b.ring, b.local, b.size = &a0[0, 0], &a1[0, 0], &rg[0], &lc[0], &sz[0]
+    b.component = &cp[0]
     b.previous, b.cumulative, b.total = &pv[0], &cm[0], &tt[0]
     b.adjacent_turning, b.tolerance = adjacent_turning, tolerance
     cdef const int64_t[::1] rw = rows, nl = near_lo, nc = near_count, aj = after_j

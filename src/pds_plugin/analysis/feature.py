@@ -41,8 +41,9 @@ its width near the tip limits no alpha, and measuring it made ``"auto"`` follow 
 tessellation (a spike where two drilled holes meet, its sides tessellated arcs, asked
 for alpha 1/20000 of the part, 5 million samples). With ``conforming=True`` a pair
 facing each other across one spike (the ring between them turning by less than 150°
-apart from the tip) is no wall when it is at least half as wide as the spike's straight
-sides would be there; a lens between two spikes, thinner than that, still counts.
+apart from the tip) is no wall when it is at least ``LENS_RATIO`` (0.6) times as wide as
+the spike's straight sides would be there; a lens between two spikes, thinner than that,
+still counts.
 """
 
 from __future__ import annotations
@@ -62,6 +63,15 @@ __all__ = ["ADJACENT_TURNING", "BoundaryFeature", "FeatureSize", "feature_size"]
 
 ADJACENT_TURNING = 5 * np.pi / 6
 """Total turning (radians, 150°) below which two segments of a ring are one feature."""
+
+LENS_RATIO = 0.6
+"""Across a spike, a pair at least this many times as far apart as the spike's straight
+sides would be is no wall. A circular lens (a plane near a cylinder's tangent) is 1 − s/2h
+of those sides at s from a tip, h its half-length: above 0.5 all along, its middle at 0.5,
+so at one half its width counted nowhere, and ``"auto"`` fell back to the distance of a
+tip's first vertex to the chord (a STEP knob's lens: 5 million samples, 40 s). At 0.6 it
+counts from 0.8 h on, at 0.96 of its middle width; straight or outward-bent sides (1 and
+above) never do."""
 
 _COLLINEAR = 1e-7   # |turning angle| (radians) below which a vertex is a straight-line split
 _FACING_SLACK = 1e-6  # the kernel's facing test lets through what is this near (relative)
@@ -212,6 +222,7 @@ class _Boundary:
         sizes = np.array([len(r) for r in rings])
         self.start = np.concatenate([[0], np.cumsum(sizes)])
         self.ring_of = np.repeat(np.arange(len(rings)), sizes)
+        self.component = np.array([c for c, _ in region.ring_owners], np.int64)[self.ring_of]
         self.local = np.arange(self.start[-1]) - self.start[self.ring_of]
         self.size = sizes[self.ring_of]
         signed = np.concatenate([turning_angles(r) for r in rings])
@@ -250,9 +261,9 @@ class _Boundary:
         previous = np.arange(-1, n - 1)
         previous[self.start[:-1]] = self.start[1:] - 1
         near_lo, near_count = self._near_stretches()
-        fixed = (self.p0, self.p1, self.ring_of, self.local, self.size, previous,
-                 self.cumulative, self.total, ADJACENT_TURNING, _FACING_SLACK, *tree[:5],
-                 box, span)
+        fixed = (self.p0, self.p1, self.ring_of, self.component, self.local, self.size,
+                 previous, self.cumulative, self.total, ADJACENT_TURNING, _FACING_SLACK,
+                 *tree[:5], box, span)
         rows = np.arange(n)
         after_d, after_j = np.full(n, -1.0), np.full(n, -1, np.int64)
         best = None
@@ -299,12 +310,13 @@ class _Boundary:
         along the ring from v to the foot the boundary passes one spike's tip (a convex
         corner sharper than ``LADDER_ANGLE``) and turns by less than 150° apart from it,
         v is no sharp corner itself (it turns by less than 90°: it lies along a side,
-        not where one ends, as at a fold of a shell's rim), and they are at least half as
-        far apart as the spike's straight sides would be there (2 r sin(θ/2), r the
-        distance from v to the tip). A spike thins to nothing at its tip at any alpha and
-        a conforming mesh samples its sides in mirror pairs: its width is no wall. Where
-        its sides bend in towards each other (a lens between two spikes) the material is
-        thinner than the spike would be, and counts."""
+        not where one ends, as at a fold of a shell's rim), and they are at least
+        ``LENS_RATIO`` times as far apart as the spike's straight sides would be there
+        (2 r sin(θ/2), r the distance from v to the tip). A spike thins to nothing at its
+        tip at any alpha and a conforming mesh samples its sides in mirror pairs: its
+        width is no wall. Where its sides bend in towards each other (a lens between two
+        spikes) the material is thinner than the spike would be, and counts. Either way
+        round the ring may pass the tip (a lens has one tip each way)."""
         across = np.zeros(len(v), bool)
         if not self.tip.any():
             return across
@@ -322,7 +334,7 @@ class _Boundary:
                 t = tips[0]
                 wedge = 2 * np.hypot(*(self.p0[v[k]] - self.p0[t])) * np.sin(
                     (np.pi - self.turning[t]) / 2)
-                across[k] = np.hypot(*(self.p0[v[k]] - foot[k])) >= 0.5 * wedge
+                across[k] |= np.hypot(*(self.p0[v[k]] - foot[k])) >= LENS_RATIO * wedge
         return across
 
     def _near_stretches(self):
