@@ -43,7 +43,7 @@ import shapely
 
 from .._checks import check_path, check_positive, import_optional
 from ..boundary_curves import BoundaryCurves, curves_builder
-from ..errors import SectionError, SourceError
+from ..errors import RegionError, SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
 from .curves import MAX_CHORDS, bezier_points, checked_file, elliptic_points, steps
@@ -258,7 +258,7 @@ class StepSolid:
     def __init__(self, solid, tolerance=None):
         shape = load(solid)                # first: it says which extra OCP comes with
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
-        self.solids, (low, high), self.planes = _facts(shape)
+        self.solids, (low, high), self.planes, self.faces = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
@@ -291,12 +291,20 @@ class StepSolid:
                 cuts.append((faces, curves))
         if self.adaptive:
             cuts = self._refined(cuts, offset, to_3d)
-        geometry = self._polygons(cuts, offset, to_3d)
+        # one solid's polygons are checked by the Region (GEOS validity), not twice: if
+        # they are not valid, the curves are assembled by even-odd nesting instead
+        geometry = self._polygons(cuts, offset, to_3d, checked=len(cuts) > 1)
         if geometry.is_empty or geometry.area == 0:
             self._refuse_empty(to_2d, offset)
         pieces = [c for _, curves in cuts for c in curves]
-        return Region.from_shapely(geometry, frame=to_3d,
-                                   curves=_boundary_curves(pieces, self.tolerance))
+        curves = _boundary_curves(pieces, self.tolerance)
+        try:
+            return Region.from_shapely(geometry, frame=to_3d, curves=curves)
+        except RegionError:           # polygons not valid: the wires nested even-odd
+            if len(cuts) != 1:            # (a second RegionError is the nesting's own)
+                raise
+        geometry = self._polygons(cuts, offset, to_3d, checked=True)
+        return Region.from_shapely(geometry, frame=to_3d, curves=curves)
 
     def _refined(self, cuts, offset, to_3d) -> list:
         """The cuts with their circles and ellipses flattened (they come as their two
@@ -335,13 +343,14 @@ class StepSolid:
         return [(faces, [splines.get(id(c)) or _finer(c, arcs) for c in cs])
                 for faces, cs in cuts]
 
-    def _polygons(self, cuts, offset, to_3d):
+    def _polygons(self, cuts, offset, to_3d, checked=True):
         """The union of the solids' sections, each from its faces' wires (or its curves
-        by even-odd nesting, which reports open ends)."""
+        by even-odd nesting, which reports open ends, where the wires do not close or,
+        if ``checked``, their polygons are not valid; unchecked, a Region checks them)."""
         parts = []
         for faces, curves in cuts:
             join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
-            geometry = _face_polygons(faces, curves, join)
+            geometry = _face_polygons(faces, curves, join, checked)
             if geometry is None:           # the faces' wires do not close: say where
                 geometry, open_ends = outline_geometry([c.points for c in curves], join)
                 if len(open_ends):
@@ -385,7 +394,7 @@ class StepSolid:
         flattens them later)."""
         faces = self._common_faces(solid, origin, to_2d, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
-        labels = _face_labels(edges, solid, faces.common,
+        labels = _face_labels(edges, self.faces[number], faces.common,
                               number if len(self.solids) > 1 else None)
         frame = np.asarray(to_2d, dtype=float)[:2]
         curves = [_curve(edge, self.tolerance, arcs, frame, reversed_, label)
@@ -490,10 +499,11 @@ class StepSolid:
 
 
 def _facts(shape) -> tuple:
-    """The solids of ``shape``, the corners of their bounding box and their planar faces
-    (:func:`_planar_faces`), kept for the last :data:`_KEPT` shapes: a section of a loaded
-    shape (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms
-    per call on a small part (a shape is not changed in place; the same object, at the
+    """The solids of ``shape``, the corners of their bounding box, their planar faces
+    (:func:`_planar_faces`) and each solid's faces in OCCT's order (for the labels),
+    kept for the last :data:`_KEPT` shapes: a section of a loaded shape
+    (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms per
+    call on a small part (a shape is not changed in place; the same object, at the
     same place and orientation, is the same solid)."""
     from OCP.TopoDS import TopoDS
 
@@ -502,8 +512,9 @@ def _facts(shape) -> tuple:
     if kept is not None and kept[0].IsEqual(shape):
         return kept[1]
     solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
+    faces = [[TopoDS.Face(face) for face in _explore(solid, "FACE")] for solid in solids]
     facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
-             _planar_faces(solids))
+             _planar_faces(faces), faces)
     _KEPT_FACTS[key] = (shape, facts)
     while len(_KEPT_FACTS) > _KEPT:
         _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
@@ -525,10 +536,10 @@ class _Faces(list):
         self.common = common
 
 
-def _face_labels(edges, solid, common, number) -> list[str]:
-    """The face of ``solid`` each section edge was cut from, as ``"face i"`` (``"solid k
-    face i"`` when ``number`` is not None), from the Boolean's history; ``""`` where it
-    says nothing."""
+def _face_labels(edges, solid_faces, common, number) -> list[str]:
+    """The face of a solid (``solid_faces``: its faces in OCCT's order) each section edge
+    was cut from, as ``"face i"`` (``"solid k face i"`` when ``number`` is not None), from
+    the Boolean's history; ``""`` where it says nothing."""
     if not edges:
         return []
     wanted = {}
@@ -537,7 +548,7 @@ def _face_labels(edges, solid, common, number) -> list[str]:
     found = {}
     prefix = "" if number is None else f"solid {number} "
     history = common.History()
-    for index, face in enumerate(_explore(solid, "FACE")):
+    for index, face in enumerate(solid_faces):
         for made in _listed(history.Generated(face)):
             for edge in wanted.get(hash(made), ()):
                 if edge.IsSame(made):
@@ -598,28 +609,44 @@ def _swept_area(curve) -> float:
     return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1])
 
 
-def _face_polygons(faces, curves, join):
+def _face_polygons(faces, curves, join, checked=True):
     """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
-    a wire does not close within ``join`` or the polygons are not valid (the caller then
-    assembles the curves by even-odd nesting, which finds the open ends)."""
-    polygons, at = [], 0
-    for face in faces:
-        rings = []
+    a wire does not close within ``join`` or, if ``checked``, the polygons are not valid
+    (the caller then assembles the curves by even-odd nesting, which finds the open ends).
+    All rings are made by one call of shapely."""
+    rings, ring_of, at = [], [], 0
+    for number, face in enumerate(faces):
         for wire in face:
             chain = curves[at:at + len(wire)]
             at += len(wire)
             ends = np.array([c.points[-1] for c in chain])
-            starts = np.roll(np.array([c.points[0] for c in chain]), -1, axis=0)
-            if np.hypot(*(ends - starts).T).max() > join:
+            starts = np.array([c.points[0] for c in chain])
+            gaps = ends - np.concatenate([starts[1:], starts[:1]])
+            if np.sqrt(np.max(gaps[:, 0] ** 2 + gaps[:, 1] ** 2)) > join:
                 return None
             ring = np.concatenate([c.points[:-1] for c in chain])
-            ring = ring[np.any(ring != np.roll(ring, 1, axis=0), axis=1)]
+            # a repeated vertex can only follow a junction or come from a degenerate
+            # curve: the full comparison is cheap next to building the ring
+            repeated = np.flatnonzero((ring[1:, 0] == ring[:-1, 0])
+                                      & (ring[1:, 1] == ring[:-1, 1]))
+            if len(repeated) or (ring[0] == ring[-1]).all():
+                keep = np.ones(len(ring), dtype=bool)
+                keep[repeated + 1] = False
+                keep[0] = keep[0] and not (ring[0] == ring[-1]).all()
+                ring = ring[keep]
             if len(ring) < 3:
                 return None
             rings.append(ring)
-        polygons.append(shapely.Polygon(rings[0], rings[1:]))
-    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(polygons)
-    return geometry if geometry.is_valid and geometry.area > 0 else None
+            ring_of.append(number)
+    sizes = [len(ring) for ring in rings]
+    closed = np.concatenate([np.concatenate([ring, ring[:1]]) for ring in rings])
+    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(rings)),
+                                                           np.add(sizes, 1)))
+    polygons = shapely.polygons(linear, indices=np.asarray(ring_of))
+    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(list(polygons))
+    if checked and not geometry.is_valid:
+        return None
+    return geometry if geometry.area > 0 else None
 
 
 def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
@@ -643,18 +670,17 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     return build.done()
 
 
-def _planar_faces(solids) -> tuple[np.ndarray, np.ndarray]:
-    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the solids' planar faces
-    (read off each face's surface, with its location: a third of the time of
-    ``BRepAdaptor_Surface``)."""
+def _planar_faces(faces) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the planar faces among
+    ``faces`` (each solid's list; read off each face's surface, with its location: a third
+    of the time of ``BRepAdaptor_Surface``)."""
     from OCP.BRep import BRep_Tool
     from OCP.Geom import Geom_Plane, Geom_RectangularTrimmedSurface
-    from OCP.TopoDS import TopoDS
 
     facing, offsets = [], []
-    for solid in solids:
-        for face in _explore(solid, "FACE"):
-            surface = BRep_Tool.Surface_s(TopoDS.Face(face))
+    for faces_of_solid in faces:
+        for face in faces_of_solid:
+            surface = BRep_Tool.Surface_s(face)
             if isinstance(surface, Geom_RectangularTrimmedSurface):
                 surface = surface.BasisSurface()
             if isinstance(surface, Geom_Plane):
