@@ -1,5 +1,8 @@
-"""Boundary samples at a sharp corner of a STEP section lie on its exact arcs (issue 22:
-"boundary samples on circles lie on the circle to 1e-9 of the radius").
+"""Where a STEP section's exact curves meet, and the boundary samples beside such a corner
+(issue 22: "boundary samples on circles lie on the circle to 1e-9 of the radius").
+
+A line meeting a circle ends on it: OCCT's vertex was up to 1.9e-9 r off the circle on
+held-out parts (the last test; ``step._junctions_refined``).
 
 The held-out knob of seed 5106 (bench/_step_parts.py, part 9: a sphere on a cone, cut by
 a plane tilted 0.161 rad) has a lens between a straight cut of the cone's top face and
@@ -26,6 +29,7 @@ import numpy as np
 import pytest
 
 import pds_plugin as pds
+from pds_plugin.sources import step
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("OCP") is None,
                                 reason="OCP (the [step] extra) is not installed")
@@ -61,7 +65,7 @@ def off_arcs(region, points):
 
 
 def test_the_knobs_section_has_its_corners_on_the_exact_curves(region):
-    kinds = sorted(c.kind for c in pds.sources.step.section_curves(
+    kinds = sorted(c.kind for c in step.section_curves(
         knob(), (0.0, 0.0, HEIGHT), (math.sin(TILT), 0.0, math.cos(TILT))))
     assert kinds == ["circle", "ellipse", "ellipse", "line"]
     for ring in region.rings:
@@ -81,3 +85,53 @@ def test_uniform_samples_beside_a_sharp_corner_lie_on_the_ellipse(region, alpha)
         mesh = pds.mesh_region(part, alpha, graded=False, seed=0)
     assert mesh.certificate().ok_with_exceptions
     assert off_arcs(part, mesh.vertices[mesh.on_boundary]).max() <= 1e-9
+
+
+# --- where a line meets a circle, the junction lies on both ------------------------------
+
+def ring_with_bar(big=23.182602542579282, small=6.350657916233816):
+    """bench/_step_parts._ring of held-out seed 5104, part 16: a torus fused with a bar
+    across it; cut at z = 0.395 the bar's sides (lines) meet the torus's circles."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Fuse
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeTorus
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+
+    torus = BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), big, small).Shape()
+    bar = BRepPrimAPI_MakeBox(gp_Pnt(-big - small, -2, -0.5 * small),
+                              2 * (big + small), 4, small).Shape()
+    return BRepAlgoAPI_Fuse(torus, bar).Shape()
+
+
+def off_conic(curve, point):
+    """How far ``point`` lies from the whole conic of ``curve`` (a circle here), over its
+    radius."""
+    radius = np.hypot(*curve.radii[:, 0])
+    return abs(np.hypot(*(point - curve.center)) - radius) / radius
+
+
+def test_a_line_meeting_a_circle_ends_on_it_and_so_does_the_ring():
+    """OCCT's vertex, where it ends the bar's side, was 1.9e-9 of the torus circle's
+    radius off the circle (the edge tolerance, 1e-7 mm): the ring's vertex there too.
+    The junction is now where the exact line and the exact circle meet."""
+    shape, origin = ring_with_bar(), (0.0, 0.0, 0.3953912640952029)
+    curves = step.section_curves(shape, origin, (0, 0, 1))
+    circles = [c for c in curves if c.kind == "circle"]
+    lines = [c for c in curves if c.kind == "line"]
+    assert len(circles) == 4 and len(lines) == 8
+    junctions = 0
+    for line in lines:
+        for end in (line.points[0], line.points[-1]):
+            gap, circle = min((np.hypot(*(c.points[[0, -1]] - end).T).min(), k)
+                              for k, c in enumerate(circles))
+            circle = circles[circle]
+            if gap < 1e-6 * np.hypot(*circle.radii[:, 0]):  # a junction with it:
+                junctions += 1                               # the same point, on it
+                assert gap <= 1e-12 * np.hypot(*circle.radii[:, 0])
+                assert off_conic(circle, end) <= 1e-12
+    assert junctions == 8
+    region = pds.section(shape, origin, (0, 0, 1))
+    vertices = np.concatenate(region.rings)
+    for circle in circles:
+        for end in circle.points[[0, -1]]:
+            nearest = vertices[np.hypot(*(vertices - end).T).argmin()]
+            assert off_conic(circle, nearest) <= 1e-12

@@ -400,7 +400,7 @@ class StepSolid:
         curves = [_curve(edge, self.tolerance, arcs, frame, reversed_, label)
                   for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
-        return faces, curves
+        return faces, _junctions_refined(faces, curves, arcs)
 
     def _common_faces(self, solid, origin, to_2d, reach) -> list:
         """The cut of one solid by the plane through ``origin`` whose frame is ``to_2d``
@@ -732,6 +732,100 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
                         sweep=-curve.sweep, bezier=None if curve.bezier is None else
                         tuple(control[::-1] for control in curve.bezier[::-1]))
     return curve
+
+
+def _junctions_refined(faces, curves, arcs) -> list:
+    """The curves of a cut's wires (in wire order) with each junction of a line and a
+    circle or ellipse moved onto both curves.
+
+    OCCT ends a line where its vertex is, within the edge tolerance of the conic it meets
+    (up to 1.9e-9 of the radius on held-out parts): the junction, the ring's vertex, was
+    off the conic by that much. Here the conic ``center + u cos θ + v sin θ`` and the
+    line through the line's two ends (points of OCCT's exact line) meet where
+    ``n·(center - p) + (n·u) cos θ + (n·v) sin θ = 0``, in closed form: the root nearest
+    the conic's own end is taken (where they miss each other, by less than the gap, the
+    point of the conic nearest the line). The line's end and the conic's parameter range
+    move there: both curves stay exact, and the boundary moves by at most the gap closed.
+    A root more than a quarter of the conic's sweep or of the line's length away is left
+    (not this junction). Circles and ellipses are flattened again within ``arcs`` if they
+    were flattened (else they stay as their two ends)."""
+    lines = {}                      # index -> new (start, end) of a line
+    conics = {}                     # index -> new (start θ, end θ) of a conic
+    at = 0
+    for face in faces:
+        for wire in face:
+            chain = list(range(at, at + len(wire)))
+            at += len(wire)
+            if len(chain) < 2:
+                continue
+            for k, i in enumerate(chain):
+                j = chain[(k + 1) % len(chain)]           # i ends where j starts
+                a, b = curves[i], curves[j]
+                if a.kind == "line" and b.center is not None:
+                    line, conic, index, conic_ends = a, b, i, False
+                elif b.kind == "line" and a.center is not None:
+                    line, conic, index, conic_ends = b, a, j, True
+                else:
+                    continue
+                if np.array_equal(conic.points[0], conic.points[-1]):
+                    continue                              # a whole turn: no junction
+                theta0 = conic.start + (conic.sweep if conic_ends else 0.0)
+                theta = _line_meets_conic(line, conic, theta0)
+                if theta is None:
+                    continue
+                point = conic.center + conic.radii @ (math.cos(theta), math.sin(theta))
+                if np.hypot(*(point - (b.points[0] if conic_ends else a.points[-1]))) \
+                        > 0.25 * np.hypot(*(line.points[-1] - line.points[0])):
+                    continue
+                ends = list(lines.get(index, (line.points[0], line.points[-1])))
+                ends[0 if conic_ends else 1] = point      # the line starts where a ends
+                lines[index] = tuple(ends)
+                conic_index = i if conic_ends else j
+                first, last = conics.get(conic_index,
+                                         (conic.start, conic.start + conic.sweep))
+                conics[conic_index] = (first, theta) if conic_ends else (theta, last)
+    if not lines:
+        return curves
+    refined = list(curves)
+    for index, (start, end) in lines.items():
+        refined[index] = replace(curves[index], points=np.array([start, end]))
+    for index, (first, last) in conics.items():
+        curve = curves[index]
+        if (last - first) * curve.sweep <= 0:             # a flipped range: keep OCCT's
+            continue
+        points = (elliptic_points(curve.center, curve.radii, first, last - first, arcs)
+                  if arcs else curve.center + np.array(
+                      [[math.cos(first), math.sin(first)],
+                       [math.cos(last), math.sin(last)]]) @ curve.radii.T)
+        refined[index] = replace(curve, points=points, start=first, sweep=last - first)
+    return refined
+
+
+def _line_meets_conic(line, conic, theta0):
+    """The parameter θ of the conic (``center + u cos θ + v sin θ``) where it meets the
+    line through ``line.points``' two ends, nearest ``theta0`` and within a quarter of
+    the conic's sweep of it; the conic's point nearest the line (within it) where they
+    miss each other; None if there is no such θ."""
+    p, q = line.points[0], line.points[-1]
+    length = math.hypot(*(q - p))
+    if not length > 0:
+        return None
+    normal = np.array([p[1] - q[1], q[0] - p[0]]) / length
+    a = float(normal @ (conic.center - p))
+    (ux, vx), (uy, vy) = conic.radii
+    c = normal[0] * ux + normal[1] * uy                   # n·u
+    d = normal[0] * vx + normal[1] * vy                   # n·v
+    radius = math.hypot(c, d)
+    if not radius > 0:
+        return None
+    phi = math.atan2(d, c)                                # f(θ) = a + radius cos(θ - φ)
+    spread = math.acos(min(1.0, max(-1.0, -a / radius)))
+    best = None
+    for root in (phi + spread, phi - spread):
+        root += 2 * math.pi * round((theta0 - root) / (2 * math.pi))
+        if best is None or abs(root - theta0) < abs(best - theta0):
+            best = root
+    return best if abs(best - theta0) <= 0.25 * abs(conic.sweep) else None
 
 
 def _finer(curve, tolerance) -> SectionCurve:
