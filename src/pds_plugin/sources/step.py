@@ -258,7 +258,7 @@ class StepSolid:
     def __init__(self, solid, tolerance=None):
         shape = load(solid)                # first: it says which extra OCP comes with
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
-        self.solids, (low, high), self.planes, self.faces = _facts(shape)
+        self.solids, (low, high), self.planes, self.faces, self.boxes = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
@@ -284,7 +284,8 @@ class StepSolid:
         to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
         cuts = []                                   # each solid's faces and curves
-        for number, solid in enumerate(self.solids):
+        for number in self._met(origin, normal):
+            solid = self.solids[number]
             faces, curves = self._cut_curves(solid, number, origin, to_2d,
                                              arcs=None if self.adaptive else self.tolerance)
             if curves:
@@ -369,8 +370,8 @@ class StepSolid:
         :func:`section_curves`)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d = _to_2d(origin, normal)
-        curves = [curve for number, solid in enumerate(self.solids)
-                  for curve in self._cut_curves(solid, number, origin, to_2d,
+        curves = [curve for number in self._met(origin, normal)
+                  for curve in self._cut_curves(self.solids[number], number, origin, to_2d,
                                                 self.tolerance)[1]]
         if not curves:
             self._refuse_empty(to_2d, float(origin @ normal))
@@ -441,6 +442,18 @@ class StepSolid:
                 ordered.append(edges)
             faces.append(ordered)
         return faces
+
+    def _met(self, origin, normal) -> list[int]:
+        """The solids (by number) whose boxes the plane meets: all of one solid's shape;
+        in an assembly, a solid whose box, with its tolerances and 1e-9 of the part's
+        size, lies on one side of the plane has no material in it and is not cut."""
+        if self.boxes is None:
+            return list(range(len(self.solids)))
+        center = (self.boxes[:, :3] + self.boxes[:, 3:]) / 2
+        half = (self.boxes[:, 3:] - self.boxes[:, :3]) / 2
+        distance = (center - origin) @ normal
+        reach = half @ np.abs(normal) + _ON_PLANE * self.scale
+        return [int(k) for k in np.flatnonzero(np.abs(distance) <= reach)]
 
     def _reach(self, origin) -> float:
         """A half-width of the plane's square about ``origin`` that holds every solid."""
@@ -513,8 +526,12 @@ def _facts(shape) -> tuple:
         return kept[1]
     solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
     faces = [[TopoDS.Face(face) for face in _explore(solid, "FACE")] for solid in solids]
+    # each solid's box (with its tolerances: never tighter than the solid) in an
+    # assembly, so that a plane cuts only the solids it meets (one Boolean each)
+    boxes = (np.array([np.concatenate(_box([solid], True)) for solid in solids])
+             if len(solids) > 1 else None)
     facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
-             _planar_faces(faces), faces)
+             _planar_faces(faces), faces, boxes)
     _KEPT_FACTS[key] = (shape, facts)
     while len(_KEPT_FACTS) > _KEPT:
         _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
@@ -696,14 +713,15 @@ def _to_2d(origin, normal) -> np.ndarray:
     return plane_frames(origin, normal)[0]
 
 
-def _box(solids) -> tuple[np.ndarray, np.ndarray]:
-    """The corners of the tight bounding box of the solids (from their exact geometry)."""
+def _box(solids, tolerances=False) -> tuple[np.ndarray, np.ndarray]:
+    """The corners of the tight bounding box of the solids (from their exact geometry;
+    enlarged by their faces', edges' and vertices' tolerances if ``tolerances``)."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRepBndLib import BRepBndLib
 
     box = Bnd_Box()
     for solid in solids:
-        BRepBndLib.AddOptimal_s(solid, box, False, False)
+        BRepBndLib.AddOptimal_s(solid, box, False, tolerances)
     if box.IsVoid():
         return np.zeros(3), np.zeros(3)
     low, high = box.CornerMin(), box.CornerMax()
