@@ -23,9 +23,13 @@ curve it is:
 - any other curve (rational, offset) by OCCT's ``GCPnts_QuasiUniformDeflection`` to the
   same tolerance (OCCT's check, not a proof).
 
-The loops of each solid are the wires of the Common's faces (assembled by
-:func:`.polygons.outline_geometry`, even-odd, only where a wire does not close), and the
-solids' polygons are united, so assemblies and overlapping bodies give their union.
+Where a line meets a circle or an ellipse, the junction is moved to where the exact
+curves meet (:func:`_junctions_refined`: OCCT's vertex is within its edge tolerance of
+the conic, up to 1.9e-9 of the radius off it). The loops of each solid are the wires of
+the Common's faces (assembled by :func:`.polygons.outline_geometry`, even-odd, only where
+a wire does not close or the Region refuses the polygons), and the solids' polygons are
+united, so assemblies and overlapping bodies give their union; a solid whose box the
+plane misses is not cut.
 Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
 B-splines too (:data:`SPLINE_AREA_ERROR`).
 """
