@@ -294,6 +294,22 @@ def test_overlapping_and_separate_solids_give_their_union(tmp_path):
 
 
 @needs_ocp
+def test_an_assemblys_solids_that_the_plane_misses_are_not_cut_and_the_rest_are():
+    tall, short = parts._box(0, 0, 0, 10, 10, 20), parts._box(20, 0, 0, 10, 10, 10)
+    shape = parts._fuse(tall, short)                 # two solids, apart
+    assert len(step.StepSolid(shape).solids) == 2
+    assert step.StepSolid(shape)._met(np.array([0.0, 0, 15]), np.array([0.0, 0, 1])) == [0]
+    curves = step.section_curves(shape, (0, 0, 15), (0, 0, 1))
+    assert len(curves) == 4 and all(c.face.startswith("solid 0 face ") for c in curves)
+    assert pds.section(shape, (0, 0, 15), (0, 0, 1)).area == pytest.approx(100, rel=1e-12)
+    # 1e-6 below the short box's top (1e-8 of the part's size): it is still material
+    low = pds.section(shape, (0, 0, 10 - 1e-6), (0, 0, 1))
+    assert low.betti == (2, 0) and low.area == pytest.approx(200, rel=1e-12)
+    with pytest.raises(SectionError, match="misses"):
+        pds.section(shape, (0, 0, 21), (0, 0, 1))
+
+
+@needs_ocp
 def test_planes_on_faces_are_refused_or_moved_as_the_mesh_path_does():
     shape = parts.pocketed_plate()               # the pocket's floor is at z = 8
     with pytest.raises(SectionError, match=r"lies on 1 face\(s\).*on_face='above'"):

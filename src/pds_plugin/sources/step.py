@@ -23,9 +23,13 @@ curve it is:
 - any other curve (rational, offset) by OCCT's ``GCPnts_QuasiUniformDeflection`` to the
   same tolerance (OCCT's check, not a proof).
 
-The loops of each solid are the wires of the Common's faces (assembled by
-:func:`.polygons.outline_geometry`, even-odd, only where a wire does not close), and the
-solids' polygons are united, so assemblies and overlapping bodies give their union.
+Where a line meets a circle or an ellipse, the junction is moved to where the exact
+curves meet (:func:`_junctions_refined`: OCCT's vertex is within its edge tolerance of
+the conic, up to 1.9e-9 of the radius off it). The loops of each solid are the wires of
+the Common's faces (assembled by :func:`.polygons.outline_geometry`, even-odd, only where
+a wire does not close or the Region refuses the polygons), and the solids' polygons are
+united, so assemblies and overlapping bodies give their union; a solid whose box the
+plane misses is not cut.
 Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
 B-splines too (:data:`SPLINE_AREA_ERROR`).
 """
@@ -43,7 +47,7 @@ import shapely
 
 from .._checks import check_path, check_positive, import_optional
 from ..boundary_curves import BoundaryCurves, curves_builder
-from ..errors import SectionError, SourceError
+from ..errors import RegionError, SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
 from .curves import MAX_CHORDS, bezier_points, checked_file, elliptic_points, steps
@@ -258,7 +262,7 @@ class StepSolid:
     def __init__(self, solid, tolerance=None):
         shape = load(solid)                # first: it says which extra OCP comes with
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
-        self.solids, (low, high), self.planes = _facts(shape)
+        self.solids, (low, high), self.planes, self.faces, self.boxes = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
@@ -284,19 +288,28 @@ class StepSolid:
         to_2d, to_3d = plane_frames(origin, normal)
         offset = float(origin @ normal)
         cuts = []                                   # each solid's faces and curves
-        for number, solid in enumerate(self.solids):
+        for number in self._met(origin, normal):
+            solid = self.solids[number]
             faces, curves = self._cut_curves(solid, number, origin, to_2d,
                                              arcs=None if self.adaptive else self.tolerance)
             if curves:
                 cuts.append((faces, curves))
         if self.adaptive:
             cuts = self._refined(cuts, offset, to_3d)
-        geometry = self._polygons(cuts, offset, to_3d)
+        # one solid's polygons are checked by the Region (GEOS validity), not twice: if
+        # they are not valid, the curves are assembled by even-odd nesting instead
+        geometry = self._polygons(cuts, offset, to_3d, checked=len(cuts) > 1)
         if geometry.is_empty or geometry.area == 0:
             self._refuse_empty(to_2d, offset)
         pieces = [c for _, curves in cuts for c in curves]
-        return Region.from_shapely(geometry, frame=to_3d,
-                                   curves=_boundary_curves(pieces, self.tolerance))
+        curves = _boundary_curves(pieces, self.tolerance)
+        try:
+            return Region.from_shapely(geometry, frame=to_3d, curves=curves)
+        except RegionError:           # polygons not valid: the wires nested even-odd
+            if len(cuts) != 1:            # (a second RegionError is the nesting's own)
+                raise
+        geometry = self._polygons(cuts, offset, to_3d, checked=True)
+        return Region.from_shapely(geometry, frame=to_3d, curves=curves)
 
     def _refined(self, cuts, offset, to_3d) -> list:
         """The cuts with their circles and ellipses flattened (they come as their two
@@ -335,13 +348,14 @@ class StepSolid:
         return [(faces, [splines.get(id(c)) or _finer(c, arcs) for c in cs])
                 for faces, cs in cuts]
 
-    def _polygons(self, cuts, offset, to_3d):
+    def _polygons(self, cuts, offset, to_3d, checked=True):
         """The union of the solids' sections, each from its faces' wires (or its curves
-        by even-odd nesting, which reports open ends)."""
+        by even-odd nesting, which reports open ends, where the wires do not close or,
+        if ``checked``, their polygons are not valid; unchecked, a Region checks them)."""
         parts = []
         for faces, curves in cuts:
             join = max(1e-9 * self.scale, 2 * max(c.edge_tolerance for c in curves))
-            geometry = _face_polygons(faces, curves, join)
+            geometry = _face_polygons(faces, curves, join, checked)
             if geometry is None:           # the faces' wires do not close: say where
                 geometry, open_ends = outline_geometry([c.points for c in curves], join)
                 if len(open_ends):
@@ -360,8 +374,8 @@ class StepSolid:
         :func:`section_curves`)."""
         origin = self._off_faces(origin, normal, on_face)
         to_2d = _to_2d(origin, normal)
-        curves = [curve for number, solid in enumerate(self.solids)
-                  for curve in self._cut_curves(solid, number, origin, to_2d,
+        curves = [curve for number in self._met(origin, normal)
+                  for curve in self._cut_curves(self.solids[number], number, origin, to_2d,
                                                 self.tolerance)[1]]
         if not curves:
             self._refuse_empty(to_2d, float(origin @ normal))
@@ -385,13 +399,13 @@ class StepSolid:
         flattens them later)."""
         faces = self._common_faces(solid, origin, to_2d, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
-        labels = _face_labels(edges, solid, faces.common,
+        labels = _face_labels(edges, self.faces[number], faces.common,
                               number if len(self.solids) > 1 else None)
         frame = np.asarray(to_2d, dtype=float)[:2]
         curves = [_curve(edge, self.tolerance, arcs, frame, reversed_, label)
                   for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
-        return faces, curves
+        return faces, _junctions_refined(faces, curves, arcs)
 
     def _common_faces(self, solid, origin, to_2d, reach) -> list:
         """The cut of one solid by the plane through ``origin`` whose frame is ``to_2d``
@@ -432,6 +446,18 @@ class StepSolid:
                 ordered.append(edges)
             faces.append(ordered)
         return faces
+
+    def _met(self, origin, normal) -> list[int]:
+        """The solids (by number) whose boxes the plane meets: all of one solid's shape;
+        in an assembly, a solid whose box, with its tolerances and 1e-9 of the part's
+        size, lies on one side of the plane has no material in it and is not cut."""
+        if self.boxes is None:
+            return list(range(len(self.solids)))
+        center = (self.boxes[:, :3] + self.boxes[:, 3:]) / 2
+        half = (self.boxes[:, 3:] - self.boxes[:, :3]) / 2
+        distance = (center - origin) @ normal
+        reach = half @ np.abs(normal) + _ON_PLANE * self.scale
+        return [int(k) for k in np.flatnonzero(np.abs(distance) <= reach)]
 
     def _reach(self, origin) -> float:
         """A half-width of the plane's square about ``origin`` that holds every solid."""
@@ -490,10 +516,11 @@ class StepSolid:
 
 
 def _facts(shape) -> tuple:
-    """The solids of ``shape``, the corners of their bounding box and their planar faces
-    (:func:`_planar_faces`), kept for the last :data:`_KEPT` shapes: a section of a loaded
-    shape (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms
-    per call on a small part (a shape is not changed in place; the same object, at the
+    """The solids of ``shape``, the corners of their bounding box, their planar faces
+    (:func:`_planar_faces`) and each solid's faces in OCCT's order (for the labels),
+    kept for the last :data:`_KEPT` shapes: a section of a loaded shape
+    (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms per
+    call on a small part (a shape is not changed in place; the same object, at the
     same place and orientation, is the same solid)."""
     from OCP.TopoDS import TopoDS
 
@@ -502,8 +529,13 @@ def _facts(shape) -> tuple:
     if kept is not None and kept[0].IsEqual(shape):
         return kept[1]
     solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
+    faces = [[TopoDS.Face(face) for face in _explore(solid, "FACE")] for solid in solids]
+    # each solid's box (with its tolerances: never tighter than the solid) in an
+    # assembly, so that a plane cuts only the solids it meets (one Boolean each)
+    boxes = (np.array([np.concatenate(_box([solid], True)) for solid in solids])
+             if len(solids) > 1 else None)
     facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
-             _planar_faces(solids))
+             _planar_faces(faces), faces, boxes)
     _KEPT_FACTS[key] = (shape, facts)
     while len(_KEPT_FACTS) > _KEPT:
         _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
@@ -525,10 +557,10 @@ class _Faces(list):
         self.common = common
 
 
-def _face_labels(edges, solid, common, number) -> list[str]:
-    """The face of ``solid`` each section edge was cut from, as ``"face i"`` (``"solid k
-    face i"`` when ``number`` is not None), from the Boolean's history; ``""`` where it
-    says nothing."""
+def _face_labels(edges, solid_faces, common, number) -> list[str]:
+    """The face of a solid (``solid_faces``: its faces in OCCT's order) each section edge
+    was cut from, as ``"face i"`` (``"solid k face i"`` when ``number`` is not None), from
+    the Boolean's history; ``""`` where it says nothing."""
     if not edges:
         return []
     wanted = {}
@@ -537,7 +569,7 @@ def _face_labels(edges, solid, common, number) -> list[str]:
     found = {}
     prefix = "" if number is None else f"solid {number} "
     history = common.History()
-    for index, face in enumerate(_explore(solid, "FACE")):
+    for index, face in enumerate(solid_faces):
         for made in _listed(history.Generated(face)):
             for edge in wanted.get(hash(made), ()):
                 if edge.IsSame(made):
@@ -598,28 +630,44 @@ def _swept_area(curve) -> float:
     return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1])
 
 
-def _face_polygons(faces, curves, join):
+def _face_polygons(faces, curves, join, checked=True):
     """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
-    a wire does not close within ``join`` or the polygons are not valid (the caller then
-    assembles the curves by even-odd nesting, which finds the open ends)."""
-    polygons, at = [], 0
-    for face in faces:
-        rings = []
+    a wire does not close within ``join`` or, if ``checked``, the polygons are not valid
+    (the caller then assembles the curves by even-odd nesting, which finds the open ends).
+    All rings are made by one call of shapely."""
+    rings, ring_of, at = [], [], 0
+    for number, face in enumerate(faces):
         for wire in face:
             chain = curves[at:at + len(wire)]
             at += len(wire)
             ends = np.array([c.points[-1] for c in chain])
-            starts = np.roll(np.array([c.points[0] for c in chain]), -1, axis=0)
-            if np.hypot(*(ends - starts).T).max() > join:
+            starts = np.array([c.points[0] for c in chain])
+            gaps = ends - np.concatenate([starts[1:], starts[:1]])
+            if np.sqrt(np.max(gaps[:, 0] ** 2 + gaps[:, 1] ** 2)) > join:
                 return None
             ring = np.concatenate([c.points[:-1] for c in chain])
-            ring = ring[np.any(ring != np.roll(ring, 1, axis=0), axis=1)]
+            # a repeated vertex can only follow a junction or come from a degenerate
+            # curve: the full comparison is cheap next to building the ring
+            repeated = np.flatnonzero((ring[1:, 0] == ring[:-1, 0])
+                                      & (ring[1:, 1] == ring[:-1, 1]))
+            if len(repeated) or (ring[0] == ring[-1]).all():
+                keep = np.ones(len(ring), dtype=bool)
+                keep[repeated + 1] = False
+                keep[0] = keep[0] and not (ring[0] == ring[-1]).all()
+                ring = ring[keep]
             if len(ring) < 3:
                 return None
             rings.append(ring)
-        polygons.append(shapely.Polygon(rings[0], rings[1:]))
-    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(polygons)
-    return geometry if geometry.is_valid and geometry.area > 0 else None
+            ring_of.append(number)
+    sizes = [len(ring) for ring in rings]
+    closed = np.concatenate([np.concatenate([ring, ring[:1]]) for ring in rings])
+    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(rings)),
+                                                           np.add(sizes, 1)))
+    polygons = shapely.polygons(linear, indices=np.asarray(ring_of))
+    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(list(polygons))
+    if checked and not geometry.is_valid:
+        return None
+    return geometry if geometry.area > 0 else None
 
 
 def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
@@ -643,18 +691,17 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     return build.done()
 
 
-def _planar_faces(solids) -> tuple[np.ndarray, np.ndarray]:
-    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the solids' planar faces
-    (read off each face's surface, with its location: a third of the time of
-    ``BRepAdaptor_Surface``)."""
+def _planar_faces(faces) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normals (n, 3) and offsets n·x (n,) of the planes of the planar faces among
+    ``faces`` (each solid's list; read off each face's surface, with its location: a third
+    of the time of ``BRepAdaptor_Surface``)."""
     from OCP.BRep import BRep_Tool
     from OCP.Geom import Geom_Plane, Geom_RectangularTrimmedSurface
-    from OCP.TopoDS import TopoDS
 
     facing, offsets = [], []
-    for solid in solids:
-        for face in _explore(solid, "FACE"):
-            surface = BRep_Tool.Surface_s(TopoDS.Face(face))
+    for faces_of_solid in faces:
+        for face in faces_of_solid:
+            surface = BRep_Tool.Surface_s(face)
             if isinstance(surface, Geom_RectangularTrimmedSurface):
                 surface = surface.BasisSurface()
             if isinstance(surface, Geom_Plane):
@@ -670,14 +717,15 @@ def _to_2d(origin, normal) -> np.ndarray:
     return plane_frames(origin, normal)[0]
 
 
-def _box(solids) -> tuple[np.ndarray, np.ndarray]:
-    """The corners of the tight bounding box of the solids (from their exact geometry)."""
+def _box(solids, tolerances=False) -> tuple[np.ndarray, np.ndarray]:
+    """The corners of the tight bounding box of the solids (from their exact geometry;
+    enlarged by their faces', edges' and vertices' tolerances if ``tolerances``)."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRepBndLib import BRepBndLib
 
     box = Bnd_Box()
     for solid in solids:
-        BRepBndLib.AddOptimal_s(solid, box, False, False)
+        BRepBndLib.AddOptimal_s(solid, box, False, tolerances)
     if box.IsVoid():
         return np.zeros(3), np.zeros(3)
     low, high = box.CornerMin(), box.CornerMax()
@@ -706,6 +754,100 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
                         sweep=-curve.sweep, bezier=None if curve.bezier is None else
                         tuple(control[::-1] for control in curve.bezier[::-1]))
     return curve
+
+
+def _junctions_refined(faces, curves, arcs) -> list:
+    """The curves of a cut's wires (in wire order) with each junction of a line and a
+    circle or ellipse moved onto both curves.
+
+    OCCT ends a line where its vertex is, within the edge tolerance of the conic it meets
+    (up to 1.9e-9 of the radius on held-out parts): the junction, the ring's vertex, was
+    off the conic by that much. Here the conic ``center + u cos θ + v sin θ`` and the
+    line through the line's two ends (points of OCCT's exact line) meet where
+    ``n·(center - p) + (n·u) cos θ + (n·v) sin θ = 0``, in closed form: the root nearest
+    the conic's own end is taken (where they miss each other, by less than the gap, the
+    point of the conic nearest the line). The line's end and the conic's parameter range
+    move there: both curves stay exact, and the boundary moves by at most the gap closed.
+    A root more than a quarter of the conic's sweep or of the line's length away is left
+    (not this junction). Circles and ellipses are flattened again within ``arcs`` if they
+    were flattened (else they stay as their two ends)."""
+    lines = {}                      # index -> new (start, end) of a line
+    conics = {}                     # index -> new (start θ, end θ) of a conic
+    at = 0
+    for face in faces:
+        for wire in face:
+            chain = list(range(at, at + len(wire)))
+            at += len(wire)
+            if len(chain) < 2:
+                continue
+            for k, i in enumerate(chain):
+                j = chain[(k + 1) % len(chain)]           # i ends where j starts
+                a, b = curves[i], curves[j]
+                if a.kind == "line" and b.center is not None:
+                    line, conic, index, conic_ends = a, b, i, False
+                elif b.kind == "line" and a.center is not None:
+                    line, conic, index, conic_ends = b, a, j, True
+                else:
+                    continue
+                if np.array_equal(conic.points[0], conic.points[-1]):
+                    continue                              # a whole turn: no junction
+                theta0 = conic.start + (conic.sweep if conic_ends else 0.0)
+                theta = _line_meets_conic(line, conic, theta0)
+                if theta is None:
+                    continue
+                point = conic.center + conic.radii @ (math.cos(theta), math.sin(theta))
+                if np.hypot(*(point - (b.points[0] if conic_ends else a.points[-1]))) \
+                        > 0.25 * np.hypot(*(line.points[-1] - line.points[0])):
+                    continue
+                ends = list(lines.get(index, (line.points[0], line.points[-1])))
+                ends[0 if conic_ends else 1] = point      # the line starts where a ends
+                lines[index] = tuple(ends)
+                conic_index = i if conic_ends else j
+                first, last = conics.get(conic_index,
+                                         (conic.start, conic.start + conic.sweep))
+                conics[conic_index] = (first, theta) if conic_ends else (theta, last)
+    if not lines:
+        return curves
+    refined = list(curves)
+    for index, (start, end) in lines.items():
+        refined[index] = replace(curves[index], points=np.array([start, end]))
+    for index, (first, last) in conics.items():
+        curve = curves[index]
+        if (last - first) * curve.sweep <= 0:             # a flipped range: keep OCCT's
+            continue
+        points = (elliptic_points(curve.center, curve.radii, first, last - first, arcs)
+                  if arcs else curve.center + np.array(
+                      [[math.cos(first), math.sin(first)],
+                       [math.cos(last), math.sin(last)]]) @ curve.radii.T)
+        refined[index] = replace(curve, points=points, start=first, sweep=last - first)
+    return refined
+
+
+def _line_meets_conic(line, conic, theta0):
+    """The parameter θ of the conic (``center + u cos θ + v sin θ``) where it meets the
+    line through ``line.points``' two ends, nearest ``theta0`` and within a quarter of
+    the conic's sweep of it; the conic's point nearest the line (within it) where they
+    miss each other; None if there is no such θ."""
+    p, q = line.points[0], line.points[-1]
+    length = math.hypot(*(q - p))
+    if not length > 0:
+        return None
+    normal = np.array([p[1] - q[1], q[0] - p[0]]) / length
+    a = float(normal @ (conic.center - p))
+    (ux, vx), (uy, vy) = conic.radii
+    c = normal[0] * ux + normal[1] * uy                   # n·u
+    d = normal[0] * vx + normal[1] * vy                   # n·v
+    radius = math.hypot(c, d)
+    if not radius > 0:
+        return None
+    phi = math.atan2(d, c)                                # f(θ) = a + radius cos(θ - φ)
+    spread = math.acos(min(1.0, max(-1.0, -a / radius)))
+    best = None
+    for root in (phi + spread, phi - spread):
+        root += 2 * math.pi * round((theta0 - root) / (2 * math.pi))
+        if best is None or abs(root - theta0) < abs(best - theta0):
+            best = root
+    return best if abs(best - theta0) <= 0.25 * abs(conic.sweep) else None
 
 
 def _finer(curve, tolerance) -> SectionCurve:
