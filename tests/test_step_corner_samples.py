@@ -8,17 +8,13 @@ The held-out knob of seed 5106 (bench/_step_parts.py, part 9: a sphere on a cone
 a plane tilted 0.161 rad) has a lens between a straight cut of the cone's top face and
 the sphere's ellipse, with 14° corners. Its uniform "auto" mesh places the first samples
 beside each corner just past the sampler's longest chord (LONGEST_CHORD alpha), and
-``boundary_curves.samples_onto_curves`` undoes any move that lengthens such a chord, so
-the sample on the ellipse's first chord stays on the chord, 1.7e-7 of the radius off the
-ellipse. The section itself is exact there: its ring vertices lie on the curves to
-rounding (the first test). The lens alone, meshed at a fixed alpha, shows the same
-(1.6e-7 r at alpha 0.05, 3.6e-8 r at 0.02; the whole section's "auto" mesh takes 20 s);
-passing ``upper`` = √3 alpha (1 - 1e-9) instead of LONGEST_CHORD alpha puts every sample
-on the arcs (4.6e-16 r), the certificates as before.
-
-The fix belongs to the sampler (lead-owned ``boundary_curves.samples_onto_curves`` or the
-``upper`` bound ``sampling.py`` passes to it): the second test is expected to fail until
-then, and fails loudly (strict) once it passes, so that the marker is taken off.
+``boundary_curves.samples_onto_curves`` undid any move that lengthens such a chord, so
+the sample on the ellipse's first chord stayed on the chord, 1.7e-7 of the radius off
+the ellipse. The section itself is exact there: its ring vertices lie on the curves to
+rounding (the first test). The lens alone, meshed at a fixed alpha, showed the same
+(1.6e-7 r at alpha 0.05, 3.6e-8 r at 0.02). The uniform sampler now lets the move
+lengthen the chord up to √3 alpha (1 - 1e-9) (``boundary_rules.LONGEST_MOVED_CHORD``):
+every sample is on the arcs (4.6e-16 r), the certificates as before (the second test).
 """
 
 import importlib.util
@@ -72,9 +68,6 @@ def test_the_knobs_section_has_its_corners_on_the_exact_curves(region):
         assert off_arcs(region, ring).max(initial=0.0) <= 1e-12
 
 
-@pytest.mark.xfail(strict=True, reason="samples_onto_curves keeps a sample on its chord "
-                   "where the move lengthens a chord the sampler made longer than "
-                   "LONGEST_CHORD alpha (lead-owned; docs/step.md)")
 @pytest.mark.parametrize("alpha", [0.05, 0.02])
 def test_uniform_samples_beside_a_sharp_corner_lie_on_the_ellipse(region, alpha):
     lens = min(region.geometry.geoms, key=lambda polygon: polygon.area)
