@@ -35,8 +35,7 @@ from ._checks import check_alpha, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (Frame, InterfaceReport, agreeing_fields, chain_sample_radii,
                         graded_sample_chains,
-                        interface_report, junction_fields, mesh_part, sample_chains,
-                        with_sample_cones)
+                        interface_report, junction_fields, mesh_part, with_sample_cones)
 from .region import check_tolerance, turning_angles
 from .sampling import LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
@@ -268,14 +267,17 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
         options["max_samples"] = max_samples
-    if not graded and grading is not None:
-        raise ArgumentError("grading applies to graded remeshing; pass graded=True")
-    fields = {}
+    from .sizing import DEFAULT_GRADING, RadiusField, radius_field
+    grading = DEFAULT_GRADING if grading is None else grading
     if graded:
-        from .sizing import DEFAULT_GRADING, radius_field
-        grading = DEFAULT_GRADING if grading is None else grading
         fields = {id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
                   for p in remeshed}
+    else:
+        # uniform: alpha everywhere but where the input forces shorter pieces (the cones
+        # junction_fields and the agreement add): a uniform radius cannot shape the
+        # triangles on a piece much shorter than alpha (docs/remesh.md, "Uniform")
+        flat = RadiusField(np.zeros((0, 2)), [], grading, alpha)
+        fields = {id(p): flat for p in remeshed}
     cache = {}
     while True:
         kept = np.ones(len(faces), bool)
@@ -285,20 +287,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         on_kept[faces[kept].ravel()] = True
         rings, frames = [p.rings for p in remeshed], [p.frame for p in remeshed]
         pinned = np.flatnonzero(on_kept).tolist()
-        if graded:
-            own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
-            own = agreeing_fields(rings, frames, own, pinned)
-            chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
-                                          seed=seed, pinned=pinned)
-            sizes, coned = _agreeing_sizes(chains, frames, own,
-                                           chain_sample_radii(chains, frames, own))
-        else:
-            chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed,
-                                   pinned=pinned)
-            sizes = coned = None
-        meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache,
-                              own[k] if graded else None, sizes,
-                              coned[k] if graded else None)
+        own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
+        own = agreeing_fields(rings, frames, own, pinned)
+        chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
+                                      seed=seed, pinned=pinned)
+        sizes, coned = _agreeing_sizes(chains, frames, own,
+                                       chain_sample_radii(chains, frames, own))
+        meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache, own[k], sizes,
+                              coned[k])
                   for k, patch in enumerate(remeshed)]
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
