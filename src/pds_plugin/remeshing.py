@@ -518,19 +518,28 @@ def _agreeing_sizes(chains, frames, fields, sizes):
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
               for frame, i in zip(frames, ids)]
-    def coned_fields():
-        return [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
-
+    own = [field(xy) for field, xy in zip(fields, points)]   # the same in every round
     for _ in range(_AGREEMENT_ROUNDS):
-        coned = coned_fields()
         lowest = sizes.copy()
-        for field, i, xy in zip(coned, ids, points):
-            np.minimum.at(lowest, i, field(xy))
+        for field, r, i, xy in zip(fields, own, ids, points):
+            np.minimum.at(lowest, i, np.minimum(r, _cones_at(xy, sizes[i], field)))
         lower = lowest < sizes * (1 - _AGREEMENT_TOL)
         if not lower.any():
-            return sizes, coned
+            break
         sizes = np.where(lower, lowest, sizes)
-    return sizes, coned_fields()
+    return sizes, [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
+
+
+def _cones_at(xy, sizes, field) -> np.ndarray:
+    """min_j sizes_j + L |x_i - x_j| at each point x_i of ``xy`` (cones of ``sizes`` at
+    the points themselves, ``field``'s L), no more than its cap: pairwise for up to 32
+    points (most patches of a CAD part), else by a :class:`~pds_plugin.sizing.RadiusField` of the cones."""
+    if len(xy) <= 32:
+        distance = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+        return np.minimum((sizes[None, :] + field.grading * distance).min(axis=1, initial=np.inf),
+                          field.cap)
+    from .sizing import RadiusField
+    return RadiusField(xy, sizes, field.grading, field.cap)(xy)
 
 
 _AGREEMENT_ROUNDS = 16
@@ -727,11 +736,16 @@ def _patch(members, ids, xy, basis, rings, shift):
 
     xy = xy + shift
     frame = Frame(ids, xy)
-    try:
-        region = Region.from_shapely(Polygon(rings[0] + shift, [ring + shift
-                                                                for ring in rings[1:]]))
-    except PdsError:
-        return None
+    polygon = Polygon(rings[0] + shift, [ring + shift for ring in rings[1:]])
+    if len(rings) == 1 and polygon.is_valid:
+        # one valid ring is simple: what Region.from_shapely would make of it (at
+        # tolerance 0 it heals only rings that touch), without its passes
+        region = Region(shapely.orient_polygons(MultiPolygon([polygon])), np.eye(4))
+    else:
+        try:
+            region = Region.from_shapely(polygon)
+        except PdsError:
+            return None
     lookup = {tuple(point): vertex for vertex, point in zip(ids.tolist(), xy.tolist())}
     try:
         ring_ids = [np.array([lookup[tuple(point)] for point in ring.tolist()], dtype=np.int64)
