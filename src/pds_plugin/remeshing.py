@@ -897,7 +897,9 @@ def _on_input(xy, patches, vertices, faces) -> list:
     ``intersects`` took a quarter of the remesh of shared.STL). The patches lie apart in
     one plane (:func:`_layout`), so one tree of all their triangles' boxes serves them
     all: a point finds only its own patch's triangles (the nearest one too: it lies in
-    its patch's region, every other patch a gap away)."""
+    its patch's region, every other patch a gap away). A patch of a few input triangles
+    (:data:`_FEW_TRIANGLES`: a CAD face fanned from its corners) scores each of its
+    points against all of them, no tree; its points in none of them go to the tree."""
     sizes = [len(points) for points in xy]
     if not sum(sizes):
         return [(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)) for _ in xy]
@@ -905,6 +907,41 @@ def _on_input(xy, patches, vertices, faces) -> list:
     triangles = np.concatenate([faces[patch.faces] for patch in patches])
     corners = np.concatenate([patch.frame[faces[patch.faces].ravel()].reshape(-1, 3, 2)
                               for patch in patches])
+    count = np.array([len(patch.faces) for patch in patches])
+    start = np.cumsum(count) - count
+    own = np.repeat(np.arange(len(patches)), sizes)
+    first, best = np.full(len(xy), -1), np.full(len(xy), -np.inf)
+    few = np.flatnonzero(count[own] <= _FEW_TRIANGLES)
+    for j in range(int(count[own[few]].max(initial=0))):    # the j-th triangle of each
+        at = few[count[own[few]] > j]
+        which = start[own[at]] + j
+        beta, gamma = _barycentric(xy[at], *(corners[which, k] for k in range(3)))
+        score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+        better = score > best[at]                            # the first best stays
+        first[at[better]], best[at[better]] = which[better], score[better]
+    rest = np.flatnonzero((count[own] > _FEW_TRIANGLES) | ~(best >= -_INSIDE))
+    if len(rest):
+        first[rest] = _triangle_of(xy[rest], corners)
+    a, b, c = (corners[first, k] for k in range(3))
+    beta, gamma = _barycentric(xy, a, b, c)
+    p = vertices[triangles[first]]
+    out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    height = np.einsum("ij,ij->i", out - p[:, 0], normal)
+    cut = np.cumsum(sizes)[:-1]
+    return list(zip(np.split(out, cut), np.split(normal, cut), np.split(height, cut)))
+
+
+_FEW_TRIANGLES = 8
+"""A patch of at most this many input triangles places its points without a tree
+(:func:`_on_input`)."""
+
+
+def _triangle_of(xy, corners) -> np.ndarray:
+    """Per point, the triangle (of ``corners``, (m, 3, 2)) whose bounding box holds it
+    and whose smallest barycentric coordinate is the largest, or the nearest triangle
+    if it is in none within :data:`_INSIDE` (:func:`_on_input`)."""
     low, high = corners.min(axis=1), corners.max(axis=1)
     tree = shapely.STRtree(shapely.box(low[:, 0], low[:, 1], high[:, 0], high[:, 1]))
     found, which = tree.query(shapely.points(xy))
@@ -917,15 +954,7 @@ def _on_input(xy, patches, vertices, faces) -> list:
     missing = np.flatnonzero(~(best >= -_INSIDE))        # in no triangle, or NaN
     if len(missing):
         first[missing] = tree.query_nearest(shapely.points(xy[missing]), all_matches=False)[1]
-    a, b, c = (corners[first, k] for k in range(3))
-    beta, gamma = _barycentric(xy, a, b, c)
-    p = vertices[triangles[first]]
-    out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
-    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
-    height = np.einsum("ij,ij->i", out - p[:, 0], normal)
-    cut = np.cumsum(sizes)[:-1]
-    return list(zip(np.split(out, cut), np.split(normal, cut), np.split(height, cut)))
+    return first
 
 
 def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, tolerance):
