@@ -89,3 +89,46 @@ def test_small_patches_meshed_in_one_call_keep_the_solid(graded, monkeypatch):
         assert ((mesh.vertices >= [x0, y0]) & (mesh.vertices <= [x1, y1])).all()
     angles = result.angles()
     assert angles.min() >= 20 and np.percentile(angles, 1) >= 25
+
+
+def test_groups_hold_at_most_the_small_patch_area_each():
+    class Patch:
+        def __init__(self, area):
+            self.region = type("R", (), {"area": area})()
+
+    rng = np.random.default_rng(3)
+    alpha = 0.5
+    limit = remeshing.SMALL_PATCH * alpha ** 2
+    patches = [Patch(a) for a in rng.uniform(0, 1.5 * limit, 60) ** 2 / (1.5 * limit)]
+    todo = [(k, None, None) for k in range(len(patches))]
+    groups = remeshing._groups(todo, patches, alpha)
+    assert sorted(k for group in groups for k, _, _ in group) == list(range(len(patches)))
+    for group in groups:
+        areas = [patches[k].region.area for k, _, _ in group]
+        assert len(group) == 1 or sum(areas) <= limit
+        assert len(group) == 1 or max(areas) <= limit
+
+
+def test_a_call_that_fails_meshes_its_patches_one_by_one(monkeypatch):
+    """A shaft of the held-out corpus (seed 4101, part 6): its small axis-aligned patches
+    in one call gave the complex more cocircular ties than its exact test takes (a
+    BudgetError); calls over SMALL_PATCH alpha² are now split, and a group call that
+    fails still meshes each of its patches by itself."""
+    import pds_plugin.graded_complex as graded_complex
+
+    complex_of = graded_complex.graded_alpha_complex
+
+    refused = []
+
+    def refusing(points, radius, grading, boundary):
+        if len(boundary) > 13:        # more rings than any one patch has: a group
+            refused.append(len(boundary))
+            raise pds.errors.BudgetError("too many ties")
+        return complex_of(points, radius, grading, boundary=boundary)
+
+    monkeypatch.setattr(graded_complex, "graded_alpha_complex", refusing)
+    source = studded_plate()
+    result = pds.remesh(source, 0.05, seed=2)
+    assert refused
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume

@@ -16,6 +16,9 @@ solid kept (issue 24, docs/remesh.md).
    every vertex of a kept face, are sampled once, in each patch's plane the same points of
    the input's edges; each patch is meshed and certified in its plane; interior samples
    go back to 3D on the input triangle they lie in.
+4. The patches' planes are laid out side by side in one plane, a gap apart that no
+   radius, disc or triangle crosses (:func:`_gap`), so that the small patches are
+   meshed in one call (:func:`_patch_meshes`) and their samples placed with one tree.
 """
 
 from __future__ import annotations
@@ -95,7 +98,9 @@ class RemeshResult:
     tolerance : float
         The coplanarity tolerance the patches were found with.
     graded : bool
-        Whether the patches were graded (their certificates then measure against r).
+        Whether the patches' fields follow their features (graded), or are alpha but
+        around the input's short pieces (uniform). Either way each patch is meshed with
+        its field and its certificate measures against it (r).
     """
 
     mesh: "trimesh.Trimesh"
@@ -208,10 +213,13 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         spacing of the samples its boundary must keep (vertices of kept faces), so the
         triangles grow from small features instead of meeting them at alpha; every
         angle is then at least arcsin((1 - L)/2) (23.6° at L = 0.2) but at sharp input
-        corners. ``False``: every patch at the one radius alpha (30°).
+        corners. ``False`` (uniform): r = alpha everywhere but where the input forces
+        boundary pieces shorter than alpha (vertices of kept faces, short edges between
+        patches): there r is the piece's length and grows away from it at rate L, the
+        same bound, no thin triangle at the short pieces (docs/remesh.md, "Uniform").
     grading : float, optional
-        With ``graded``, the Lipschitz constant L of the fields, in (0, 1); default
-        :data:`pds_plugin.sizing.DEFAULT_GRADING`.
+        The Lipschitz constant L of the fields (graded) or of the cones around short
+        pieces (uniform), in (0, 1); default :data:`pds_plugin.sizing.DEFAULT_GRADING`.
     seed : int
         The same seed gives the same mesh, bit for bit.
     feature_angle : float
@@ -244,6 +252,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     >>> uniform = pds.remesh(trimesh.creation.box((2, 1, 1)), 0.2, graded=False)
     >>> uniform.ok, bool(uniform.angles().min() >= 30)
     (True, True)
+    >>> {float(m.field(m.vertices).min()) for m in uniform.patch_meshes}   # r = alpha
+    {0.2}
     """
     source = _as_trimesh(mesh)
     check_seed(seed)
@@ -330,16 +340,32 @@ def _gap(alpha, grading) -> float:
 
 
 SMALL_PATCH = 1000.0
-"""A patch of at most this many alpha² is meshed with the other small ones in one call
-(:func:`_patch_meshes`): their fixed costs (the sampler's set-up, its bins, the
-complex) are paid once. Large patches are meshed one by one: in one call with small
-ones they would share one bin grid, sized by the whole layout's box, too coarse for the
-small ones' radii (measured in docs/remesh.md)."""
+"""Patches of at most this many alpha² are meshed with other small ones in one call
+(:func:`_patch_meshes`, :func:`_groups`: up to this much area a call): their fixed
+costs (the sampler's set-up, its bins, the complex) are paid once a group. Larger
+patches are meshed one by one: in one call with small ones they would share one bin
+grid, sized by the whole layout's box, too coarse for the small ones' radii (measured
+in docs/remesh.md)."""
 
 
-def _is_small(patch, alpha) -> bool:
-    """Is the patch small enough to be meshed with others (:data:`SMALL_PATCH`)?"""
-    return patch.region.area <= SMALL_PATCH * alpha ** 2
+def _groups(todo, patches, alpha) -> list:
+    """The patches to mesh (``todo``: (index, key, samples)) in the groups meshed by one
+    call each: the small ones in order, a group closed when their areas add up to over
+    :data:`SMALL_PATCH` alpha² (so that one call holds no more samples, nor cocircular
+    ties for the complex's exact test, than a large patch's), then each large one."""
+    limit = SMALL_PATCH * alpha ** 2
+    groups, area, large = [[]], 0.0, []
+    for item in todo:
+        size = patches[item[0]].region.area
+        if size > limit:
+            large.append([item])
+            continue
+        if area + size > limit and groups[-1]:
+            groups.append([])
+            area = 0.0
+        groups[-1].append(item)
+        area += size
+    return [group for group in groups if group] + large
 
 
 def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> list:
@@ -370,17 +396,14 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> l
     for attempt in range(ATTEMPTS):
         if not todo:
             break
-        small = [item for item in todo if _is_small(patches[item[0]], coned[item[0]].cap)]
-        large = [item for item in todo if not _is_small(patches[item[0]], coned[item[0]].cap)]
+        groups = _groups(todo, patches, coned[0].cap)
         meshes = []
-        for group in [small] + [[item] for item in large]:
-            if group:
-                meshes += _meshed_together([patches[k] for k, _, _ in group],
-                                           [g for _, _, g in group],
-                                           [coned[k] for k, _, _ in group], seed + attempt,
-                                           options)
+        for group in groups:
+            meshes += _meshed_together([patches[k] for k, _, _ in group],
+                                       [g for _, _, g in group],
+                                       [coned[k] for k, _, _ in group], seed + attempt, options)
         left = []
-        for (k, key, given), mesh in zip(small + large, meshes):
+        for (k, key, given), mesh in zip([item for group in groups for item in group], meshes):
             if mesh is not None and _joined(mesh, given):
                 out[k] = cache[key] = mesh
             else:
@@ -438,9 +461,13 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
         except PdsError:
             samples = None
         if samples is not None:
-            faces = graded_alpha_complex(samples.points, samples.radius, union.grading,
-                                         boundary=samples.rings)
-            out = _cut_apart(patches, given, fields, samples, faces)
+            try:
+                faces = graded_alpha_complex(samples.points, samples.radius, union.grading,
+                                             boundary=samples.rings)
+            except PdsError:
+                faces = None
+            if faces is not None:
+                out = _cut_apart(patches, given, fields, samples, faces)
     for k, (patch, rings, field) in enumerate(zip(patches, given, fields)):
         if out[k] is None:
             samples = graded_poisson_disc(patch.region, field, seed, boundary_samples=rings,
