@@ -244,7 +244,8 @@ def held_out(seed: int, count: int) -> None:
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--uniform", action="store_true",
-                        help="remesh uniform: alpha but around short pieces (pds.remesh(graded=False))")
+                        help="remesh uniform: alpha but around short pieces "
+                             "(pds.remesh(graded=False))")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs of each (best)")
     parser.add_argument("--parts", nargs="*", help="only these parts (file names)")
     parser.add_argument("--held-out", type=int, metavar="SEED",
