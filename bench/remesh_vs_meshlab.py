@@ -4,7 +4,8 @@ For each part (the shared STL files in ../shared/data when present, and generate
 manifold3d parts with holes and pockets written as float32 STL), in one process:
 
 - pds: ``pds.remesh(path, "auto")`` (alpha = bounding-box diagonal / 100; graded
-  patches, the default, or with ``--uniform`` one radius);
+  patches, the default, or with ``--uniform`` alpha but graded around the short
+  pieces the input forces);
 - MeshLab: ``meshing_isotropic_explicit_remeshing`` with ``targetlen`` = the mean edge
   length of the pds mesh (an equal edge length) and ``iterations=5`` (the issue's
   setting), on the same file read by pymeshlab; and again with the edge length scaled by
@@ -243,7 +244,8 @@ def held_out(seed: int, count: int) -> None:
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--uniform", action="store_true",
-                        help="remesh with one radius (pds.remesh(graded=False))")
+                        help="remesh uniform: alpha but around short pieces "
+                             "(pds.remesh(graded=False))")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs of each (best)")
     parser.add_argument("--parts", nargs="*", help="only these parts (file names)")
     parser.add_argument("--held-out", type=int, metavar="SEED",

@@ -16,10 +16,14 @@ solid kept (issue 24, docs/remesh.md).
    every vertex of a kept face, are sampled once, in each patch's plane the same points of
    the input's edges; each patch is meshed and certified in its plane; interior samples
    go back to 3D on the input triangle they lie in.
+4. The patches' planes are laid out side by side in one plane, a gap apart that no
+   radius, disc or triangle crosses (:func:`_gap`), so that the small patches are
+   meshed in one call (:func:`_patch_meshes`) and their samples placed with one tree.
 """
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 from functools import cached_property
@@ -29,16 +33,15 @@ import numpy as np
 import shapely
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from shapely.geometry import Polygon
+from shapely.geometry import MultiPolygon, Polygon
 
-from ._checks import check_alpha, check_seed
+from ._checks import check_alpha, check_grading, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
-from .partition import (Frame, InterfaceReport, agreeing_fields, chain_sample_radii,
-                        graded_sample_chains,
-                        interface_report, junction_fields, mesh_part, sample_chains,
-                        with_sample_cones)
+from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
+                        chain_sample_radii, graded_sample_chains, interface_report,
+                        junction_fields, with_sample_cones)
 from .region import check_tolerance, turning_angles
-from .sampling import LADDER_ANGLE
+from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
 
 if TYPE_CHECKING:
@@ -95,7 +98,9 @@ class RemeshResult:
     tolerance : float
         The coplanarity tolerance the patches were found with.
     graded : bool
-        Whether the patches were graded (their certificates then measure against r).
+        Whether the patches' fields follow their features (graded), or are alpha but
+        around the input's short pieces (uniform). Either way each patch is meshed with
+        its field and its certificate measures against it (r).
     """
 
     mesh: "trimesh.Trimesh"
@@ -208,10 +213,13 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         spacing of the samples its boundary must keep (vertices of kept faces), so the
         triangles grow from small features instead of meeting them at alpha; every
         angle is then at least arcsin((1 - L)/2) (23.6° at L = 0.2) but at sharp input
-        corners. ``False``: every patch at the one radius alpha (30°).
+        corners. ``False`` (uniform): r = alpha everywhere but where the input forces
+        boundary pieces shorter than alpha (vertices of kept faces, short edges between
+        patches): there r is the piece's length and grows away from it at rate L, the
+        same bound, no thin triangle at the short pieces (docs/remesh.md, "Uniform").
     grading : float, optional
-        With ``graded``, the Lipschitz constant L of the fields, in (0, 1); default
-        :data:`pds_plugin.sizing.DEFAULT_GRADING`.
+        The Lipschitz constant L of the fields (graded) or of the cones around short
+        pieces (uniform), in (0, 1); default :data:`pds_plugin.sizing.DEFAULT_GRADING`.
     seed : int
         The same seed gives the same mesh, bit for bit.
     feature_angle : float
@@ -244,6 +252,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     >>> uniform = pds.remesh(trimesh.creation.box((2, 1, 1)), 0.2, graded=False)
     >>> uniform.ok, bool(uniform.angles().min() >= 30)
     (True, True)
+    >>> {float(m.field(m.vertices).min()) for m in uniform.patch_meshes}   # r = alpha
+    {0.2}
     """
     source = _as_trimesh(mesh)
     check_seed(seed)
@@ -263,19 +273,23 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     normals = np.asarray(source.face_normals, dtype=np.float64)
     areas = np.asarray(source.area_faces, dtype=np.float64)
     label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
-    patches = _usable_patches(vertices, faces, normals, areas, label, alpha)
+    from .sizing import DEFAULT_GRADING, RadiusField, radius_field
+    grading = check_grading(DEFAULT_GRADING if grading is None else grading)
+    patches = _usable_patches(vertices, faces, normals, areas, label, alpha,
+                              _gap(alpha, grading))
     remeshed = _manifold_patches([p for p in patches if p is not None])
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
         options["max_samples"] = max_samples
-    if not graded and grading is not None:
-        raise ArgumentError("grading applies to graded remeshing; pass graded=True")
-    fields = {}
     if graded:
-        from .sizing import DEFAULT_GRADING, radius_field
-        grading = DEFAULT_GRADING if grading is None else grading
         fields = {id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
                   for p in remeshed}
+    else:
+        # uniform: alpha everywhere but where the input forces shorter pieces (the cones
+        # junction_fields and the agreement add): a uniform radius cannot shape the
+        # triangles on a piece much shorter than alpha (docs/remesh.md, "Uniform")
+        flat = RadiusField(np.zeros((0, 2)), [], grading, alpha)
+        fields = {id(p): flat for p in remeshed}
     cache = {}
     while True:
         kept = np.ones(len(faces), bool)
@@ -285,21 +299,13 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         on_kept[faces[kept].ravel()] = True
         rings, frames = [p.rings for p in remeshed], [p.frame for p in remeshed]
         pinned = np.flatnonzero(on_kept).tolist()
-        if graded:
-            own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
-            own = agreeing_fields(rings, frames, own, pinned)
-            chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
-                                          seed=seed, pinned=pinned)
-            sizes, coned = _agreeing_sizes(chains, frames, own,
-                                           chain_sample_radii(chains, frames, own))
-        else:
-            chains = sample_chains(rings, frames, alpha, feature_angle=feature_angle, seed=seed,
-                                   pinned=pinned)
-            sizes = coned = None
-        meshes = [_patch_mesh(patch, chains, k, alpha, seed, options, cache,
-                              own[k] if graded else None, sizes,
-                              coned[k] if graded else None)
-                  for k, patch in enumerate(remeshed)]
+        own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
+        own = agreeing_fields(rings, frames, own, pinned)
+        chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
+                                      seed=seed, pinned=pinned)
+        sizes, coned = _agreeing_sizes(chains, frames, own,
+                                       chain_sample_radii(chains, frames, own))
+        meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned)
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
         # so is a patch with a corner sharper than 33.56° whose certificate does not hold
@@ -319,30 +325,209 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
 
 
-def _patch_mesh(patch, chains, k, alpha, seed, options, cache, field=None, sizes=None,
-                coned=None):
-    """The mesh of patch ``k`` with its chains' samples, or None if its boundary edges
+def _gap(alpha, grading) -> float:
+    """How far apart the patches' places in the one plane of :func:`_layout` are (their
+    bounding boxes): 1.25 alpha times the largest of 1 / L, 2 / (1 - L) and 2.5.
+
+    Every radius is at most alpha (the fields' cap). A cone s + L d of another patch's
+    feature (s > 0, in that patch's box) is at least L x gap >= 1.25 alpha there, over
+    the cap: the union of the fields meshed in one call (:func:`_meshed_together`) reads
+    on each patch exactly what the patch's own field reads. A disc (radius <= alpha), a
+    chord's lens (within min r / (1 - L) of the chord) and a triangle of the complex
+    (circumradius within r / (1 - L) of its corners) stay within 2 alpha / (1 - L) of
+    their patch: none reaches another (docs/remesh.md, "Small patches in one call")."""
+    return 1.25 * alpha * max(1.0 / grading, 2.0 / (1.0 - grading), 2.5)
+
+
+SMALL_PATCH = 1000.0
+"""Patches of at most this many alpha² are meshed with other small ones in one call
+(:func:`_patch_meshes`, :func:`_groups`: up to this much area a call): their fixed
+costs (the sampler's set-up, its bins, the complex) are paid once a group. Larger
+patches are meshed one by one: in one call with small ones they would share one bin
+grid, sized by the whole layout's box, too coarse for the small ones' radii (measured
+in docs/remesh.md)."""
+
+
+def _groups(todo, patches, alpha) -> list:
+    """The patches to mesh (``todo``: (index, key, samples)) in the groups meshed by one
+    call each: the small ones in order, a group closed when their areas add up to over
+    :data:`SMALL_PATCH` alpha² (so that one call holds no more samples, nor cocircular
+    ties for the complex's exact test, than a large patch's), then each large one."""
+    limit = SMALL_PATCH * alpha ** 2
+    groups, area, large = [[]], 0.0, []
+    for item in todo:
+        size = patches[item[0]].region.area
+        if size > limit:
+            large.append([item])
+            continue
+        if area + size > limit and groups[-1]:
+            groups.append([])
+            area = 0.0
+        groups[-1].append(item)
+        area += size
+    return [group for group in groups if group] + large
+
+
+def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> list:
+    """The mesh of each patch with its chains' samples, or None if its boundary edges
     are not exactly the chords between them (it would not join its neighbours) with any
-    of the interiors :func:`pds_plugin.partition.mesh_part` draws. Graded: with its own
-    ``field`` combined with cones of ``sizes`` at its chain samples
-    (:func:`pds_plugin.partition.chain_sample_radii`), so that it reads the radius its
-    neighbours read at their shared samples (``coned``: that field, made by
-    :func:`_agreeing_sizes`).
+    of the interiors drawn (``partition.ATTEMPTS`` seeds). Each patch is meshed with
+    ``coned[k]``, its own field ``own[k]`` combined with cones of ``sizes`` at its chain
+    samples (:func:`pds_plugin.partition.chain_sample_radii`), so that it reads the
+    radius its neighbours read at their shared samples (:func:`_agreeing_sizes`).
+
+    The patches lie in one plane, far apart (:func:`_layout`): all those to mesh are
+    sampled and triangulated in one call, as one region of many components with one
+    field (the union of their cones), and cut apart again (:func:`_meshed_together`).
     ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
     change when another was dropped is not meshed again (the same mesh, bit for bit)."""
-    ring_ids = chains.rings[k]
-    given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
-             * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
-    ids = np.concatenate(ring_ids)
-    key = (id(patch), b"".join(ring.tobytes() for ring in given),
-           b"" if field is None else field.sizes.tobytes() + sizes[ids].tobytes())
-    if key in cache:
-        return cache[key]
-    if field is not None:
-        field = coned
-    mesh, joined = mesh_part(patch.region, alpha, given, seed, field=field, **options)
-    cache[key] = mesh if joined else None
-    return cache[key]
+    out, todo = [None] * len(patches), []
+    for k, patch in enumerate(patches):
+        ring_ids = chains.rings[k]
+        given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
+                 * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
+        ids = np.concatenate(ring_ids)
+        key = (id(patch), b"".join(ring.tobytes() for ring in given),
+               own[k].sizes.tobytes() + sizes[ids].tobytes())
+        if key in cache:
+            out[k] = cache[key]
+        else:
+            todo.append((k, key, given))
+    for attempt in range(ATTEMPTS):
+        if not todo:
+            break
+        groups = _groups(todo, patches, coned[0].cap)
+        meshes = []
+        for group in groups:
+            meshes += _meshed_together([patches[k] for k, _, _ in group],
+                                       [g for _, _, g in group],
+                                       [coned[k] for k, _, _ in group], seed + attempt, options)
+        left = []
+        for (k, key, given), mesh in zip([item for group in groups for item in group], meshes):
+            if mesh is not None and _joined(mesh, given):
+                out[k] = cache[key] = mesh
+            else:
+                left.append((k, key, given))
+        todo = left
+    for _, key, _ in todo:
+        cache[key] = None
+    return out
+
+
+def _joined(mesh, given) -> bool:
+    """Are the boundary edges of a patch's mesh exactly the chords between its
+    ``given`` ring samples (as :func:`pds_plugin.partition.mesh_part` checks), the given
+    samples its first vertices?"""
+    sizes = [len(ring) for ring in given]
+    following = np.arange(1, sum(sizes) + 1)
+    following[np.cumsum(sizes) - 1] = np.cumsum([0] + sizes[:-1])   # each ring closed
+    boundary = mesh.boundary_edges
+    if len(boundary) != len(following):
+        return False
+    n = len(mesh.vertices)
+    chords = np.arange(len(following)) * n + following
+    return np.array_equal(np.sort(boundary[:, 0] * n + boundary[:, 1]), chords)
+
+
+def _meshed_together(patches, given, fields, seed, options) -> list:
+    """The graded meshes of ``patches`` (regions a gap apart in one plane, :func:`_gap`)
+    with their ring samples ``given`` and ``fields``, sampled and triangulated in one
+    call (one region of many components, the union of the fields' cones) and cut apart
+    by where their vertices lie (:func:`_cut_apart`). Each mesh is the patch's own: its
+    region, its field (which reads on the patch what the union read there), its given
+    samples first. A patch alone, patches whose call fails (a budget) or whose fields'
+    features do not lie in their boxes (the gap's premise), and a patch that a triangle
+    would join to another (the gap excludes it) are meshed each by itself."""
+    from .graded_complex import graded_alpha_complex
+    from .graded_sampling import graded_poisson_disc
+    from .mesh import PlanarMesh
+    from .region import Region
+    from .sizing import RadiusField
+
+    out = [None] * len(patches)
+    first = fields[0]
+    if len(patches) > 1 and _features_inside(patches, fields) and all(
+            f.grading == first.grading and f.cap == first.cap and f.sizing is None
+            for f in fields):
+        budget = options.get("max_samples", DEFAULT_MAX_SAMPLES) * len(patches)
+        region = Region(MultiPolygon([polygon for patch in patches
+                                      for polygon in patch.region.geometry.geoms]), np.eye(4))
+        union = RadiusField(np.concatenate([f.features for f in fields]),
+                            np.concatenate([f.sizes for f in fields]), first.grading, first.cap)
+        try:
+            samples = graded_poisson_disc(region, union, seed,
+                                          boundary_samples=[r for g in given for r in g],
+                                          **{**options, "max_samples": budget})
+        except PdsError:
+            samples = None
+        if samples is not None:
+            try:
+                faces = graded_alpha_complex(samples.points, samples.radius, union.grading,
+                                             boundary=samples.rings)
+            except PdsError:
+                faces = None
+            if faces is not None:
+                out = _cut_apart(patches, given, fields, samples, faces)
+    for k, (patch, rings, field) in enumerate(zip(patches, given, fields)):
+        if out[k] is None:
+            samples = graded_poisson_disc(patch.region, field, seed, boundary_samples=rings,
+                                          **options)
+            faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
+                                         boundary=samples.rings)
+            out[k] = PlanarMesh(samples.points, faces, samples.on_boundary, patch.region,
+                                field.cap, True, field=field)
+    return out
+
+
+def _features_inside(patches, fields) -> bool:
+    """Does every feature of each field lie in its patch's bounding box (so that a
+    whole gap lies between it and every other patch)?"""
+    for patch, field in zip(patches, fields):
+        x0, y0, x1, y1 = patch.region.bounds
+        f = field.features
+        if len(f) and not ((f[:, 0] >= x0) & (f[:, 0] <= x1) & (f[:, 1] >= y0)
+                           & (f[:, 1] <= y1)).all():
+            return False
+    return True
+
+
+def _cut_apart(patches, given, fields, samples, faces) -> list:
+    """Per patch, its part of a mesh of them all (:func:`_meshed_together`): the samples
+    in its bounding box (the boxes are a gap apart), its given ring samples first; None
+    for a patch with a triangle across two boxes (none can be: the gap)."""
+    from .mesh import PlanarMesh
+
+    points, count = samples.points, len(samples.points)
+    n_given = [sum(len(ring) for ring in rings) for rings in given]
+    first = np.cumsum([0] + n_given)
+    owner = np.full(count, -1, np.int64)
+    owner[:first[-1]] = np.repeat(np.arange(len(patches)), n_given)
+    inner = np.arange(first[-1], count)
+    x, y = points[inner, 0], points[inner, 1]
+    for k, (x0, y0, x1, y1) in enumerate(patch.region.bounds for patch in patches):
+        owner[inner[(x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)]] = k
+    order = np.argsort(owner[first[-1]:], kind="stable") + first[-1]   # interiors by patch
+    inner_start = np.searchsorted(owner[order], np.arange(len(patches) + 1))
+    face_owner = owner[faces]
+    across = (face_owner != face_owner[:, :1]).any(axis=1) | (face_owner[:, 0] < 0)
+    bad = set(face_owner[across].ravel().tolist())
+    by_owner = np.argsort(face_owner[:, 0], kind="stable")
+    face_start = np.searchsorted(face_owner[by_owner, 0], np.arange(len(patches) + 1))
+    number = np.empty(count, np.int64)
+    out = []
+    for k, (patch, field) in enumerate(zip(patches, fields)):
+        if k in bad:
+            out.append(None)
+            continue
+        ids = np.concatenate([np.arange(first[k], first[k + 1]),
+                              order[inner_start[k]:inner_start[k + 1]]])
+        number[ids] = np.arange(len(ids))
+        mine = number[faces[by_owner[face_start[k]:face_start[k + 1]]]]
+        on_boundary = np.zeros(len(ids), bool)
+        on_boundary[:n_given[k]] = True
+        out.append(PlanarMesh(points[ids], mine, on_boundary, patch.region, field.cap, True,
+                              field=field))
+    return out
 
 
 def _agreeing_sizes(chains, frames, fields, sizes):
@@ -360,19 +545,28 @@ def _agreeing_sizes(chains, frames, fields, sizes):
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
               for frame, i in zip(frames, ids)]
-    def coned_fields():
-        return [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
-
+    own = [field(xy) for field, xy in zip(fields, points)]   # the same in every round
     for _ in range(_AGREEMENT_ROUNDS):
-        coned = coned_fields()
         lowest = sizes.copy()
-        for field, i, xy in zip(coned, ids, points):
-            np.minimum.at(lowest, i, field(xy))
+        for field, r, i, xy in zip(fields, own, ids, points):
+            np.minimum.at(lowest, i, np.minimum(r, _cones_at(xy, sizes[i], field)))
         lower = lowest < sizes * (1 - _AGREEMENT_TOL)
         if not lower.any():
-            return sizes, coned
+            break
         sizes = np.where(lower, lowest, sizes)
-    return sizes, coned_fields()
+    return sizes, [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
+
+
+def _cones_at(xy, sizes, field) -> np.ndarray:
+    """min_j sizes_j + L |x_i - x_j| at each point x_i of ``xy`` (cones of ``sizes`` at
+    the points themselves, ``field``'s L), no more than its cap: pairwise for up to 32
+    points (most patches of a CAD part), else by a :class:`~pds_plugin.sizing.RadiusField` of the cones."""
+    if len(xy) <= 32:
+        distance = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+        return np.minimum((sizes[None, :] + field.grading * distance).min(axis=1, initial=np.inf),
+                          field.cap)
+    from .sizing import RadiusField
+    return RadiusField(xy, sizes, field.grading, field.cap)(xy)
 
 
 _AGREEMENT_ROUNDS = 16
@@ -460,11 +654,11 @@ class _Patch:
     corners: np.ndarray
 
 
-def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
+def _usable_patches(vertices, faces, normals, areas, label, alpha, gap) -> list:
     """Per patch, a :class:`_Patch` if it is remeshed, else None: kept when narrower than
-    alpha (area / perimeter < alpha / 2), pinched, or not a valid polygon in its plane."""
-    from .region import Region
-
+    alpha (area / perimeter < alpha / 2), pinched, or not a valid polygon in its plane.
+    The remeshed patches' 2D frames are laid out side by side in one plane, ``gap``
+    apart (:func:`_layout`), so that they can be meshed in one call."""
     count = label.max() + 1
     directed = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
     owner = np.repeat(label, 3)
@@ -481,19 +675,23 @@ def _usable_patches(vertices, faces, normals, areas, label, alpha) -> list:
     rim_order = np.flatnonzero(rim)
     rim_order = rim_order[np.argsort(owner[rim_order], kind="stable")]
     rim_starts = np.searchsorted(owner[rim_order], np.arange(count + 1))
-    out = []
+    planes = []
     for p in range(count):
         if not wide[p]:
-            out.append(None)
+            planes.append(None)
             continue
         members = order[starts[p]:starts[p + 1]]
         edges = directed[rim_order[rim_starts[p]:rim_starts[p + 1]]]
-        out.append(_patch(vertices, faces, normals, areas, members, edges, Region))
-    return out
+        planes.append(_plane_rings(vertices, faces, normals, areas, members, edges))
+    shifts = _layout([None if plane is None else plane[4] for plane in planes], gap)
+    return [None if plane is None else _patch(*plane, shift)
+            for plane, shift in zip(planes, shifts)]
 
 
-def _patch(vertices, faces, normals, areas, members, edges, Region):
-    """The :class:`_Patch` of faces ``members`` with boundary ``edges``, or None."""
+def _plane_rings(vertices, faces, normals, areas, members, edges):
+    """The boundary cycles of faces ``members`` (boundary ``edges``) in their plane:
+    (members, ids, xy, cycles, rings, basis), rings the 2D cycles with the outer one
+    first; or None if pinched, not closed, or not one outer ring."""
     following = dict(zip(edges[:, 0].tolist(), edges[:, 1].tolist()))
     if len(following) != len(edges):
         return None                                   # pinched at a vertex
@@ -505,30 +703,76 @@ def _patch(vertices, faces, normals, areas, members, edges, Region):
     axis /= np.linalg.norm(axis)
     basis = (origin, axis, np.cross(normal, axis), normal)
     ids = np.unique(faces[members])
-    xy = np.column_stack([(vertices[ids] - origin) @ basis[1], (vertices[ids] - origin) @ basis[2]])
-    frame = Frame(ids, xy)
+    xy = (vertices[ids] - origin) @ np.column_stack([basis[1], basis[2]])
+    position = dict(zip(ids.tolist(), range(len(ids))))
     cycles, left = [], set(following)
     while left:
         start = min(left)
         cycle, vertex = [], start
         while vertex in left:
             left.discard(vertex)
-            cycle.append(vertex)
+            cycle.append(position[vertex])
             vertex = following[vertex]
         if vertex != start:
             return None
         cycles.append(np.array(cycle, dtype=np.int64))
-    rings = [frame[cycle] for cycle in cycles]
+    rings = [xy[cycle] for cycle in cycles]
     signed = [0.5 * float(np.sum(r[:, 0] * np.roll(r[:, 1], -1) - np.roll(r[:, 0], -1) * r[:, 1]))
               for r in rings]
     outer = [k for k, a in enumerate(signed) if a > 0]
     if len(outer) != 1:
         return None
-    holes = [rings[k] for k, a in enumerate(signed) if a <= 0]
-    try:
-        region = Region.from_shapely(Polygon(rings[outer[0]], holes))
-    except PdsError:
-        return None
+    rings = [rings[outer[0]]] + [ring for k, ring in enumerate(rings) if k != outer[0]]
+    return members, ids, xy, basis, rings
+
+
+def _layout(rings, gap) -> list:
+    """Per patch (its 2D rings, outer first, or None), the shift that puts it in its
+    own place of one plane: shelves of patches (tallest first), every two of them at
+    least ``gap`` apart (their bounding boxes), None for None.
+
+    Examples
+    --------
+    >>> square = [np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])]
+    >>> shifts = _layout([square, None, square], 3.0)
+    >>> [None if s is None else s.tolist() for s in shifts]
+    [[0.0, 0.0], None, [4.0, 0.0]]
+    """
+    boxes = {k: (r[0].min(axis=0), r[0].max(axis=0)) for k, r in enumerate(rings)
+             if r is not None}
+    if not boxes:
+        return [None] * len(rings)
+    size = {k: high - low for k, (low, high) in boxes.items()}
+    width = max(math.sqrt(sum(float(np.prod(d + gap)) for d in size.values())),
+                max(float(d[0]) for d in size.values()))
+    shifts = [None] * len(rings)
+    x = y = row = 0.0
+    for k in sorted(boxes, key=lambda k: (-float(size[k][1]), k)):
+        if x > 0 and x + size[k][0] > width:
+            x, y, row = 0.0, y + row + gap, 0.0
+        shifts[k] = np.array([x, y]) - boxes[k][0]
+        x += float(size[k][0]) + gap
+        row = max(row, float(size[k][1]))
+    return shifts
+
+
+def _patch(members, ids, xy, basis, rings, shift):
+    """The :class:`_Patch` of :func:`_plane_rings`' output, its 2D frame moved by
+    ``shift``, or None if not a valid polygon."""
+    from .region import Region
+
+    xy = xy + shift
+    frame = Frame(ids, xy)
+    polygon = Polygon(rings[0] + shift, [ring + shift for ring in rings[1:]])
+    if len(rings) == 1 and polygon.is_valid:
+        # one valid ring is simple: what Region.from_shapely would make of it (at
+        # tolerance 0 it heals only rings that touch), without its passes
+        region = Region(shapely.orient_polygons(MultiPolygon([polygon])), np.eye(4))
+    else:
+        try:
+            region = Region.from_shapely(polygon)
+        except PdsError:
+            return None
     lookup = {tuple(point): vertex for vertex, point in zip(ids.tolist(), xy.tolist())}
     try:
         ring_ids = [np.array([lookup[tuple(point)] for point in ring.tolist()], dtype=np.int64)
@@ -568,10 +812,11 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     points = [vertices, chains.points(vertices)[~junction]]
     count = len(vertices) + int(np.count_nonzero(~junction))
     new_faces, patch_of, lifted = [], [], []
-    for k, (patch, mesh) in enumerate(zip(patches, meshes)):
+    given = [sum(len(ids) for ids in ring_ids) for ring_ids in chains.rings]
+    placed = _on_input([mesh.vertices[n:] for mesh, n in zip(meshes, given)], patches,
+                       vertices, faces)
+    for k, (mesh, (inner, normal, height)) in enumerate(zip(meshes, placed)):
         ring_ids = chains.rings[k]
-        n_given = sum(len(ids) for ids in ring_ids)
-        inner, normal, height = _on_input(mesh.vertices[n_given:], patch, vertices, faces)
         to_out = np.concatenate([number[np.concatenate(ring_ids)], count + np.arange(len(inner))])
         points.append(inner)
         lifted.append((count, normal, height))
@@ -667,20 +912,63 @@ def _surface_facts(vertices, faces) -> tuple[bool, int, float]:
     return closed, int(used.sum()) - edges + len(faces), volume
 
 
-def _on_input(xy, patch, vertices, faces):
-    """The 3D points of a patch's interior samples ``xy``, each on the input triangle it
-    lies in (barycentric), that triangle's unit normal, and each point's signed distance
-    to that triangle's plane (rounding).
+def _on_input(xy, patches, vertices, faces) -> list:
+    """Per patch, the 3D points of its interior samples ``xy[k]``, each on the input
+    triangle it lies in (barycentric), that triangle's unit normal, and each point's
+    signed distance to that triangle's plane (rounding).
 
     Each point goes to the triangle whose bounding box holds it and whose smallest
     barycentric coordinate is the largest (the triangle it is in; of two that share an
     edge it lies on, the one the rounding favours), or to the nearest triangle if no box
     holds it within :data:`_INSIDE`: no geometric predicate per pair (shapely's
-    ``intersects`` took a quarter of the remesh of shared.STL)."""
-    if not len(xy):
-        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
-    triangles = faces[patch.faces]
-    corners = patch.frame[triangles.ravel()].reshape(-1, 3, 2)
+    ``intersects`` took a quarter of the remesh of shared.STL). The patches lie apart in
+    one plane (:func:`_layout`), so one tree of all their triangles' boxes serves them
+    all: a point finds only its own patch's triangles (the nearest one too: it lies in
+    its patch's region, every other patch a gap away). A patch of a few input triangles
+    (:data:`_FEW_TRIANGLES`: a CAD face fanned from its corners) scores each of its
+    points against all of them, no tree; its points in none of them go to the tree."""
+    sizes = [len(points) for points in xy]
+    if not sum(sizes):
+        return [(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)) for _ in xy]
+    xy = np.concatenate(xy)
+    triangles = np.concatenate([faces[patch.faces] for patch in patches])
+    corners = np.concatenate([patch.frame[faces[patch.faces].ravel()].reshape(-1, 3, 2)
+                              for patch in patches])
+    count = np.array([len(patch.faces) for patch in patches])
+    start = np.cumsum(count) - count
+    own = np.repeat(np.arange(len(patches)), sizes)
+    first, best = np.full(len(xy), -1), np.full(len(xy), -np.inf)
+    few = np.flatnonzero(count[own] <= _FEW_TRIANGLES)
+    for j in range(int(count[own[few]].max(initial=0))):    # the j-th triangle of each
+        at = few[count[own[few]] > j]
+        which = start[own[at]] + j
+        beta, gamma = _barycentric(xy[at], *(corners[which, k] for k in range(3)))
+        score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+        better = score > best[at]                            # the first best stays
+        first[at[better]], best[at[better]] = which[better], score[better]
+    rest = np.flatnonzero((count[own] > _FEW_TRIANGLES) | ~(best >= -_INSIDE))
+    if len(rest):
+        first[rest] = _triangle_of(xy[rest], corners)
+    a, b, c = (corners[first, k] for k in range(3))
+    beta, gamma = _barycentric(xy, a, b, c)
+    p = vertices[triangles[first]]
+    out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    height = np.einsum("ij,ij->i", out - p[:, 0], normal)
+    cut = np.cumsum(sizes)[:-1]
+    return list(zip(np.split(out, cut), np.split(normal, cut), np.split(height, cut)))
+
+
+_FEW_TRIANGLES = 8
+"""A patch of at most this many input triangles places its points without a tree
+(:func:`_on_input`)."""
+
+
+def _triangle_of(xy, corners) -> np.ndarray:
+    """Per point, the triangle (of ``corners``, (m, 3, 2)) whose bounding box holds it
+    and whose smallest barycentric coordinate is the largest, or the nearest triangle
+    if it is in none within :data:`_INSIDE` (:func:`_on_input`)."""
     low, high = corners.min(axis=1), corners.max(axis=1)
     tree = shapely.STRtree(shapely.box(low[:, 0], low[:, 1], high[:, 0], high[:, 1]))
     found, which = tree.query(shapely.points(xy))
@@ -693,13 +981,7 @@ def _on_input(xy, patch, vertices, faces):
     missing = np.flatnonzero(~(best >= -_INSIDE))        # in no triangle, or NaN
     if len(missing):
         first[missing] = tree.query_nearest(shapely.points(xy[missing]), all_matches=False)[1]
-    a, b, c = (corners[first, k] for k in range(3))
-    beta, gamma = _barycentric(xy, a, b, c)
-    p = vertices[triangles[first]]
-    out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
-    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
-    return out, normal, np.einsum("ij,ij->i", out - p[:, 0], normal)
+    return first
 
 
 def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, tolerance):
