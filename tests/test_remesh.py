@@ -341,3 +341,20 @@ def test_a_solid_of_two_bodies_sharing_an_edge_keeps_that_edge_and_is_certified(
     fewer = edges - [0, 0, 1]
     assert not interface_report(source.vertices, faces, [], outer, (runs, fewer)).ok
     assert not interface_report(source.vertices, faces, [], outer).ok
+
+
+def test_a_solid_wound_inconsistently_is_compared_with_itself():
+    """multibody.stl's second body has faces wound against the rest: the signed volume of
+    such a surface depends on the point it is taken about, and taken about each mesh's
+    own vertex mean the input and the remesh differed by 0.76 of it (FAILED). Both are
+    taken about the input's vertex mean now; the remesh keeps it to rounding."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "shared" / "data" / "multibody.stl"
+    if not path.exists():
+        pytest.skip("../shared/data/multibody.stl is absent")
+    source = trimesh.load_mesh(path)
+    assert not source.is_winding_consistent
+    result = pds.remesh(source, seed=0)
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert result.volume_error <= 1e-12

@@ -154,8 +154,9 @@ def parser() -> argparse.ArgumentParser:
         description="Re-triangulate every planar face (patch of coplanar triangles) of a "
                     "mesh file with certified triangles, graded towards each patch's small "
                     "features (angles >= 23.6 degrees but at sharp input corners; "
-                    "--uniform: one radius, >= 30 degrees but at the input's small "
-                    "features): each patch boundary is sampled once for both "
+                    "--uniform: alpha everywhere but graded around the input's pieces "
+                    "shorter than alpha, the same bound): each patch boundary is "
+                    "sampled once for both "
                     "patches, so the result is the same closed solid. Faces of curved "
                     "surfaces narrower than alpha are kept, split where samples fall on "
                     "their edges (docs/remesh.md)."))
@@ -170,7 +171,8 @@ def _remesh_arguments(parser: argparse.ArgumentParser) -> None:
                         help="disc radius in the input's units, or 'auto' (default): the "
                              "bounding box's diagonal / 100")
     parser.add_argument("--uniform", action="store_true",
-                        help="one radius alpha on every patch instead of graded patches")
+                        help="alpha everywhere, graded only around the input's pieces "
+                             "shorter than alpha, instead of graded patches")
     parser.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
     parser.add_argument("--report", metavar="JSON", type=Path,
                         help="write every patch certificate and the solid's checks here")
