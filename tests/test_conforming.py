@@ -497,3 +497,31 @@ def test_loop_areas_are_the_overlay_or_refused(tip):
     else:
         assert outside < bulge - 0.1 and missing < 2.0 - 0.1
         assert sampled.loop_areas() is None
+
+
+def test_a_sliver_bending_a_hair_the_other_way_is_bounded_along_its_arc():
+    """A piece beyond a chord that no chord end sees whole (its arc bends a hair the
+    other way just past the end, as a flattened B-spline of a held-out STEP vase did):
+    a point of it lies straight across from an arc point p, and p a path along the arc
+    from a chord end, so it is within |h| + min(s, S - s) of a sample. The vase's point
+    0.04 from its chord end was given the far end's 4.6 (coverage 1.09 r, FAILED)."""
+    from pds_plugin.analysis.conformity import _along_the_arc, star_shaped_from
+
+    a, b = np.array([0.0, 0.0]), np.array([4.0, 0.0])
+    x = np.linspace(0, 4, 801)
+    dents = [0.003 * np.exp(-((x - c) / 0.02) ** 2) for c in (0.1, 3.9)]  # steep flanks
+    y = -0.02 * np.sin(np.pi * x / 4) - dents[0] - dents[1]
+    arc = np.column_stack([x, y])
+    assert not star_shaped_from(arc, a, 1e-12) and not star_shaped_from(arc, b, 1e-12)
+    along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(arc, axis=0).T))])
+    distance, place = _along_the_arc(arc, along, along[-1], a, b, lambda bound: bound[0])
+    # the largest is at the middle of the arc: half its length and the height there
+    assert distance == pytest.approx(along[-1] / 2 + 0.02, rel=1e-6)
+    assert place == pytest.approx([2.0, -0.02], abs=1e-9)
+    near_a = np.flatnonzero(x <= 0.04)                 # the point 0.04 from a: about 0.04
+    bounds = [-y[i] + along[i] for i in near_a]
+    assert max(bounds) < 0.05
+    # an arc that is no graph over the chord (doubling back) gets no such bound
+    back = arc.copy()
+    back[400:410, 0] = back[400:410, 0][::-1]
+    assert _along_the_arc(back, along, along[-1], a, b, lambda bound: bound[0]) is None
