@@ -333,7 +333,6 @@ class _Boundary:
         for start, count in (((lv + 1) % n, (lj - lv) % n), ((lj + 1) % n, (lv - lj - 1) % n)):
             tips = self._ring_sum(self._tip_count, first, n, start, count)
             t = np.where(tips == 1, self._ring_sum(self._tip_index, first, n, start, count), 0)
-            t = t.astype(np.int64)
             turning = self._ring_sum(self.cumulative, first, n, start, count) - self.turning[t]
             wedge = 2 * np.hypot(*(self.p0[v] - self.p0[t]).T) * np.sin(
                 (np.pi - self.turning[t]) / 2)
