@@ -168,9 +168,26 @@ cdef inline bint _all_near(const int64_t[:, ::1] span, Py_ssize_t k, Py_ssize_t 
     return ((span[k, 2] - lo) % size + size) % size + (span[k, 3] - span[k, 2]) < count
 
 
+cdef inline bint _across(const Boundary *b, Py_ssize_t j, Py_ssize_t ring, Py_ssize_t size,
+                         const int64_t *lo, const int64_t *count, const double *least,
+                         double e) noexcept nogil:
+    """Is segment j, at e from the vertex, in one of its two stretches across a spike
+    (local start ``lo[s]``, ``count[s]`` segments) at least ``least[s]`` away?"""
+    cdef int s
+    if b.ring[j] != ring:
+        return False
+    for s in range(2):
+        if (count[s] > 0 and e >= least[s]
+                and ((b.local[j] - lo[s]) % size + size) % size < count[s]):
+            return True
+    return False
+
+
 cdef Py_ssize_t _nearest(const Boundary *b, Py_ssize_t v, Py_ssize_t near_lo,
                          Py_ssize_t near_count, double limit, double after_d,
-                         Py_ssize_t after_j, bint walls, const int64_t[::1] perm,
+                         Py_ssize_t after_j, bint walls, const int64_t *skip_lo,
+                         const int64_t *skip_count, const double *skip_least,
+                         const int64_t[::1] perm,
                          const int64_t[::1] first, const int64_t[::1] stop,
                          const int64_t[::1] left, const int64_t[::1] right,
                          const double[:, ::1] box, const int64_t[:, ::1] span,
@@ -183,7 +200,9 @@ cdef Py_ssize_t _nearest(const Boundary *b, Py_ssize_t v, Py_ssize_t near_lo,
     Its distance, foot and that segment a go to out[0..3]. Nodes on v's own ring within local indices near_lo .. near_lo +
     near_count - 1 (a stretch of ring every segment of which is adjacent to both) are
     skipped whole. A wall never joins two components (the segment between them leaves
-    the region): for walls the other components' segments are skipped."""
+    the region): for walls the other components' segments are skipped, and so are those
+    across a spike from v (two stretches of v's ring and their least distances,
+    ``skip_*``: analysis/feature.py's _spike_stretches)."""
     cdef double x = b.p0[2 * v], y = b.p0[2 * v + 1], best = INFINITY, e
     cdef double ax, ay, abx, aby, length2, t, fx, fy, dx, dy
     cdef Py_ssize_t best_j = -1, top = 1, k, s, j, a, c
@@ -217,6 +236,8 @@ cdef Py_ssize_t _nearest(const Boundary *b, Py_ssize_t v, Py_ssize_t near_lo,
                 e = sqrt(dx * dx + dy * dy)
                 if not (e < limit and (e < best or (e == best and j < best_j))
                         and (e > after_d or (e == after_d and j > after_j))):
+                    continue
+                if walls and _across(b, j, ring, size, skip_lo, skip_count, skip_least, e):
                     continue
                 if walls:
                     if far_before and _closest_of_pair(b, v, before, j, e):
@@ -272,6 +293,7 @@ def segment_tree(p0, p1, ring, local, Py_ssize_t leaf_size, tree):
 
 
 def nearest_nonadjacent(rows, near_lo, near_count, limit, after_d, after_j, bint walls,
+                        skip_lo, skip_count, skip_least,
                         p0, p1, ring, component, local, size, previous, cumulative, total,
                         double adjacent_turning, double tolerance, perm, first, stop, left,
                         right, box, span):
@@ -281,7 +303,8 @@ def nearest_nonadjacent(rows, near_lo, near_count, limit, after_d, after_j, bint
     material when ``walls``. Returns (distance, j, foot (n, 2), a): a is a segment
     meeting at v, not adjacent to j, of which v and the foot are closest points (for
     walls); inf and -1 where there is none. Calling it again with the answer as
-    ``after`` gives the next one."""
+    ``after`` gives the next one. ``skip_lo``, ``skip_count``, ``skip_least`` ((n, 2)
+    per row): the stretches across a spike whose segments walls skip (:func:`_across`)."""
     cdef Boundary b
     cdef const double[:, ::1] a0 = p0, a1 = p1
     cdef const int64_t[::1] rg = ring, cp = component, lc = local, sz = size, pv = previous
@@ -292,6 +315,8 @@ def nearest_nonadjacent(rows, near_lo, near_count, limit, after_d, after_j, bint
     b.adjacent_turning, b.tolerance = adjacent_turning, tolerance
     cdef const int64_t[::1] rw = rows, nl = near_lo, nc = near_count, aj = after_j
     cdef const double[::1] lm = limit, ad = after_d
+    cdef const int64_t[:, ::1] slo = skip_lo, scnt = skip_count
+    cdef const double[:, ::1] sls = skip_least
     cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
     cdef const double[:, ::1] bx = box
     cdef const int64_t[:, ::1] sp = span
@@ -310,8 +335,9 @@ def nearest_nonadjacent(rows, near_lo, near_count, limit, after_d, after_j, bint
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         out = <double *>malloc(4 * sizeof(double))
         for r in prange(n, schedule="dynamic", chunksize=CHUNK):
-            index[r] = _nearest(&b, rw[r], nl[r], nc[r], lm[r], ad[r], aj[r], walls, pm, fs,
-                                st, lf, rt, bx, sp, stack, out)
+            index[r] = _nearest(&b, rw[r], nl[r], nc[r], lm[r], ad[r], aj[r], walls,
+                                &slo[r, 0], &scnt[r, 0], &sls[r, 0], pm, fs, st, lf, rt, bx,
+                                sp, stack, out)
             if index[r] >= 0:
                 distance[r], foot[r, 0], foot[r, 1] = out[0], out[1], out[2]
                 anchor[r] = <int64_t>out[3]
