@@ -514,7 +514,7 @@ def test_a_sliver_bending_a_hair_the_other_way_is_bounded_along_its_arc():
     arc = np.column_stack([x, y])
     assert not star_shaped_from(arc, a, 1e-12) and not star_shaped_from(arc, b, 1e-12)
     along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(arc, axis=0).T))])
-    distance, place = _along_the_arc(arc, along, along[-1], a, b, lambda bound: bound[0])
+    distance, place = _along_the_arc(arc, along, along[-1], a, b, lambda d, _: d)
     # the largest is at the middle of the arc: half its length and the height there
     assert distance == pytest.approx(along[-1] / 2 + 0.02, rel=1e-6)
     assert place == pytest.approx([2.0, -0.02], abs=1e-9)
@@ -524,4 +524,4 @@ def test_a_sliver_bending_a_hair_the_other_way_is_bounded_along_its_arc():
     # an arc that is no graph over the chord (doubling back) gets no such bound
     back = arc.copy()
     back[400:410, 0] = back[400:410, 0][::-1]
-    assert _along_the_arc(back, along, along[-1], a, b, lambda bound: bound[0]) is None
+    assert _along_the_arc(back, along, along[-1], a, b, lambda d, _: d) is None

@@ -292,7 +292,7 @@ class SampledBoundary:
             bounds = [] if len(ends) == 2 else [
                 _seen_in_parts(piece, a, b, apex, tol, self._relative),
                 _seen_from_samples(piece, a, b, seers, tol, self._relative),
-                _along_the_arc(piece, piece_along, along[-1], a, b, self._relative)]
+                _along_the_arc(piece, piece_along, along[-1], a, b, self._relatives)]
             if ends:
                 candidates = list(piece)
                 if len(ends) == 2:              # where the bisector of ab crosses the arc
@@ -807,7 +807,7 @@ def _stretch_seen(d, e, c, a, b):
 
 
 def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.ndarray,
-                   b: np.ndarray, relative):
+                   b: np.ndarray, relatives):
     """A coverage bound (distance, place) for a piece beyond chord ab whose arc is a
     graph over the chord (its points' projections onto ab advance along it), or None.
 
@@ -816,8 +816,8 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
     the region's boundary, leads to a chord end: y is at most |h| + min(s, S - s) from a
     sample along a path in the region (h the arc's offset from the chord's line at p, s
     the arc length from a to p, ``along``, of S, ``total``). That is linear between the
-    arc's vertices: its largest value (relative to the radius field, ``relative``) is at
-    one of them or where s = S / 2. It holds where the piece is not star-shaped from a
+    arc's vertices: its largest value (relative to the radius field: ``relatives`` of
+    the distances and places) is at one of them or where s = S / 2. It holds where the piece is not star-shaped from a
     chord end: a flattened B-spline bending a hair the other way just past the end (a
     held-out STEP vase: 0.04 from its end, the point was given the far end's 4.6)."""
     ab = b - a
@@ -835,8 +835,8 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
         offset = np.append(offset, offset[i] + t * (offset[i + 1] - offset[i]))
     places, lengths = np.array(places), np.array(lengths)
     distance = offset + np.minimum(lengths, total - lengths)
-    bounds = [(float(d), place) for d, place in zip(distance, places)]
-    return max(bounds, key=relative)
+    k = int(np.argmax(relatives(distance, places)))
+    return float(distance[k]), places[k]
 
 
 def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, tol: float,

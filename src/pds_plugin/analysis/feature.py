@@ -477,14 +477,13 @@ class _Boundary:
         for polygon in region.geometry.geoms:
             radius = shapely.maximum_inscribed_circle(polygon, 1e-3 * math.sqrt(polygon.area))
             centre, p = np.asarray(radius.coords)
-            q = self._nearest_boundary_point(2 * centre - p)[1]
-            width = float(np.hypot(*(p - q)))
-            if found is None or width < found[0]:
-                found = (width, p, q)
+            j, q = self._nearest_boundary_point(2 * centre - p)
+            if found is None or np.hypot(*(p - q)) < found[0]:
+                found = (np.hypot(*(p - q)), p, j, q)
         if found is None:
             return None
-        width, p, q = found
-        (i, p), (j, q) = self._nearest_boundary_point(p), self._nearest_boundary_point(q)
+        _, p, j, q = found
+        i, p = self._nearest_boundary_point(p)         # p on the segment that holds it
         return float(np.hypot(*(p - q))), (i, j), (p, q)
 
     def _nearest_boundary_point(self, x):
