@@ -130,7 +130,12 @@ def test_generated_sections_that_failed_are_certified(name, mode):
     # a 29° tip of a pocket: its triangle 2 % too large for the complex, the tip sample
     # isolated; the field's walls beyond the tip's disc (above) made its neighbours' r
     # smaller and its triangle one the complex keeps
-    (38, "g02-pocketed-block p2", "graded auto")])
+    (38, "g02-pocketed-block p2", "graded auto"),
+    # a fold of a hole's ring (a tip, then back 0.03 alpha, 1.4 tolerances across): the
+    # chord from the crack's tip cut the fold's tip off and crossed the chord along it;
+    # both tips were isolated and a dart fell 0.06 alpha from them. Chords that cross
+    # their own ring now get the arc's vertex beside the crossing
+    (49, "g17-housing p3", "uniform auto"), (49, "g17-housing p3", "uniform fine")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 

@@ -56,7 +56,8 @@ def before_curves(ring_xy, region: Region, alpha: float) -> list:
     [10, 6]
     """
     rings = region.rings
-    ring_xy = [_seen(xy, ring, alpha) for xy, ring in zip(ring_xy, rings)]
+    ring_xy = [_clear_of_own_ring(_seen(xy, ring, alpha), ring)
+               for xy, ring in zip(ring_xy, rings)]
     ring_xy = _clear_of_other_rings(ring_xy, rings)
     ring_xy = _rungs_across_walls(ring_xy, rings, alpha)
     return _guards_halved(ring_xy, region, alpha)
@@ -234,6 +235,57 @@ def _hides(samples, ring, turns, alpha, k) -> bool:
     found = hidden_bends(samples, ring, turns, 1e-9 * alpha)
     return found is not None and any(
         np.hypot(*(ring[w] - samples[f])) > alpha for _, e, f, w, _ in found[0] if k in (e, f))
+
+
+def _clear_of_own_ring(samples, ring, passes=4) -> np.ndarray:
+    """A ring's boundary samples (in order along ``ring``) with a ring vertex added to
+    every chord that crosses the ring outside its own arc: the arc's first vertex when
+    the crossing is nearer the chord's first end, else its last.
+
+    A fold of a section (the ring runs on, turns back by nearly 180°, and on again
+    past the turn, a tip and a crack thinner than the tolerance) has samples at both of
+    its tips; the next chord, from the crack's tip, cut the fold's tip off and crossed
+    the chord along it. The polygon through the samples then crosses itself, and no mesh
+    conforms to it: a held-out housing section left both tips isolated. The chord from
+    an end to its arc's next vertex lies on the ring, which is simple, so it crosses
+    nothing; the rest of the chord is checked again (``passes``). A vertex closer than
+    alpha to the chord's end is an itemised small-feature exception.
+
+    Examples
+    --------
+    >>> fold = np.array([[0, 0], [3, 0], [3, 1], [1, 1], [0.5, 1],       # tip (0.5, 1)
+    ...                  [1.2, 0.99], [0.4, 0.985], [-0.5, 1.3], [-0.5, 0]])
+    >>> samples = fold[[0, 1, 2, 4, 5, 7, 8]]     # (1.2, 0.99) -> (-0.5, 1.3) cuts the tip
+    >>> _clear_of_own_ring(samples, fold)[3:6].tolist()
+    [[0.5, 1.0], [1.2, 0.99], [0.4, 0.985]]
+    """
+    samples = np.asarray(samples, float)
+    segments = shapely.linestrings(np.stack([ring, np.roll(ring, -1, axis=0)], axis=1))
+    tree = shapely.STRtree(segments)
+    for _ in range(passes):
+        ends = np.stack([samples, np.roll(samples, -1, axis=0)], axis=1)
+        chords, crossed = tree.query(shapely.linestrings(ends), predicate="crosses")
+        if not len(chords):
+            return samples
+        chord_of, _, _ = vertex_chords(samples, ring)
+        # a segment on the chord's arc, or the one its first end lies on (rounding)
+        own = (chord_of[crossed] == chords) | (np.roll(chord_of, -1)[crossed] == chords)
+        chords, crossed = chords[~own], crossed[~own]
+        added = {}
+        for k in np.unique(chords):
+            a, b = ends[k]
+            arc = np.flatnonzero(chord_of == k)
+            arc = arc[(ring[arc] != a).any(axis=1) & (ring[arc] != b).any(axis=1)]
+            if not len(arc):
+                continue
+            point = shapely.get_coordinates(shapely.intersection(
+                shapely.linestrings(ends[k]), segments[crossed[chords == k]]))
+            t = np.dot(point - a, b - a) / np.dot(b - a, b - a)
+            added[k] = ring[arc[0] if t.min() < 1 - t.max() else arc[-1]]
+        if not added:
+            return samples
+        samples = np.insert(samples, [k + 1 for k in added], list(added.values()), axis=0)
+    return samples
 
 
 def _clear_of_other_rings(ring_xy, rings, passes=4) -> list:
