@@ -113,7 +113,15 @@ def test_drawings_at_a_fixed_alpha_are_certified(name, fraction, seed):
     (0, 100, 0),
     # a hole's sample in the lens of a chord across a rounded corner, nearest to the
     # chord's end: its rung is the corner's point across from it, not the end
-    (3, 20, 1)])
+    (3, 20, 1),
+    # held out: a small hole wholly between a rounded corner and the chord across it,
+    # cut off from the mesh (isolated samples, the hole opened to the outside); such a
+    # chord now counts as crossing the hole
+    (13, 25, 0),
+    # held out: rungs across two walls on either side of one sample of the plate's edge,
+    # 0.48-0.86 alpha apart, "unexplained"; the sample between them (the angle at it at
+    # least 90°) bounds their distance by the pairs' on either side
+    (11, 25, 0), (14, 40, 0)])
 def test_laser_cut_sheets_at_a_fixed_alpha_are_certified(sheet, fraction, seed):
     """Generated DXF sheets (bench/_drawings.py): 4 plates, 100-260 holes, slots and
     hexagons, walls down to a tenth of a hole's radius."""

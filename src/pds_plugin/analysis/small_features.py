@@ -327,7 +327,41 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
         rows = np.flatnonzero(wall)[width > 0]
         cause[rows], bound[rows] = _THIN_WALL, width[width > 0]
         feature[rows] = width[width > 0] / unit[rows]
+    _explain_by_between(pairs, points, distance, both, cause, feature, bound, place)
     return cause, feature, bound, place
+
+
+def _explain_by_between(pairs, points, distance, both, cause, feature, bound, place):
+    """Explain the boundary pairs pq left unexplained that have a third sample s in the
+    disc on pq as diameter, with both pairs ps and sq explained: the angle at s is at
+    least 90°, so |pq|² >= |ps|² + |sq|², and their proven distances bound pq's. Two
+    rungs across walls on either side of one sample of a plate's edge are such a pair
+    (a laser sheet at alpha = extent / 25: holes 0.2 alpha wide, 0.05 alpha from the
+    edge). The pair takes the feature of the closer of ps and sq. Pairs are taken
+    shortest first, so that a chain of samples between them explains them in turn."""
+    left = np.flatnonzero(both & (cause < 0))
+    if not len(left):
+        return
+    from scipy.spatial import cKDTree
+
+    row_of = {(int(p), int(q)): row for row, (p, q) in enumerate(pairs)}   # p < q
+    tree = cKDTree(points)
+    for row in left[np.argsort(distance[left], kind="stable")]:
+        p, q = map(int, pairs[row])
+        best = None
+        for s in tree.query_ball_point((points[p] + points[q]) / 2, distance[row] / 2):
+            if s in (p, q):
+                continue
+            first, second = row_of.get((min(p, s), max(p, s))), row_of.get((min(s, q), max(s, q)))
+            if first is None or second is None or cause[first] < 0 or cause[second] < 0:
+                continue
+            proven = math.hypot(bound[first], bound[second])
+            if best is None or proven > best[0]:
+                best = (proven, min((first, second), key=lambda k: bound[k]))
+        if best is not None:
+            closer = best[1]
+            cause[row], feature[row], place[row] = cause[closer], feature[closer], place[closer]
+            bound[row] = best[0]
 
 
 def _spike_angle(first, second) -> np.ndarray:
