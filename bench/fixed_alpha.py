@@ -18,6 +18,7 @@ Usage::
     python bench/fixed_alpha.py                 # the whole table, a few minutes
     python bench/fixed_alpha.py --quick         # 2 alphas, 1 seed
     python bench/fixed_alpha.py --write         # into docs/benchmarks.md, section 'fixed-alpha'
+    python bench/fixed_alpha.py --held-out 10   # sheets 10-13, generated parts of seed 10
 """
 
 from __future__ import annotations
@@ -50,25 +51,27 @@ SECTIONS = ("teapot.stl z4/7", "featuretype.STL z4/7", "angle_block.STL z4/7",
             "g03-flange p1", "g05-torus-ring p2", "g07-housing p0", "g09-tube-with-bosses p3")
 
 
-def inputs() -> list[tuple[str, object]]:
-    """``(name, make)`` for every input present: ``make()`` gives its region."""
+def inputs(first_sheet: int = 0) -> list[tuple[str, object]]:
+    """``(name, make)`` for every input present: ``make()`` gives its region; the sheets
+    from seed ``first_sheet`` on."""
     found = []
     for name in DRAWINGS:
         path = DATA / name
         if path.exists():
             load = pds.load_svg if name.endswith(".svg") else pds.load_dxf
             found.append((name, lambda load=load, path=path: load(path)))
-    found += [(f"sheet-{seed}", lambda seed=seed: laser_drawing(seed)) for seed in range(SHEETS)]
+    found += [(f"sheet-{seed}", lambda seed=seed: laser_drawing(seed))
+              for seed in range(first_sheet, first_sheet + SHEETS)]
     for name in SECTIONS:
         if name.startswith("g") or (DATA / name.rsplit(" ", 1)[0]).exists():
             found.append((name, lambda name=name: case(name).region()))
     return found
 
 
-def run(fractions=FRACTIONS, seeds=SEEDS) -> list[dict]:
+def run(fractions=FRACTIONS, seeds=SEEDS, first_sheet=0) -> list[dict]:
     """One record per mesh: input, fraction, seed, verdict, reasons, samples, seconds."""
     records = []
-    for name, make in inputs():
+    for name, make in inputs(first_sheet):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")       # stray strokes, texts, repaired sections
             region = make()
@@ -148,14 +151,23 @@ def main(argv=None) -> list[dict]:
     parser.add_argument("--write", action="store_true",
                         help="write the table into the section 'fixed-alpha' of --out")
     parser.add_argument("--out", type=Path, default=REPORT)
+    parser.add_argument("--held-out", type=int, metavar="SEED",
+                        help="inputs never tuned on: the sheets from this seed on, and the "
+                        "generated sections of this corpus seed")
     args = parser.parse_args(argv)
+    if args.held_out is not None:
+        import _cad_corpus
+
+        _cad_corpus.GENERATED_SEED = args.held_out
     start = machine()
     command = shlex.join(["python", "bench/fixed_alpha.py",
                           *(sys.argv[1:] if argv is None else argv)])
     header = (f"`{command}` on {start['date']} (commit `{start['commit']}`), "
               f"{start['cores']} cores, load {start['load'][0]:.1f}")
     print(header + "\n", flush=True)
-    records = run((30, 150), (0,)) if args.quick else run()
+    first_sheet = 0 if args.held_out is None else args.held_out
+    records = (run((30, 150), (0,), first_sheet) if args.quick
+               else run(first_sheet=first_sheet))
     text = section(header, records)
     print("\n" + text)
     if args.write:

@@ -121,7 +121,12 @@ def test_drawings_at_a_fixed_alpha_are_certified(name, fraction, seed):
     # held out: rungs across two walls on either side of one sample of the plate's edge,
     # 0.48-0.86 alpha apart, "unexplained"; the sample between them (the angle at it at
     # least 90°) bounds their distance by the pairs' on either side
-    (11, 25, 0), (14, 40, 0)])
+    (11, 25, 0), (14, 40, 0),
+    # held out: a sliver between discs 0.84 alpha from the plate's edge, 2e-4 wide, took
+    # 300 refinement boxes of its cell before a dart could land in it; the cell counted
+    # as crowded (as along a crack) and the sliver stayed uncovered (1.0001 alpha). Only
+    # boxes by a chord are given up now
+    (40, 300, 0)])
 def test_laser_cut_sheets_at_a_fixed_alpha_are_certified(sheet, fraction, seed):
     """Generated DXF sheets (bench/_drawings.py): 4 plates, 100-260 holes, slots and
     hexagons, walls down to a tenth of a hole's radius."""
