@@ -56,8 +56,9 @@ def before_curves(ring_xy, region: Region, alpha: float) -> list:
     [10, 6]
     """
     rings = region.rings
-    ring_xy = [_clear_of_own_ring(_seen(xy, ring, alpha), ring)
-               for xy, ring in zip(ring_xy, rings)]
+    turns = [turning_angles(ring) for ring in rings]
+    ring_xy = [_clear_of_own_ring(_seen(xy, ring, turn, alpha), ring, turn)
+               for xy, ring, turn in zip(ring_xy, rings, turns)]
     ring_xy = _clear_of_other_rings(ring_xy, rings)
     ring_xy = _rungs_across_walls(ring_xy, rings, alpha)
     return _guards_halved(ring_xy, region, alpha)
@@ -67,14 +68,14 @@ def after_curves(ring_xy, rings, alpha: float) -> list:
     """Each ring's boundary samples, moved onto exact curves, with what their chords hide
     sampled and the samples across walls in lenses given rungs again, on ``rings``, the
     region through the moved samples."""
-    return _rungs_across_walls([_seen(xy, ring, alpha) for xy, ring in zip(ring_xy, rings)],
-                               rings, alpha)
+    return _rungs_across_walls([_seen(xy, ring, turning_angles(ring), alpha)
+                                for xy, ring in zip(ring_xy, rings)], rings, alpha)
 
 
-def _seen(samples, ring, alpha) -> np.ndarray:
-    """A ring's boundary samples with what hides part of the ring beyond a chord from
-    the chord's ends sampled (:func:`_unhidden`, :func:`_lobes_split`)."""
-    turns = turning_angles(ring)
+def _seen(samples, ring, turns, alpha) -> np.ndarray:
+    """A ring's boundary samples (``turns`` the ring's turning angles) with what hides
+    part of the ring beyond a chord from the chord's ends sampled (:func:`_unhidden`,
+    :func:`_lobes_split`)."""
     return _lobes_split(_unhidden(samples, ring, turns, alpha), ring, turns, alpha)
 
 
@@ -237,10 +238,11 @@ def _hides(samples, ring, turns, alpha, k) -> bool:
         np.hypot(*(ring[w] - samples[f])) > alpha for _, e, f, w, _ in found[0] if k in (e, f))
 
 
-def _clear_of_own_ring(samples, ring, passes=4) -> np.ndarray:
-    """A ring's boundary samples (in order along ``ring``) with a ring vertex added to
-    every chord that crosses the ring outside its own arc: the arc's first vertex when
-    the crossing is nearer the chord's first end, else its last.
+def _clear_of_own_ring(samples, ring, turns, passes=4) -> np.ndarray:
+    """A ring's boundary samples (in order along ``ring``, ``turns`` its turning angles)
+    with a ring vertex added to every chord that crosses the ring outside its own arc:
+    the arc's first vertex when the crossing is nearer the chord's first end, else its
+    last.
 
     A fold of a section (the ring runs on, turns back by nearly 180°, and on again
     past the turn, a tip and a crack thinner than the tolerance) has samples at both of
@@ -256,10 +258,12 @@ def _clear_of_own_ring(samples, ring, passes=4) -> np.ndarray:
     >>> fold = np.array([[0, 0], [3, 0], [3, 1], [1, 1], [0.5, 1],       # tip (0.5, 1)
     ...                  [1.2, 0.99], [0.4, 0.985], [-0.5, 1.3], [-0.5, 0]])
     >>> samples = fold[[0, 1, 2, 4, 5, 7, 8]]     # (1.2, 0.99) -> (-0.5, 1.3) cuts the tip
-    >>> _clear_of_own_ring(samples, fold)[3:6].tolist()
+    >>> _clear_of_own_ring(samples, fold, turning_angles(fold))[3:6].tolist()
     [[0.5, 1.0], [1.2, 0.99], [0.4, 0.985]]
     """
     samples = np.asarray(samples, float)
+    if not ((turns < 0).any() and (turns > 0).any()):
+        return samples                  # a convex ring holds its chords (a round hole)
     segments = shapely.linestrings(np.stack([ring, np.roll(ring, -1, axis=0)], axis=1))
     tree = shapely.STRtree(segments)
     for _ in range(passes):
