@@ -463,7 +463,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
         if samples is not None:
             try:
                 faces = graded_alpha_complex(samples.points, samples.radius, union.grading,
-                                             boundary=samples.rings)
+                                             boundary=samples.rings, chords=samples.chords)
             except PdsError:
                 faces = None
             if faces is not None:
@@ -473,7 +473,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
             samples = graded_poisson_disc(patch.region, field, seed, boundary_samples=rings,
                                           **options)
             faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
-                                         boundary=samples.rings)
+                                         boundary=samples.rings, chords=samples.chords)
             out[k] = PlanarMesh(samples.points, faces, samples.on_boundary, patch.region,
                                 field.cap, True, field=field)
     return out
