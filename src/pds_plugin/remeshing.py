@@ -273,7 +273,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     normals = np.asarray(source.face_normals, dtype=np.float64)
     areas = np.asarray(source.area_faces, dtype=np.float64)
     label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
-    from .sizing import DEFAULT_GRADING, RadiusField, radius_field
+    from .sizing import DEFAULT_GRADING, RadiusField, radius_field, radius_fields
     grading = check_grading(DEFAULT_GRADING if grading is None else grading)
     patches = _usable_patches(vertices, faces, normals, areas, label, alpha,
                               _gap(alpha, grading))
@@ -282,8 +282,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     if max_samples is not None:
         options["max_samples"] = max_samples
     if graded:
-        fields = {id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
-                  for p in remeshed}
+        # the small patches' fields measured together (the same fields, a few dozen numpy
+        # calls a patch fewer: they lie a gap apart, sizing.radius_fields), the large
+        # ones one by one (together, every round would measure all of them again)
+        small = [p for p in remeshed if p.region.area <= SMALL_PATCH * alpha ** 2]
+        fields = dict(zip(map(id, small), radius_fields([p.region for p in small], grading,
+                                                         alpha, feature_angle)))
+        fields.update({id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
+                       for p in remeshed if id(p) not in fields})
     else:
         # uniform: alpha everywhere but where the input forces shorter pieces (the cones
         # junction_fields and the agreement add): a uniform radius cannot shape the
