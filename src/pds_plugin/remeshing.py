@@ -1089,23 +1089,32 @@ def _split_kept(kept_faces, chains, number, count, vertices):
         u, v, t = int(chains.u[s]), int(chains.v[s]), float(chains.t[s])
         on_edge.setdefault((u, v), []).append((t, s))
         on_edge.setdefault((v, u), []).append((1 - t, s))
-    out, centres = [], []
-    for face in kept_faces.tolist():
+    kept_faces = np.asarray(kept_faces, np.int64).reshape(-1, 3)
+    # the faces with a sample inside an edge, found at once; the others stay as they are
+    n = len(vertices)
+    u, v = chains.u[inside].astype(np.int64), chains.v[inside].astype(np.int64)
+    split = np.isin(kept_faces * n + kept_faces[:, [1, 2, 0]],
+                    np.concatenate([u * n + v, v * n + u])).any(axis=1)
+    if not split.any():
+        return kept_faces.copy(), np.zeros((0, 3))
+    pieces, centres = [], []
+    for face in kept_faces[split].tolist():
         ring = []
         for k in range(3):
             a, b = face[k], face[(k + 1) % 3]
             ring.append(int(a))
             ring.extend(int(number[s]) for _, s in sorted(on_edge.get((a, b), [])))
-        if len(ring) == 3:
-            out.append(face)
-            continue
         fan = _corner_fan(ring, face)
         if fan is None:
             centre = count + len(centres)
             centres.append(vertices[face].mean(axis=0))
             fan = [[centre, x, y] for x, y in zip(ring, ring[1:] + ring[:1])]
-        out.extend(fan)
-    return np.array(out, dtype=np.int64).reshape(-1, 3), np.array(centres).reshape(-1, 3)
+        pieces.append(fan)
+    sizes = np.ones(len(kept_faces), np.int64)             # the faces in their order
+    sizes[split] = [len(fan) for fan in pieces]
+    out = np.repeat(kept_faces, sizes, axis=0)
+    out[np.repeat(split, sizes)] = np.concatenate([np.array(fan, np.int64) for fan in pieces])
+    return out, np.array(centres).reshape(-1, 3)
 
 
 def _corner_fan(ring, face):
