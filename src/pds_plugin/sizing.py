@@ -345,12 +345,16 @@ def _joint_features(regions, cap, feature_angle, curve):
     edge_size = ring_size.copy()
     flat_edge = edges[4][dense["ring"]] + dense["edge"]
     active = np.ones(len(regions), bool)
+    final = [None] * len(regions)           # per region: its densified points and sizes
     for round_ in range(_ROUNDS):
         if round_:
-            parts = int(np.sum(np.ceil(4 * edges[2] / edge_size)))
+            # the regions that stopped get one point an edge (their points' sizes are
+            # kept from their last round, and no other region's walls see them)
+            limit = np.where(active[edge_owner], edge_size, np.inf)
+            parts = int(np.sum(np.maximum(np.ceil(4 * edges[2] / limit), 1)))
             if parts > _MAX_DENSE:
                 return None
-            dense = _densify(edges, edge_size, ring_size, piece)
+            dense = _densify(edges, limit, ring_size, piece)
             flat_edge = edges[4][dense["ring"]] + dense["edge"]
         size = _wall_sizes(whole, dense, cap)
         size = np.where(_in_corner_discs(dense, corner_tree, discs[1]), dense["base"], size)
@@ -359,16 +363,22 @@ def _joint_features(regions, cap, feature_angle, curve):
         new = np.minimum(edge_size, smallest)
         changed = np.bincount(edge_owner, weights=new < 0.7 * edge_size,
                               minlength=len(regions)) > 0
-        active &= changed                   # a region stops at its first unchanged round
+        stopping = active & (~changed | (round_ == _ROUNDS - 1))
+        if stopping.any():                  # a region stops at its first unchanged round
+            dense_owner = owner[dense["ring"]]
+            for k in np.flatnonzero(stopping).tolist():
+                mine = dense_owner == k
+                final[k] = dense["xy"][mine], size[mine]
+        active &= changed
         edge_size = np.where(active[edge_owner], new, edge_size)
         if not active.any():
             break
-    dense_owner, corner_owner = owner[dense["ring"]], owner[corner_ring]
+    corner_owner = owner[corner_ring]
     out = []
-    for k in range(len(regions)):
-        mine, corners, vertices = dense_owner == k, corner_owner == k, edge_owner == k
-        out.append((np.concatenate([dense["xy"][mine], corner_xy[corners], edges[0][vertices]]),
-                    np.concatenate([size[mine], corner_s[corners], vertex_size[vertices]])))
+    for k, (xy, sizes) in enumerate(final):
+        corners, vertices = corner_owner == k, edge_owner == k
+        out.append((np.concatenate([xy, corner_xy[corners], edges[0][vertices]]),
+                    np.concatenate([sizes, corner_s[corners], vertex_size[vertices]])))
     return out
 
 
