@@ -328,3 +328,36 @@ def test_a_budget_too_small_is_refused_with_what_to_do():
     with pytest.raises(BudgetError, match="max_samples=50.*smallest radius here is"):
         graded_mesh(region, max_samples=50)
 
+
+
+def test_leaves_from_the_cells_near_the_rings_are_the_leaves_of_the_whole_grid(monkeypatch):
+    """Components far apart (remeshing's layout): the quadtree starts only from the grid
+    cells near a ring's box, and the samples are those of the whole grid, bit for bit."""
+    from shapely.geometry import MultiPolygon, Point, box
+    from pds_plugin import graded_sampling
+    from pds_plugin.graded_sampling import graded_poisson_disc
+    from pds_plugin.region import Region
+    from pds_plugin.sizing import RadiusField, radius_field
+
+    parts = [box(0, 0, 3, 1), box(40, 0, 42, 5).difference(Point(41, 2.5).buffer(0.4)),
+             box(10, 30, 11, 31), box(60, 50, 64, 53)]
+    region = Region.from_shapely(MultiPolygon(parts))
+    fields = [radius_field(Region.from_shapely(p), 0.2, 0.5) for p in parts]
+    field = RadiusField(np.concatenate([f.features for f in fields]),
+                        np.concatenate([f.sizes for f in fields]), 0.2, 0.5)
+    cells = []
+    near = graded_sampling._GradedSampler._cells_near_rings
+
+    def recorded(self, *args):
+        cells.append(near(self, *args))
+        return cells[-1]
+
+    monkeypatch.setattr(graded_sampling._GradedSampler, "_cells_near_rings", recorded)
+    fast = graded_poisson_disc(region, field, seed=3)
+    side = 0.5 / math.sqrt(2)                     # the leaves' grid: cap / sqrt(2)
+    assert cells[0] is not None and len(cells[0]) < 0.1 * (64 / side) * (53 / side)
+    monkeypatch.setattr(graded_sampling._GradedSampler, "_cells_near_rings",
+                        lambda self, *args: None)
+    whole = graded_poisson_disc(region, field, seed=3)
+    assert np.array_equal(fast.points, whole.points)
+    assert np.array_equal(fast.radius, whole.radius)

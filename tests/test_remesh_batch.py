@@ -120,11 +120,11 @@ def test_a_call_that_fails_meshes_its_patches_one_by_one(monkeypatch):
 
     refused = []
 
-    def refusing(points, radius, grading, boundary):
+    def refusing(points, radius, grading, boundary, chords=None):
         if len(boundary) > 13:        # more rings than any one patch has: a group
             refused.append(len(boundary))
             raise pds.errors.BudgetError("too many ties")
-        return complex_of(points, radius, grading, boundary=boundary)
+        return complex_of(points, radius, grading, boundary=boundary, chords=chords)
 
     monkeypatch.setattr(graded_complex, "graded_alpha_complex", refusing)
     source = studded_plate()

@@ -180,3 +180,25 @@ def test_a_bad_user_sizing_is_named_where_it_fails():
                          sizing=lambda x, y: np.where(x > 2, -1.0, 1.0))
     with pytest.raises(ArgumentError, match="positive finite radii"):
         field([[3.0, 0.5]])
+
+
+def test_fields_measured_together_are_the_fields_one_by_one():
+    """radius_fields of regions a gap apart gives each region's radius_field bit for bit
+    (walls, corners with shoulders, holes, a spike, regions of different round counts);
+    regions too close are measured one by one, likewise."""
+    from shapely.geometry import Polygon, box
+    from pds_plugin.region import Region
+    from pds_plugin.sizing import radius_field, radius_fields
+
+    shapes = [box(0, 0, 4, 1), box(0, 0, 6, 6).difference(box(1, 1, 2, 5)),
+              Polygon([(0, 0), (5, 0), (0.4, 0.3)]), box(0, 0, 3, 3).difference(box(1, 1, 2, 2)),
+              Polygon([(0, 0), (3, 0), (3, 0.2), (0.2, 0.2), (0.2, 3), (0, 3)])]
+    cap = 0.8
+    for spacing in (10.0, 7.0):                 # apart, and closer than 2.25 cap
+        regions = [Region.from_shapely(shapely.affinity.translate(shape, spacing * k, 0))
+                   for k, shape in enumerate(shapes)]
+        together = radius_fields(regions, 0.2, cap)
+        for field, region in zip(together, regions):
+            alone = radius_field(region, 0.2, cap)
+            assert np.array_equal(field.features, alone.features)
+            assert np.array_equal(field.sizes, alone.sizes)

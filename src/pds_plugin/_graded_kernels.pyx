@@ -582,7 +582,7 @@ cdef double SQRT2 = sqrt(2.0)       # math.sqrt(2), as the sampler's bounds use 
 
 
 def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
-           Py_ssize_t max_boxes, Field field, tuple domain):
+           Py_ssize_t max_boxes, Field field, tuple domain, cells=None):
     """The quadtree's leaves over the grid of nx x ny boxes of ``side`` from (xmin, ymin)
     (row by row): each level's boxes that may reach into the region (all of the grid's
     and the edge quarters tested by ``_visibility_kernels.box_state`` against
@@ -591,12 +591,22 @@ def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
     low are leaves, the others split in four (lower left quarters of all of them first,
     then lower right, upper left, upper right). Returns (bx, by, size, low, high, edge)
     of the leaves, level by level, or the number of boxes if the leaves so far and the
-    next level's boxes would be more than ``max_boxes``."""
+    next level's boxes would be more than ``max_boxes``.
+
+    ``cells``, if given, are the grid's boxes to start from (their numbers k = row x nx +
+    column, ascending): a superset of those that meet the region (the others are
+    outside, ``box_state`` 0, and would be dropped first) gives the same leaves in the
+    same order, without testing the whole grid (a layout of many small patches far
+    apart, ``remeshing._layout``, is mostly gaps)."""
     cdef const int8_t[::1] sides = domain[1]
     cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
     cdef Chords region = chords_of(domain[0])
     cdef double grading = field.field.grading, half, spread
-    cdef Py_ssize_t n = nx * ny, m, k, j, i, split, total = 0
+    cdef const int64_t[::1] start
+    if cells is not None:
+        start = np.ascontiguousarray(cells, np.int64)
+    cdef Py_ssize_t n = nx * ny if cells is None else start.shape[0], m, k, j, i, split
+    cdef Py_ssize_t total = 0, cell
     cdef double[::1] x = np.empty(n), y = np.empty(n), s = np.full(n, side)
     cdef double[::1] parent_high = np.full(n, np.inf)
     cdef uint8_t[::1] e = np.ones(n, np.uint8)
@@ -606,8 +616,9 @@ def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
     cdef double[:, ::1] kept
     cdef uint8_t[::1] kept_edge
     for k in range(n):
-        x[k] = xmin + side * (k % nx)
-        y[k] = ymin + side * (k // nx)
+        cell = k if cells is None else start[k]
+        x[k] = xmin + side * (cell % nx)
+        y[k] = ymin + side * (cell // nx)
     done = []
     while n:
         state = np.empty(n, np.int8)

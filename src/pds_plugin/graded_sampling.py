@@ -762,10 +762,37 @@ class _GradedSampler:
         xmin, ymin, xmax, ymax = self.region.bounds
         nx, ny = int(math.ceil((xmax - xmin) / s)) or 1, int(math.ceil((ymax - ymin) / s)) or 1
         leaves = kern.leaves(xmin, ymin, s, nx, ny, _MAX_BOXES_PER_SAMPLE * self.max_samples,
-                             self.kernel_field, self.domain)
+                             self.kernel_field, self.domain,
+                             self._cells_near_rings(xmin, ymin, s, nx, ny))
         if isinstance(leaves, int):
             self._check_boxes(leaves)
         return leaves
+
+    def _cells_near_rings(self, xmin, ymin, side, nx, ny):
+        """The cells of the leaves' grid (numbers row x nx + column, ascending) within
+        one cell of some ring's box (the box of its samples, which holds its chords), or
+        None (the whole grid) when those are most of it. The region bounded by the
+        chords lies in its rings' boxes, so every other cell is outside it: the leaves
+        are the same (:func:`._graded_kernels.leaves`)."""
+        if len(self.rings) < 2 or min(len(ring) for ring in self.rings) == 0:
+            return None
+        starts = np.array([ring[0] for ring in self.rings])        # rings are runs
+        boundary = self.points[:int(self.rings[-1][-1]) + 1]
+        lo = np.minimum.reduceat(boundary, starts, axis=0)
+        hi = np.maximum.reduceat(boundary, starts, axis=0)
+        i0 = np.clip(np.floor((lo[:, 0] - xmin) / side).astype(np.int64) - 1, 0, nx - 1)
+        i1 = np.clip(np.floor((hi[:, 0] - xmin) / side).astype(np.int64) + 1, 0, nx - 1)
+        j0 = np.clip(np.floor((lo[:, 1] - ymin) / side).astype(np.int64) - 1, 0, ny - 1)
+        j1 = np.clip(np.floor((hi[:, 1] - ymin) / side).astype(np.int64) + 1, 0, ny - 1)
+        widths, heights = i1 - i0 + 1, j1 - j0 + 1
+        if int(np.sum(widths * heights)) >= nx * ny // 2:
+            return None
+        rows = np.repeat(np.arange(len(lo)), heights)
+        j = np.arange(len(rows)) - np.repeat(np.cumsum(heights) - heights, heights) + j0[rows]
+        starts = j * nx + i0[rows]                 # each ring's row of cells: a run
+        counts = widths[rows]
+        cells = np.repeat(starts - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+        return np.unique(cells)
 
     def _check_boxes(self, count: int):
         """Refuse a refinement that would hold more than _MAX_BOXES_PER_SAMPLE boxes per

@@ -169,16 +169,45 @@ def _exactly_empty(binned, order, faces, start, x0, y0, h, nx, ny, vis, radius=N
     face_of, point = face_of[other], point[other]
     sign = _incircle_signs_filtered(a[face_of], b[face_of], c[face_of], binned[point])
     empty = np.ones(len(faces), bool)
-    for f, m, decided in zip(face_of[sign >= 0].tolist(), point[sign >= 0].tolist(),
-                             sign[sign >= 0].tolist()):
+    asked = sign >= 0
+    face_of, point, sign = face_of[asked], point[asked], sign[asked]
+    # the points of the undecided quadruples as exact integers, converted once each (the
+    # floating-point filter above already found those determinants undecided)
+    undecided = sign == 0
+    involved = np.unique(np.concatenate([faces[face_of[undecided]].ravel(), point[undecided]]))
+    exact = dict(zip(involved.tolist(), _integer_points(binned[involved])))
+    rank = order.tolist()
+    for f, m, decided in zip(face_of.tolist(), point.tolist(), sign.tolist()):
         if not empty[f]:
             continue
-        face = faces[f]
-        if ((decided or _inside_perturbed(*[(binned[v], int(order[v])) for v in face],
-                                          (binned[m], int(order[m]))))
-                and kern.seen_by_triangle(binned, *face, m, vis)):
+        u, v, w = faces[f].tolist()
+        if ((decided or _perturbed_inside(exact[u], exact[v], exact[w], exact[m],
+                                          rank[u], rank[v], rank[w], rank[m]))
+                and kern.seen_by_triangle(binned, u, v, w, m, vis)):
             empty[f] = False
     return empty
+
+
+def _integer_points(xy) -> list[tuple[int, int]]:
+    """The (k, 2) float points as integer pairs, all scaled by one power of two (as
+    :func:`_as_integers`, vectorised: each float is m 2^e with m a 53-bit integer, from
+    ``numpy.frexp``), so signs of polynomials homogeneous in the coordinates'
+    differences are exact.
+
+    >>> _integer_points(np.array([(0.5, 3.0), (0.25, -1.0)]))
+    [(2, 12), (1, -4)]
+    """
+    if not len(xy):
+        return []
+    mantissa, exponent = np.frexp(np.asarray(xy, float))
+    m = (mantissa * 2.0 ** 53).astype(np.int64)
+    e = exponent.astype(np.int64) - 53
+    nonzero = m != 0
+    zeros = np.where(nonzero, np.log2(np.where(nonzero, m & -m, 1)).astype(np.int64), 0)
+    m, e = m >> zeros, e + zeros          # odd mantissas: the smallest integers
+    low = int(e[nonzero].min()) if nonzero.any() else 0
+    shift = np.where(nonzero, e - low, 0)
+    return [(x << s, y << t) for (x, y), (s, t) in zip(m.tolist(), shift.tolist())]
 
 
 def _inside_perturbed(a, b, c, d) -> bool:
@@ -188,8 +217,12 @@ def _inside_perturbed(a, b, c, d) -> bool:
     sign = _incircle_sign_filtered(a[0], b[0], c[0], d[0])
     if sign:
         return sign > 0
-    (pa, ia), (pb, ib), (pc, ic), (pd, id_) = zip(_as_integers((a[0], b[0], c[0], d[0])),
-                                                  (a[1], b[1], c[1], d[1]))
+    return _perturbed_inside(*_as_integers((a[0], b[0], c[0], d[0])), a[1], b[1], c[1], d[1])
+
+
+def _perturbed_inside(pa, pb, pc, pd, ia, ib, ic, id_) -> bool:
+    """:func:`_inside_perturbed` of integer points ``pa``..``pd`` (one scale) with
+    indices ``ia``..``id_``, in exact integer arithmetic."""
     adx, ady = pa[0] - pd[0], pa[1] - pd[1]
     bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
     cdx, cdy = pc[0] - pd[0], pc[1] - pd[1]

@@ -273,7 +273,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     normals = np.asarray(source.face_normals, dtype=np.float64)
     areas = np.asarray(source.area_faces, dtype=np.float64)
     label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
-    from .sizing import DEFAULT_GRADING, RadiusField, radius_field
+    from .sizing import DEFAULT_GRADING, RadiusField, radius_field, radius_fields
     grading = check_grading(DEFAULT_GRADING if grading is None else grading)
     patches = _usable_patches(vertices, faces, normals, areas, label, alpha,
                               _gap(alpha, grading))
@@ -282,8 +282,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     if max_samples is not None:
         options["max_samples"] = max_samples
     if graded:
-        fields = {id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
-                  for p in remeshed}
+        # the small patches' fields measured together (the same fields, a few dozen numpy
+        # calls a patch fewer: they lie a gap apart, sizing.radius_fields), the large
+        # ones one by one (together, every round would measure all of them again)
+        small = [p for p in remeshed if p.region.area <= SMALL_PATCH * alpha ** 2]
+        fields = dict(zip(map(id, small), radius_fields([p.region for p in small], grading,
+                                                         alpha, feature_angle)))
+        fields.update({id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
+                       for p in remeshed if id(p) not in fields})
     else:
         # uniform: alpha everywhere but where the input forces shorter pieces (the cones
         # junction_fields and the agreement add): a uniform radius cannot shape the
@@ -463,7 +469,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
         if samples is not None:
             try:
                 faces = graded_alpha_complex(samples.points, samples.radius, union.grading,
-                                             boundary=samples.rings)
+                                             boundary=samples.rings, chords=samples.chords)
             except PdsError:
                 faces = None
             if faces is not None:
@@ -473,7 +479,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
             samples = graded_poisson_disc(patch.region, field, seed, boundary_samples=rings,
                                           **options)
             faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
-                                         boundary=samples.rings)
+                                         boundary=samples.rings, chords=samples.chords)
             out[k] = PlanarMesh(samples.points, faces, samples.on_boundary, patch.region,
                                 field.cap, True, field=field)
     return out
@@ -1083,23 +1089,32 @@ def _split_kept(kept_faces, chains, number, count, vertices):
         u, v, t = int(chains.u[s]), int(chains.v[s]), float(chains.t[s])
         on_edge.setdefault((u, v), []).append((t, s))
         on_edge.setdefault((v, u), []).append((1 - t, s))
-    out, centres = [], []
-    for face in kept_faces.tolist():
+    kept_faces = np.asarray(kept_faces, np.int64).reshape(-1, 3)
+    # the faces with a sample inside an edge, found at once; the others stay as they are
+    n = len(vertices)
+    u, v = chains.u[inside].astype(np.int64), chains.v[inside].astype(np.int64)
+    split = np.isin(kept_faces * n + kept_faces[:, [1, 2, 0]],
+                    np.concatenate([u * n + v, v * n + u])).any(axis=1)
+    if not split.any():
+        return kept_faces.copy(), np.zeros((0, 3))
+    pieces, centres = [], []
+    for face in kept_faces[split].tolist():
         ring = []
         for k in range(3):
             a, b = face[k], face[(k + 1) % 3]
             ring.append(int(a))
             ring.extend(int(number[s]) for _, s in sorted(on_edge.get((a, b), [])))
-        if len(ring) == 3:
-            out.append(face)
-            continue
         fan = _corner_fan(ring, face)
         if fan is None:
             centre = count + len(centres)
             centres.append(vertices[face].mean(axis=0))
             fan = [[centre, x, y] for x, y in zip(ring, ring[1:] + ring[:1])]
-        out.extend(fan)
-    return np.array(out, dtype=np.int64).reshape(-1, 3), np.array(centres).reshape(-1, 3)
+        pieces.append(fan)
+    sizes = np.ones(len(kept_faces), np.int64)             # the faces in their order
+    sizes[split] = [len(fan) for fan in pieces]
+    out = np.repeat(kept_faces, sizes, axis=0)
+    out[np.repeat(split, sizes)] = np.concatenate([np.array(fan, np.int64) for fan in pieces])
+    return out, np.array(centres).reshape(-1, 3)
 
 
 def _corner_fan(ring, face):

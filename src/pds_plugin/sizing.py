@@ -89,13 +89,19 @@ class RadiusField:
     def __init__(self, features, sizes, grading: float, cap: float, sizing=None):
         features = np.asarray(features, float).reshape(-1, 2)
         sizes = np.asarray(sizes, float).ravel()
-        keep = _undominated(features, sizes, grading)
-        self.features = np.ascontiguousarray(features[keep])
-        self.sizes = np.ascontiguousarray(sizes[keep])
+        keep, tree = _undominated(features, sizes, grading, True)
+        if keep.all():                      # the tree of the test is the field's
+            self.features, self.sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
+        else:
+            self.features = np.ascontiguousarray(features[keep])
+            self.sizes = np.ascontiguousarray(sizes[keep])
+            tree = None
         self.grading = float(grading)
         self.cap = float(cap)
         self.sizing = sizing
-        self._tree = kern.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
+        if tree is None and len(self.sizes):
+            tree = kern.build_cone_tree(self.features, self.sizes, 8)
+        self._tree = tree if len(self.sizes) else None
 
     def __call__(self, points) -> np.ndarray:
         points = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 2))
@@ -199,14 +205,19 @@ def graded_request(alpha, graded: bool | None = None, grading: float | None = No
     return graded, alpha, sizing
 
 
-def _undominated(features, sizes, L) -> np.ndarray:
+def _undominated(features, sizes, L, with_tree=False):
     """Features whose cone s_i + L|x - f_i| is not everywhere above another's
     (s_i >= s_j + L|f_i - f_j| means cone i never attains the minimum; of equal cones
-    the first is kept), against all the others (``_sizing_kernels.dominated_cones``)."""
+    the first is kept), against all the others (``_sizing_kernels.dominated_cones``).
+    ``with_tree``: also the cone tree of all of them (None for fewer than two), which
+    is the field's own tree when none is dominated."""
     if len(sizes) < 2:
-        return np.ones(len(sizes), bool)
+        keep = np.ones(len(sizes), bool)
+        return (keep, None) if with_tree else keep
     features, sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
-    return ~kern.dominated_cones(features, sizes, L, *kern.build_cone_tree(features, sizes, 8))
+    tree = kern.build_cone_tree(features, sizes, 8)
+    keep = ~kern.dominated_cones(features, sizes, L, *tree)
+    return (keep, tree) if with_tree else keep
 
 
 def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | None = None,
@@ -253,6 +264,133 @@ def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | 
         cap = inradius(region)
     points, sizes = _features(region, cap, feature_angle, curve_factor(grading, feature_angle))
     return RadiusField(points, sizes, grading, cap, sizing)
+
+
+def radius_fields(regions, grading: float, cap: float, feature_angle: float = 30.0) -> list:
+    """:func:`radius_field` of each of ``regions`` with the same ``cap`` (no sizing), the
+    same fields bit for bit, measured together: one pass of the feature rules over all
+    their rings instead of a few dozen numpy calls per region (remeshing's small
+    patches: 0.65 ms a patch, most of it fixed costs).
+
+    Each region's field depends on its own rings only when the regions' bounding boxes
+    lie more than :data:`_APART` x ``cap`` apart (as remeshing's layout places them):
+    a wall is searched within 2^ceil(log2(min(size, cap) / _WALL)) < 2.23 cap of a
+    point, so never across to another region; a corner's disc only counts its own
+    region's points (and stops looking once it has seen all of them: the k-th nearest
+    point is beyond its region's diameter); a midpoint of two points of a region lies in
+    its box, so in no other region; a densified point is in another region's corner disc
+    (radius <= cap) never. The densify-and-measure rounds stop region by region: a region
+    whose sizes did not change keeps its sizes, as :func:`radius_field` would have
+    stopped there. Regions too close, or a densification beyond _MAX_DENSE points
+    together, are measured one by one.
+
+    Examples
+    --------
+    >>> from shapely.geometry import box
+    >>> one, two = (Region.from_shapely(box(x, 0, x + 4, 1)) for x in (0, 20))
+    >>> fields = radius_fields([one, two], 0.2, 1.0)
+    >>> [np.array_equal(f.sizes, radius_field(g, 0.2, 1.0).sizes)
+    ...  for f, g in zip(fields, [one, two])]
+    [True, True]
+    """
+    grading = check_grading(grading)
+    regions = list(regions)
+    curve = curve_factor(grading, feature_angle)
+    if len(regions) > 1 and _apart([region.bounds for region in regions], _APART * cap):
+        done = _joint_features(regions, cap, feature_angle, curve)
+        if done is not None:
+            return [RadiusField(points, sizes, grading, cap) for points, sizes in done]
+    return [radius_field(region, grading, cap, feature_angle=feature_angle)
+            for region in regions]
+
+
+_APART = 2.25
+"""Regions whose bounding boxes lie more than this many caps apart have independent
+fields (:func:`radius_fields`)."""
+
+
+def _apart(bounds, distance) -> bool:
+    """Do every two of the boxes ``bounds`` ((xmin, ymin, xmax, ymax) each) lie more
+    than ``distance`` apart along x or along y?"""
+    b = np.asarray(bounds, float)
+    x_gap = np.maximum(b[:, None, 0] - b[None, :, 2], b[None, :, 0] - b[:, None, 2])
+    y_gap = np.maximum(b[:, None, 1] - b[None, :, 3], b[None, :, 1] - b[:, None, 3])
+    gap = np.maximum(x_gap, y_gap)
+    np.fill_diagonal(gap, np.inf)
+    return bool(np.all(gap > distance))
+
+
+def _joint_features(regions, cap, feature_angle, curve):
+    """:func:`_features` of each region, measured together (:func:`radius_fields`): per
+    region its feature points and sizes, or None if the densification would exceed
+    _MAX_DENSE points."""
+    import shapely.geometry as geometry
+
+    ring_lists = [region.rings for region in regions]
+    rings = [ring for ring_list in ring_lists for ring in ring_list]
+    owner = np.repeat(np.arange(len(regions)), [len(r) for r in ring_lists])
+    union = geometry.MultiPolygon([polygon for region in regions
+                                   for polygon in region.geometry.geoms])
+    shapely.prepare(union)
+    whole = _Joined(union, owner, regions)
+    edges = _edges(rings)
+    edge_owner = owner[edges[3]]
+    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(edges, cap,
+                                                             math.radians(feature_angle), curve)
+    dense = _densify(edges, ring_size, ring_size, piece)
+    corner_xy, corner_s, is_corner, corner_ring = _corner_discs(whole, rings, edges, sharp, turn,
+                                                                piece, dense, True)
+    discs = corner_xy[is_corner], corner_s[is_corner]
+    corner_tree = cKDTree(discs[0]) if len(discs[0]) else None
+    edge_size = ring_size.copy()
+    flat_edge = edges[4][dense["ring"]] + dense["edge"]
+    active = np.ones(len(regions), bool)
+    final = [None] * len(regions)           # per region: its densified points and sizes
+    for round_ in range(_ROUNDS):
+        if round_:
+            # the regions that stopped get one point an edge (their points' sizes are
+            # kept from their last round, and no other region's walls see them)
+            limit = np.where(active[edge_owner], edge_size, np.inf)
+            parts = int(np.sum(np.maximum(np.ceil(4 * edges[2] / limit), 1)))
+            if parts > _MAX_DENSE:
+                return None
+            dense = _densify(edges, limit, ring_size, piece)
+            flat_edge = edges[4][dense["ring"]] + dense["edge"]
+        size = _wall_sizes(whole, dense, cap)
+        size = np.where(_in_corner_discs(dense, corner_tree, discs[1]), dense["base"], size)
+        smallest = np.full(len(edge_size), np.inf)
+        np.minimum.at(smallest, flat_edge, size)
+        new = np.minimum(edge_size, smallest)
+        changed = np.bincount(edge_owner, weights=new < 0.7 * edge_size,
+                              minlength=len(regions)) > 0
+        stopping = active & (~changed | (round_ == _ROUNDS - 1))
+        if stopping.any():                  # a region stops at its first unchanged round
+            dense_owner = owner[dense["ring"]]
+            for k in np.flatnonzero(stopping).tolist():
+                mine = dense_owner == k
+                final[k] = dense["xy"][mine], size[mine]
+        active &= changed
+        edge_size = np.where(active[edge_owner], new, edge_size)
+        if not active.any():
+            break
+    corner_owner = owner[corner_ring]
+    out = []
+    for k, (xy, sizes) in enumerate(final):
+        corners, vertices = corner_owner == k, edge_owner == k
+        out.append((np.concatenate([xy, corner_xy[corners], edges[0][vertices]]),
+                    np.concatenate([sizes, corner_s[corners], vertex_size[vertices]])))
+    return out
+
+
+class _Joined:
+    """The regions measured together (:func:`_joint_features`): their union (for the
+    in-region tests), which region each ring belongs to, and each region's diameter."""
+
+    def __init__(self, geometry, owner, regions):
+        self.geometry = geometry
+        self.owner = owner
+        b = np.array([region.bounds for region in regions])
+        self.diameter = np.hypot(b[:, 2] - b[:, 0], b[:, 3] - b[:, 1])
 
 
 def inradius(region: Region) -> float:
@@ -429,7 +567,7 @@ def _wall_sizes(region, dense, cap):
     return np.minimum(dense["base"], _WALL * wall)
 
 
-def _corner_discs(region, rings, edges, sharp, turn, piece, dense):
+def _corner_discs(region, rings, edges, sharp, turn, piece, dense, with_rings=False):
     """Sharp corners and their disc radius: _CORNER x the distance to the nearest
     boundary point that is not on the two pieces incident to the corner and is seen
     through material (the midpoint in the region: a notch or gap does not count), at
@@ -450,7 +588,8 @@ def _corner_discs(region, rings, edges, sharp, turn, piece, dense):
     ring_of = edges[3]
     corner = np.flatnonzero(sharp)
     if not len(corner):
-        return np.empty((0, 2)), np.empty(0), np.zeros(0, bool)
+        none = np.empty((0, 2)), np.empty(0), np.zeros(0, bool)
+        return (*none, np.zeros(0, np.int64)) if with_rings else none
     at, k = edges[0][corner], ring_of[corner]
     previous = np.arange(-1, len(sharp) - 1)
     previous[edges[4]] = np.append(edges[4][1:], len(sharp)) - 1
@@ -465,19 +604,23 @@ def _corner_discs(region, rings, edges, sharp, turn, piece, dense):
     far = _nearest_other(region, dense, at, k, incident)
     size = np.minimum(_CORNER * far, on_pieces)
     if not np.any(turn[corner] > math.pi - _FLAT_BELOW):
-        return at, size, np.ones(len(corner), bool)
-    xy, s, is_corner = [], [], []
+        out = at, size, np.ones(len(corner), bool)
+        return (*out, k) if with_rings else out
+    xy, s, is_corner, of = [], [], [], []
     for c, v in enumerate(corner):
         xy.append(edges[0][v][None])
         s.append(size[c:c + 1])
         is_corner.append([True])
+        of.append(k[c:c + 1])
         if turn[v] > math.pi - _FLAT_BELOW:
             ring = rings[k[c]]
             shoulders = _shoulders(ring, v - edges[4][k[c]], size[c])
             xy.append(shoulders)
             s.append(np.full(len(shoulders), size[c]))
             is_corner.append(np.zeros(len(shoulders), bool))
-    return np.concatenate(xy), np.concatenate(s), np.concatenate(is_corner)
+            of.append(np.full(len(shoulders), k[c]))
+    out = np.concatenate(xy), np.concatenate(s), np.concatenate(is_corner)
+    return (*out, np.concatenate(of)) if with_rings else out
 
 
 def _nearest_other(region, dense, at, ring, incident):
@@ -495,6 +638,8 @@ def _nearest_other(region, dense, at, ring, incident):
     sees its own hole's points first, all with their midpoints in the hole, and a third
     round of all points for each such corner took 1.4 s on a drawing of 400 holes."""
     xy, n = dense["xy"], len(dense["xy"])
+    joined = isinstance(region, _Joined)
+    owner = region.owner if joined else None
     tree = cKDTree(xy)
     far = np.full(len(at), np.inf)
     todo = np.arange(len(at))
@@ -506,6 +651,8 @@ def _nearest_other(region, dense, at, ring, incident):
         other = ~((dense["ring"][idx] == ring[todo, None])
                   & ((dense["piece"][idx] == incident[todo, :1])
                      | (dense["piece"][idx] == incident[todo, 1:])))
+        if joined:                          # only the corner's own region's points
+            other &= owner[dense["ring"][idx]] == owner[ring[todo, None]]
         batch = 4
         while other.any():
             tested = other & (np.cumsum(other, axis=1) <= batch)
@@ -518,7 +665,10 @@ def _nearest_other(region, dense, at, ring, incident):
             other[found] = False
             other &= ~tested
             batch *= 4
-        todo = todo[np.isinf(far[todo])]
+        left = np.isinf(far[todo])
+        if joined:                          # all of its region's points seen: none counts
+            left &= d[:, -1] <= region.diameter[owner[ring[todo]]]
+        todo = todo[left]
         if not len(todo) or count >= n:
             return far
         count *= 4
