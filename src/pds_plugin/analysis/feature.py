@@ -34,16 +34,18 @@ joins only samples that see each other through the region: it keeps every gap op
 alpha, and only material thinner than alpha limits alpha. With ``conforming=True`` (the
 default, like :func:`pds_plugin.mesh_region`) ``d`` is therefore the thinnest wall.
 
-**Spikes are no walls for conforming meshes.** A convex corner sharper than 33.56°
-(``sampling.LADDER_ANGLE``: the conforming sampler puts the samples along its sides in
-mirror pairs, docs/conforming.md "Spikes") thins to nothing at its tip, at any alpha:
-its width near the tip limits no alpha, and measuring it made ``"auto"`` follow the
-tessellation (a spike where two drilled holes meet, its sides tessellated arcs, asked
-for alpha 1/20000 of the part, 5 million samples). With ``conforming=True`` a pair
-facing each other across one spike (the ring between them turning by less than 150°
-apart from the tip) is no wall when it is at least ``LENS_RATIO`` (0.6) times as wide as
-the spike's straight sides would be there; a lens between two spikes, thinner than that,
-still counts.
+**Sharp corners are no walls for conforming meshes.** A convex corner sharper than 60°
+thins to nothing at its tip, at any alpha, and the conforming sampler keeps the samples
+beside it its clearance away, alpha apart on straight sides (sharper than 33.56°,
+``sampling.LADDER_ANGLE``, along its sides in mirror pairs: docs/conforming.md
+"Spikes"): its width near the tip limits no alpha, and measuring it made ``"auto"``
+follow the tessellation (a spike where two drilled holes meet, its sides tessellated
+arcs, asked for alpha 1/20000 of the part, 5 million samples; a 40° corner of a twisted
+rod's section whose first vertex turned by 10°, 1.5 million). With ``conforming=True`` a
+pair facing each other across one such corner (the ring between them turning by less
+than 150° apart from the tip) is no wall when it is at least ``LENS_RATIO`` (0.6) times
+as wide as the corner's straight sides would be there; a lens between two spikes,
+thinner than that, still counts.
 """
 
 from __future__ import annotations
@@ -58,12 +60,16 @@ import shapely
 from .. import _feature_kernels as kern
 from .. import _sizing_kernels as _tree_kernels
 from ..region import Region, require_region, turning_angles
-from ..sampling import LADDER_ANGLE
 
 __all__ = ["ADJACENT_TURNING", "BoundaryFeature", "FeatureSize", "feature_size"]
 
 ADJACENT_TURNING = 5 * np.pi / 6
 """Total turning (radians, 150°) below which two segments of a ring are one feature."""
+
+SHARP_TIP = np.pi / 3
+"""Convex corners sharper than this (60°, below which the sampler's corner clearance
+keeps the first samples on the sides alpha apart) are tips: the width across them is no
+wall (see the module's docstring)."""
 
 LENS_RATIO = 0.6
 """Across a spike, a pair at least this many times as far apart as the spike's straight
@@ -229,7 +235,7 @@ class _Boundary:
         self.local = np.arange(self.start[-1]) - self.start[self.ring_of]
         self.size = sizes[self.ring_of]
         signed = np.concatenate([turning_angles(r) for r in rings])
-        self.tip = signed > np.pi - LADDER_ANGLE            # spikes' tips
+        self.tip = signed > np.pi - SHARP_TIP             # corners sharper than 60°
         turning = np.abs(signed)
         self.cumulative = np.concatenate([[0.0], np.cumsum(turning)])
         self.total = (self.cumulative[self.start[1:]] - self.cumulative[self.start[:-1]])[self.ring_of]
@@ -324,14 +330,14 @@ class _Boundary:
 
     def _across_a_spike(self, v, j, foot) -> np.ndarray:
         """Which pairs (vertex v, its foot on segment j) face each other across one spike:
-        along the ring from v to the foot the boundary passes one spike's tip (a convex
-        corner sharper than ``LADDER_ANGLE``) and turns by less than 150° apart from it,
+        along the ring from v to the foot the boundary passes one tip (a convex corner
+        sharper than :data:`SHARP_TIP`) and turns by less than 150° apart from it,
         v is no sharp corner itself (it turns by less than 90°: it lies along a side,
         not where one ends, as at a fold of a shell's rim), and they are at least
         ``LENS_RATIO`` times as far apart as the spike's straight sides would be there
-        (2 r sin(θ/2), r the distance from v to the tip). A spike thins to nothing at its
-        tip at any alpha and a conforming mesh samples its sides in mirror pairs: its
-        width is no wall. Where its sides bend in towards each other (a lens between two
+        (2 r sin(θ/2), r the distance from v to the tip). A tip thins to nothing at any
+        alpha and a conforming mesh keeps the samples on its sides its clearance away
+        (mirror pairs on a spike): its width is no wall. Where its sides bend in towards each other (a lens between two
         spikes) the material is thinner than the spike would be, and counts. Either way
         round the ring may pass the tip (a lens has one tip each way)."""
         across = np.zeros(len(v), bool)
