@@ -356,11 +356,7 @@ def _joint_features(regions, cap, feature_angle, curve):
                 return None
             dense = _densify(edges, limit, ring_size, piece)
             flat_edge = edges[4][dense["ring"]] + dense["edge"]
-        size = _wall_sizes(whole, dense, cap)
-        size = np.where(_in_corner_discs(dense, corner_tree, discs[1]), dense["base"], size)
-        smallest = np.full(len(edge_size), np.inf)
-        np.minimum.at(smallest, flat_edge, size)
-        new = np.minimum(edge_size, smallest)
+        size, new = _round(whole, dense, flat_edge, edge_size, cap, corner_tree, discs[1])
         changed = np.bincount(edge_owner, weights=new < 0.7 * edge_size,
                               minlength=len(regions)) > 0
         stopping = active & (~changed | (round_ == _ROUNDS - 1))
@@ -470,17 +466,23 @@ def _features(region: Region, cap: float, feature_angle: float, curve: float):
                 break                   # keep the last densification: memory stays bounded
             dense = _densify(edges, edge_size, ring_size, piece)
             flat_edge = edges[4][dense["ring"]] + dense["edge"]
-        size = _wall_sizes(region, dense, cap)
-        size = np.where(_in_corner_discs(dense, corner_tree, discs[1]), dense["base"], size)
-        smallest = np.full(len(edge_size), np.inf)
-        np.minimum.at(smallest, flat_edge, size)
-        new = np.minimum(edge_size, smallest)
+        size, new = _round(region, dense, flat_edge, edge_size, cap, corner_tree, discs[1])
         changed = bool(np.any(new < 0.7 * edge_size))
         edge_size = new
         if not changed:
             break
     return (np.concatenate([dense["xy"], corner_xy, edges[0]]),
             np.concatenate([size, corner_s, vertex_size]))
+
+
+def _round(region, dense, flat_edge, edge_size, cap, corner_tree, corner_s):
+    """One round of :func:`_features`: the size at each densified point (its wall's, or
+    its corner's inside a corner's disc) and each edge's size, the smallest on it."""
+    size = _wall_sizes(region, dense, cap)
+    size = np.where(_in_corner_discs(dense, corner_tree, corner_s), dense["base"], size)
+    smallest = np.full(len(edge_size), np.inf)
+    np.minimum.at(smallest, flat_edge, size)
+    return size, np.minimum(edge_size, smallest)
 
 
 def _ring_sizes(edges, cap, sharp_turn, curve):
