@@ -187,6 +187,40 @@ def test_open_mesh_gives_the_open_ends():
     assert ((low <= ends[:, 1]) & (ends[:, 1] <= high)).all()
 
 
+def spout(start, body=True):
+    """A tube along x from ``start`` to 3, closed at x = 3 and open at ``start`` (a
+    cylinder without its cap there), with a closed 2-cube about the origin if ``body``:
+    a spout pushed into a body without being joined to it."""
+    tube = trimesh.creation.cylinder(radius=0.4, segment=[(start, 0, 0), (3, 0, 0)], sections=24)
+    kept = tube.face_normals[:, 0] > -0.5                         # no cap at x = start
+    tube = trimesh.Trimesh(tube.vertices, tube.faces[kept], process=False)
+    return trimesh.util.concatenate([trimesh.creation.box(extents=(2, 2, 2)), tube]) if body \
+        else tube
+
+
+def test_an_open_shell_ending_inside_another_part_is_closed_across_it():
+    """The spout's cut is a U from inside the cube round its closed end and back: its
+    two ends are in the cube's material. Closed across it (with a warning) the section is
+    the union of the square and the spout's strip beyond it, and meshes certified."""
+    import pds_plugin as pds
+
+    with pytest.warns(UserWarning, match="1 open shell.*closed across that material"):
+        region = section(spout(0.5), (0, 0, 0.05), (0, 0, 1))
+    strip = spout(0.5, body=False).section(plane_origin=(0, 0, 0.05),
+                                           plane_normal=(0, 0, 1)).vertices[:, 1]
+    assert region.betti == (1, 0)
+    assert region.area == pytest.approx(4 + 2 * (strip.max() - strip.min()), rel=1e-9)
+    mesh = pds.mesh_region(region, "auto", seed=0)
+    assert mesh.certificate().ok_with_exceptions
+
+
+def test_an_open_shell_is_not_closed_across_empty_space():
+    """The same spout alone: the U's ends are in no material, and closing it would make
+    a boundary the mesh file does not have. Refused, as before."""
+    with pytest.raises(ValueError, match="is open: the mesh is not watertight"):
+        section(spout(0.5, body=False), (0, 0, 0.05), (0, 0, 1))
+
+
 def test_open_mesh_is_fine_where_the_plane_does_not_meet_the_gap():
     box = trimesh.creation.box()
     top = np.flatnonzero(np.isclose(box.triangles_center[:, 2], 0.5))

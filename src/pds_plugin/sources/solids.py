@@ -240,6 +240,18 @@ class _Solid:
         segments = _snap_by_shell(segments, self.shell[face], local, self.shell, self.faces)
         floor = 64 * np.spacing(np.abs(segments).max(initial=1.0))
         geometry, open_ends = outline_geometry(list(segments), tolerance=floor, rule="winding")
+        closing = _closing_segments(segments) if len(open_ends) else None
+        if closing is not None:
+            closed, still_open = outline_geometry(list(segments) + list(closing),
+                                                  tolerance=floor, rule="winding")
+            if not len(still_open) and shapely.contains(
+                    closed, shapely.linestrings(closing)).all():
+                warnings.warn(
+                    f"the mesh is not watertight where the plane cuts it: {len(closing)} "
+                    f"open shell(s) end inside other parts' material (a spout or handle "
+                    f"pushed into a body without joining it); each was closed across that "
+                    f"material, so the section is the union", UserWarning, stacklevel=4)
+                geometry, open_ends = closed, still_open
         geometry = shapely.affinity.affine_transform(
             geometry, [unit, 0.0, 0.0, unit, centre[0], centre[1]])
         return geometry, open_ends * unit + centre[:2]
@@ -443,6 +455,38 @@ def _shells(faces, count) -> np.ndarray:
                        shape=(len(faces), count)).tocsr()
     _, label = connected_components(graph @ graph.T, directed=False)
     return label
+
+
+def _closing_segments(segments):
+    """The segments that close a cut's open paths across the material they end in, or
+    None when some path branches.
+
+    ``segments`` (m, 2, 2) are directed with the material on their left; an open path
+    runs from a point no segment ends at to one no segment starts at. Its closing
+    segment runs from that end back to its start, so that the path closes the way its
+    shell's material winds.
+
+    Examples
+    --------
+    >>> path = np.array([[(0, 0), (1, 0)], [(1, 0), (1, 1)], [(1, 1), (0, 1)]], float)
+    >>> _closing_segments(path).tolist()
+    [[[0.0, 1.0], [0.0, 0.0]]]
+    """
+    points, index = np.unique(segments.reshape(-1, 2), axis=0, return_inverse=True)
+    index = index.reshape(-1, 2)
+    leaving = np.bincount(index[:, 0], minlength=len(points))
+    arriving = np.bincount(index[:, 1], minlength=len(points))
+    if (leaving > 1).any() or (arriving > 1).any():
+        return None
+    following = np.full(len(points), -1)
+    following[index[:, 0]] = index[:, 1]
+    closing = []
+    for start in np.flatnonzero(arriving == 0):
+        end = start
+        while following[end] >= 0:
+            end = following[end]
+        closing.append((points[end], points[start]))
+    return np.array(closing) if closing else None
 
 
 def _snap_by_shell(segments, shell_of_segment, local, shell, faces) -> np.ndarray:
