@@ -50,7 +50,8 @@ from ..boundary_curves import BoundaryCurves, curves_builder
 from ..errors import RegionError, SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import MAX_CHORDS, bezier_points, checked_file, elliptic_points, steps
+from .curves import (MAX_CHORDS, _spectral_norm, bezier_points, checked_file,
+                     elliptic_points, steps)
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
@@ -338,15 +339,20 @@ class StepSolid:
         # an inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its
         # arc's segment; an arc is at most its larger radius times |sweep| long (OCCT's
         # radii u, v are perpendicular)
-        length = sum(float(np.hypot(*c.radii).max()) * abs(c.sweep) for c in curves
-                     if c.center is not None)
+        conics = [c for c in curves if c.center is not None]
+        length = 0.0
+        for c in conics:
+            (ux, vx), (uy, vy) = c.radii.tolist()
+            length += max(math.hypot(ux, uy), math.hypot(vx, vy)) * abs(c.sweep)
         arcs = (self.tolerance if length == 0 else
                 min(self.tolerance, max(floor, 1.5 * budget / length)))
         splines = ({} if SPLINE_AREA_ERROR is None else
                    _splines_within([c for c in curves if c.bezier is not None],
                                    SPLINE_AREA_ERROR * area, self.tolerance, floor))
-        return [(faces, [splines.get(id(c)) or _finer(c, arcs) for c in cs])
-                for faces, cs in cuts]
+        splines.update(_arcs_flattened(conics, arcs))
+        if not splines:
+            return cuts
+        return [(faces, [splines.get(id(c), c) for c in cs]) for faces, cs in cuts]
 
     def _polygons(self, cuts, offset, to_3d, checked=True):
         """The union of the solids' sections, each from its faces' wires (or its curves
@@ -402,7 +408,8 @@ class StepSolid:
         labels = _face_labels(edges, self.faces[number], faces.common,
                               number if len(self.solids) > 1 else None)
         frame = np.asarray(to_2d, dtype=float)[:2]
-        curves = [_curve(edge, self.tolerance, arcs, frame, reversed_, label)
+        rows = tuple(frame.ravel().tolist())            # the same map, as plain floats
+        curves = [_flattened(edge, self.tolerance, frame, arcs, label, reversed_, rows)
                   for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
         return faces, _junctions_refined(faces, curves, arcs)
@@ -590,16 +597,23 @@ def _listed(shapes) -> list:
 
 def _extent(curves) -> float:
     """The diagonal of a box holding the curves (circles and ellipses whole)."""
-    low, high = np.full(2, np.inf), np.full(2, -np.inf)
+    low_x = low_y = math.inf
+    high_x = high_y = -math.inf
     for curve in curves:
         if curve.center is not None:
-            reach = np.hypot(*curve.radii.T)        # |x| <= hypot(ux, vx), likewise y
-            low = np.minimum(low, curve.center - reach)
-            high = np.maximum(high, curve.center + reach)
+            (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
+            rx, ry = math.hypot(ux, vx), math.hypot(uy, vy)   # |x| <= hypot(ux, vx)
+            low_x, low_y = min(low_x, cx - rx), min(low_y, cy - ry)
+            high_x, high_y = max(high_x, cx + rx), max(high_y, cy + ry)
         else:
-            low = np.minimum(low, curve.points.min(axis=0))
-            high = np.maximum(high, curve.points.max(axis=0))
-    return float(np.hypot(*(high - low)))
+            if len(curve.points) == 2:
+                (x0, y0), (x1, y1) = curve.points.tolist()
+                x0, x1, y0, y1 = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
+            else:
+                (x0, y0), (x1, y1) = curve.points.min(axis=0), curve.points.max(axis=0)
+            low_x, low_y = min(low_x, float(x0)), min(low_y, float(y0))
+            high_x, high_y = max(high_x, float(x1)), max(high_y, float(y1))
+    return math.hypot(high_x - low_x, high_y - low_y)
 
 
 def _wire_area(faces, curves) -> float:
@@ -620,12 +634,15 @@ def _swept_area(curve) -> float:
     or an ellipse (``center + u cos θ + v sin θ`` gives ½ (c × (P(θ1) - P(θ0)) + (u × v)
     sweep)), along the chords otherwise."""
     if curve.center is not None:
-        (ux, vx), (uy, vy) = curve.radii
-        theta = curve.start + np.array([0.0, curve.sweep])
-        chord = np.column_stack([np.cos(theta), np.sin(theta)]) @ curve.radii.T
-        cx, cy = curve.center
-        dx, dy = chord[1] - chord[0]
-        return 0.5 * float(cx * dy - cy * dx + (ux * vy - uy * vx) * curve.sweep)
+        (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
+        start, end = curve.start, curve.start + curve.sweep
+        c0, s0, c1, s1 = math.cos(start), math.sin(start), math.cos(end), math.sin(end)
+        dx = (c1 * ux + s1 * vx) - (c0 * ux + s0 * vx)
+        dy = (c1 * uy + s1 * vy) - (c0 * uy + s0 * vy)
+        return 0.5 * (cx * dy - cy * dx + (ux * vy - uy * vx) * curve.sweep)
+    if len(curve.points) == 2:
+        (x0, y0), (x1, y1) = curve.points.tolist()
+        return 0.5 * (x0 * y1 - x1 * y0)
     x, y = curve.points.T
     return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1])
 
@@ -634,40 +651,58 @@ def _face_polygons(faces, curves, join, checked=True):
     """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
     a wire does not close within ``join`` or, if ``checked``, the polygons are not valid
     (the caller then assembles the curves by even-odd nesting, which finds the open ends).
-    All rings are made by one call of shapely."""
-    rings, ring_of, at = [], [], 0
+    All rings are made by one concatenation (each closed by its first point) and one call
+    of shapely."""
+    pieces, sizes, ring_of, at = [], [], [], 0
     for number, face in enumerate(faces):
         for wire in face:
             chain = curves[at:at + len(wire)]
             at += len(wire)
-            ends = np.array([c.points[-1] for c in chain])
-            starts = np.array([c.points[0] for c in chain])
-            gaps = ends - np.concatenate([starts[1:], starts[:1]])
-            if np.sqrt(np.max(gaps[:, 0] ** 2 + gaps[:, 1] ** 2)) > join:
-                return None
-            ring = np.concatenate([c.points[:-1] for c in chain])
-            # a repeated vertex can only follow a junction or come from a degenerate
-            # curve: the full comparison is cheap next to building the ring
-            repeated = np.flatnonzero((ring[1:, 0] == ring[:-1, 0])
-                                      & (ring[1:, 1] == ring[:-1, 1]))
-            if len(repeated) or (ring[0] == ring[-1]).all():
-                keep = np.ones(len(ring), dtype=bool)
-                keep[repeated + 1] = False
-                keep[0] = keep[0] and not (ring[0] == ring[-1]).all()
-                ring = ring[keep]
-            if len(ring) < 3:
-                return None
-            rings.append(ring)
+            ex, ey = chain[-1].points[-1].tolist()
+            size = 1
+            for curve in chain:
+                sx, sy = curve.points[0].tolist()
+                if math.hypot(ex - sx, ey - sy) > join:
+                    return None
+                ex, ey = curve.points[-1].tolist()
+                pieces.append(curve.points[:-1])
+                size += len(curve.points) - 1
+            pieces.append(chain[0].points[:1])           # closed by its first vertex
+            sizes.append(size)
             ring_of.append(number)
-    sizes = [len(ring) for ring in rings]
-    closed = np.concatenate([np.concatenate([ring, ring[:1]]) for ring in rings])
-    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(rings)),
-                                                           np.add(sizes, 1)))
+    closed = np.concatenate(pieces)
+    sizes = np.array(sizes)
+    # a repeated vertex can only follow a junction or come from a degenerate curve:
+    # found by one comparison of each vertex with the next (the closing one included,
+    # not across rings), the rings are then rebuilt without it
+    repeated = (closed[1:, 0] == closed[:-1, 0]) & (closed[1:, 1] == closed[:-1, 1])
+    repeated[np.cumsum(sizes)[:-1] - 1] = False
+    if repeated.any():
+        starts = np.cumsum(sizes) - sizes
+        rings = [_unrepeated(closed[start:start + size - 1])
+                 for start, size in zip(starts.tolist(), sizes.tolist())]
+        if min(len(ring) for ring in rings) < 3:
+            return None
+        closed = np.concatenate([np.concatenate([ring, ring[:1]]) for ring in rings])
+        sizes = np.array([len(ring) + 1 for ring in rings])
+    elif sizes.min() < 4:
+        return None
+    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(sizes)), sizes))
     polygons = shapely.polygons(linear, indices=np.asarray(ring_of))
     geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(list(polygons))
     if checked and not geometry.is_valid:
         return None
     return geometry if geometry.area > 0 else None
+
+
+def _unrepeated(ring) -> np.ndarray:
+    """A ring's vertices (not closed) without those equal to the one before, nor the
+    first if it equals the last."""
+    repeated = np.flatnonzero((ring[1:, 0] == ring[:-1, 0]) & (ring[1:, 1] == ring[:-1, 1]))
+    keep = np.ones(len(ring), dtype=bool)
+    keep[repeated + 1] = False
+    keep[0] = keep[0] and not (ring[0] == ring[-1]).all()
+    return ring[keep]
 
 
 def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
@@ -680,9 +715,10 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     for curve in curves:
         label = curve.face or "section"
         if curve.kind == "line":
-            build.line(curve.points[0], curve.points[-1], label)
+            start, end = curve.points.tolist()
+            build.line(start, end, label)
         elif curve.kind in ("circle", "ellipse"):        # halves past a half turn: a
-            halves = 2 if abs(curve.sweep) > np.pi else 1    # whole one has a seam that an
+            halves = 2 if abs(curve.sweep) > math.pi else 1  # whole one has a seam that an
             for half in range(halves):                       # edge across it must see
                 build.arc(curve.center, curve.radii, curve.start + half * curve.sweep / halves,
                           curve.sweep / halves, label)
@@ -738,6 +774,15 @@ def _xy(point, frame) -> np.ndarray:
     return frame[:, :3] @ (point.X(), point.Y(), point.Z()) + frame[:, 3]
 
 
+def _mapped(xyz, rows) -> tuple[float, float]:
+    """The 2D coordinates of a 3D point ``(x, y, z)`` under ``rows``, the first two rows
+    of the plane's ``to_2d`` as 8 floats (plain arithmetic: a NumPy product of a 2x3
+    matrix costs more than the edge's whole reading)."""
+    x, y, z = xyz
+    a, b, c, d, e, f, g, h = rows
+    return a * x + b * y + c * z + d, e * x + f * y + g * z + h
+
+
 def _along(direction, frame) -> np.ndarray:
     """The 2D components of an OCCT direction in ``frame`` (a direction in the plane)."""
     return frame[:, :3] @ (direction.X(), direction.Y(), direction.Z())
@@ -748,12 +793,22 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
     two rows of ``to_2d``), flattened within ``tolerance`` (circles and ellipses within
     ``arcs``, or as their two ends if None); it runs the other way if ``reversed_`` (the
     edge's orientation in its wire)."""
-    curve = _flattened(edge, tolerance, frame, arcs, face)
-    if reversed_:
-        curve = replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
-                        sweep=-curve.sweep, bezier=None if curve.bezier is None else
-                        tuple(control[::-1] for control in curve.bezier[::-1]))
-    return curve
+    return _flattened(edge, tolerance, np.asarray(frame, dtype=float), arcs, face, reversed_)
+
+
+def _reversed(curve) -> SectionCurve:
+    """``curve`` run the other way: its points, ``start`` / ``sweep`` and Bézier pieces."""
+    return replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
+                   sweep=-curve.sweep, bezier=None if curve.bezier is None else
+                   tuple(control[::-1] for control in curve.bezier[::-1]))
+
+
+def _conic_ends(center, radii, first, last) -> np.ndarray:
+    """The points of ``center + u cos θ + v sin θ`` at θ = ``first`` and ``last``."""
+    (cx, cy), ((ux, vx), (uy, vy)) = center, radii
+    c0, s0, c1, s1 = math.cos(first), math.sin(first), math.cos(last), math.sin(last)
+    return np.array([[cx + (c0 * ux + s0 * vx), cy + (c0 * uy + s0 * vy)],
+                     [cx + (c1 * ux + s1 * vx), cy + (c1 * uy + s1 * vy)]])
 
 
 def _junctions_refined(faces, curves, arcs) -> list:
@@ -770,18 +825,20 @@ def _junctions_refined(faces, curves, arcs) -> list:
     move there: both curves stay exact, and the boundary moves by at most the gap closed.
     A root more than a quarter of the conic's sweep or of the line's length away is left
     (not this junction). Circles and ellipses are flattened again within ``arcs`` if they
-    were flattened (else they stay as their two ends)."""
+    were flattened (else they stay as their two ends). Plain float arithmetic throughout:
+    a cut has a handful of junctions, and NumPy's per-call cost on 2-vectors was most of
+    this step's time."""
     lines = {}                      # index -> new (start, end) of a line
     conics = {}                     # index -> new (start θ, end θ) of a conic
     at = 0
     for face in faces:
         for wire in face:
-            chain = list(range(at, at + len(wire)))
-            at += len(wire)
-            if len(chain) < 2:
+            base, count = at, len(wire)
+            at += count
+            if count < 2:
                 continue
-            for k, i in enumerate(chain):
-                j = chain[(k + 1) % len(chain)]           # i ends where j starts
+            for k in range(count):
+                i, j = base + k, base + (k + 1) % count          # i ends where j starts
                 a, b = curves[i], curves[j]
                 if a.kind == "line" and b.center is not None:
                     line, conic, index, conic_ends = a, b, i, False
@@ -789,17 +846,22 @@ def _junctions_refined(faces, curves, arcs) -> list:
                     line, conic, index, conic_ends = b, a, j, True
                 else:
                     continue
-                if np.array_equal(conic.points[0], conic.points[-1]):
+                (x0, y0), (x1, y1) = conic.points[0].tolist(), conic.points[-1].tolist()
+                if x0 == x1 and y0 == y1:
                     continue                              # a whole turn: no junction
                 theta0 = conic.start + (conic.sweep if conic_ends else 0.0)
-                theta = _line_meets_conic(line, conic, theta0)
+                (px, py), (qx, qy) = line.points[0].tolist(), line.points[-1].tolist()
+                theta = _line_meets_conic((px, py, qx, qy), conic, theta0)
                 if theta is None:
                     continue
-                point = conic.center + conic.radii @ (math.cos(theta), math.sin(theta))
-                if np.hypot(*(point - (b.points[0] if conic_ends else a.points[-1]))) \
-                        > 0.25 * np.hypot(*(line.points[-1] - line.points[0])):
+                (cx, cy), ((ux, vx), (uy, vy)) = conic.center.tolist(), conic.radii.tolist()
+                cos, sin = math.cos(theta), math.sin(theta)
+                point = (cx + (ux * cos + vx * sin), cy + (uy * cos + vy * sin))
+                jx, jy = (b.points[0] if conic_ends else a.points[-1]).tolist()
+                if math.hypot(point[0] - jx, point[1] - jy) > 0.25 * math.hypot(qx - px,
+                                                                                 qy - py):
                     continue
-                ends = list(lines.get(index, (line.points[0], line.points[-1])))
+                ends = list(lines.get(index, ((px, py), (qx, qy))))
                 ends[0 if conic_ends else 1] = point      # the line starts where a ends
                 lines[index] = tuple(ends)
                 conic_index = i if conic_ends else j
@@ -816,27 +878,26 @@ def _junctions_refined(faces, curves, arcs) -> list:
         if (last - first) * curve.sweep <= 0:             # a flipped range: keep OCCT's
             continue
         points = (elliptic_points(curve.center, curve.radii, first, last - first, arcs)
-                  if arcs else curve.center + np.array(
-                      [[math.cos(first), math.sin(first)],
-                       [math.cos(last), math.sin(last)]]) @ curve.radii.T)
+                  if arcs else _conic_ends(curve.center.tolist(), curve.radii.tolist(),
+                                           first, last))
         refined[index] = replace(curve, points=points, start=first, sweep=last - first)
     return refined
 
 
 def _line_meets_conic(line, conic, theta0):
     """The parameter θ of the conic (``center + u cos θ + v sin θ``) where it meets the
-    line through ``line.points``' two ends, nearest ``theta0`` and within a quarter of
-    the conic's sweep of it; the conic's point nearest the line (within it) where they
-    miss each other; None if there is no such θ."""
-    p, q = line.points[0], line.points[-1]
-    length = math.hypot(*(q - p))
+    line through ``line`` = (px, py, qx, qy), two points, nearest ``theta0`` and within a
+    quarter of the conic's sweep of it; the conic's point nearest the line (within it)
+    where they miss each other; None if there is no such θ."""
+    px, py, qx, qy = line
+    length = math.hypot(qx - px, qy - py)
     if not length > 0:
         return None
-    normal = np.array([p[1] - q[1], q[0] - p[0]]) / length
-    a = float(normal @ (conic.center - p))
-    (ux, vx), (uy, vy) = conic.radii
-    c = normal[0] * ux + normal[1] * uy                   # n·u
-    d = normal[0] * vx + normal[1] * vy                   # n·v
+    nx, ny = (py - qy) / length, (qx - px) / length
+    (cx, cy), ((ux, vx), (uy, vy)) = conic.center.tolist(), conic.radii.tolist()
+    a = nx * (cx - px) + ny * (cy - py)
+    c = nx * ux + ny * uy                                 # n·u
+    d = nx * vx + ny * vy                                 # n·v
     radius = math.hypot(c, d)
     if not radius > 0:
         return None
@@ -855,10 +916,43 @@ def _finer(curve, tolerance) -> SectionCurve:
     other curves as they are."""
     if curve.center is None:
         return curve
-    points = elliptic_points(curve.center, curve.radii, curve.start, curve.sweep, tolerance)
-    if np.array_equal(curve.points[0], curve.points[-1]):
-        points[-1] = points[0]
-    return replace(curve, points=points)
+    return _arcs_flattened([curve], tolerance)[id(curve)]
+
+
+def _arcs_flattened(conics, tolerance) -> dict:
+    """Circles and ellipses flattened (again) within ``tolerance``, closed if they were,
+    by ``id`` of the curve: the points of :func:`.curves.elliptic_points`, bit for bit
+    (its chord counts and parameters, one cosine and sine call for all, then each arc's
+    own product with its radii), at a fraction of its per-call cost."""
+    if not conics:
+        return {}
+    counts = []
+    for curve in conics:
+        sweep = curve.sweep
+        bound = _spectral_norm(curve.radii) * sweep**2
+        with np.errstate(all="ignore"):                 # steps' count, as it takes it
+            count = np.ceil(np.sqrt(bound / (8 * tolerance)))
+        if not count <= MAX_CHORDS:
+            steps(bound, tolerance)                     # raises, naming the limit
+        counts.append(max(1, int(count)))
+    counts = np.array(counts)
+    sizes = counts + 1
+    offsets = np.cumsum(sizes) - sizes
+    # linspace(0, 1, m + 1) is arange(m + 1) * (1 / m) with its last value 1
+    step = np.repeat(1.0 / counts, sizes)
+    t = (np.arange(sizes.sum()) - np.repeat(offsets, sizes)) * step
+    t[offsets + counts] = 1.0
+    start = np.repeat([c.start for c in conics], sizes)
+    theta = start + np.repeat([c.sweep for c in conics], sizes) * t
+    trig = np.column_stack([np.cos(theta), np.sin(theta)])
+    flattened = {}
+    for curve, at, size in zip(conics, offsets.tolist(), sizes.tolist()):
+        points = curve.center + trig[at:at + size] @ curve.radii.T
+        (x0, y0), (x1, y1) = curve.points[0].tolist(), curve.points[-1].tolist()
+        if x0 == x1 and y0 == y1:
+            points[-1] = points[0]
+        flattened[id(curve)] = replace(curve, points=points)
+    return flattened
 
 
 def _splines_within(splines, budget, tolerance, floor) -> dict:
@@ -888,22 +982,30 @@ def _splines_within(splines, budget, tolerance, floor) -> dict:
         t = max(floor, t / 1.5)
 
 
-def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
-    """One edge of a cut by a plane, in its ``frame``'s 2D coordinates, flattened within
-    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None),
-    labelled ``face``."""
+def _flattened(edge, tolerance, frame, arcs=None, face="", reversed_=False,
+               rows=None) -> SectionCurve:
+    """One edge of a cut by a plane, in its ``frame``'s 2D coordinates (the first two rows
+    of ``to_2d``; ``rows``: the same as 8 floats), flattened within ``tolerance`` (circles
+    and ellipses within ``arcs``, or as their two ends if None), labelled ``face``; it
+    runs the other way if ``reversed_`` (the edge's orientation in its wire).
+
+    The edge is read once (its adaptor, type, parameters and tolerance); lines and the
+    ends of circles and ellipses are mapped by plain float arithmetic."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_CurveType as Kind
 
+    if rows is None:
+        rows = tuple(np.asarray(frame, dtype=float)[:2].ravel().tolist())
     curve = BRepAdaptor_Curve(edge)
     kind, first, last = curve.GetType(), curve.FirstParameter(), curve.LastParameter()
-    bound = float(BRep_Tool.Tolerance_s(edge))
+    bound = BRep_Tool.Tolerance_s(edge)
     if kind == Kind.GeomAbs_Line:
-        return SectionCurve("line", np.array([_xy(curve.Value(first), frame),
-                                                _xy(curve.Value(last), frame)]),
+        ends = [_mapped(curve.Value(first).Coord(), rows),
+                _mapped(curve.Value(last).Coord(), rows)]
+        return SectionCurve("line", np.array(ends[::-1] if reversed_ else ends),
                             edge_tolerance=bound, face=face)
-    if kind in (Kind.GeomAbs_Circle, Kind.GeomAbs_Ellipse):
+    if kind == Kind.GeomAbs_Circle or kind == Kind.GeomAbs_Ellipse:
         if kind == Kind.GeomAbs_Circle:
             conic = curve.Circle()
             major = minor = conic.Radius()
@@ -911,21 +1013,36 @@ def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
             conic = curve.Ellipse()
             major, minor = conic.MajorRadius(), conic.MinorRadius()
         axes = conic.Position()
-        center = _xy(axes.Location(), frame)
-        radii = np.column_stack([major * _along(axes.XDirection(), frame),
-                                 minor * _along(axes.YDirection(), frame)])
-        points = (elliptic_points(center, radii, first, last - first, arcs) if arcs else
-                  center + np.array([[np.cos(first), np.sin(first)],
-                                     [np.cos(last), np.sin(last)]]) @ radii.T)
-        if BRep_Tool.IsClosed_s(edge):
-            points[-1] = points[0]           # a whole turn ends where it starts
+        a, b, c, _, e, f, g, _ = rows
+        center = _mapped(axes.Location().Coord(), rows)
+        (xx, xy, xz), (yx, yy, yz) = axes.XDirection().Coord(), axes.YDirection().Coord()
+        radii = ((major * (a * xx + b * xy + c * xz), minor * (a * yx + b * yy + c * yz)),
+                 (major * (e * xx + f * xy + g * xz), minor * (e * yx + f * yy + g * yz)))
+        sweep = last - first
+        closed = BRep_Tool.IsClosed_s(edge)
+        if arcs:
+            points = elliptic_points(center, radii, first, sweep, arcs)
+            if closed:
+                points[-1] = points[0]       # a whole turn ends where it starts
+            if reversed_:
+                points = points[::-1]
+        else:
+            points = (_conic_ends(center, radii, last, first) if reversed_ else
+                      _conic_ends(center, radii, first, last))
+            if closed:
+                points[-1 if not reversed_ else 0] = points[0 if not reversed_ else -1]
+        if reversed_:
+            first, sweep = first + sweep, -sweep
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
-                            center, radii, bound, first, last - first, face=face)
-    if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
+                            np.array(center), np.array(radii), bound, first, sweep,
+                            face=face)
+    frame = np.asarray(frame, dtype=float)[:2]
+    if kind == Kind.GeomAbs_BSplineCurve or kind == Kind.GeomAbs_BezierCurve:
         pieces = _bezier_pieces(curve, kind, first, last, frame)
         if pieces is not None:
-            return SectionCurve("bspline", _bezier_chain(pieces, tolerance),
+            flat = SectionCurve("bspline", _bezier_chain(pieces, tolerance),
                                 edge_tolerance=bound, bezier=tuple(pieces), face=face)
+            return _reversed(flat) if reversed_ else flat
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
 
     sampler = GCPnts_QuasiUniformDeflection(curve, tolerance, first, last)
@@ -933,7 +1050,8 @@ def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
         raise SourceError("OpenCASCADE could not flatten a curve of the section; pass a "
                           "larger tolerance or move the plane")
     points = np.array([_xy(sampler.Value(i), frame) for i in range(1, sampler.NbPoints() + 1)])
-    return SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
+    flat = SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
+    return _reversed(flat) if reversed_ else flat
 
 
 def _bezier_chain(pieces, tolerance) -> np.ndarray:
