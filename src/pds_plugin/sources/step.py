@@ -263,7 +263,8 @@ class StepSolid:
     def __init__(self, solid, tolerance=None):
         shape = load(solid)                # first: it says which extra OCP comes with
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
-        self.solids, (low, high), self.planes, self.faces, self.boxes = _facts(shape)
+        (self.solids, (low, high), self.planes, self.faces, self.boxes,
+         self.face_boxes) = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
@@ -398,6 +399,7 @@ class StepSolid:
         return [solid.Moved(location) for solid in self.solids]
 
     def _cut_curves(self, solid, number, origin, to_2d, arcs=None):
+        normal = np.asarray(to_2d, dtype=float)[2, :3]
         """The faces of the cut of one solid by the plane whose frame is ``to_2d``
         (:meth:`_common_faces`) and their edges' curves in that frame's 2D coordinates,
         wire after wire, each labelled by the solid's face it lies on; circles and
@@ -405,8 +407,14 @@ class StepSolid:
         flattens them later)."""
         faces = self._common_faces(solid, origin, to_2d, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
+        # the faces whose boxes the plane meets are asked first (the others cannot have
+        # made an edge of the cut, and are asked only if some edge is still unnamed)
+        center, half = self.face_boxes[number]
+        reach = half @ np.abs(normal) + _ON_PLANE * self.scale
+        near = np.abs((center - origin) @ normal) <= reach
+        order = np.concatenate([np.flatnonzero(near), np.flatnonzero(~near)]).tolist()
         labels = _face_labels(edges, self.faces[number], faces.common,
-                              number if len(self.solids) > 1 else None)
+                              number if len(self.solids) > 1 else None, order)
         frame = np.asarray(to_2d, dtype=float)[:2]
         rows = tuple(frame.ravel().tolist())            # the same map, as plain floats
         curves = [_flattened(edge, self.tolerance, frame, arcs, label, reversed_, rows)
@@ -428,8 +436,9 @@ class StepSolid:
         from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
         from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
         from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
-        from OCP.TopAbs import TopAbs_Orientation
-        from OCP.TopoDS import TopoDS
+        from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
+        from OCP.TopExp import TopExp_Explorer
+        from OCP.TopoDS import TopoDS, TopoDS_Iterator
 
         axes = np.asarray(to_2d, dtype=float)[:3, :3]
         frame = gp_Ax3(gp_Pnt(*map(float, origin)), gp_Dir(*axes[2]), gp_Dir(*axes[0]))
@@ -439,16 +448,27 @@ class StepSolid:
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
         faces = _Faces(common)
-        for face in _explore(common.Shape(), "FACE"):   # a plane touching an edge gives
-            face = TopoDS.Face(face)                       # a line, not material: no face
-            outer = BRepTools.OuterWire_s(face)
-            wires = [outer] + [w for w in _explore(face, "WIRE") if not w.IsSame(outer)]
+        reversed_ = TopAbs_Orientation.TopAbs_REVERSED
+        explorer = TopExp_Explorer(common.Shape(), TopAbs_ShapeEnum.TopAbs_FACE)
+        while explorer.More():        # a plane touching an edge gives a line, not
+            face = TopoDS.Face(explorer.Current())      # material: no face
+            explorer.Next()
+            wires, children = [], TopoDS_Iterator(face)
+            while children.More():
+                wires.append(children.Value())
+                children.Next()
+            if len(wires) > 1:
+                outer = BRepTools.OuterWire_s(face)
+                wires = [outer] + [w for w in wires if not w.IsSame(outer)]
             ordered = []
             for wire in wires:
+                if wire.NbChildren() == 1:   # one edge (a whole circle): nothing to order,
+                    edge = TopoDS.Edge(TopoDS_Iterator(wire).Value())   # no explorer
+                    ordered.append([(edge, edge.Orientation() == reversed_)])
+                    continue
                 walk, edges = BRepTools_WireExplorer(TopoDS.Wire(wire), face), []
                 while walk.More():
-                    edges.append((walk.Current(), walk.Orientation()
-                                  == TopAbs_Orientation.TopAbs_REVERSED))
+                    edges.append((walk.Current(), walk.Orientation() == reversed_))
                     walk.Next()
                 ordered.append(edges)
             faces.append(ordered)
@@ -542,11 +562,31 @@ def _facts(shape) -> tuple:
     boxes = (np.array([np.concatenate(_box([solid], True)) for solid in solids])
              if len(solids) > 1 else None)
     facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
-             _planar_faces(faces), faces, boxes)
+             _planar_faces(faces), faces, boxes, [_face_boxes(f) for f in faces])
     _KEPT_FACTS[key] = (shape, facts)
     while len(_KEPT_FACTS) > _KEPT:
         _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
     return facts
+
+
+def _face_boxes(faces) -> tuple[np.ndarray, np.ndarray]:
+    """The centres (n, 3) and half-widths (n, 3) of the faces' bounding boxes, with
+    their tolerances (OCCT's fast box: never tighter than the face)."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    corners = []
+    for face in faces:
+        box = Bnd_Box()
+        BRepBndLib.Add_s(face, box, False)
+        if box.IsVoid():
+            corners.append((-np.inf,) * 3 + (np.inf,) * 3)
+        else:
+            corners.append(box.CornerMin().Coord() + box.CornerMax().Coord())
+    corners = np.array(corners, dtype=float).reshape(-1, 6)
+    with np.errstate(invalid="ignore"):
+        center = np.nan_to_num((corners[:, :3] + corners[:, 3:]) / 2)
+    return center, (corners[:, 3:] - corners[:, :3]) / 2
 
 
 _KEPT = 2
@@ -564,10 +604,11 @@ class _Faces(list):
         self.common = common
 
 
-def _face_labels(edges, solid_faces, common, number) -> list[str]:
+def _face_labels(edges, solid_faces, common, number, order=None) -> list[str]:
     """The face of a solid (``solid_faces``: its faces in OCCT's order) each section edge
     was cut from, as ``"face i"`` (``"solid k face i"`` when ``number`` is not None), from
-    the Boolean's history; ``""`` where it says nothing."""
+    the Boolean's history, asking the faces in ``order`` (their indices; all, in OCCT's
+    order, by default) until every edge is named; ``""`` where it says nothing."""
     if not edges:
         return []
     wanted = {}
@@ -576,8 +617,8 @@ def _face_labels(edges, solid_faces, common, number) -> list[str]:
     found = {}
     prefix = "" if number is None else f"solid {number} "
     history = common.History()
-    for index, face in enumerate(solid_faces):
-        for made in _listed(history.Generated(face)):
+    for index in range(len(solid_faces)) if order is None else order:
+        for made in _listed(history.Generated(solid_faces[index])):
             for edge in wanted.get(hash(made), ()):
                 if edge.IsSame(made):
                     found.setdefault(hash(made), f"{prefix}face {index}")
