@@ -432,18 +432,12 @@ class StepSolid:
         the same curves as its Section, and is faster on free-form faces: 0.85 s against
         12-16 s on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are
         the section's loops, already nested. The faces carry the Common as ``.common``."""
-        from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-        from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
         from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-        from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
         from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
         from OCP.TopExp import TopExp_Explorer
         from OCP.TopoDS import TopoDS, TopoDS_Iterator
 
-        axes = np.asarray(to_2d, dtype=float)[:3, :3]
-        frame = gp_Ax3(gp_Pnt(*map(float, origin)), gp_Dir(*axes[2]), gp_Dir(*axes[0]))
-        plane = BRepBuilderAPI_MakeFace(gp_Pln(frame), -reach, reach, -reach, reach).Face()
-        common = BRepAlgoAPI_Common(solid, plane)
+        common = _boolean(solid, origin, to_2d, reach)
         if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
@@ -602,6 +596,30 @@ class _Faces(list):
     def __init__(self, common):
         super().__init__()
         self.common = common
+
+
+def _boolean(solid, origin, to_2d, reach):
+    """OpenCASCADE's Boolean that cuts one solid: ``BRepAlgoAPI_Common`` of ``solid`` and
+    the square [-reach, reach]² of the plane through ``origin`` whose frame is ``to_2d``
+    (its rows: the plane's x and y axes, then its normal), no options. It is the only
+    Boolean a section runs (one per solid the plane meets): ``bench/step_vs_stl.py``
+    times it alone as "the Boolean's own time".
+
+    Returns
+    -------
+    OCP.BRepAlgoAPI.BRepAlgoAPI_Common
+        Built (``.Shape()`` is the cut, ``.History()`` names the faces its edges are cut
+        from).
+    """
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
+
+    (xx, xy, xz, _), _, (nx, ny, nz, _) = np.asarray(to_2d, dtype=float)[:3].tolist()
+    ox, oy, oz = np.asarray(origin, dtype=float).tolist()
+    frame = gp_Ax3(gp_Pnt(ox, oy, oz), gp_Dir(nx, ny, nz), gp_Dir(xx, xy, xz))
+    plane = BRepBuilderAPI_MakeFace(gp_Pln(frame), -reach, reach, -reach, reach).Face()
+    return BRepAlgoAPI_Common(solid, plane)
 
 
 def _face_labels(edges, solid_faces, common, number, order=None) -> list[str]:
