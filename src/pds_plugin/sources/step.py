@@ -322,16 +322,23 @@ class StepSolid:
 
         The area is read before anything is flattened finer: exactly along circles and
         ellipses (½∮(x dy - y dx) in closed form), along the other curves' default
-        flattening, from one solid's wires (or the polygons of several solids, which may
-        overlap)."""
+        flattening, from one solid's wires. Several solids may overlap: their union's
+        area is at least the sum of theirs less the areas where their boxes overlap (and
+        at least the largest), and that bound sets the budget (the union of coarse
+        polygons, built for it, cost more than the rest of the refinement)."""
         if not cuts:
             return cuts
         if len(cuts) == 1:
             area = _wire_area(*cuts[0])
         else:
-            coarse = [(faces, [_finer(c, self.tolerance) for c in curves])
-                      for faces, curves in cuts]
-            area = self._polygons(coarse, offset, to_3d).area
+            areas = [_wire_area(faces, curves) for faces, curves in cuts]
+            boxes = [_bounds(curves) for _, curves in cuts]
+            overlap = 0.0
+            for k, (lx, ly, hx, hy) in enumerate(boxes):
+                for mx, my, nx, ny in boxes[k + 1:]:
+                    overlap += (max(0.0, min(hx, nx) - max(lx, mx))
+                                * max(0.0, min(hy, ny) - max(ly, my)))
+            area = max(max(areas), sum(areas) - overlap)
         curves = [c for _, cs in cuts for c in cs]
         budget = AREA_ERROR * area
         # the floor scales with the section: a 3 mm circle of a 75 mm part (a sphere cut
@@ -656,6 +663,13 @@ def _listed(shapes) -> list:
 
 def _extent(curves) -> float:
     """The diagonal of a box holding the curves (circles and ellipses whole)."""
+    low_x, low_y, high_x, high_y = _bounds(curves)
+    return math.hypot(high_x - low_x, high_y - low_y)
+
+
+def _bounds(curves) -> tuple[float, float, float, float]:
+    """``(xmin, ymin, xmax, ymax)`` of a box holding the curves (circles and ellipses
+    whole)."""
     low_x = low_y = math.inf
     high_x = high_y = -math.inf
     for curve in curves:
@@ -672,7 +686,7 @@ def _extent(curves) -> float:
                 (x0, y0), (x1, y1) = curve.points.min(axis=0), curve.points.max(axis=0)
             low_x, low_y = min(low_x, float(x0)), min(low_y, float(y0))
             high_x, high_y = max(high_x, float(x1)), max(high_y, float(y1))
-    return math.hypot(high_x - low_x, high_y - low_y)
+    return low_x, low_y, high_x, high_y
 
 
 def _wire_area(faces, curves) -> float:
