@@ -440,18 +440,17 @@ class StepSolid:
         the same curves as its Section, and is faster on free-form faces: 0.85 s against
         12-16 s on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are
         the section's loops, already nested. The faces carry the Common as ``.common``."""
-        from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-        from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
-        from OCP.TopExp import TopExp_Explorer
-        from OCP.TopoDS import TopoDS, TopoDS_Iterator
+        occ = _occ()
+        BRepTools, BRepTools_WireExplorer = occ.BRepTools, occ.BRepTools_WireExplorer
+        TopoDS, TopoDS_Iterator = occ.TopoDS, occ.TopoDS_Iterator
 
         common = _boolean(solid, origin, to_2d, reach)
         if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
         faces = _Faces(common)
-        reversed_ = TopAbs_Orientation.TopAbs_REVERSED
-        explorer = TopExp_Explorer(common.Shape(), TopAbs_ShapeEnum.TopAbs_FACE)
+        reversed_ = occ.REVERSED
+        explorer = occ.TopExp_Explorer(common.Shape(), occ.FACE)
         while explorer.More():        # a plane touching an edge gives a line, not
             face = TopoDS.Face(explorer.Current())      # material: no face
             explorer.Next()
@@ -544,6 +543,40 @@ class StepSolid:
             f"touches the solid, or passes through a gap between parts); move the plane")
 
 
+_OCC = None
+
+
+def _occ():
+    """The OCP classes a section uses, imported at the first section (not with this
+    module: ``import pds_plugin`` loads no OCP) and kept: an import statement in a function
+    runs importlib's Python-level ``_handle_fromlist`` at every call, 80 calls a section
+    of plate_with_holes."""
+    global _OCC
+    if _OCC is None:
+        from types import SimpleNamespace
+
+        from OCP.BRep import BRep_Tool
+        from OCP.BRepAdaptor import BRepAdaptor_Curve
+        from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+        from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+        from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
+        from OCP.GeomAbs import GeomAbs_CurveType
+        from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
+        from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
+        from OCP.TopExp import TopExp_Explorer
+        from OCP.TopoDS import TopoDS, TopoDS_Iterator
+
+        _OCC = SimpleNamespace(
+            BRep_Tool=BRep_Tool, BRepAdaptor_Curve=BRepAdaptor_Curve,
+            BRepAlgoAPI_Common=BRepAlgoAPI_Common,
+            BRepBuilderAPI_MakeFace=BRepBuilderAPI_MakeFace, BRepTools=BRepTools,
+            BRepTools_WireExplorer=BRepTools_WireExplorer, Kind=GeomAbs_CurveType,
+            gp_Ax3=gp_Ax3, gp_Dir=gp_Dir, gp_Pln=gp_Pln, gp_Pnt=gp_Pnt,
+            REVERSED=TopAbs_Orientation.TopAbs_REVERSED, FACE=TopAbs_ShapeEnum.TopAbs_FACE,
+            TopExp_Explorer=TopExp_Explorer, TopoDS=TopoDS, TopoDS_Iterator=TopoDS_Iterator)
+    return _OCC
+
+
 def _facts(shape) -> tuple:
     """The solids of ``shape``, the corners of their bounding box, their planar faces
     (:func:`_planar_faces`) and each solid's faces in OCCT's order (for the labels),
@@ -551,12 +584,12 @@ def _facts(shape) -> tuple:
     (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms per
     call on a small part (a shape is not changed in place; the same object, at the
     same place and orientation, is the same solid)."""
-    from OCP.TopoDS import TopoDS
-
     key = hash(shape)
     kept = _KEPT_FACTS.get(key)
     if kept is not None and kept[0].IsEqual(shape):
         return kept[1]
+    from OCP.TopoDS import TopoDS
+
     solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
     faces = [[TopoDS.Face(face) for face in _explore(solid, "FACE")] for solid in solids]
     # each solid's box (with its tolerances: never tighter than the solid) in an
@@ -619,15 +652,13 @@ def _boolean(solid, origin, to_2d, reach):
         Built (``.Shape()`` is the cut, ``.History()`` names the faces its edges are cut
         from).
     """
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-    from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
-
+    occ = _occ()
     (xx, xy, xz, _), _, (nx, ny, nz, _) = np.asarray(to_2d, dtype=float)[:3].tolist()
     ox, oy, oz = np.asarray(origin, dtype=float).tolist()
-    frame = gp_Ax3(gp_Pnt(ox, oy, oz), gp_Dir(nx, ny, nz), gp_Dir(xx, xy, xz))
-    plane = BRepBuilderAPI_MakeFace(gp_Pln(frame), -reach, reach, -reach, reach).Face()
-    return BRepAlgoAPI_Common(solid, plane)
+    frame = occ.gp_Ax3(occ.gp_Pnt(ox, oy, oz), occ.gp_Dir(nx, ny, nz), occ.gp_Dir(xx, xy, xz))
+    plane = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(frame), -reach, reach, -reach,
+                                        reach).Face()
+    return occ.BRepAlgoAPI_Common(solid, plane)
 
 
 def _face_labels(edges, solid_faces, common, number, order=None) -> list[str]:
@@ -644,22 +675,18 @@ def _face_labels(edges, solid_faces, common, number, order=None) -> list[str]:
     prefix = "" if number is None else f"solid {number} "
     history = common.History()
     for index in range(len(solid_faces)) if order is None else order:
-        for made in _listed(history.Generated(solid_faces[index])):
+        generated = history.Generated(solid_faces[index])
+        size = generated.Size()       # an OCCT list's ends cost microseconds, iterating
+        if not size:                  # the list itself a quarter of a millisecond
+            continue
+        for made in ((generated.First(),) if size == 1 else
+                     (generated.First(), generated.Last()) if size == 2 else list(generated)):
             for edge in wanted.get(hash(made), ()):
                 if edge.IsSame(made):
                     found.setdefault(hash(made), f"{prefix}face {index}")
         if len(found) == len(wanted):
             break
     return [found.get(hash(edge), "") for edge in edges]
-
-
-def _listed(shapes) -> list:
-    """An OCCT list of shapes as a Python list (iterating the list itself costs a quarter
-    of a millisecond; its ends cost microseconds)."""
-    size = shapes.Size()
-    if size <= 2:
-        return [shapes.First(), shapes.Last()][2 - size:] if size else []
-    return list(shapes)
 
 
 def _extent(curves) -> float:
@@ -1025,7 +1052,9 @@ def _arcs_flattened(conics, tolerance) -> dict:
         (x0, y0), (x1, y1) = curve.points[0].tolist(), curve.points[-1].tolist()
         if x0 == x1 and y0 == y1:
             points[-1] = points[0]
-        flattened[id(curve)] = replace(curve, points=points)
+        flattened[id(curve)] = SectionCurve(curve.kind, points, curve.center, curve.radii,
+                                            curve.edge_tolerance, curve.start, curve.sweep,
+                                            curve.bezier, curve.face)
     return flattened
 
 
@@ -1065,13 +1094,11 @@ def _flattened(edge, tolerance, frame, arcs=None, face="", reversed_=False,
 
     The edge is read once (its adaptor, type, parameters and tolerance); lines and the
     ends of circles and ellipses are mapped by plain float arithmetic."""
-    from OCP.BRep import BRep_Tool
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
-    from OCP.GeomAbs import GeomAbs_CurveType as Kind
-
+    occ = _occ()
+    BRep_Tool, Kind = occ.BRep_Tool, occ.Kind
     if rows is None:
         rows = tuple(np.asarray(frame, dtype=float)[:2].ravel().tolist())
-    curve = BRepAdaptor_Curve(edge)
+    curve = occ.BRepAdaptor_Curve(edge)
     kind, first, last = curve.GetType(), curve.FirstParameter(), curve.LastParameter()
     bound = BRep_Tool.Tolerance_s(edge)
     if kind == Kind.GeomAbs_Line:
