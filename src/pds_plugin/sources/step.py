@@ -6,11 +6,12 @@ OCP (the ``[step]`` extra), with the section's curves kept exact until they are 
 ``TopoDS_Shape`` (or an object wrapping one as ``.wrapped``: a cadquery or build123d
 shape). OCP is imported when such a solid is read, never by ``import pds_plugin``.
 
-Each solid is cut in the plane's own frame (the shape is moved so the plane is z = 0, the
-same 2D frame as a mesh section) by OCCT's Boolean common with a square face of that plane
-(``BRepAlgoAPI_Common``: the same curves as ``BRepAlgoAPI_Section``, 5 to 20 times faster
-on a threaded screw), and each edge of the cut is read by ``BRepAdaptor_Curve`` as the exact
-curve it is:
+Each solid the plane meets is cut where it is by OCCT's Boolean common with a square face
+of the plane, built in the plane's frame (:func:`_boolean`: ``BRepAlgoAPI_Common``, no
+options; the same curves as ``BRepAlgoAPI_Section``, 6 to 19 times faster on a threaded
+screw, 1.8 to 2.7 times slower on small analytic parts), its 2D coordinates those of a
+mesh section of the same plane, and each edge of the cut is read once by
+``BRepAdaptor_Curve`` as the exact curve it is:
 
 - a **line** gives its two end points;
 - a **circle** or an **ellipse** gives ``center + u cos θ + v sin θ``, flattened by
@@ -50,7 +51,8 @@ from ..boundary_curves import BoundaryCurves, curves_builder
 from ..errors import RegionError, SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import MAX_CHORDS, bezier_points, checked_file, elliptic_points, steps
+from .curves import (MAX_CHORDS, _spectral_norm, bezier_points, checked_file,
+                     elliptic_points, steps)
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
 
@@ -262,7 +264,8 @@ class StepSolid:
     def __init__(self, solid, tolerance=None):
         shape = load(solid)                # first: it says which extra OCP comes with
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
-        self.solids, (low, high), self.planes, self.faces, self.boxes = _facts(shape)
+        (self.solids, (low, high), self.planes, self.faces, self.boxes,
+         self.face_boxes) = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
@@ -320,16 +323,23 @@ class StepSolid:
 
         The area is read before anything is flattened finer: exactly along circles and
         ellipses (½∮(x dy - y dx) in closed form), along the other curves' default
-        flattening, from one solid's wires (or the polygons of several solids, which may
-        overlap)."""
+        flattening, from one solid's wires. Several solids may overlap: their union's
+        area is at least the sum of theirs less the areas where their boxes overlap (and
+        at least the largest), and that bound sets the budget (the union of coarse
+        polygons, built for it, cost more than the rest of the refinement)."""
         if not cuts:
             return cuts
         if len(cuts) == 1:
             area = _wire_area(*cuts[0])
         else:
-            coarse = [(faces, [_finer(c, self.tolerance) for c in curves])
-                      for faces, curves in cuts]
-            area = self._polygons(coarse, offset, to_3d).area
+            areas = [_wire_area(faces, curves) for faces, curves in cuts]
+            boxes = [_bounds(curves) for _, curves in cuts]
+            overlap = 0.0
+            for k, (lx, ly, hx, hy) in enumerate(boxes):
+                for mx, my, nx, ny in boxes[k + 1:]:
+                    overlap += (max(0.0, min(hx, nx) - max(lx, mx))
+                                * max(0.0, min(hy, ny) - max(ly, my)))
+            area = max(max(areas), sum(areas) - overlap)
         curves = [c for _, cs in cuts for c in cs]
         budget = AREA_ERROR * area
         # the floor scales with the section: a 3 mm circle of a 75 mm part (a sphere cut
@@ -338,15 +348,20 @@ class StepSolid:
         # an inscribed chord of sagitta s and length c misses at most 2 s c / 3 of its
         # arc's segment; an arc is at most its larger radius times |sweep| long (OCCT's
         # radii u, v are perpendicular)
-        length = sum(float(np.hypot(*c.radii).max()) * abs(c.sweep) for c in curves
-                     if c.center is not None)
+        conics = [c for c in curves if c.center is not None]
+        length = 0.0
+        for c in conics:
+            (ux, vx), (uy, vy) = c.radii.tolist()
+            length += max(math.hypot(ux, uy), math.hypot(vx, vy)) * abs(c.sweep)
         arcs = (self.tolerance if length == 0 else
                 min(self.tolerance, max(floor, 1.5 * budget / length)))
         splines = ({} if SPLINE_AREA_ERROR is None else
                    _splines_within([c for c in curves if c.bezier is not None],
                                    SPLINE_AREA_ERROR * area, self.tolerance, floor))
-        return [(faces, [splines.get(id(c)) or _finer(c, arcs) for c in cs])
-                for faces, cs in cuts]
+        splines.update(_arcs_flattened(conics, arcs))
+        if not splines:
+            return cuts
+        return [(faces, [splines.get(id(c), c) for c in cs]) for faces, cs in cuts]
 
     def _polygons(self, cuts, offset, to_3d, checked=True):
         """The union of the solids' sections, each from its faces' wires (or its curves
@@ -392,6 +407,7 @@ class StepSolid:
         return [solid.Moved(location) for solid in self.solids]
 
     def _cut_curves(self, solid, number, origin, to_2d, arcs=None):
+        normal = np.asarray(to_2d, dtype=float)[2, :3]
         """The faces of the cut of one solid by the plane whose frame is ``to_2d``
         (:meth:`_common_faces`) and their edges' curves in that frame's 2D coordinates,
         wire after wire, each labelled by the solid's face it lies on; circles and
@@ -399,10 +415,17 @@ class StepSolid:
         flattens them later)."""
         faces = self._common_faces(solid, origin, to_2d, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
+        # the faces whose boxes the plane meets are asked first (the others cannot have
+        # made an edge of the cut, and are asked only if some edge is still unnamed)
+        center, half = self.face_boxes[number]
+        reach = half @ np.abs(normal) + _ON_PLANE * self.scale
+        near = np.abs((center - origin) @ normal) <= reach
+        order = np.concatenate([np.flatnonzero(near), np.flatnonzero(~near)]).tolist()
         labels = _face_labels(edges, self.faces[number], faces.common,
-                              number if len(self.solids) > 1 else None)
+                              number if len(self.solids) > 1 else None, order)
         frame = np.asarray(to_2d, dtype=float)[:2]
-        curves = [_curve(edge, self.tolerance, arcs, frame, reversed_, label)
+        rows = tuple(frame.ravel().tolist())            # the same map, as plain floats
+        curves = [_flattened(edge, self.tolerance, frame, arcs, label, reversed_, rows)
                   for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
         return faces, _junctions_refined(faces, curves, arcs)
@@ -417,31 +440,36 @@ class StepSolid:
         the same curves as its Section, and is faster on free-form faces: 0.85 s against
         12-16 s on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are
         the section's loops, already nested. The faces carry the Common as ``.common``."""
-        from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-        from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
-        from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-        from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
-        from OCP.TopAbs import TopAbs_Orientation
-        from OCP.TopoDS import TopoDS
+        occ = _occ()
+        BRepTools, BRepTools_WireExplorer = occ.BRepTools, occ.BRepTools_WireExplorer
+        TopoDS, TopoDS_Iterator = occ.TopoDS, occ.TopoDS_Iterator
 
-        axes = np.asarray(to_2d, dtype=float)[:3, :3]
-        frame = gp_Ax3(gp_Pnt(*map(float, origin)), gp_Dir(*axes[2]), gp_Dir(*axes[0]))
-        plane = BRepBuilderAPI_MakeFace(gp_Pln(frame), -reach, reach, -reach, reach).Face()
-        common = BRepAlgoAPI_Common(solid, plane)
+        common = _boolean(solid, origin, to_2d, reach)
         if not common.IsDone():
             raise SectionError(f"OpenCASCADE could not cut {self.name} with the plane; "
                                f"check the solid (BRepCheck) or move the plane")
         faces = _Faces(common)
-        for face in _explore(common.Shape(), "FACE"):   # a plane touching an edge gives
-            face = TopoDS.Face(face)                       # a line, not material: no face
-            outer = BRepTools.OuterWire_s(face)
-            wires = [outer] + [w for w in _explore(face, "WIRE") if not w.IsSame(outer)]
+        reversed_ = occ.REVERSED
+        explorer = occ.TopExp_Explorer(common.Shape(), occ.FACE)
+        while explorer.More():        # a plane touching an edge gives a line, not
+            face = TopoDS.Face(explorer.Current())      # material: no face
+            explorer.Next()
+            wires, children = [], TopoDS_Iterator(face)
+            while children.More():
+                wires.append(children.Value())
+                children.Next()
+            if len(wires) > 1:
+                outer = BRepTools.OuterWire_s(face)
+                wires = [outer] + [w for w in wires if not w.IsSame(outer)]
             ordered = []
             for wire in wires:
+                if wire.NbChildren() == 1:   # one edge (a whole circle): nothing to order,
+                    edge = TopoDS.Edge(TopoDS_Iterator(wire).Value())   # no explorer
+                    ordered.append([(edge, edge.Orientation() == reversed_)])
+                    continue
                 walk, edges = BRepTools_WireExplorer(TopoDS.Wire(wire), face), []
                 while walk.More():
-                    edges.append((walk.Current(), walk.Orientation()
-                                  == TopAbs_Orientation.TopAbs_REVERSED))
+                    edges.append((walk.Current(), walk.Orientation() == reversed_))
                     walk.Next()
                 ordered.append(edges)
             faces.append(ordered)
@@ -515,6 +543,40 @@ class StepSolid:
             f"touches the solid, or passes through a gap between parts); move the plane")
 
 
+_OCC = None
+
+
+def _occ():
+    """The OCP classes a section uses, imported at the first section (not with this
+    module: ``import pds_plugin`` loads no OCP) and kept: an import statement in a function
+    runs importlib's Python-level ``_handle_fromlist`` at every call, 80 calls a section
+    of plate_with_holes."""
+    global _OCC
+    if _OCC is None:
+        from types import SimpleNamespace
+
+        from OCP.BRep import BRep_Tool
+        from OCP.BRepAdaptor import BRepAdaptor_Curve
+        from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+        from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+        from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
+        from OCP.GeomAbs import GeomAbs_CurveType
+        from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
+        from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
+        from OCP.TopExp import TopExp_Explorer
+        from OCP.TopoDS import TopoDS, TopoDS_Iterator
+
+        _OCC = SimpleNamespace(
+            BRep_Tool=BRep_Tool, BRepAdaptor_Curve=BRepAdaptor_Curve,
+            BRepAlgoAPI_Common=BRepAlgoAPI_Common,
+            BRepBuilderAPI_MakeFace=BRepBuilderAPI_MakeFace, BRepTools=BRepTools,
+            BRepTools_WireExplorer=BRepTools_WireExplorer, Kind=GeomAbs_CurveType,
+            gp_Ax3=gp_Ax3, gp_Dir=gp_Dir, gp_Pln=gp_Pln, gp_Pnt=gp_Pnt,
+            REVERSED=TopAbs_Orientation.TopAbs_REVERSED, FACE=TopAbs_ShapeEnum.TopAbs_FACE,
+            TopExp_Explorer=TopExp_Explorer, TopoDS=TopoDS, TopoDS_Iterator=TopoDS_Iterator)
+    return _OCC
+
+
 def _facts(shape) -> tuple:
     """The solids of ``shape``, the corners of their bounding box, their planar faces
     (:func:`_planar_faces`) and each solid's faces in OCCT's order (for the labels),
@@ -522,12 +584,12 @@ def _facts(shape) -> tuple:
     (``pds.section(shape, ...)`` in a loop over planes) reads them once, not 1 ms per
     call on a small part (a shape is not changed in place; the same object, at the
     same place and orientation, is the same solid)."""
-    from OCP.TopoDS import TopoDS
-
     key = hash(shape)
     kept = _KEPT_FACTS.get(key)
     if kept is not None and kept[0].IsEqual(shape):
         return kept[1]
+    from OCP.TopoDS import TopoDS
+
     solids = [TopoDS.Solid(s) for s in _explore(shape, "SOLID")]
     faces = [[TopoDS.Face(face) for face in _explore(solid, "FACE")] for solid in solids]
     # each solid's box (with its tolerances: never tighter than the solid) in an
@@ -535,11 +597,31 @@ def _facts(shape) -> tuple:
     boxes = (np.array([np.concatenate(_box([solid], True)) for solid in solids])
              if len(solids) > 1 else None)
     facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
-             _planar_faces(faces), faces, boxes)
+             _planar_faces(faces), faces, boxes, [_face_boxes(f) for f in faces])
     _KEPT_FACTS[key] = (shape, facts)
     while len(_KEPT_FACTS) > _KEPT:
         _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
     return facts
+
+
+def _face_boxes(faces) -> tuple[np.ndarray, np.ndarray]:
+    """The centres (n, 3) and half-widths (n, 3) of the faces' bounding boxes, with
+    their tolerances (OCCT's fast box: never tighter than the face)."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    corners = []
+    for face in faces:
+        box = Bnd_Box()
+        BRepBndLib.Add_s(face, box, False)
+        if box.IsVoid():
+            corners.append((-np.inf,) * 3 + (np.inf,) * 3)
+        else:
+            corners.append(box.CornerMin().Coord() + box.CornerMax().Coord())
+    corners = np.array(corners, dtype=float).reshape(-1, 6)
+    with np.errstate(invalid="ignore"):
+        center = np.nan_to_num((corners[:, :3] + corners[:, 3:]) / 2)
+    return center, (corners[:, 3:] - corners[:, :3]) / 2
 
 
 _KEPT = 2
@@ -557,10 +639,33 @@ class _Faces(list):
         self.common = common
 
 
-def _face_labels(edges, solid_faces, common, number) -> list[str]:
+def _boolean(solid, origin, to_2d, reach):
+    """OpenCASCADE's Boolean that cuts one solid: ``BRepAlgoAPI_Common`` of ``solid`` and
+    the square [-reach, reach]² of the plane through ``origin`` whose frame is ``to_2d``
+    (its rows: the plane's x and y axes, then its normal), no options. It is the only
+    Boolean a section runs (one per solid the plane meets): ``bench/step_vs_stl.py``
+    times it alone as "the Boolean's own time".
+
+    Returns
+    -------
+    OCP.BRepAlgoAPI.BRepAlgoAPI_Common
+        Built (``.Shape()`` is the cut, ``.History()`` names the faces its edges are cut
+        from).
+    """
+    occ = _occ()
+    (xx, xy, xz, _), _, (nx, ny, nz, _) = np.asarray(to_2d, dtype=float)[:3].tolist()
+    ox, oy, oz = np.asarray(origin, dtype=float).tolist()
+    frame = occ.gp_Ax3(occ.gp_Pnt(ox, oy, oz), occ.gp_Dir(nx, ny, nz), occ.gp_Dir(xx, xy, xz))
+    plane = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(frame), -reach, reach, -reach,
+                                        reach).Face()
+    return occ.BRepAlgoAPI_Common(solid, plane)
+
+
+def _face_labels(edges, solid_faces, common, number, order=None) -> list[str]:
     """The face of a solid (``solid_faces``: its faces in OCCT's order) each section edge
     was cut from, as ``"face i"`` (``"solid k face i"`` when ``number`` is not None), from
-    the Boolean's history; ``""`` where it says nothing."""
+    the Boolean's history, asking the faces in ``order`` (their indices; all, in OCCT's
+    order, by default) until every edge is named; ``""`` where it says nothing."""
     if not edges:
         return []
     wanted = {}
@@ -569,8 +674,13 @@ def _face_labels(edges, solid_faces, common, number) -> list[str]:
     found = {}
     prefix = "" if number is None else f"solid {number} "
     history = common.History()
-    for index, face in enumerate(solid_faces):
-        for made in _listed(history.Generated(face)):
+    for index in range(len(solid_faces)) if order is None else order:
+        generated = history.Generated(solid_faces[index])
+        size = generated.Size()       # an OCCT list's ends cost microseconds, iterating
+        if not size:                  # the list itself a quarter of a millisecond
+            continue
+        for made in ((generated.First(),) if size == 1 else
+                     (generated.First(), generated.Last()) if size == 2 else list(generated)):
             for edge in wanted.get(hash(made), ()):
                 if edge.IsSame(made):
                     found.setdefault(hash(made), f"{prefix}face {index}")
@@ -579,27 +689,32 @@ def _face_labels(edges, solid_faces, common, number) -> list[str]:
     return [found.get(hash(edge), "") for edge in edges]
 
 
-def _listed(shapes) -> list:
-    """An OCCT list of shapes as a Python list (iterating the list itself costs a quarter
-    of a millisecond; its ends cost microseconds)."""
-    size = shapes.Size()
-    if size <= 2:
-        return [shapes.First(), shapes.Last()][2 - size:] if size else []
-    return list(shapes)
-
-
 def _extent(curves) -> float:
     """The diagonal of a box holding the curves (circles and ellipses whole)."""
-    low, high = np.full(2, np.inf), np.full(2, -np.inf)
+    low_x, low_y, high_x, high_y = _bounds(curves)
+    return math.hypot(high_x - low_x, high_y - low_y)
+
+
+def _bounds(curves) -> tuple[float, float, float, float]:
+    """``(xmin, ymin, xmax, ymax)`` of a box holding the curves (circles and ellipses
+    whole)."""
+    low_x = low_y = math.inf
+    high_x = high_y = -math.inf
     for curve in curves:
         if curve.center is not None:
-            reach = np.hypot(*curve.radii.T)        # |x| <= hypot(ux, vx), likewise y
-            low = np.minimum(low, curve.center - reach)
-            high = np.maximum(high, curve.center + reach)
+            (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
+            rx, ry = math.hypot(ux, vx), math.hypot(uy, vy)   # |x| <= hypot(ux, vx)
+            low_x, low_y = min(low_x, cx - rx), min(low_y, cy - ry)
+            high_x, high_y = max(high_x, cx + rx), max(high_y, cy + ry)
         else:
-            low = np.minimum(low, curve.points.min(axis=0))
-            high = np.maximum(high, curve.points.max(axis=0))
-    return float(np.hypot(*(high - low)))
+            if len(curve.points) == 2:
+                (x0, y0), (x1, y1) = curve.points.tolist()
+                x0, x1, y0, y1 = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
+            else:
+                (x0, y0), (x1, y1) = curve.points.min(axis=0), curve.points.max(axis=0)
+            low_x, low_y = min(low_x, float(x0)), min(low_y, float(y0))
+            high_x, high_y = max(high_x, float(x1)), max(high_y, float(y1))
+    return low_x, low_y, high_x, high_y
 
 
 def _wire_area(faces, curves) -> float:
@@ -620,12 +735,15 @@ def _swept_area(curve) -> float:
     or an ellipse (``center + u cos θ + v sin θ`` gives ½ (c × (P(θ1) - P(θ0)) + (u × v)
     sweep)), along the chords otherwise."""
     if curve.center is not None:
-        (ux, vx), (uy, vy) = curve.radii
-        theta = curve.start + np.array([0.0, curve.sweep])
-        chord = np.column_stack([np.cos(theta), np.sin(theta)]) @ curve.radii.T
-        cx, cy = curve.center
-        dx, dy = chord[1] - chord[0]
-        return 0.5 * float(cx * dy - cy * dx + (ux * vy - uy * vx) * curve.sweep)
+        (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
+        start, end = curve.start, curve.start + curve.sweep
+        c0, s0, c1, s1 = math.cos(start), math.sin(start), math.cos(end), math.sin(end)
+        dx = (c1 * ux + s1 * vx) - (c0 * ux + s0 * vx)
+        dy = (c1 * uy + s1 * vy) - (c0 * uy + s0 * vy)
+        return 0.5 * (cx * dy - cy * dx + (ux * vy - uy * vx) * curve.sweep)
+    if len(curve.points) == 2:
+        (x0, y0), (x1, y1) = curve.points.tolist()
+        return 0.5 * (x0 * y1 - x1 * y0)
     x, y = curve.points.T
     return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1])
 
@@ -634,40 +752,58 @@ def _face_polygons(faces, curves, join, checked=True):
     """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
     a wire does not close within ``join`` or, if ``checked``, the polygons are not valid
     (the caller then assembles the curves by even-odd nesting, which finds the open ends).
-    All rings are made by one call of shapely."""
-    rings, ring_of, at = [], [], 0
+    All rings are made by one concatenation (each closed by its first point) and one call
+    of shapely."""
+    pieces, sizes, ring_of, at = [], [], [], 0
     for number, face in enumerate(faces):
         for wire in face:
             chain = curves[at:at + len(wire)]
             at += len(wire)
-            ends = np.array([c.points[-1] for c in chain])
-            starts = np.array([c.points[0] for c in chain])
-            gaps = ends - np.concatenate([starts[1:], starts[:1]])
-            if np.sqrt(np.max(gaps[:, 0] ** 2 + gaps[:, 1] ** 2)) > join:
-                return None
-            ring = np.concatenate([c.points[:-1] for c in chain])
-            # a repeated vertex can only follow a junction or come from a degenerate
-            # curve: the full comparison is cheap next to building the ring
-            repeated = np.flatnonzero((ring[1:, 0] == ring[:-1, 0])
-                                      & (ring[1:, 1] == ring[:-1, 1]))
-            if len(repeated) or (ring[0] == ring[-1]).all():
-                keep = np.ones(len(ring), dtype=bool)
-                keep[repeated + 1] = False
-                keep[0] = keep[0] and not (ring[0] == ring[-1]).all()
-                ring = ring[keep]
-            if len(ring) < 3:
-                return None
-            rings.append(ring)
+            ex, ey = chain[-1].points[-1].tolist()
+            size = 1
+            for curve in chain:
+                sx, sy = curve.points[0].tolist()
+                if math.hypot(ex - sx, ey - sy) > join:
+                    return None
+                ex, ey = curve.points[-1].tolist()
+                pieces.append(curve.points[:-1])
+                size += len(curve.points) - 1
+            pieces.append(chain[0].points[:1])           # closed by its first vertex
+            sizes.append(size)
             ring_of.append(number)
-    sizes = [len(ring) for ring in rings]
-    closed = np.concatenate([np.concatenate([ring, ring[:1]]) for ring in rings])
-    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(rings)),
-                                                           np.add(sizes, 1)))
+    closed = np.concatenate(pieces)
+    sizes = np.array(sizes)
+    # a repeated vertex can only follow a junction or come from a degenerate curve:
+    # found by one comparison of each vertex with the next (the closing one included,
+    # not across rings), the rings are then rebuilt without it
+    repeated = (closed[1:, 0] == closed[:-1, 0]) & (closed[1:, 1] == closed[:-1, 1])
+    repeated[np.cumsum(sizes)[:-1] - 1] = False
+    if repeated.any():
+        starts = np.cumsum(sizes) - sizes
+        rings = [_unrepeated(closed[start:start + size - 1])
+                 for start, size in zip(starts.tolist(), sizes.tolist())]
+        if min(len(ring) for ring in rings) < 3:
+            return None
+        closed = np.concatenate([np.concatenate([ring, ring[:1]]) for ring in rings])
+        sizes = np.array([len(ring) + 1 for ring in rings])
+    elif sizes.min() < 4:
+        return None
+    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(sizes)), sizes))
     polygons = shapely.polygons(linear, indices=np.asarray(ring_of))
     geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(list(polygons))
     if checked and not geometry.is_valid:
         return None
     return geometry if geometry.area > 0 else None
+
+
+def _unrepeated(ring) -> np.ndarray:
+    """A ring's vertices (not closed) without those equal to the one before, nor the
+    first if it equals the last."""
+    repeated = np.flatnonzero((ring[1:, 0] == ring[:-1, 0]) & (ring[1:, 1] == ring[:-1, 1]))
+    keep = np.ones(len(ring), dtype=bool)
+    keep[repeated + 1] = False
+    keep[0] = keep[0] and not (ring[0] == ring[-1]).all()
+    return ring[keep]
 
 
 def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
@@ -680,9 +816,10 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     for curve in curves:
         label = curve.face or "section"
         if curve.kind == "line":
-            build.line(curve.points[0], curve.points[-1], label)
+            start, end = curve.points.tolist()
+            build.line(start, end, label)
         elif curve.kind in ("circle", "ellipse"):        # halves past a half turn: a
-            halves = 2 if abs(curve.sweep) > np.pi else 1    # whole one has a seam that an
+            halves = 2 if abs(curve.sweep) > math.pi else 1  # whole one has a seam that an
             for half in range(halves):                       # edge across it must see
                 build.arc(curve.center, curve.radii, curve.start + half * curve.sweep / halves,
                           curve.sweep / halves, label)
@@ -738,6 +875,15 @@ def _xy(point, frame) -> np.ndarray:
     return frame[:, :3] @ (point.X(), point.Y(), point.Z()) + frame[:, 3]
 
 
+def _mapped(xyz, rows) -> tuple[float, float]:
+    """The 2D coordinates of a 3D point ``(x, y, z)`` under ``rows``, the first two rows
+    of the plane's ``to_2d`` as 8 floats (plain arithmetic: a NumPy product of a 2x3
+    matrix costs more than the edge's whole reading)."""
+    x, y, z = xyz
+    a, b, c, d, e, f, g, h = rows
+    return a * x + b * y + c * z + d, e * x + f * y + g * z + h
+
+
 def _along(direction, frame) -> np.ndarray:
     """The 2D components of an OCCT direction in ``frame`` (a direction in the plane)."""
     return frame[:, :3] @ (direction.X(), direction.Y(), direction.Z())
@@ -748,12 +894,22 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
     two rows of ``to_2d``), flattened within ``tolerance`` (circles and ellipses within
     ``arcs``, or as their two ends if None); it runs the other way if ``reversed_`` (the
     edge's orientation in its wire)."""
-    curve = _flattened(edge, tolerance, frame, arcs, face)
-    if reversed_:
-        curve = replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
-                        sweep=-curve.sweep, bezier=None if curve.bezier is None else
-                        tuple(control[::-1] for control in curve.bezier[::-1]))
-    return curve
+    return _flattened(edge, tolerance, np.asarray(frame, dtype=float), arcs, face, reversed_)
+
+
+def _reversed(curve) -> SectionCurve:
+    """``curve`` run the other way: its points, ``start`` / ``sweep`` and Bézier pieces."""
+    return replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
+                   sweep=-curve.sweep, bezier=None if curve.bezier is None else
+                   tuple(control[::-1] for control in curve.bezier[::-1]))
+
+
+def _conic_ends(center, radii, first, last) -> np.ndarray:
+    """The points of ``center + u cos θ + v sin θ`` at θ = ``first`` and ``last``."""
+    (cx, cy), ((ux, vx), (uy, vy)) = center, radii
+    c0, s0, c1, s1 = math.cos(first), math.sin(first), math.cos(last), math.sin(last)
+    return np.array([[cx + (c0 * ux + s0 * vx), cy + (c0 * uy + s0 * vy)],
+                     [cx + (c1 * ux + s1 * vx), cy + (c1 * uy + s1 * vy)]])
 
 
 def _junctions_refined(faces, curves, arcs) -> list:
@@ -770,18 +926,20 @@ def _junctions_refined(faces, curves, arcs) -> list:
     move there: both curves stay exact, and the boundary moves by at most the gap closed.
     A root more than a quarter of the conic's sweep or of the line's length away is left
     (not this junction). Circles and ellipses are flattened again within ``arcs`` if they
-    were flattened (else they stay as their two ends)."""
+    were flattened (else they stay as their two ends). Plain float arithmetic throughout:
+    a cut has a handful of junctions, and NumPy's per-call cost on 2-vectors was most of
+    this step's time."""
     lines = {}                      # index -> new (start, end) of a line
     conics = {}                     # index -> new (start θ, end θ) of a conic
     at = 0
     for face in faces:
         for wire in face:
-            chain = list(range(at, at + len(wire)))
-            at += len(wire)
-            if len(chain) < 2:
+            base, count = at, len(wire)
+            at += count
+            if count < 2:
                 continue
-            for k, i in enumerate(chain):
-                j = chain[(k + 1) % len(chain)]           # i ends where j starts
+            for k in range(count):
+                i, j = base + k, base + (k + 1) % count          # i ends where j starts
                 a, b = curves[i], curves[j]
                 if a.kind == "line" and b.center is not None:
                     line, conic, index, conic_ends = a, b, i, False
@@ -789,17 +947,22 @@ def _junctions_refined(faces, curves, arcs) -> list:
                     line, conic, index, conic_ends = b, a, j, True
                 else:
                     continue
-                if np.array_equal(conic.points[0], conic.points[-1]):
+                (x0, y0), (x1, y1) = conic.points[0].tolist(), conic.points[-1].tolist()
+                if x0 == x1 and y0 == y1:
                     continue                              # a whole turn: no junction
                 theta0 = conic.start + (conic.sweep if conic_ends else 0.0)
-                theta = _line_meets_conic(line, conic, theta0)
+                (px, py), (qx, qy) = line.points[0].tolist(), line.points[-1].tolist()
+                theta = _line_meets_conic((px, py, qx, qy), conic, theta0)
                 if theta is None:
                     continue
-                point = conic.center + conic.radii @ (math.cos(theta), math.sin(theta))
-                if np.hypot(*(point - (b.points[0] if conic_ends else a.points[-1]))) \
-                        > 0.25 * np.hypot(*(line.points[-1] - line.points[0])):
+                (cx, cy), ((ux, vx), (uy, vy)) = conic.center.tolist(), conic.radii.tolist()
+                cos, sin = math.cos(theta), math.sin(theta)
+                point = (cx + (ux * cos + vx * sin), cy + (uy * cos + vy * sin))
+                jx, jy = (b.points[0] if conic_ends else a.points[-1]).tolist()
+                if math.hypot(point[0] - jx, point[1] - jy) > 0.25 * math.hypot(qx - px,
+                                                                                 qy - py):
                     continue
-                ends = list(lines.get(index, (line.points[0], line.points[-1])))
+                ends = list(lines.get(index, ((px, py), (qx, qy))))
                 ends[0 if conic_ends else 1] = point      # the line starts where a ends
                 lines[index] = tuple(ends)
                 conic_index = i if conic_ends else j
@@ -816,27 +979,26 @@ def _junctions_refined(faces, curves, arcs) -> list:
         if (last - first) * curve.sweep <= 0:             # a flipped range: keep OCCT's
             continue
         points = (elliptic_points(curve.center, curve.radii, first, last - first, arcs)
-                  if arcs else curve.center + np.array(
-                      [[math.cos(first), math.sin(first)],
-                       [math.cos(last), math.sin(last)]]) @ curve.radii.T)
+                  if arcs else _conic_ends(curve.center.tolist(), curve.radii.tolist(),
+                                           first, last))
         refined[index] = replace(curve, points=points, start=first, sweep=last - first)
     return refined
 
 
 def _line_meets_conic(line, conic, theta0):
     """The parameter θ of the conic (``center + u cos θ + v sin θ``) where it meets the
-    line through ``line.points``' two ends, nearest ``theta0`` and within a quarter of
-    the conic's sweep of it; the conic's point nearest the line (within it) where they
-    miss each other; None if there is no such θ."""
-    p, q = line.points[0], line.points[-1]
-    length = math.hypot(*(q - p))
+    line through ``line`` = (px, py, qx, qy), two points, nearest ``theta0`` and within a
+    quarter of the conic's sweep of it; the conic's point nearest the line (within it)
+    where they miss each other; None if there is no such θ."""
+    px, py, qx, qy = line
+    length = math.hypot(qx - px, qy - py)
     if not length > 0:
         return None
-    normal = np.array([p[1] - q[1], q[0] - p[0]]) / length
-    a = float(normal @ (conic.center - p))
-    (ux, vx), (uy, vy) = conic.radii
-    c = normal[0] * ux + normal[1] * uy                   # n·u
-    d = normal[0] * vx + normal[1] * vy                   # n·v
+    nx, ny = (py - qy) / length, (qx - px) / length
+    (cx, cy), ((ux, vx), (uy, vy)) = conic.center.tolist(), conic.radii.tolist()
+    a = nx * (cx - px) + ny * (cy - py)
+    c = nx * ux + ny * uy                                 # n·u
+    d = nx * vx + ny * vy                                 # n·v
     radius = math.hypot(c, d)
     if not radius > 0:
         return None
@@ -855,10 +1017,45 @@ def _finer(curve, tolerance) -> SectionCurve:
     other curves as they are."""
     if curve.center is None:
         return curve
-    points = elliptic_points(curve.center, curve.radii, curve.start, curve.sweep, tolerance)
-    if np.array_equal(curve.points[0], curve.points[-1]):
-        points[-1] = points[0]
-    return replace(curve, points=points)
+    return _arcs_flattened([curve], tolerance)[id(curve)]
+
+
+def _arcs_flattened(conics, tolerance) -> dict:
+    """Circles and ellipses flattened (again) within ``tolerance``, closed if they were,
+    by ``id`` of the curve: the points of :func:`.curves.elliptic_points`, bit for bit
+    (its chord counts and parameters, one cosine and sine call for all, then each arc's
+    own product with its radii), at a fraction of its per-call cost."""
+    if not conics:
+        return {}
+    counts = []
+    for curve in conics:
+        sweep = curve.sweep
+        bound = _spectral_norm(curve.radii) * sweep**2
+        with np.errstate(all="ignore"):                 # steps' count, as it takes it
+            count = np.ceil(np.sqrt(bound / (8 * tolerance)))
+        if not count <= MAX_CHORDS:
+            steps(bound, tolerance)                     # raises, naming the limit
+        counts.append(max(1, int(count)))
+    counts = np.array(counts)
+    sizes = counts + 1
+    offsets = np.cumsum(sizes) - sizes
+    # linspace(0, 1, m + 1) is arange(m + 1) * (1 / m) with its last value 1
+    step = np.repeat(1.0 / counts, sizes)
+    t = (np.arange(sizes.sum()) - np.repeat(offsets, sizes)) * step
+    t[offsets + counts] = 1.0
+    start = np.repeat([c.start for c in conics], sizes)
+    theta = start + np.repeat([c.sweep for c in conics], sizes) * t
+    trig = np.column_stack([np.cos(theta), np.sin(theta)])
+    flattened = {}
+    for curve, at, size in zip(conics, offsets.tolist(), sizes.tolist()):
+        points = curve.center + trig[at:at + size] @ curve.radii.T
+        (x0, y0), (x1, y1) = curve.points[0].tolist(), curve.points[-1].tolist()
+        if x0 == x1 and y0 == y1:
+            points[-1] = points[0]
+        flattened[id(curve)] = SectionCurve(curve.kind, points, curve.center, curve.radii,
+                                            curve.edge_tolerance, curve.start, curve.sweep,
+                                            curve.bezier, curve.face)
+    return flattened
 
 
 def _splines_within(splines, budget, tolerance, floor) -> dict:
@@ -888,22 +1085,28 @@ def _splines_within(splines, budget, tolerance, floor) -> dict:
         t = max(floor, t / 1.5)
 
 
-def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
-    """One edge of a cut by a plane, in its ``frame``'s 2D coordinates, flattened within
-    ``tolerance`` (circles and ellipses within ``arcs``, or as their two ends if None),
-    labelled ``face``."""
-    from OCP.BRep import BRep_Tool
-    from OCP.BRepAdaptor import BRepAdaptor_Curve
-    from OCP.GeomAbs import GeomAbs_CurveType as Kind
+def _flattened(edge, tolerance, frame, arcs=None, face="", reversed_=False,
+               rows=None) -> SectionCurve:
+    """One edge of a cut by a plane, in its ``frame``'s 2D coordinates (the first two rows
+    of ``to_2d``; ``rows``: the same as 8 floats), flattened within ``tolerance`` (circles
+    and ellipses within ``arcs``, or as their two ends if None), labelled ``face``; it
+    runs the other way if ``reversed_`` (the edge's orientation in its wire).
 
-    curve = BRepAdaptor_Curve(edge)
+    The edge is read once (its adaptor, type, parameters and tolerance); lines and the
+    ends of circles and ellipses are mapped by plain float arithmetic."""
+    occ = _occ()
+    BRep_Tool, Kind = occ.BRep_Tool, occ.Kind
+    if rows is None:
+        rows = tuple(np.asarray(frame, dtype=float)[:2].ravel().tolist())
+    curve = occ.BRepAdaptor_Curve(edge)
     kind, first, last = curve.GetType(), curve.FirstParameter(), curve.LastParameter()
-    bound = float(BRep_Tool.Tolerance_s(edge))
+    bound = BRep_Tool.Tolerance_s(edge)
     if kind == Kind.GeomAbs_Line:
-        return SectionCurve("line", np.array([_xy(curve.Value(first), frame),
-                                                _xy(curve.Value(last), frame)]),
+        ends = [_mapped(curve.Value(first).Coord(), rows),
+                _mapped(curve.Value(last).Coord(), rows)]
+        return SectionCurve("line", np.array(ends[::-1] if reversed_ else ends),
                             edge_tolerance=bound, face=face)
-    if kind in (Kind.GeomAbs_Circle, Kind.GeomAbs_Ellipse):
+    if kind == Kind.GeomAbs_Circle or kind == Kind.GeomAbs_Ellipse:
         if kind == Kind.GeomAbs_Circle:
             conic = curve.Circle()
             major = minor = conic.Radius()
@@ -911,21 +1114,36 @@ def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
             conic = curve.Ellipse()
             major, minor = conic.MajorRadius(), conic.MinorRadius()
         axes = conic.Position()
-        center = _xy(axes.Location(), frame)
-        radii = np.column_stack([major * _along(axes.XDirection(), frame),
-                                 minor * _along(axes.YDirection(), frame)])
-        points = (elliptic_points(center, radii, first, last - first, arcs) if arcs else
-                  center + np.array([[np.cos(first), np.sin(first)],
-                                     [np.cos(last), np.sin(last)]]) @ radii.T)
-        if BRep_Tool.IsClosed_s(edge):
-            points[-1] = points[0]           # a whole turn ends where it starts
+        a, b, c, _, e, f, g, _ = rows
+        center = _mapped(axes.Location().Coord(), rows)
+        (xx, xy, xz), (yx, yy, yz) = axes.XDirection().Coord(), axes.YDirection().Coord()
+        radii = ((major * (a * xx + b * xy + c * xz), minor * (a * yx + b * yy + c * yz)),
+                 (major * (e * xx + f * xy + g * xz), minor * (e * yx + f * yy + g * yz)))
+        sweep = last - first
+        closed = BRep_Tool.IsClosed_s(edge)
+        if arcs:
+            points = elliptic_points(center, radii, first, sweep, arcs)
+            if closed:
+                points[-1] = points[0]       # a whole turn ends where it starts
+            if reversed_:
+                points = points[::-1]
+        else:
+            points = (_conic_ends(center, radii, last, first) if reversed_ else
+                      _conic_ends(center, radii, first, last))
+            if closed:
+                points[-1 if not reversed_ else 0] = points[0 if not reversed_ else -1]
+        if reversed_:
+            first, sweep = first + sweep, -sweep
         return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
-                            center, radii, bound, first, last - first, face=face)
-    if kind in (Kind.GeomAbs_BSplineCurve, Kind.GeomAbs_BezierCurve):
+                            np.array(center), np.array(radii), bound, first, sweep,
+                            face=face)
+    frame = np.asarray(frame, dtype=float)[:2]
+    if kind == Kind.GeomAbs_BSplineCurve or kind == Kind.GeomAbs_BezierCurve:
         pieces = _bezier_pieces(curve, kind, first, last, frame)
         if pieces is not None:
-            return SectionCurve("bspline", _bezier_chain(pieces, tolerance),
+            flat = SectionCurve("bspline", _bezier_chain(pieces, tolerance),
                                 edge_tolerance=bound, bezier=tuple(pieces), face=face)
+            return _reversed(flat) if reversed_ else flat
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
 
     sampler = GCPnts_QuasiUniformDeflection(curve, tolerance, first, last)
@@ -933,7 +1151,8 @@ def _flattened(edge, tolerance, frame, arcs=None, face="") -> SectionCurve:
         raise SourceError("OpenCASCADE could not flatten a curve of the section; pass a "
                           "larger tolerance or move the plane")
     points = np.array([_xy(sampler.Value(i), frame) for i in range(1, sampler.NbPoints() + 1)])
-    return SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
+    flat = SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
+    return _reversed(flat) if reversed_ else flat
 
 
 def _bezier_chain(pieces, tolerance) -> np.ndarray:

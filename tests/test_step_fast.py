@@ -1,0 +1,146 @@
+"""The STEP section's short cuts give what the long ways give (issue 22's time target):
+all arcs flattened at once are :func:`.curves.elliptic_points`' points bit for bit; the
+rings made by one concatenation are the even-odd nesting's region; a one-edge wire read
+without OCCT's wire explorer has that explorer's edge; the labels asked of the faces
+near the plane first are those of all faces in order; the area is OCCT's. Skipped when
+OCP (the [step] extra) is absent, except the pure-NumPy checks."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+import pds_plugin as pds
+from pds_plugin.sources import step
+from pds_plugin.sources.curves import elliptic_points
+from pds_plugin.sources.planes import plane_frames
+from pds_plugin.sources.polygons import outline_geometry
+
+needs_ocp = pytest.mark.skipif(importlib.util.find_spec("OCP") is None,
+                               reason="OCP (the [step] extra) is not installed")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+import _step_parts as parts  # noqa: E402
+from step_vs_stl import exact_area as occt_section_area  # noqa: E402  (GProp, the reference)
+
+TILTED = np.array([0.05, 0.0, 1.0]) / np.hypot(1, 0.05)
+CASES = [(parts.plate_with_holes, (0.0, 0.0, 5.0), (0.0, 0.0, 1.0)),
+         (parts.plate_with_holes, (50.0, 30.0, 5.0), tuple(TILTED)),     # ellipses
+         (parts.pocketed_plate, (0.0, 0.0, 14.0), (0.0, 0.0, 1.0)),      # lines meet arcs
+         (parts.filleted_block, (0.0, 0.0, 10.0), (0.0, 0.0, 1.0)),      # a B-spline
+         (parts.bolt, (0.0, 0.0, 20.0), (0.0, 0.0, 1.0)),                # one circle
+         (parts.overlapping_bodies, (0.0, 0.0, 5.0), (0.0, 0.0, 1.0))]   # two solids
+
+
+def _conic(rng, closed=False):
+    """A random circle or ellipse arc as SectionCurve (its two ends, as OCCT's come)."""
+    center, radii = rng.normal(size=2) * 10, rng.normal(size=(2, 2)) * 5
+    start = rng.uniform(-7, 7)
+    sweep = 2 * np.pi if closed else rng.uniform(-6, 6)
+    ends = center + np.array([[np.cos(start), np.sin(start)],
+                              [np.cos(start + sweep), np.sin(start + sweep)]]) @ radii.T
+    if closed:
+        ends[-1] = ends[0]
+    return step.SectionCurve("ellipse", ends, center, radii, 0.0, start, sweep)
+
+
+def test_arcs_flattened_at_once_are_elliptic_points_bit_for_bit():
+    rng = np.random.default_rng(22)
+    for _ in range(50):
+        conics = [_conic(rng, closed=k == 0) for k in range(int(rng.integers(1, 8)))]
+        tolerance = 10 ** rng.uniform(-7, -2)
+        flattened = step._arcs_flattened(conics, tolerance)
+        for curve in conics:
+            expected = elliptic_points(curve.center, curve.radii, curve.start, curve.sweep,
+                                       tolerance)
+            if np.array_equal(curve.points[0], curve.points[-1]):
+                expected[-1] = expected[0]                 # a whole turn stays closed
+            assert np.array_equal(flattened[id(curve)].points, expected)
+
+
+def test_rings_with_repeated_vertices_drop_them_as_the_nesting_does():
+    """A degenerate curve (one point twice) and a junction repeated: the concatenated
+    rings take the slow path and give the region the even-odd nesting gives."""
+    square = [np.array([[0.0, 0.0], [4.0, 0.0]]), np.array([[4.0, 0.0], [4.0, 0.0]]),
+              np.array([[4.0, 0.0], [4.0, 4.0], [4.0, 4.0]]),
+              np.array([[4.0, 4.0], [0.0, 4.0]]), np.array([[0.0, 4.0], [0.0, 0.0]])]
+    hole = [np.array([[1.0, 1.0], [1.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0]])]
+    curves = [step.SectionCurve("line", p) for p in square + hole]
+    faces = [[[None] * len(square), [None]]]
+    geometry = step._face_polygons(faces, curves, 1e-9)
+    nested, open_ends = outline_geometry([c.points for c in curves], 1e-9)
+    assert not len(open_ends)
+    assert geometry.equals(nested) and geometry.area == 15.0
+    assert [len(ring.coords) for ring in (geometry.exterior, *geometry.interiors)] == [5, 5]
+
+
+@needs_ocp
+@pytest.mark.parametrize("build, origin, normal", CASES)
+def test_the_wires_rings_are_the_even_odd_nesting_of_the_curves(build, origin, normal):
+    """The short way (each solid's wires, rings by one concatenation) and the long way
+    (the curves nested even-odd, the fallback) give the same region, to rounding."""
+    shape = build()
+    region = pds.section(shape, origin, normal)
+    solid = step.StepSolid(shape)
+    to_2d, to_3d = plane_frames(np.asarray(origin, float), np.asarray(normal, float))
+    cuts = []
+    for number in solid._met(np.asarray(origin, float), np.asarray(normal, float)):
+        cuts.append(solid._cut_curves(solid.solids[number], number,
+                                      np.asarray(origin, float), to_2d))
+    cuts = solid._refined(cuts, 0.0, to_3d)
+    nested = shapely.union_all([outline_geometry([c.points for c in curves],
+                                                 1e-9 * solid.scale)[0]
+                                for _, curves in cuts])
+    assert shapely.symmetric_difference(region.geometry, nested).area <= 1e-12 * nested.area
+    assert region.area == pytest.approx(nested.area, rel=1e-14)
+
+
+@needs_ocp
+@pytest.mark.parametrize("build, origin, normal", CASES)
+def test_the_area_is_occts_and_every_ring_vertex_on_a_circle_lies_on_it(build, origin,
+                                                                       normal):
+    shape = build()
+    region = pds.section(shape, origin, normal)
+    exact = occt_section_area(shape, origin, normal)
+    assert region.area == pytest.approx(exact, rel=1e-6)
+    vertices = np.concatenate(region.rings)
+    curves = region.curves
+    piece, _, distance = curves.locate(vertices)
+    arc = curves.elliptic[piece]
+    radius = np.hypot(*curves.conic[piece[arc], 2:4].T)
+    assert (distance[arc] <= 1e-12 * radius).all()
+
+
+@needs_ocp
+@pytest.mark.parametrize("build, origin, normal", CASES)
+def test_one_edge_wires_and_labels_are_the_explorers_and_all_faces(build, origin, normal):
+    """Each wire read by the face's iterator (a one-edge wire without the wire explorer)
+    has the edges BRepTools_WireExplorer walks, in its order; the labels asked first of
+    the faces near the plane are those asked of all faces in OCCT's order."""
+    from OCP.BRepTools import BRepTools_WireExplorer
+    from OCP.TopoDS import TopoDS
+
+    shape = build()
+    solid = step.StepSolid(shape)
+    origin, normal = np.asarray(origin, float), np.asarray(normal, float)
+    to_2d = plane_frames(origin, normal)[0]
+    for number in solid._met(origin, normal):
+        faces = solid._common_faces(solid.solids[number], origin, to_2d,
+                                    solid._reach(origin))
+        for face, wires in zip(step._explore(faces.common.Shape(), "FACE"), faces):
+            assert len(wires) == len(step._explore(face, "WIRE"))
+            for wire in step._explore(face, "WIRE"):
+                walk, walked = BRepTools_WireExplorer(TopoDS.Wire(wire), TopoDS.Face(face)), []
+                while walk.More():
+                    walked.append(walk.Current())
+                    walk.Next()
+                ours = [edges for edges in wires if edges[0][0].IsSame(walked[0])]
+                assert len(ours) == 1 and len(ours[0]) == len(walked)
+                assert all(a.IsSame(b) for (a, _), b in zip(ours[0], walked))
+        _, curves = solid._cut_curves(solid.solids[number], number, origin, to_2d)
+        edges = [edge for face in faces for wire in face for edge, _ in wire]
+        every = step._face_labels(edges, solid.faces[number], faces.common,
+                                  number if len(solid.solids) > 1 else None)
+        assert [c.face for c in curves] == every and all(every)
