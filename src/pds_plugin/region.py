@@ -639,7 +639,8 @@ def _checked_frame(frame) -> np.ndarray:
         raise ArgumentError(f"frame must be a 4x4 matrix, got shape {frame.shape}")
     if not np.isfinite(frame).all():
         raise ArgumentError("frame has NaN or infinite entries; give a finite 4x4 matrix")
-    if not np.linalg.norm(np.cross(frame[:3, 0], frame[:3, 1])) > 0:
+    (ux, uy, uz), (vx, vy, vz) = frame[:3, 0].tolist(), frame[:3, 1].tolist()
+    if not (uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2 + (ux * vy - uy * vx) ** 2 > 0:
         raise ArgumentError("frame maps the plane onto a line or a point (its first two "
                             "columns are parallel or zero); give a 2D -> 3D map of rank 2, "
                             "e.g. a rigid transform")
