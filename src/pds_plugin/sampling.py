@@ -479,7 +479,12 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
         splittable = hi - lo > longest
         scale[splittable] = np.minimum(scale[splittable],
                                        np.maximum(1.0, fits[splittable] * (1 - 1e-9)))
-    at = _ladders(at, corners, angle, guard, alpha, length, rng)
+    # halved before the ladders too, so that a spike's side too short for its clearances
+    # gets its middle mirrored: halved only after them, one side's middle had no image (a
+    # sliver of shared.STL at a random plane: its 16° tip's triangle too large, the tip
+    # isolated)
+    at = _ladders(_halved_long_chords(at, cum, closed, alpha), corners, angle, guard, alpha,
+                  length, rng)
     if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
         at = np.sort((at[0] + length * np.arange(3) / 3) % length)
     while len(at) < 3:
