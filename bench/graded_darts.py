@@ -4,6 +4,7 @@ sample, and a digest of the samples (to compare builds and thread counts bit for
 
     python bench/graded_darts.py                  # drawing + every 3rd section of 3 parts
     python bench/graded_darts.py --repeat 5 --only drawing
+    python bench/graded_darts.py --seeds 10     # sample counts over 10 seeds per call
 """
 
 from __future__ import annotations
@@ -87,6 +88,8 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--only", default=None)
     parser.add_argument("--every", type=int, default=3)
+    parser.add_argument("--seeds", type=int, default=0,
+                        help="instead: the samples summed over this many seeds per call")
     args = parser.parse_args()
     counted()
     groups = {"drawing": [drawing_region()]}
@@ -96,6 +99,12 @@ def main():
         if args.only and args.only != name:
             continue
         cases = capture(regions)
+        if args.seeds:
+            total = sum(len(gs.graded_poisson_disc(region, field, seed, **kw).points)
+                        for region, field, _, kw in cases for seed in range(args.seeds))
+            print(f"{name:18s} calls {len(cases):3d} seeds {args.seeds}: samples {total}",
+                  flush=True)
+            continue
         cpu, interior, samples, digest = run(cases, args.repeat)
         print(f"{name:18s} calls {len(cases):3d} cpu/call {1e3 * cpu:8.2f} ms  samples "
               f"{samples:7d} interior {interior:7d}  darts/int "
