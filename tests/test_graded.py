@@ -245,7 +245,7 @@ def test_the_complex_on_the_samplers_chords_is_the_complex_on_its_own():
                                  boundary=samples.rings, chords=other.chords)
 
 
-@pytest.mark.parametrize("max_samples", [100, 200])
+@pytest.mark.parametrize("max_samples", [100, 140])
 def test_a_refinement_too_large_for_the_budget_is_refused(max_samples):
     region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
     with pytest.raises(BudgetError, match=f"would refine .* boxes at once, more than 4 per "

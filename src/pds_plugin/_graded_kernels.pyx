@@ -21,11 +21,12 @@ import numpy as np
 from cython.parallel cimport parallel, prange
 from libc.math cimport hypot, sqrt
 from libc.stdlib cimport free, malloc, realloc
-from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t
+from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t, uint32_t, uint64_t
+from libc.string cimport memcpy
 
 from ._parallel cimport threads_for
 from ._sizing_kernels cimport CONE_STACK, ConeTree, cone_at, cone_tree_of, quarters_at
-from ._visibility_kernels cimport (CellMarks, ChordGrid, Chords, bin_chords_by, box_seen,
+from ._visibility_kernels cimport (CellMarks, ChordGrid, Chords, bin_chords_by, box_seen, chord_cell,
                                    box_state, chords_of, mark_cell, point_inside, sees)
 
 cdef enum:
@@ -682,19 +683,181 @@ def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
             np.concatenate([part[1] for part in done]))
 
 
+cdef enum:
+    SUB = 4             # a box's darts go into one of its SUB x SUB sub-boxes left open
+    TRIES = 2           # points tried per box (against the samples near it)
+    NEAR = 96           # room for the samples near one box (more: the whole box, as before)
+
+
+cdef Py_ssize_t _near_samples(double x, double y, double s, double low, double high,
+                              double grading, const Bins *b, const Placed *p,
+                              int32_t *near) noexcept nogil:
+    """The samples q on the levels of r in [(1 - L) low, (1 + L) high] whose distance to
+    the box [x, x + s]^2 is within min(r(q), low) (with a margin for rounding): every
+    sample that can cover part of the box for :func:`_covers` or refuse a dart in it for
+    :func:`_conflicts` (query r = low). Returns their number, -1 if more than NEAR."""
+    cdef Py_ssize_t level, nx, ny, jx, jy, lo_x, lo_y, hi_x, hi_y, n = 0
+    cdef int32_t q
+    cdef double h, reach, margin, qx, qy, dx, dy, bound, x0 = p.x0, y0 = p.y0
+    for level in range(_level(low * (1.0 - grading), b), _level(high * (1.0 + grading), b) + 1):
+        if b.counts[level] == 0:
+            continue
+        h, nx, ny = b.hs[level], b.nxs[level], b.nys[level]
+        reach = min(low, 2.0 * h)
+        margin = 1e-9 * (reach + s + abs(x) + abs(y))
+        lo_x = _clamp((x - reach - margin - x0) / h, nx)
+        lo_y = _clamp((y - reach - margin - y0) / h, ny)
+        hi_x = _clamp((x + s + reach + margin - x0) / h, nx)
+        hi_y = _clamp((y + s + reach + margin - y0) / h, ny)
+        for jy in range(lo_y, hi_y + 1):
+            for jx in range(lo_x, hi_x + 1):
+                q = b.heads[b.offsets[level] + jy * nx + jx] - 1
+                while q >= 0:
+                    qx, qy = p.points[2 * q], p.points[2 * q + 1]
+                    dx = qx - min(max(qx, x), x + s)
+                    dy = qy - min(max(qy, y), y + s)
+                    bound = min(p.radius[q], low) + margin
+                    if dx * dx + dy * dy <= bound * bound:
+                        if n == NEAR:
+                            return -1
+                        near[n] = q
+                        n += 1
+                    q = p.nxt[q]
+    return n
+
+
+cdef inline uint64_t _mix(uint64_t *state) noexcept nogil:
+    """splitmix64: the next number of a box's own stream."""
+    state[0] += 0x9E3779B97F4A7C15ULL
+    cdef uint64_t z = state[0]
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL
+    return z ^ (z >> 31)
+
+
+cdef inline double _unit(uint64_t *state) noexcept nogil:
+    """A double uniform in [0, 1) from the stream (its 53 high bits)."""
+    return (_mix(state) >> 11) * (1.0 / 9007199254740992.0)
+
+
+cdef int _dart_in_open_part(double *v, double grading, const Bins *b, const Placed *p,
+                            const Chords *c, const Chords *region, const int8_t *sd,
+                            int32_t *near, bint plain) noexcept nogil:
+    """The dart of one box, ``v`` = (x, y, size, low, high, u0, u1, u2, edge), written to
+    v[0], v[1]: the first of TRIES points that no sample before the throw refuses
+    whatever r is in [low, high] (:func:`throw`), each uniform in one of the box's SUB x
+    SUB sub-boxes that no single sample covers (:func:`_covers`, with the box's
+    ``low``) picked uniformly among them; the first try by u2 (the sub-box) and u0, u1,
+    the others by a stream seeded with their bits (splitmix64: per box, so the same
+    whatever the threads). Returns 2 if every sub-box is covered (then so is the box: no
+    dart), 1 if no try is free or the dart is outside the region, 0 if it is a
+    candidate. ``plain`` (or more than NEAR samples near the box, or low <= 0): one dart
+    uniform in the whole box (u0, u1), tested as in :func:`_any_sample`, as before.
+
+    The samples near the box are gathered once (:func:`_near_samples`) and serve the
+    sub-boxes' coverage and the tries' refusal test. A sample's reach over the sub-boxes
+    is computed per column and row (the farthest corner's distance is separable), and its
+    visibility of them is asked once for the whole box (``box_seen``), per sub-box only
+    where that fails: near the drawing's holes, asked per sub-box first, it was a fifth
+    of the throw's time."""
+    cdef double x = v[0], y = v[1], s = v[2], low = v[3], high = v[4]
+    cdef double sub = s / SUB, px = 0.0, py = 0.0, dx, dy, bound, qx, qy, a0, a1, a2
+    cdef Py_ssize_t n = -1
+    if not plain and low > 0.0:
+        n = _near_samples(x, y, s, low, high, grading, b, p, near)
+    cdef Py_ssize_t t, j
+    cdef uint32_t covered = 0
+    cdef int free = SUB * SUB, pick, attempt
+    cdef Query query
+    cdef int32_t q
+    cdef uint64_t state
+    cdef bint refused = True
+    if n < 0:
+        px, py = x + v[5] * s, y + v[6] * s
+        v[0], v[1] = px, py
+        if v[8] != 0.0 and not point_inside(region, sd, px, py):
+            return 1
+        query = Query(px, py, 0.0, low, p, c)
+        return 1 if _any_sample(&query, _conflicts, _level(low * (1.0 - grading), b),
+                                _level(high * (1.0 + grading), b), 0, b) else 0
+    cdef double fx[SUB]
+    cdef double fy[SUB]
+    cdef uint32_t reach, fresh
+    cdef bint clear
+    for t in range(n):
+        q = near[t]
+        qx, qy = p.points[2 * q], p.points[2 * q + 1]
+        bound = min(p.radius[q], low)
+        bound = bound * bound
+        for j in range(SUB):            # the sub-boxes' farthest corners, per column, row
+            fx[j] = max(abs(qx - (x + j * sub)), abs(qx - (x + (j + 1) * sub)))
+            fx[j] = fx[j] * fx[j]
+            fy[j] = max(abs(qy - (y + j * sub)), abs(qy - (y + (j + 1) * sub)))
+            fy[j] = fy[j] * fy[j]
+        reach = 0
+        for j in range(SUB * SUB):
+            if fx[j % SUB] + fy[j // SUB] <= bound:
+                reach |= 1u << j
+        fresh = reach & ~covered
+        if not fresh:
+            continue
+        clear = (c.empty
+                 or c.start[chord_cell(qx, qy, c) + 1] == c.start[chord_cell(qx, qy, c)]
+                 or box_seen(qx, qy, _out(c, q), x, y, s, 1e-9 * min(p.radius[q], low), c))
+        for j in range(SUB * SUB):
+            if (fresh >> j) & 1 and (clear or box_seen(
+                    qx, qy, _out(c, q), x + (j % SUB) * sub, y + (j // SUB) * sub, sub,
+                    1e-9 * min(p.radius[q], low), c)):
+                covered |= 1u << j
+                free -= 1
+        if free == 0:
+            return 2
+    a0, a1, a2 = v[5], v[6], v[7]
+    memcpy(&state, &v[5], sizeof(uint64_t))
+    for attempt in range(TRIES):
+        if attempt:
+            a0, a1, a2 = _unit(&state), _unit(&state), _unit(&state)
+        pick = min(<int>(a2 * free), free - 1)
+        for j in range(SUB * SUB):
+            if not (covered >> j) & 1:
+                if pick == 0:
+                    break
+                pick -= 1
+        px, py = x + ((j % SUB) + a0) * sub, y + ((j // SUB) + a1) * sub
+        refused = False
+        for t in range(n):
+            q = near[t]
+            qx, qy = p.points[2 * q], p.points[2 * q + 1]
+            dx, dy = qx - px, qy - py
+            bound = min(low, p.radius[q])
+            if dx * dx + dy * dy < bound * bound and sees(px, py, -1, qx, qy, _out(c, q), c):
+                refused = True
+                break
+        if not refused:
+            break
+    v[0], v[1] = px, py
+    if refused or (v[8] != 0.0 and not point_inside(region, sd, px, py)):
+        return 1
+    return 0
+
+
 def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple bins, nxt,
-          points, radius, Py_ssize_t count, double x0, double y0, vis):
-    """One dart in each box [bx, bx+size]², at ``(bx + u[:, 0] size, by + u[:, 1] size)``,
-    taken in ``order``; the darts in the region (boxes flagged ``edge`` are tested
-    against ``domain``, the chord bundle and cell sides of
-    ``_visibility_kernels.points_inside``) that no sample refuses whatever r(x) is in
-    [low, high] of the dart's box (a sample q that the dart x sees with
-    |x - q| < min(low, r(q)) <= min(r(x), r(q)): samples are only ever added, so
-    :func:`insert_where_free` would refuse those darts too; testing them first, in
-    parallel, spares the radius field and the sequential insertion) get r from
+          points, radius, Py_ssize_t count, double x0, double y0, vis, bint plain=False):
+    """One dart in each box [bx, bx+size]^2 (:func:`_dart_in_open_part`: in a part of it
+    no sample covers yet, by the three numbers of ``u[k]``), taken in ``order``; the
+    darts in the region (boxes flagged ``edge`` are tested against ``domain``, the chord
+    bundle and cell sides of ``_visibility_kernels.points_inside``) that no sample
+    refuses whatever r(x) is in [low, high] of the dart's box (a sample q that the dart
+    x sees with |x - q| < min(low, r(q)) <= min(r(x), r(q)): samples are only ever
+    added, so :func:`insert_where_free` would refuse those darts too; testing them
+    first, in parallel, spares the radius field and the sequential insertion) get r from
     ``field`` and are inserted in that order where :func:`insert_where_free` allows.
     ``boxes`` = (bx, by, size, low, high, edge); the sample arrays must have room for
-    one sample per box. Returns the new sample count."""
+    one sample per box. ``plain``: one dart uniform in each box (the first pass over
+    the leaves, where no sample but the boundary's is placed yet, so the sub-boxes
+    would cost without closing any). Returns the new sample count and a flag per box:
+    covered by the samples before the throw (each sub-box by one visible disc within
+    min(r(q), low) of its farthest corner, :func:`_covers`' rule), so closed for good."""
     bx, by, size, low, high, edge = boxes
     cdef const double[::1] x = bx, y = by, s = size, lw = low, hg = high
     cdef const uint8_t[::1] ed = edge.view(np.uint8)
@@ -711,60 +874,55 @@ def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple b
     cdef double[:, ::1] pt = points
     cdef double[::1] rd = radius
     cdef double grading = field.field.grading
-    cdef Py_ssize_t n = od.shape[0], m = 0, kept = 0, k, t
-    cdef Query query
-    darts_array = np.empty((n, 2))
-    cdef double[:, ::1] dt = darts_array
-    refused_array = np.zeros(n, np.bool_)
-    cdef uint8_t[::1] out = refused_array.view(np.uint8)
-    cdef double[::1] dl = np.empty(n), dh = np.empty(n)
-    for t in prange(n, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(n)):
-        k = od[t]
-        dt[t, 0] = x[k] + uu[k, 0] * s[k]
-        dt[t, 1] = y[k] + uu[k, 1] * s[k]
-        out[t] = ed[k] and not point_inside(&region, sd, dt[t, 0], dt[t, 1])
-    with nogil:
-        for t in range(n):                  # the darts in the region, in order
-            if not out[t]:
-                k = od[t]
-                dt[m, 0], dt[m, 1], dl[m], dh[m] = dt[t, 0], dt[t, 1], lw[k], hg[k]
-                m += 1
-    if not m:
-        return count
-    cdef int64_t[::1] spatial = _spatial_order(np.ascontiguousarray(darts_array[:m, 0]),
-                                               np.ascontiguousarray(darts_array[:m, 1]),
-                                               &b, x0, y0)
-    cdef double *dart = _gathered(m, 4)         # x, y, low, high in the spatial order
-    if dart == NULL:
+    cdef Py_ssize_t n = od.shape[0], kept = 0, k, t
+    closed_array = np.zeros(n, np.bool_)
+    if not n:
+        return count, closed_array
+    cdef uint8_t[::1] closed = closed_array.view(np.uint8)
+    cdef int64_t[::1] spatial = _spatial_order(x, y, &b, x0, y0)
+    cdef double *box = _gathered(n, 9)      # the box, u, edge in the spatial order
+    if box == NULL:
         raise MemoryError()
     cdef double *v
+    cdef int32_t *near
+    cdef uint8_t[::1] state = np.empty(n, np.uint8)
+    cdef double[:, ::1] dart = np.empty((n, 2)), dt = np.empty((n, 2))
+    cdef double[::1] dh = np.empty(n)
     with nogil:
-        for t in range(m):
+        for t in range(n):
             k = spatial[t]
-            dart[4 * t], dart[4 * t + 1], dart[4 * t + 2], dart[4 * t + 3] = \
-                dt[k, 0], dt[k, 1], dl[k], dh[k]
-    for t in prange(m, nogil=True, schedule="dynamic", chunksize=CHUNK,
-                    num_threads=threads_for(m)):
-        v = dart + 4 * t
-        query = Query(v[0], v[1], 0.0, v[2], &p, &c)
-        v[0] = _any_sample(&query, _conflicts, _level(v[2] * (1.0 - grading), &b),
-                           _level(v[3] * (1.0 + grading), &b), 0, &b)
+            v = box + 9 * t
+            v[0], v[1], v[2], v[3], v[4] = x[k], y[k], s[k], lw[k], hg[k]
+            v[5], v[6], v[7], v[8] = uu[k, 0], uu[k, 1], uu[k, 2], ed[k]
+    with nogil, parallel(num_threads=threads_for(n)):
+        near = <int32_t *>malloc(NEAR * sizeof(int32_t))
+        for t in prange(n, schedule="dynamic", chunksize=CHUNK):
+            v = box + 9 * t
+            if near == NULL:
+                v[2] = 1.0
+            else:
+                v[2] = _dart_in_open_part(v, grading, &b, &p, &c, &region, sd, near, plain)
+        free(near)
     with nogil:
-        for t in range(m):
-            out[spatial[t]] = <uint8_t>dart[4 * t]
-        free(dart)
-    with nogil:
-        for t in range(m):
-            if not out[t]:
-                dt[kept, 0], dt[kept, 1], dh[kept] = dt[t, 0], dt[t, 1], dh[t]
+        for t in range(n):
+            k = spatial[t]
+            v = box + 9 * t
+            state[k] = <uint8_t>v[2]
+            dart[k, 0], dart[k, 1] = v[0], v[1]
+        free(box)
+        for t in range(n):                  # the candidates, in order
+            k = od[t]
+            closed[k] = state[k] == 2
+            if state[k] == 0:
+                dt[kept, 0], dt[kept, 1], dh[kept] = dart[k, 0], dart[k, 1], hg[k]
                 kept += 1
     if not kept:
-        return count
+        return count, closed_array
     cdef double[::1] kx = np.empty(kept), ky = np.empty(kept)
     for t in range(kept):
         kx[t], ky[t] = dt[t, 0], dt[t, 1]
     cdef const double[::1] r = field.at(dt[:kept], dh[:kept], _spatial_order(kx, ky, &b, x0, y0))
+    cdef uint8_t[::1] out = state
     for t in prange(kept, nogil=True, schedule="dynamic", chunksize=CHUNK,
                     num_threads=threads_for(kept)):
         out[t] = not _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, 0)
@@ -774,7 +932,7 @@ def throw(tuple boxes, u, order, Field field, tuple domain, chord_bound, tuple b
             if not out[t] and _free(dt[t, 0], dt[t, 1], r[t], grading, cb, &b, &p, &c, before):
                 _place(dt[t, 0], dt[t, 1], r[t], &b, nx, pt, rd, count, x0, y0)
                 count += 1
-    return count
+    return count, closed_array
 
 
 cdef int64_t[::1] _spatial_order(const double[::1] x, const double[::1] y, const Bins *b,

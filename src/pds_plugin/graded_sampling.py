@@ -13,7 +13,9 @@ sampler (sampling.py):
    Lipschitz lower bound of r on the leaf); a few passes of one dart per open leaf, then
    the refinement of Ebeida et al.: boxes that no single visible disc covers (farthest
    corner within ``min(r(q), r_low)``) are split in four and get a dart each, until none
-   is left; a box smaller than ``1e-10 r_low`` is dropped (the coverage gap is then
+   is left. After the first pass a box's dart goes into one of its 4 x 4 sub-boxes that
+   no single visible disc covers (two tries against the samples near the box), and a
+   box whose sub-boxes are all covered is closed (``_graded_kernels.throw``); a box smaller than ``1e-10 r_low`` is dropped (the coverage gap is then
    within that of r), so no box is split more than about 35 times. Boxes left open are
    counted: more than ``_MAX_BOXES_PER_SAMPLE`` per allowed sample is a BudgetError.
 
@@ -741,9 +743,9 @@ class _GradedSampler:
         quarters) and one throw."""
         self.kernel_field = kern.Field(self.field)
         boxes, since = self._leaves(), 0
-        for _ in range(_PASSES):
+        for k in range(_PASSES):
             boxes, since = self._open(boxes, since), self.count
-            self._throw(boxes, rng)
+            boxes = self._throw(boxes, rng, plain=k == 0)
         while len(boxes[0]):
             boxes = kern.split_open(boxes, since, RESOLUTION,
                                     _MAX_BOXES_PER_SAMPLE * self.max_samples,
@@ -753,7 +755,7 @@ class _GradedSampler:
             if isinstance(boxes, int):
                 self._check_boxes(boxes)
             since = self.count                  # darts only where no disc covers already
-            self._throw(boxes, rng)
+            boxes = self._throw(boxes, rng)
 
     def _leaves(self):
         """Quadtree leaves over the region (``_graded_kernels.leaves``): boxes split while
@@ -815,14 +817,20 @@ class _GradedSampler:
                                     self.radius, self.x0, self.y0, self.vis, since)
         return tuple(a[keep] for a in boxes)
 
-    def _throw(self, boxes, rng):
-        """One dart uniform in each box; darts in the region thrown in random order
-        (``_graded_kernels.throw``: the refusal test, r and the insertion)."""
+    def _throw(self, boxes, rng, plain=False):
+        """One dart in each box, in a sub-box of it that no single disc covers (uniform
+        in the box if ``plain``); darts in the region thrown in random order
+        (``_graded_kernels.throw``: the refusal test, r and the insertion). Returns the
+        boxes not found covered (each sub-box by a visible disc) before the throw."""
         n = len(boxes[0])
-        u = rng.random((n, 2))
+        u = rng.random((n, 3))
         order = rng.permutation(n)
         self._reserve(n)
-        self.count = kern.throw(boxes, u, order, self.kernel_field, self.domain,
-                                self.chord_bound, self.bins, self.nxt, self.points,
-                                self.radius, self.count, self.x0, self.y0, self.vis)
+        self.count, closed = kern.throw(boxes, u, order, self.kernel_field, self.domain,
+                                        self.chord_bound, self.bins, self.nxt, self.points,
+                                        self.radius, self.count, self.x0, self.y0, self.vis,
+                                        plain)
         self._check_count()
+        if closed.any():
+            return tuple(a[~closed] for a in boxes)
+        return boxes
