@@ -240,9 +240,9 @@ def _hides(samples, ring, turns, alpha, k) -> bool:
 
 def _clear_of_own_ring(samples, ring, turns, passes=4) -> np.ndarray:
     """A ring's boundary samples (in order along ``ring``, ``turns`` its turning angles)
-    with a ring vertex added to every chord that crosses the ring outside its own arc:
-    the arc's first vertex when the crossing is nearer the chord's first end, else its
-    last.
+    with, where the polygon through them crosses itself, a ring vertex added to every
+    chord that crosses the ring outside its own arc: the arc's first vertex when the
+    crossing is nearer the chord's first end, else its last.
 
     A fold of a section (the ring runs on, turns back by nearly 180°, and on again
     past the turn, a tip and a crack thinner than the tolerance) has samples at both of
@@ -264,13 +264,13 @@ def _clear_of_own_ring(samples, ring, turns, passes=4) -> np.ndarray:
     samples = np.asarray(samples, float)
     if not ((turns < 0).any() and (turns > 0).any()):
         return samples                  # a convex ring holds its chords (a round hole)
+    if shapely.is_simple(shapely.linearrings(samples)):
+        return samples                  # no chord crosses another: some mesh conforms
     segments = shapely.linestrings(np.stack([ring, np.roll(ring, -1, axis=0)], axis=1))
     tree = shapely.STRtree(segments)
     for _ in range(passes):
         ends = np.stack([samples, np.roll(samples, -1, axis=0)], axis=1)
         chords, crossed = tree.query(shapely.linestrings(ends), predicate="crosses")
-        if not len(chords):
-            return samples
         chord_of, _, _ = vertex_chords(samples, ring)
         # a segment on the chord's arc, or the one its first end lies on (rounding)
         own = (chord_of[crossed] == chords) | (np.roll(chord_of, -1)[crossed] == chords)
