@@ -3,11 +3,13 @@ the rest (issue 21, item 1; docs/engine.md "Issue 21, third pass").
 
     python bench/small_paths_profile.py                  # every case (~1 min)
     python bench/small_paths_profile.py --only uniform   # one case
+    python bench/small_paths_profile.py --write          # into docs/benchmarks.md
     PDS_THREADS=1 python bench/small_paths_profile.py    # one thread
 
 Cases: uniform ``"auto"`` on the angle_block.STL z-mid section (``uniform``), graded
 ``"auto"`` on the 60 sections of each shared STL part (``featuretype.STL``, ...), the
-373-hole drawing of bench/speed_targets.py (``drawing``). Times are CPU time of the
+373-hole drawing of bench/speed_targets.py (``drawing``), the uniform unit square of
+100,000 vertices (``square``). Times are CPU time of the
 process (``time.process_time``: the shared machine's load disturbs it far less than
 wall time) per call, warm, averaged over ``--repeat`` calls of every region. Stages are
 timed by wrapping the pipeline's calls (nested stages are indented and included in
@@ -20,11 +22,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import shlex
 import sys
 import warnings
 from collections import Counter
 from pathlib import Path
 from time import process_time
+
+from shapely.geometry import box
 
 sys.path.insert(0, str(Path(__file__).parent))
 
@@ -36,7 +41,9 @@ import pds_plugin.sampling as sampling                     # noqa: E402
 
 from _environment import machine                           # noqa: E402
 from _regions import DATA, stl_section                     # noqa: E402
-from speed_targets import PARTS, drawing_region, graded, part_sections, uniform_auto  # noqa: E402
+from _sections import put_section                          # noqa: E402
+from speed_targets import (PARTS, ROOT, drawing_region, graded, part_sections,  # noqa: E402
+                           square_alpha, uniform_auto)
 
 KERNEL_MODULES = tuple(sorted(path.name.split(".")[0] for path in
                               Path(pds.__file__).parent.glob("_*_kernels.pyx")))
@@ -117,10 +124,15 @@ def cases(only):
         if regions:
             found[part] = (regions, graded)
     found["drawing"] = (None, graded)          # built on demand: ezdxf, ~1 s
+    alpha = square_alpha(100_000)
+    found["square"] = ([pds.Region.from_shapely(box(0, 0, 1, 1))],
+                       lambda region: pds.mesh_region(region, alpha))
     return {k: v for k, v in found.items() if not only or k in only}
 
 
-def profile(name, regions, mesher, repeat):
+def profile(name, regions, mesher, repeat) -> list[str]:
+    """The lines (markdown) of one case's profile: the call's time, its stages, its
+    heaviest kernels."""
     if regions is None:
         regions = [drawing_region()]
         repeat = 1
@@ -137,32 +149,51 @@ def profile(name, regions, mesher, repeat):
     n = repeat * len(regions)
     vertices = sum(len(mesh.vertices) for mesh in meshes) / len(meshes)
     kernels = sum(KERNEL_TIME.values())
-    print(f"\n{name}: {len(regions)} region(s), {vertices:,.0f} vertices, "
-          f"{1e3 * total / n:.2f} ms CPU per call; kernels {1e3 * kernels / n:.2f} ms in "
-          f"{sum(KERNEL_CALLS.values()) / n:.0f} calls, rest {1e3 * (total - kernels) / n:.2f} ms\n")
-    print("| stage | ms per call | share | calls |\n|---|---|---|---|")
+    lines = [f"**{name}**: {len(regions)} region(s), {vertices:,.0f} vertices, "
+             f"{1e3 * total / n:.2f} ms CPU per call ({1e6 * total / n / vertices:.1f} µs "
+             f"per vertex); kernels {1e3 * kernels / n:.2f} ms in "
+             f"{sum(KERNEL_CALLS.values()) / n:.0f} calls, rest {1e3 * (total - kernels) / n:.2f} ms",
+             "", "| stage | ms per call | share | calls |", "|---|---|---|---|"]
     for label in dict.fromkeys(label for _, _, label in STAGES):
         if STAGE_CALLS[label]:
-            print(f"| {label.replace('  ', '· ')} | {1e3 * STAGE_TIME[label] / n:.3f} | "
-                  f"{100 * STAGE_TIME[label] / total:.0f} % | {STAGE_CALLS[label] / n:.1f} |")
-    print("\n| kernel | ms per call | calls |\n|---|---|---|")
+            lines.append(f"| {label.replace('  ', '· ')} | {1e3 * STAGE_TIME[label] / n:.3f} | "
+                         f"{100 * STAGE_TIME[label] / total:.0f} % | "
+                         f"{STAGE_CALLS[label] / n:.1f} |")
+    lines += ["", "| kernel | ms per call | calls |", "|---|---|---|"]
     for label, seconds in KERNEL_TIME.most_common(8):
-        print(f"| {label} | {1e3 * seconds / n:.3f} | {KERNEL_CALLS[label] / n:.1f} |")
+        lines.append(f"| {label} | {1e3 * seconds / n:.3f} | {KERNEL_CALLS[label] / n:.1f} |")
+    return lines + [""]
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--only", action="append", help="this case only (repeatable)")
     parser.add_argument("--repeat", type=int, default=3, help="timed calls of every region")
+    parser.add_argument("--write", action="store_true",
+                        help="write the section 'small paths profile' of docs/benchmarks.md")
     args = parser.parse_args(argv)
     start = machine()
-    print(f"{start['cpu']}, {start['cores']} cores, load {start['load'][0]:.1f}, "
-          f"commit {start['commit']}")
+    head = (f"{start['cpu']}, {start['cores']} cores, load {start['load'][0]:.1f}, "
+            f"commit {start['commit']}")
+    print(head)
     found = cases(args.only)
     instrument()
+    lines = []
     for name, (regions, mesher) in found.items():
         repeat = args.repeat * (10 if name == "uniform" else 1)
-        profile(name, regions, mesher, repeat)
+        case = profile(name, regions, mesher, repeat)
+        print("\n" + "\n".join(case), flush=True)
+        lines += case
+    if args.write:
+        command = shlex.join(["python", "bench/small_paths_profile.py", *sys.argv[1:]])
+        put_section(ROOT / "docs" / "benchmarks.md", "small paths profile", "\n".join([
+            "## Where the small paths' time goes (bench/small_paths_profile.py, issue 21)\n",
+            f"Written by `{command}` on {start['date']} ({head}). CPU time per call, warm; "
+            "stages nest (indented ones are part of the stage above); kernels are the "
+            "compiled calls, \"rest\" is Python, numpy, shapely and scipy between them. "
+            "It explains the time misses of the speed targets above: "
+            "docs/engine.md, \"Issue 21: the misses\".\n", *lines]))
+        print("wrote the section 'small paths profile' of docs/benchmarks.md")
 
 
 if __name__ == "__main__":
