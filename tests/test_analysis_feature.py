@@ -174,7 +174,8 @@ def test_bad_input():
 
 def brute_force(reg, walls_only=False):
     """Minimum distance over all non-adjacent segment pairs, straight from the rule; with
-    ``walls_only`` over the pairs whose closest points are joined through the region."""
+    ``walls_only`` over the pairs whose closest points are joined through the region and
+    are not the two ends of the edge between two sides that run the same way (a jog)."""
     rings = []
     for ring in reg.rings:
         turn = turning(ring)
@@ -193,11 +194,23 @@ def brute_force(reg, walls_only=False):
         a = shapely.LineString([ring[i], ring[(i + 1) % n]])
         other = rings[r2][0]
         b = shapely.LineString([other[j], other[(j + 1) % len(other)]])
-        if walls_only and not all(reg.geometry.buffer(1e-9).covers(line)
-                                  for line in _closest_lines(a, b)):
+        if walls_only and (not all(reg.geometry.buffer(1e-9).covers(line)
+                                   for line in _closest_lines(a, b))
+                               or r1 == r2 and _jog(a, b, (j - i) % n, n)):
             continue
         best = min(best, a.distance(b))
     return best
+
+
+def _jog(a, b, steps, n):
+    """Whether segments a and b of one ring of n segments, b ``steps`` segments after a
+    along it, run the same way and their closest points are the ends of the ring edge
+    between them (a's end and b's start two steps on, b's end and a's start two back)."""
+    (p0, p1), (q0, q1) = np.asarray(a.coords), np.asarray(b.coords)
+    ends = {tuple(c) for c in shapely.shortest_line(a, b).coords}
+    edge = (steps == 2 and ends == {tuple(p1), tuple(q0)}
+            or steps == n - 2 and ends == {tuple(q1), tuple(p0)})
+    return edge and (p1 - p0) @ (q1 - q0) >= 0
 
 
 def turning(ring):
@@ -336,6 +349,25 @@ def test_a_corner_sharper_than_60_degrees_is_one_feature_with_a_kink_by_its_tip(
     assert feature_size(Region.from_shapely(corner), conforming=False).value < 0.06
     mesh = pds.mesh_region(Region.from_shapely(corner), "auto", seed=0)
     assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 2000
+
+
+def test_a_jog_between_two_sides_running_the_same_way_is_no_wall():
+    """A plate whose right side steps out by 0.03 halfway up (a plane cutting a gear's
+    tessellated flank obliquely: a reflex corner, then a convex one, 0.03 apart): the ring
+    turns by 180° there in all, so the two ends of the step counted as a wall 0.03 wide,
+    and uniform "auto" took 14-52 s on such sections. The segment between them is the
+    boundary itself, and the sides beside it run the same way: no material is thin there.
+    The thin end of a strip (opposed sides) still counts."""
+    import pds_plugin as pds
+
+    plate = Polygon([(0, 0), (20, 0), (20, 5), (20.03, 5), (20.03, 10), (0, 10)])
+    size = feature_size(Region.from_shapely(plate))
+    assert size.kind == "wall" and size.value == pytest.approx(5)     # the step to the top
+    assert feature_size(Region.from_shapely(plate), conforming=False).value == pytest.approx(0.03)
+    strip = Region.from_shapely(box(0, 0, 20, 0.03))
+    assert feature_size(strip).value == pytest.approx(0.03)
+    mesh = pds.mesh_region(Region.from_shapely(plate), "auto", seed=0)
+    assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 5000
 
 
 def circular_lens(half=6.75, tip_degrees=14.3, segments=400):
