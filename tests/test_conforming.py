@@ -437,6 +437,22 @@ def test_a_side_too_short_for_its_corners_clearances_is_still_joined():
         assert {e.cause for e in cert.exceptions} <= {"sharp corner"}
 
 
+def test_a_tip_beside_a_short_side_keeps_its_triangle_at_any_seed():
+    """A 34.1° tip whose short side (0.57 alpha) ends at a sharp reflex corner p (a
+    held-out gear section at extent / 150): the first sample q on the long side must lie
+    where |pq| is in [alpha, 2 alpha sin θ], so that the tip's triangle is kept. The split
+    took that place as the least length of the first part and drew it up to √3 alpha:
+    |pq| up to 1.24 alpha, the tip isolated on half the seeds. It is a break now."""
+    ring = [(15.1609, 5.513), (12.2845, 4.5808), (10.9066, 5.7372), (9.4888, 6.8434),
+            (9.5067, 7.0362), (-2.3795, -7.4145), (-2.38, -12), (15.16, -12)]
+    region = pds.Region.from_shapely(Polygon(ring))
+    for seed in range(10):
+        mesh = pds.mesh_region(region, 0.3378754171168962, seed=seed)
+        cert = mesh.certificate()
+        assert cert.conforming and cert.isolated_samples == 0, (seed, str(cert))
+        assert cert.ok_with_exceptions and not cert.unexplained, (seed, str(cert))
+
+
 def test_kinks_of_a_noisy_boundary_are_sampled_one_alpha_apart():
     """A tessellated curve cut by a plane: a gentle bend with a kink (a right turn) every
     1.2 alpha. On a boundary known up to a tolerance every kink is sampled; at 1.5 alpha

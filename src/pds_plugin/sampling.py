@@ -428,7 +428,13 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
     else:
         corners, angle = np.array([rng.random() * length]), np.array([np.pi])
     guard = corner_clearance(angle, alpha)
-    after, before = _clearances(corners, angle, guard, cum, closed, alpha)
+    after, before, pins = _clearances(corners, angle, guard, cum, closed, alpha)
+    if len(pins):                             # breaks of their own: see _clearances
+        order = np.argsort(np.concatenate([corners, pins]), kind="stable")
+        corners = np.concatenate([corners, pins])[order]
+        angle = np.concatenate([angle, np.full(len(pins), np.pi)])[order]
+        guard = corner_clearance(angle, alpha)
+        after, before, _ = _clearances(corners, angle, guard, cum, closed, alpha)
     lo = corners
     hi = np.append(corners[1:], corners[0] + length)
     scale = np.ones(len(lo))
@@ -506,10 +512,18 @@ def _clearances(corners, angle, guard, cum, closed, alpha):
     |pq| / (2 sin θ) < alpha, is one the complex keeps. With the clearance (1.58 alpha at
     37°) that triangle was too large and the corner's sample was left isolated (a
     held-out housing section: a step 0.07 alpha deep). Sharper corners are spikes
-    (:func:`_ladders`)."""
+    (:func:`_ladders`).
+
+    That q is also where it must stay: the split takes ℓ as the first part's least
+    length and drew it up to √3 alpha, |pq| up to 1.24 alpha, and a 34° tip's triangle
+    was again too large (a held-out gear section at a fixed alpha). So q is also
+    returned, as an arc length, to be a break of its own (``pins``) where the long side
+    has room beyond it for a part of at least alpha and its other end's clearance.
+    Returns (after, before, pins)."""
     after, before = guard.copy(), np.roll(guard, -1)
+    pins = []
     if len(corners) < 2:
-        return after, before
+        return after, before, np.array(pins)
     xy = np.column_stack([np.interp(corners, cum, closed[:, 0]),
                           np.interp(corners, cum, closed[:, 1])])
     span = np.diff(np.append(corners, corners[0] + cum[-1]))     # piece i: corner i to i + 1
@@ -522,7 +536,10 @@ def _clearances(corners, angle, guard, cum, closed, alpha):
                 s = chord[short]
                 first = max(alpha, s * cos + math.sqrt(max(reach ** 2 - (s * sin) ** 2, 0.0)))
                 (after if long == i else before)[long] = first
-    return after, before
+                far = (before if long == i else after)[long]     # the other end's clearance
+                if span[long] >= first + max(reach, far):
+                    pins.append((corners[i] + (first if long == i else -first)) % cum[-1])
+    return after, before, np.array(pins)
 
 
 def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
