@@ -9,7 +9,7 @@ import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from shapely.geometry import Polygon, box
+from shapely.geometry import LineString, Point, Polygon, box
 
 import pds_plugin as pds
 from pds_plugin._sizing_kernels import build_cone_tree, nearest_facing, normal_bounds
@@ -144,6 +144,24 @@ def test_a_spike_is_a_wall_beyond_its_tips_disc():
     for x in (25.0, 30.0):
         width = 2 * (40 - x) * math.tan(math.radians(10))
         assert field([[x, 10.0]])[0] <= 0.9 * width * (1 + 1e-9)
+
+
+def test_a_corner_near_a_long_edge_is_sized_by_its_foot_on_it():
+    """A reflex corner 0.0036 from a 46 long edge (the root of a gear's tooth at a held-out
+    plane, nearly pinching the section): the corner's disc is 0.4 x its distance to the
+    nearest boundary point off its own pieces, and that point is its foot on the edge,
+    not the edge's nearest densified point (0.3 away at the first densification): the
+    disc was 0.06 wide, hid the neck from the wall rule, and the graded mesh was
+    non-manifold there (FAILED)."""
+    ring = [(-19.1924, 1.1375), (27.1251, 5.7166), (27.5089, 6.5365), (26.4326, 8.3352),
+            (23.5739, 5.3691), (22.9011, 6.3661), (22.21, 7.3302), (22.21, 14.0),
+            (-19.1924, 14.0)]
+    region = pds.Region.from_shapely(Polygon(ring))
+    neck = Point(ring[4]).distance(LineString(ring[:2]))
+    assert radius_field(region)([ring[4]])[0] <= 0.4 * neck * (1 + 1e-9)
+    for seed in range(2):
+        cert = pds.mesh_region(region, "auto", graded=True, seed=seed).certificate()
+        assert cert.ok, str(cert)
 
 
 def test_the_proven_bound():
