@@ -139,7 +139,8 @@ def test_one_edge_wires_and_labels_are_the_explorers_and_all_faces(build, origin
                 ours = [edges for edges in wires if edges[0][0].IsSame(walked[0])]
                 assert len(ours) == 1 and len(ours[0]) == len(walked)
                 assert all(a.IsSame(b) for (a, _), b in zip(ours[0], walked))
-        _, curves = solid._cut_curves(solid.solids[number], number, origin, to_2d)
+        _, curves = solid._cut_curves(solid.solids[number], number, origin, to_2d,
+                                      section=False)
         edges = [edge for face in faces for wire in face for edge, _ in wire]
         every = step._face_labels(edges, solid.faces[number], faces.common,
                                   number if len(solid.solids) > 1 else None)
