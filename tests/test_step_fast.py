@@ -145,3 +145,59 @@ def test_one_edge_wires_and_labels_are_the_explorers_and_all_faces(build, origin
         every = step._face_labels(edges, solid.faces[number], faces.common,
                                   number if len(solid.solids) > 1 else None)
         assert [c.face for c in curves] == every and all(every)
+
+
+@needs_ocp
+@pytest.mark.parametrize("build, origin, normal", CASES)
+def test_the_sections_loops_give_the_commons_region_curves_and_labels(build, origin, normal,
+                                                                     monkeypatch):
+    """Solids of analytic faces are cut by OCCT's Section, its edges chained into loops
+    and nested here: the same region as the Common's wires (to the approximation of a
+    B-spline: OCCT's Section approximates the cut through the elliptic slot's surface of
+    extrusion without the Common's pcurves, within its edge tolerance), the same curves,
+    labelled by the same faces."""
+    shape = build()
+    solid = step.StepSolid(shape)
+    origin, normal = np.asarray(origin, float), np.asarray(normal, float)
+    to_2d = plane_frames(origin, normal)[0]
+    assert all(solid.analytic)
+    for number in solid._met(origin, normal):
+        loops, curves = solid._cut_curves(solid.solids[number], number, origin, to_2d)
+        assert loops.loose                            # the Section's loops were used
+        _, common = solid._cut_curves(solid.solids[number], number, origin, to_2d,
+                                      section=False)
+        assert sorted((c.kind, c.face) for c in curves) == sorted((c.kind, c.face)
+                                                                  for c in common)
+        exact = abs(step._wire_area(*solid._cut_curves(solid.solids[number], number,
+                                                       origin, to_2d, section=False)))
+        assert 0 < step._wire_area(loops, curves) <= exact * (1 + 1e-12)   # a lower bound
+    region = pds.section(shape, origin, normal)
+    monkeypatch.setattr(step, "SECTION_BOOLEAN", False)
+    common = pds.section(shape, origin, normal)
+    assert region.betti == common.betti
+    assert region.area == pytest.approx(common.area, rel=1e-8)
+    # both flattenings within the area budgets of the true curves (the pocketed plate's
+    # island, inside a hole, counts as a hole in the Section's lower bound of the area:
+    # its arcs are finer)
+    budget = 2 * (step.AREA_ERROR + step.SPLINE_AREA_ERROR) * common.area
+    assert shapely.symmetric_difference(region.geometry, common.geometry).area <= budget
+
+
+@needs_ocp
+def test_a_plane_on_a_grooves_bottom_falls_back_to_the_common():
+    """A plane touching a cylindrical groove along its bottom line: OCCT's Section gives
+    that line too, whose ends meet the outline (vertices of three edges, no loops), so
+    the Common cuts the solid; the region is OCCT's exact section."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+
+    block = parts._box(0, 0, 0, 30, 30, 10)
+    groove = parts._cylinder(-1, 15, 12, 4, 32, direction=(1, 0, 0))
+    shape = BRepAlgoAPI_Cut(block, groove).Shape()
+    origin, normal = np.array([0.0, 0.0, 8.0]), np.array([0.0, 0.0, 1.0])
+    solid = step.StepSolid(shape)
+    assert solid.analytic == [True]
+    to_2d = plane_frames(origin, normal)[0]
+    assert solid._section_loops(solid.solids[0], origin, to_2d) is None
+    region = pds.section(shape, origin, normal)
+    assert region.area == pytest.approx(occt_section_area(shape, origin, normal), rel=1e-9)
+    assert region.betti == (1, 0)

@@ -899,6 +899,11 @@ def _face_polygons(faces, curves, join, checked=True):
         sizes = np.array([len(ring) + 1 for ring in rings])
     elif sizes.min() < 4:
         return None
+    if len(sizes) == 1:                    # one ring: shapely's calls without indices
+        geometry = shapely.polygons(shapely.linearrings(closed))   # (a fifth of the time)
+        if checked and not geometry.is_valid:
+            return None
+        return geometry if geometry.area > 0 else None
     linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(sizes)), sizes))
     if getattr(faces, "loose", False):
         linear, ring_of = _nested(linear, closed[np.cumsum(sizes) - sizes])
