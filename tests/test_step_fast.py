@@ -222,3 +222,35 @@ def test_free_form_solids_are_cut_by_the_common_and_analytic_ones_by_the_section
         region = pds.section(shape, origin, normal)
         assert region.area == pytest.approx(occt_section_area(shape, origin, normal),
                                             rel=1e-6)
+
+
+def _rings_in_rings():
+    """A plate with a ring groove round a boss with a bore round a pin (loops nested
+    four deep: shell, hole, island, hole, island)."""
+    plate = parts._cut(parts._box(0, 0, 0, 80, 80, 10), parts._cylinder(40, 40, 2, 35, 12))
+    boss = parts._cut(parts._fuse(plate, parts._cylinder(40, 40, 0, 25, 10)),
+                      parts._cylinder(40, 40, 2, 15, 12))
+    return parts._fuse(boss, parts._cylinder(40, 40, 0, 5, 10))
+
+
+def _holes_touching():
+    """Two bores that touch at a point (the Section's loops meet at a vertex)."""
+    return parts._cut(parts._box(0, 0, 0, 40, 40, 10), parts._cylinder(10, 20, -1, 5, 12),
+                      parts._cylinder(20, 20, -1, 5, 12))
+
+
+@needs_ocp
+@pytest.mark.parametrize("build, loops, betti", [(_rings_in_rings, True, (3, 2)),
+                                                 (_holes_touching, False, (1, 1))])
+def test_nested_and_touching_loops_give_occts_section(build, loops, betti):
+    """Loops nested four deep are nested by parity (each hole in the smallest ring round
+    it); loops that meet at a vertex leave the Section for the Common. Both give OCCT's
+    area to 1e-6 (the nested loops' lower bound of the area makes their arcs finer)."""
+    shape = build()
+    origin, normal = np.array([0.0, 0.0, 5.0]), np.array([0.0, 0.0, 1.0])
+    solid = step.StepSolid(shape)
+    found = solid._section_loops(solid.solids[0], origin, plane_frames(origin, normal)[0])
+    assert (found is not None) == loops
+    region = pds.section(shape, origin, normal)
+    assert region.betti == betti
+    assert region.area == pytest.approx(occt_section_area(shape, origin, normal), rel=1e-6)

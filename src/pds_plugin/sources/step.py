@@ -6,12 +6,16 @@ OCP (the ``[step]`` extra), with the section's curves kept exact until they are 
 ``TopoDS_Shape`` (or an object wrapping one as ``.wrapped``: a cadquery or build123d
 shape). OCP is imported when such a solid is read, never by ``import pds_plugin``.
 
-Each solid the plane meets is cut where it is by OCCT's Boolean common with a square face
-of the plane, built in the plane's frame (:func:`_boolean`: ``BRepAlgoAPI_Common``, no
-options; the same curves as ``BRepAlgoAPI_Section``, 6 to 19 times faster on a threaded
-screw, 1.8 to 2.7 times slower on small analytic parts), its 2D coordinates those of a
-mesh section of the same plane, and each edge of the cut is read once by
-``BRepAdaptor_Curve`` as the exact curve it is:
+Each solid the plane meets is cut where it is, in the plane's frame (:func:`_boolean`):
+by OCCT's ``BRepAlgoAPI_Section`` where every face of the solid is a plane, cylinder,
+cone, sphere, torus or surface of extrusion (:func:`_analytic`; 0.2 to 0.65 times the
+Common's time there), its edges chained into loops by their shared vertices and nested
+here (:meth:`StepSolid._section_loops`, :func:`_nested`); else (free-form or revolved
+faces, where the Section takes 1.3 to 6.4 times the Common's time, 6 to 19 on a
+threaded screw), or where the Section's edges do not close into loops, by
+``BRepAlgoAPI_Common`` with a square face of the plane, no options, whose faces' wires
+are the loops. Its 2D coordinates are those of a mesh section of the same plane, and
+each edge of the cut is read once by ``BRepAdaptor_Curve`` as the exact curve it is:
 
 - a **line** gives its two end points;
 - a **circle** or an **ellipse** gives ``center + u cos θ + v sin θ``, flattened by
@@ -26,9 +30,10 @@ mesh section of the same plane, and each edge of the cut is read once by
 
 Where a line meets a circle or an ellipse, the junction is moved to where the exact
 curves meet (:func:`_junctions_refined`: OCCT's vertex is within its edge tolerance of
-the conic, up to 1.9e-9 of the radius off it). The loops of each solid are the wires of
-the Common's faces (assembled by :func:`.polygons.outline_geometry`, even-odd, only where
-a wire does not close or the Region refuses the polygons), and the solids' polygons are
+the conic, up to 1.9e-9 of the radius off it). The loops of each solid are the Section's
+chained edges or the wires of the Common's faces (assembled by
+:func:`.polygons.outline_geometry`, even-odd, only where a wire does not close or the
+Region refuses the polygons), and the solids' polygons are
 united, so assemblies and overlapping bodies give their union; a solid whose box the
 plane misses is not cut.
 Circles and ellipses are flattened finer for the area (:data:`AREA_ERROR`), and
@@ -449,9 +454,11 @@ class StepSolid:
         axes, each as its wires (outer first), each wire its edges in order with whether
         each runs reversed. The solid is cut where it is: moved so that the plane is
         z = 0 (a located shape), it made the Boolean 10-15 % slower. OCCT's Common gives
-        the same curves as its Section, and is faster on free-form faces: 0.85 s against
-        12-16 s on the thread of M6-1x12-countersunk-screw.step; and its faces' wires are
-        the section's loops, already nested. The faces carry the Common as ``.common``."""
+        the same curves as its Section (B-splines through a surface of extrusion within
+        their edge tolerance: the Section approximates them without the Common's
+        pcurves), and is faster on free-form faces: 0.85 s against 12-16 s on the thread
+        of M6-1x12-countersunk-screw.step; and its faces' wires are the section's loops,
+        already nested. The faces carry the Common as ``.common``."""
         occ = _occ()
         BRepTools, BRepTools_WireExplorer = occ.BRepTools, occ.BRepTools_WireExplorer
         TopoDS, TopoDS_Iterator = occ.TopoDS, occ.TopoDS_Iterator
