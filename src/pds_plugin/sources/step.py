@@ -497,7 +497,7 @@ class StepSolid:
     def _section_loops(self, solid, origin, to_2d):
         """The cut of one solid by OCCT's Section (:func:`_boolean`): its edges chained
         into closed loops by the vertices they share, each loop a "face" of one wire of
-        ``(edge, reversed)`` (not nested: :func:`_loop_polygons` nests them), the
+        ``(edge, reversed)`` (not nested: :func:`_nested` nests their rings), the
         Section as ``.common``; None where the edges do not make closed loops (a plane
         touching a face, two loops meeting at a vertex, OCCT failing): the Common
         then cuts the solid."""
