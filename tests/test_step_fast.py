@@ -155,7 +155,8 @@ def test_the_sections_loops_give_the_commons_region_curves_and_labels(build, ori
     and nested here: the same region as the Common's wires (to the approximation of a
     B-spline: OCCT's Section approximates the cut through the elliptic slot's surface of
     extrusion without the Common's pcurves, within its edge tolerance), the same curves,
-    labelled by the same faces."""
+    labelled by the same faces (each edge's face asked directly, ``HasAncestorFaceOn1``,
+    is the one the Section's history names)."""
     shape = build()
     solid = step.StepSolid(shape)
     origin, normal = np.asarray(origin, float), np.asarray(normal, float)
@@ -164,6 +165,10 @@ def test_the_sections_loops_give_the_commons_region_curves_and_labels(build, ori
     for number in solid._met(origin, normal):
         loops, curves = solid._cut_curves(solid.solids[number], number, origin, to_2d)
         assert loops.loose                            # the Section's loops were used
+        edges = [edge for face in loops for wire in face for edge, _ in wire]
+        history = step._face_labels(edges, solid.faces[number], loops.common,
+                                    number if len(solid.solids) > 1 else None)
+        assert [c.face for c in curves] == history and all(history)   # each edge's face
         _, common = solid._cut_curves(solid.solids[number], number, origin, to_2d,
                                       section=False)
         assert sorted((c.kind, c.face) for c in curves) == sorted((c.kind, c.face)

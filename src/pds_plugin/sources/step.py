@@ -276,7 +276,7 @@ class StepSolid:
         shape = load(solid)                # first: it says which extra OCP comes with
         self.name = "the shape" if _shape_of(solid) is not None else repr(os.fspath(solid))
         (self.solids, (low, high), self.planes, self.faces, self.boxes,
-         self.face_boxes, self.analytic) = _facts(shape)
+         self.face_boxes, self.analytic, self.face_index) = _facts(shape)
         if not self.solids:
             faces = len(_explore(shape, "FACE"))
             raise SourceError(f"{self.name} holds no solid ({faces} face(s) but no closed "
@@ -432,14 +432,18 @@ class StepSolid:
         if faces is None:
             faces = self._common_faces(solid, origin, to_2d, self._reach(origin))
         edges = [edge for face in faces for wire in face for edge, _ in wire]
-        # the faces whose boxes the plane meets are asked first (the others cannot have
-        # made an edge of the cut, and are asked only if some edge is still unnamed)
-        center, half = self.face_boxes[number]
-        reach = half @ np.abs(normal) + _ON_PLANE * self.scale
-        near = np.abs((center - origin) @ normal) <= reach
-        order = np.concatenate([np.flatnonzero(near), np.flatnonzero(~near)]).tolist()
-        labels = _face_labels(edges, self.faces[number], faces.common,
-                              number if len(self.solids) > 1 else None, order)
+        prefix = number if len(self.solids) > 1 else None
+        labels = (_ancestor_labels(edges, faces.common, self.faces[number],
+                                   self.face_index[number], prefix)
+                  if faces.loose else None)
+        if labels is None:
+            # the faces whose boxes the plane meets are asked first (the others cannot
+            # have made an edge of the cut, and are asked only if some edge is unnamed)
+            center, half = self.face_boxes[number]
+            reach = half @ np.abs(normal) + _ON_PLANE * self.scale
+            near = np.abs((center - origin) @ normal) <= reach
+            order = np.concatenate([np.flatnonzero(near), np.flatnonzero(~near)]).tolist()
+            labels = _face_labels(edges, self.faces[number], faces.common, prefix, order)
         frame = np.asarray(to_2d, dtype=float)[:2]
         rows = tuple(frame.ravel().tolist())            # the same map, as plain floats
         curves = [_flattened(edge, self.tolerance, frame, arcs, label, reversed_, rows)
@@ -627,7 +631,7 @@ def _occ():
         from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
         from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
         from OCP.TopExp import TopExp, TopExp_Explorer
-        from OCP.TopoDS import TopoDS, TopoDS_Iterator
+        from OCP.TopoDS import TopoDS, TopoDS_Iterator, TopoDS_Shape
 
         _OCC = SimpleNamespace(
             BRep_Tool=BRep_Tool, BRepAdaptor_Curve=BRepAdaptor_Curve,
@@ -636,7 +640,8 @@ def _occ():
             BRepTools_WireExplorer=BRepTools_WireExplorer, Kind=GeomAbs_CurveType,
             gp_Ax3=gp_Ax3, gp_Dir=gp_Dir, gp_Pln=gp_Pln, gp_Pnt=gp_Pnt,
             REVERSED=TopAbs_Orientation.TopAbs_REVERSED, FACE=TopAbs_ShapeEnum.TopAbs_FACE,
-            EDGE=TopAbs_ShapeEnum.TopAbs_EDGE, TopExp=TopExp, TopExp_Explorer=TopExp_Explorer, TopoDS=TopoDS, TopoDS_Iterator=TopoDS_Iterator)
+            EDGE=TopAbs_ShapeEnum.TopAbs_EDGE, TopExp=TopExp, TopExp_Explorer=TopExp_Explorer, TopoDS=TopoDS, TopoDS_Iterator=TopoDS_Iterator,
+            TopoDS_Shape=TopoDS_Shape)
     return _OCC
 
 
@@ -661,7 +666,8 @@ def _facts(shape) -> tuple:
              if len(solids) > 1 else None)
     facts = (solids, _box(solids) if solids else (np.zeros(3), np.zeros(3)),
              _planar_faces(faces), faces, boxes, [_face_boxes(f) for f in faces],
-             [_analytic(f) for f in faces])
+             [_analytic(f) for f in faces],
+             [{hash(face): k for k, face in reversed(list(enumerate(f)))} for f in faces])
     _KEPT_FACTS[key] = (shape, facts)
     while len(_KEPT_FACTS) > _KEPT:
         _KEPT_FACTS.pop(next(iter(_KEPT_FACTS)))
@@ -774,6 +780,26 @@ def _face_labels(edges, solid_faces, common, number, order=None) -> list[str]:
         if len(found) == len(wanted):
             break
     return [found.get(hash(edge), "") for edge in edges]
+
+
+def _ancestor_labels(edges, section, solid_faces, index, number):
+    """The labels of :func:`_face_labels` for the edges of OCCT's Section, each read
+    directly: the solid's face it lies on (``HasAncestorFaceOn1``), found among
+    ``solid_faces`` by ``index`` (their hashes); None if an edge's face is not found (the
+    history then names them). A third of the time of the history, and no ordering of
+    the faces by their boxes (0.03-0.05 ms a section)."""
+    TopoDS_Shape = _occ().TopoDS_Shape
+    prefix = "" if number is None else f"solid {number} "
+    labels = []
+    for edge in edges:
+        face = TopoDS_Shape()
+        if not section.HasAncestorFaceOn1(edge, face):
+            return None
+        at = index.get(hash(face))
+        if at is None or not solid_faces[at].IsSame(face):
+            return None
+        labels.append(f"{prefix}face {at}")
+    return labels
 
 
 def _extent(curves) -> float:
