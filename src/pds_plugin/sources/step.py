@@ -507,7 +507,7 @@ class StepSolid:
         then cuts the solid."""
         occ = _occ()
         TopExp, TopoDS = occ.TopExp, occ.TopoDS
-        cut = _boolean(solid, origin, to_2d, self._reach(origin), section=True)
+        cut = _boolean(solid, origin, to_2d, 0.0, section=True)      # (no face: no reach)
         if not cut.IsDone():
             return None
         edges, ends = [], {}
