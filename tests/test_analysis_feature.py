@@ -12,7 +12,7 @@ from hypothesis import given, settings, strategies as st
 from shapely.geometry import MultiPolygon, Point, Polygon, box
 
 from pds_plugin import Region, feature_size, suggest_alpha
-from pds_plugin.analysis.feature import ADJACENT_TURNING
+from pds_plugin.analysis.feature import ADJACENT_TURNING, STRIP_END
 from pds_plugin.sampling import LADDER_ANGLE
 
 
@@ -175,7 +175,7 @@ def test_bad_input():
 def brute_force(reg, walls_only=False):
     """Minimum distance over all non-adjacent segment pairs, straight from the rule; with
     ``walls_only`` over the pairs whose closest points are joined through the region and
-    are not the two ends of the edge between two sides that run the same way (a jog)."""
+    are not one edge apart (but at a strip's end)."""
     rings = []
     for ring in reg.rings:
         turn = turning(ring)
@@ -196,21 +196,27 @@ def brute_force(reg, walls_only=False):
         b = shapely.LineString([other[j], other[(j + 1) % len(other)]])
         if walls_only and (not all(reg.geometry.buffer(1e-9).covers(line)
                                    for line in _closest_lines(a, b))
-                               or r1 == r2 and _jog(a, b, (j - i) % n, n)):
+                               or r1 == r2 and _across_one_edge(a, b, (j - i) % n, n)):
             continue
         best = min(best, a.distance(b))
     return best
 
 
-def _jog(a, b, steps, n):
+def _across_one_edge(a, b, steps, n):
     """Whether segments a and b of one ring of n segments, b ``steps`` segments after a
-    along it, run the same way and their closest points are the ends of the ring edge
-    between them (a's end and b's start two steps on, b's end and a's start two back)."""
+    along it, have one edge between them (two steps on or back) that is not a strip's
+    end (both its corners convex, a and b opposed to within STRIP_END)."""
     (p0, p1), (q0, q1) = np.asarray(a.coords), np.asarray(b.coords)
-    ends = {tuple(c) for c in shapely.shortest_line(a, b).coords}
-    edge = (steps == 2 and ends == {tuple(p1), tuple(q0)}
-            or steps == n - 2 and ends == {tuple(q1), tuple(p0)})
-    return edge and (p1 - p0) @ (q1 - q0) >= 0
+    if steps == n - 2:
+        (p0, p1), (q0, q1) = (q0, q1), (p0, p1)
+    elif steps != 2:
+        return False
+
+    def turn(u, v):
+        return math.atan2(u[0] * v[1] - u[1] * v[0], u @ v)
+
+    first, second = turn(p1 - p0, q0 - p1), turn(q0 - p1, q1 - q0)
+    return not (first > 0 and second > 0 and first + second >= math.pi - STRIP_END)
 
 
 def turning(ring):
@@ -351,23 +357,28 @@ def test_a_corner_sharper_than_60_degrees_is_one_feature_with_a_kink_by_its_tip(
     assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 2000
 
 
-def test_a_jog_between_two_sides_running_the_same_way_is_no_wall():
+def test_an_edge_is_a_wall_only_at_a_strips_end():
     """A plate whose right side steps out by 0.03 halfway up (a plane cutting a gear's
-    tessellated flank obliquely: a reflex corner, then a convex one, 0.03 apart): the ring
-    turns by 180° there in all, so the two ends of the step counted as a wall 0.03 wide,
-    and uniform "auto" took 14-52 s on such sections. The segment between them is the
-    boundary itself, and the sides beside it run the same way: no material is thin there.
-    The thin end of a strip (opposed sides) still counts."""
+    tessellated flank obliquely: a reflex corner, then a convex one), and a tooth whose
+    18° tip is blunted by a 0.015 edge (a gear's tooth cut near its end): the ring turns
+    by more than 150° across each, so the two ends of that edge counted as a wall, and
+    uniform "auto" took 14-63 s on held-out gear sections. The segment between them is
+    the boundary itself; only a strip's end, whose sides run opposite ways, is a wall."""
     import pds_plugin as pds
 
     plate = Polygon([(0, 0), (20, 0), (20, 5), (20.03, 5), (20.03, 10), (0, 10)])
     size = feature_size(Region.from_shapely(plate))
     assert size.kind == "wall" and size.value == pytest.approx(5)     # the step to the top
     assert feature_size(Region.from_shapely(plate), conforming=False).value == pytest.approx(0.03)
+    half = math.radians(9)
+    tooth = Polygon([(0, -3), (10, -3), (10, -10 * math.tan(half) - 0.0075), (20, -0.0075),
+                     (20, 0.0075), (10, 10 * math.tan(half) + 0.0075), (10, 3), (0, 3)])
+    assert feature_size(Region.from_shapely(tooth)).value > 1.0        # not 0.015
     strip = Region.from_shapely(box(0, 0, 20, 0.03))
     assert feature_size(strip).value == pytest.approx(0.03)
-    mesh = pds.mesh_region(Region.from_shapely(plate), "auto", seed=0)
-    assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 5000
+    for region in (plate, tooth):
+        mesh = pds.mesh_region(Region.from_shapely(region), "auto", seed=0)
+        assert mesh.certificate().ok_with_exceptions and len(mesh.vertices) < 5000
 
 
 def circular_lens(half=6.75, tip_degrees=14.3, segments=400):

@@ -47,13 +47,15 @@ than 150° apart from the tip) is no wall when it is at least ``LENS_RATIO`` (0.
 as wide as the corner's straight sides would be there; a lens between two spikes,
 thinner than that, still counts.
 
-**Jogs are no walls for conforming meshes.** The two ends of one edge whose neighbours
-run the same way (a step between two sides of a face, where a plane cuts a tessellated
-flank obliquely: a reflex corner, then a convex one) are no wall: the segment between
-them is the boundary itself, and no material beside it is that thin. They counted, the
-ring turning by 150° or more across the step, and uniform ``"auto"`` followed each 0.03
-step of a gear's section (14-52 s). The two ends of a strip's short side, whose
-neighbours run opposite ways, still count.
+**Across one edge, a wall only at a strip's end.** A vertex and a segment one edge apart
+(the segment starts where the vertex's edge ends) are measured across the boundary's own
+step; with conforming meshes they count only where both corners of that edge are convex
+and the sides beside it run opposite ways (to within :data:`STRIP_END`, 5°), as at a
+strip's end, whose sides face each other all along. A jog (a step between two sides
+running the same way, where a plane cuts a tessellated flank obliquely), a notch's end
+and a blunted tip (sides meeting beyond a short edge, a gear's tooth cut near its end)
+are no walls: counted, the ring turning by 150° or more there, they set uniform
+``"auto"`` by steps 0.015-0.03 wide (held-out gear sections, 14-63 s).
 """
 
 from __future__ import annotations
@@ -87,6 +89,11 @@ so at one half its width counted nowhere, and ``"auto"`` fell back to the distan
 tip's first vertex to the chord (a STEP knob's lens: 5 million samples, 40 s). At 0.6 it
 counts from 0.8 h on, at 0.96 of its middle width; straight or outward-bent sides (1 and
 above) never do."""
+
+STRIP_END = np.radians(5)
+"""An edge whose neighbouring sides run opposite ways to within this (radians, 5°), both
+its corners convex, is a strip's end: the width across it is a wall. Across any other
+edge a vertex and the segment beyond are no wall (a jog, a notch's end, a blunted tip)."""
 
 _COLLINEAR = 1e-7   # |turning angle| (radians) below which a vertex is a straight-line split
 _FACING_SLACK = 1e-6  # the kernel's facing test lets through what is this near (relative)
@@ -253,6 +260,9 @@ class _Boundary:
         self.geometry = region.geometry
         self.previous = np.arange(-1, self.start[-1] - 1)        # the segment ending at k
         self.previous[self.start[:-1]] = self.start[1:] - 1
+        self.following = np.arange(1, self.start[-1] + 1)        # the vertex after k
+        self.following[self.start[1:] - 1] = self.start[:-1]
+        self.signed = signed
 
     def closest_nonadjacent(self, walls_only: bool = False):
         """``(distance, (i, j), (p, q))`` over non-adjacent segment pairs, or None; with
@@ -328,7 +338,7 @@ class _Boundary:
         while start < len(v):
             part = slice(start, start + size)
             wall = ~(self._across_a_spike(v[part], j[part], foot[part])
-                     | self._along_a_jog(v[part], j[part], foot[part], a[part]))
+                     | self._across_one_edge(v[part], j[part]))
             wall[wall] = self._through_region(self.p0[v[part]][wall], foot[part][wall])
             middle, across = self._across_overlap(a[part], j[part])
             if middle.any():
@@ -449,20 +459,23 @@ class _Boundary:
         count = np.minimum(np.maximum(backward, 0) + np.maximum(forward - 1, 0) + 2, size - 1)
         return (lv - 1 - backward) % size, count
 
-    def _along_a_jog(self, v, j, foot, a):
-        """Which pairs (vertex v on segment a, its foot on segment j) are the two ends of
-        one of v's own edges, between sides a and j that run the same way (their
-        directions less than 90° apart): a jog, a short step between two sides of one
-        face, as where a plane cuts a tessellated flank obliquely. The segment between
-        them is the boundary itself and the material beside it is no thinner than its
-        sides' overlap, which they have none of; the two ends of a thin strip's short side
-        (opposed sides, a rectangle's end) still count."""
-        ahead, behind = self.p1[v], self.p0[self.previous[v]]
-        near = 1e-9 * np.hypot(*(ahead - behind).T)         # the foot, up to its rounding
-        own_edge = ((np.hypot(*(foot - ahead).T) <= near)
-                    | (np.hypot(*(foot - behind).T) <= near))
-        u, w = self.p1[a] - self.p0[a], self.p1[j] - self.p0[j]
-        return own_edge & ((u * w).sum(axis=1) >= 0)
+    def _across_one_edge(self, v, j):
+        """Which pairs (vertex v, segment j) are one edge apart, j starting where v's
+        edge ends or ending where the edge before v starts, but not at a strip's end
+        (both corners of that edge convex, j and the side beyond v within
+        :data:`STRIP_END` of running opposite ways). A jog (a step between two sides
+        running the same way, as where a plane cuts a tessellated flank obliquely), a
+        notch's end (reflex corners) and a blunted tip (sides meeting at STRIP_END or
+        more beyond a short edge, a gear's tooth cut near its end) are no walls: the
+        width across the edge is the boundary's own step, and counted, the ring turning
+        by 150° or more there, it set uniform ``"auto"`` by steps 0.015-0.03 wide
+        (held-out gear sections: 14-63 s each)."""
+        ahead = j == self.following[v]
+        w = np.where(ahead, self.following[v], self.previous[v])      # the edge's other end
+        one_edge = ahead | (j == self.previous[self.previous[v]])
+        strip_end = ((self.signed[v] > 0) & (self.signed[w] > 0)
+                     & (self.signed[v] + self.signed[w] >= np.pi - STRIP_END))
+        return one_edge & ~strip_end
 
     def _across_overlap(self, a, j):
         """Which segment pairs (a, j) are parallel (to 1e-12) and overlap along a, and
