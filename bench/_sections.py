@@ -8,7 +8,11 @@ A script puts its section between ``<!-- section: NAME -->`` and ``<!-- /section
 from __future__ import annotations
 
 import re
+import shlex
+import sys
 from pathlib import Path
+
+BENCHMARKS = Path(__file__).resolve().parents[1] / "docs" / "benchmarks.md"
 
 # a name is one line of text without ">": "speed targets", "bench/batch.py"
 _SECTION = re.compile(r"<!-- section: (?P<name>[^\n>]+?) -->\n.*?<!-- /section: (?P=name) -->\n",
@@ -32,6 +36,14 @@ def put_section(path: Path, name: str, text: str) -> None:
         new += old[end:match.start()].rstrip("\n") + "\n"
         end = match.end()
     path.write_text(new.rstrip("\n") + "\n" + old[end:])
+
+
+def write_section(name: str, title: str, intro: str, lines) -> None:
+    """Section ``name`` of docs/benchmarks.md: ``title``, then "Written by `python
+    bench/SCRIPT ARGS`" (this process's command line) and ``intro``, then ``lines``."""
+    command = shlex.join(["python", f"bench/{Path(sys.argv[0]).name}", *sys.argv[1:]])
+    put_section(BENCHMARKS, name, "\n".join([f"## {title}\n", f"Written by `{command}` {intro}\n",
+                                             *lines]))
 
 
 def kept_sections(path: Path) -> str:

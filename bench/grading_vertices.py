@@ -17,7 +17,6 @@ is the gap to Triangle, whose sizes follow the local feature size at a slope nea
 from __future__ import annotations
 
 import argparse
-import shlex
 import sys
 import warnings
 from pathlib import Path
@@ -31,8 +30,8 @@ from pds_plugin.sizing import DEFAULT_GRADING, angle_bound  # noqa: E402
 
 from _environment import machine                           # noqa: E402
 from _runners import _pslg                                 # noqa: E402
-from _sections import put_section                          # noqa: E402
-from speed_targets import PARTS, ROOT, drawing_region, part_sections  # noqa: E402
+from _sections import write_section                        # noqa: E402
+from speed_targets import PARTS, drawing_region, part_sections  # noqa: E402
 
 GRADINGS = (0.1, 0.2, 0.3, 0.4)
 
@@ -84,15 +83,14 @@ def main(argv=None):
             lines.append(row(name, regions))
             print(lines[-1], flush=True)
     if args.write:
-        command = shlex.join(["python", "bench/grading_vertices.py", *sys.argv[1:]])
-        put_section(ROOT / "docs" / "benchmarks.md", "graded vertices", "\n".join([
-            "## Graded vertices against the grading (bench/grading_vertices.py, issue 21)\n",
-            f"Written by `{command}` on {start['date']} (commit `{start['commit']}`). Mean "
-            "vertices of graded `\"auto\"` meshes per case at each grading L, their ratio to "
-            "Triangle `pq30` (no area bound), Triangle at the same proven angle "
-            "`pq<θ_L>`, and the 1st percentile of the smallest angles of pds_plugin's triangles. The vertex misses of "
-            "the speed targets come from L: docs/engine.md, \"Issue 21: the misses\".\n",
-            *head, *lines]))
+        write_section("graded vertices", "Graded vertices against the grading "
+                      "(bench/grading_vertices.py, issue 21)",
+                      f"on {start['date']} (commit `{start['commit']}`). Mean vertices of "
+                      "graded `\"auto\"` meshes per case at each grading L, their ratio to "
+                      "Triangle `pq30` (no area bound), Triangle at the same proven angle "
+                      "`pq<θ_L>`, and the 1st percentile of the smallest angles of "
+                      "pds_plugin's triangles. The vertex misses of the speed targets come "
+                      "from L: docs/engine.md, \"Issue 21: the misses\".", [*head, *lines])
         print("wrote the section 'graded vertices' of docs/benchmarks.md")
 
 

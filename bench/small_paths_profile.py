@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import shlex
 import sys
 import warnings
 from collections import Counter
@@ -41,8 +40,8 @@ import pds_plugin.sampling as sampling                     # noqa: E402
 
 from _environment import machine                           # noqa: E402
 from _regions import DATA, stl_section                     # noqa: E402
-from _sections import put_section                          # noqa: E402
-from speed_targets import (PARTS, ROOT, drawing_region, graded, part_sections,  # noqa: E402
+from _sections import write_section                        # noqa: E402
+from speed_targets import (PARTS, drawing_region, graded, part_sections,  # noqa: E402
                            square_alpha, uniform_auto)
 
 KERNEL_MODULES = tuple(sorted(path.name.split(".")[0] for path in
@@ -185,14 +184,13 @@ def main(argv=None):
         print("\n" + "\n".join(case), flush=True)
         lines += case
     if args.write:
-        command = shlex.join(["python", "bench/small_paths_profile.py", *sys.argv[1:]])
-        put_section(ROOT / "docs" / "benchmarks.md", "small paths profile", "\n".join([
-            "## Where the small paths' time goes (bench/small_paths_profile.py, issue 21)\n",
-            f"Written by `{command}` on {start['date']} ({head}). CPU time per call, warm; "
-            "stages nest (indented ones are part of the stage above); kernels are the "
-            "compiled calls, \"rest\" is Python, numpy, shapely and scipy between them. "
-            "It explains the time misses of the speed targets above: "
-            "docs/engine.md, \"Issue 21: the misses\".\n", *lines]))
+        write_section("small paths profile", "Where the small paths' time goes "
+                      "(bench/small_paths_profile.py, issue 21)",
+                      f"on {start['date']} ({head}). CPU time per call, warm; stages nest "
+                      "(indented ones are part of the stage above); kernels are the compiled "
+                      "calls, \"rest\" is Python, numpy, shapely and scipy between them. It "
+                      "explains the time misses of the speed targets: docs/engine.md, "
+                      "\"Issue 21: the misses\".", lines)
         print("wrote the section 'small paths profile' of docs/benchmarks.md")
 
 

@@ -33,7 +33,6 @@ import cProfile
 import io
 import math
 import pstats
-import shlex
 import sys
 import tempfile
 import warnings
@@ -50,9 +49,8 @@ from _drawings import rounded_plate                        # noqa: E402
 from _environment import machine                           # noqa: E402
 from _regions import DATA                                  # noqa: E402
 from _runners import _area_for_vertices, _pslg             # noqa: E402
-from _sections import put_section                          # noqa: E402
+from _sections import write_section                        # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 PARTS = ("featuretype.STL", "angle_block.STL", "ADIS16480.STL")
 PLANES = 60
 CASES = ("drawing", "laser", "sections", "uniform-auto", "squares", "demo")
@@ -353,15 +351,15 @@ def main(argv=None):
     verdicts = targets(rows)
     print("\n" + "\n".join(lines) + "\n\n" + "\n".join(verdicts))
     if args.write:
-        command = shlex.join(["python", "bench/speed_targets.py", *sys.argv[1:]])
-        put_section(ROOT / "docs" / "benchmarks.md", "speed targets", "\n".join([
-            "## Speed targets (bench/speed_targets.py, issue 21)\n",
-            f"Written by `{command}` on {start['date']} (commit `{start['commit']}`, load "
-            f"average {start['load'][0]:.1f} at the start; 2 shared cores: the CPU time of the process, all "
-            "threads, is the estimate of a quiet machine's wall time). pds_plugin warm, best "
-            "of the timed calls; Triangle in the same run, `pq30`/`pq33` with no area bound "
-            "beside graded meshes and at pds_plugin's vertex count beside uniform ones. "
-            "Ratios are pds / Triangle.\n", *lines, "", *verdicts]))
+        write_section("speed targets", "Speed targets (bench/speed_targets.py, issue 21)",
+                      f"on {start['date']} (commit `{start['commit']}`, load average "
+                      f"{start['load'][0]:.1f} at the start; 2 shared cores: the CPU time of the "
+                      "process, all threads, is the estimate of a quiet machine's wall time). "
+                      "pds_plugin warm, best of the timed calls; Triangle in the same run, "
+                      "`pq30`/`pq33` with no area bound beside graded meshes and at "
+                      "pds_plugin's vertex count beside uniform ones. Ratios are pds / "
+                      "Triangle. The misses are explained by the profiles below: "
+                      "docs/engine.md, \"Issue 21: the misses\".", [*lines, "", *verdicts])
         print("wrote the section 'speed targets' of docs/benchmarks.md")
 
 
