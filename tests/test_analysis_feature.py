@@ -12,8 +12,7 @@ from hypothesis import given, settings, strategies as st
 from shapely.geometry import MultiPolygon, Point, Polygon, box
 
 from pds_plugin import Region, feature_size, suggest_alpha
-from pds_plugin.analysis.feature import ADJACENT_TURNING, STRIP_END
-from pds_plugin.sampling import LADDER_ANGLE
+from pds_plugin.analysis.feature import ADJACENT_TURNING, SHARP_TIP, STRIP_END
 
 
 def region(geometry):
@@ -268,7 +267,7 @@ def regions(draw):
 def test_spatial_search_equals_brute_force(reg):
     if len(reg.segments) > 250:
         reg = Region.from_shapely(reg.geometry.simplify(0.05))
-    spikes = any((turning(ring) > math.pi - LADDER_ANGLE).any() for ring in reg.rings)
+    spikes = any((turning(ring) > math.pi - SHARP_TIP).any() for ring in reg.rings)
     for conforming in (False, True) if not spikes else (False,):   # spikes: tested below
         expected = brute_force(reg, walls_only=conforming)
         fs = feature_size(reg, conforming=conforming)

@@ -532,8 +532,7 @@ class _Boundary:
 
     def _nearest_boundary_point(self, x):
         """(segment index, point) of the boundary nearest ``x``."""
-        d, _, foot = _segment_distance(np.broadcast_to(x, self.p0.shape),
-                                       np.broadcast_to(x, self.p0.shape), self.p0, self.p1)
+        d, foot = point_segment(np.broadcast_to(x, self.p0.shape), self.p0, self.p1)
         k = int(np.argmin(d))
         return k, foot[k]
 
@@ -544,9 +543,9 @@ class _Boundary:
         incident = (self.local[v] == self.local[s]) | \
                    (self.local[v] == (self.local[s] + 1) % self.size[s])
         v, s = v[~(same & incident)], s[~(same & incident)]
-        d, p, q = _segment_distance(self.p0[v], self.p0[v], self.p0[s], self.p1[s])
+        d, q = point_segment(self.p0[v], self.p0[s], self.p1[s])
         k = np.argmin(d)
-        return float(d[k]), (int(v[k]), int(s[k])), (p[k], q[k])
+        return float(d[k]), (int(v[k]), int(s[k])), (self.p0[v[k]], q[k])
 
     def describe(self, flat: int, point: np.ndarray, owners) -> BoundaryFeature:
         """Name the original segment (or vertex) of the ring that holds ``point``."""
@@ -556,9 +555,8 @@ class _Boundary:
         start = self.kept[ring][self.local[flat]]
         stop = self.kept[ring][(self.local[flat] + 1) % len(self.kept[ring])]
         segments = np.arange(start, stop if stop > start else stop + n) % n
-        d, _, _ = _segment_distance(np.broadcast_to(point, (len(segments), 2)),
-                                    np.broadcast_to(point, (len(segments), 2)),
-                                    original[segments], original[(segments + 1) % n])
+        d, _ = point_segment(np.broadcast_to(point, (len(segments), 2)), original[segments],
+                             original[(segments + 1) % n])
         segment = int(segments[np.argmin(d)])
         ends = original[[segment, (segment + 1) % n]]
         at_end = np.linalg.norm(ends - point, axis=1)
@@ -569,24 +567,6 @@ class _Boundary:
         component, hole = owners[ring]
         return BoundaryFeature(ring=ring, segment=segment, vertex=vertex, component=component,
                                hole=hole, point=(float(point[0]), float(point[1])))
-
-
-def _segment_distance(p0, p1, q0, q1):
-    """Distance between segments p0p1 and q0q1 that do not cross, with closest points.
-
-    The minimum is reached at an endpoint of one of them.
-    """
-    found = [point_segment(p0, q0, q1), point_segment(p1, q0, q1),
-             point_segment(q0, p0, p1), point_segment(q1, p0, p1)]
-    distance = np.stack([d for d, _ in found])
-    foot = np.stack([f for _, f in found])
-    end = np.stack(np.broadcast_arrays(p0, p1, q0, q1))
-    k = np.argmin(distance, axis=0)
-    rows = np.arange(distance.shape[1])
-    from_p = (k < 2)[:, None]
-    p = np.where(from_p, end[k, rows], foot[k, rows])
-    q = np.where(from_p, foot[k, rows], end[k, rows])
-    return distance[k, rows], p, q
 
 
 def point_segment(x, a, b):
