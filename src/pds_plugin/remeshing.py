@@ -39,7 +39,7 @@ from ._checks import check_alpha, check_grading, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
-                        junction_fields, with_sample_cones)
+                        junction_fields, partition_topology, with_sample_cones)
 from .region import check_tolerance, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
@@ -305,12 +305,17 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         on_kept[faces[kept].ravel()] = True
         rings, frames = [p.rings for p in remeshed], [p.frame for p in remeshed]
         pinned = np.flatnonzero(on_kept).tolist()
-        own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned)
-        own = agreeing_fields(rings, frames, own, pinned)
+        # the chains found once for the four steps, and the patches' fields read in one
+        # call (they lie apart in one plane: partition_topology)
+        topology = partition_topology(rings, frames, pinned)
+        own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned,
+                              topology=topology)
+        own = agreeing_fields(rings, frames, own, pinned, topology=topology)
         chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
-                                      seed=seed, pinned=pinned)
+                                      seed=seed, pinned=pinned, topology=topology)
         sizes, coned = _agreeing_sizes(chains, frames, own,
-                                       chain_sample_radii(chains, frames, own))
+                                       chain_sample_radii(chains, frames, own,
+                                                          topology=topology), topology)
         meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned)
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
@@ -536,7 +541,7 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     return out
 
 
-def _agreeing_sizes(chains, frames, fields, sizes):
+def _agreeing_sizes(chains, frames, fields, sizes, topology=None):
     """The chain samples' radii ``sizes`` lowered until every patch's field with its
     cones (:func:`_patch_mesh`) reads them at its own samples: at a sample s, the
     smallest of its patches' fields combined with cones of ``sizes`` at their samples,
@@ -551,7 +556,11 @@ def _agreeing_sizes(chains, frames, fields, sizes):
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
               for frame, i in zip(frames, ids)]
-    own = [field(xy) for field, xy in zip(fields, points)]   # the same in every round
+    union = None if topology is None else topology.layout_field(frames, fields)
+    if union is not None and points:            # the same in every round; one call
+        own = np.split(union(np.concatenate(points)), np.cumsum([len(xy) for xy in points])[:-1])
+    else:
+        own = [field(xy) for field, xy in zip(fields, points)]
     for _ in range(_AGREEMENT_ROUNDS):
         lowest = sizes.copy()
         for field, r, i, xy in zip(fields, own, ids, points):
