@@ -809,7 +809,7 @@ class _Topology:
         return self._boxes
 
     def layout_field(self, frames, fields):
-        """One :class:`~pds_plugin.sizing.RadiusField` that reads, at every point of
+        """One field (:class:`_Cones`) that reads, at every point of
         each region's bounding box, exactly what that region's own field reads there,
         or None when the regions' frames do not allow it.
 
@@ -828,7 +828,7 @@ class _Topology:
                 f.sizing is not None or f.grading != first.grading or f.cap != first.cap
                 for f in fields):
             return None
-        from .sizing import RadiusField, _apart
+        from .sizing import _apart
 
         boxes = self.boxes()
         if not hasattr(self, "_apart"):
@@ -840,8 +840,32 @@ class _Topology:
         box = np.repeat(boxes, count, axis=0)
         if not np.all((features >= box[:, :2]) & (features <= box[:, 2:])):
             return None
-        return RadiusField(features, np.concatenate([f.sizes for f in fields]),
-                           first.grading, first.cap)
+        return _Cones(features, np.concatenate([f.sizes for f in fields]), first.grading,
+                      first.cap)
+
+
+class _Cones:
+    """min(cap, min_i(s_i + L|x - f_i|)) at points (n, 2): what a
+    :class:`~pds_plugin.sizing.RadiusField` without sizing reads (the same exact cone
+    minimum), without its test for dominated cones (the union of many regions'
+    fields, :meth:`_Topology.layout_field`: each region's cones were tested in its own
+    field; the test over all of them cost more than the reads it serves)."""
+
+    def __init__(self, features, sizes, grading, cap):
+        from . import _sizing_kernels as cones
+
+        self._kernel = cones
+        self.features = np.ascontiguousarray(features, dtype=np.float64).reshape(-1, 2)
+        self.sizes = np.ascontiguousarray(sizes, dtype=np.float64)
+        self.grading, self.cap = float(grading), float(cap)
+        self._tree = cones.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
+
+    def __call__(self, points) -> np.ndarray:
+        points = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 2))
+        if self._tree is None or not len(points):
+            return np.full(len(points), self.cap)
+        return self._kernel.cone_minimum(points, self.features, self.sizes, self.grading,
+                                         self.cap, *self._tree)
 
 
 def partition_topology(rings, frames, pinned=()):

@@ -407,14 +407,29 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> l
     for attempt in range(ATTEMPTS):
         if not todo:
             break
+        # a patch that is an exact translate of another to mesh (its region, samples and
+        # field: a CAD part's repeated faces) gets that one's mesh, translated
+        todo, copies = _translates(todo, patches, coned)
         groups = _groups(todo, patches, coned[0].cap)
         meshes = []
         for group in groups:
             meshes += _meshed_together([patches[k] for k, _, _ in group],
                                        [g for _, _, g in group],
                                        [coned[k] for k, _, _ in group], seed + attempt, options)
-        left = []
+        left, made = [], {}
         for (k, key, given), mesh in zip([item for group in groups for item in group], meshes):
+            made[k] = mesh
+            if mesh is not None and _joined(mesh, given):
+                out[k] = cache[key] = mesh
+            else:
+                left.append((k, key, given))
+        for (k, key, given), source, turns, shift in copies:
+            mesh = made[source]
+            if mesh is not None:
+                mesh = _translated(mesh, turns, shift, given, patches[k], coned[k])
+                if mesh is None:                # not exact: meshed by itself
+                    mesh = _meshed_together([patches[k]], [given], [coned[k]], seed + attempt,
+                                            options)[0]
             if mesh is not None and _joined(mesh, given):
                 out[k] = cache[key] = mesh
             else:
@@ -423,6 +438,91 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> l
     for _, key, _ in todo:
         cache[key] = None
     return out
+
+
+def _translates(todo, patches, fields) -> tuple:
+    """``todo`` split into the patches to mesh and the copies: (item, the patch whose
+    mesh it takes, the quarter turns q, the shift d) for each patch that is a copy of
+    an earlier one to mesh, turned by q quarter turns and moved by d: a CAD part's
+    repeated faces (a patch's frame starts at an edge of its own, so their copies are
+    turned by quarter turns in the plane). Its region's rings, its given samples and
+    its field's features are that one's turned (exact: swaps and signs) plus d, in the
+    same order, to :data:`_COPY_TOLERANCE` alpha, and its field's sizes to that
+    relative: a float32 export's copies differ by its rounding, and the samples are
+    points of input edges computed in each patch's own frame. This only picks the
+    candidates: a copy's mesh is kept only if its own certificate holds
+    (:func:`_translated`)."""
+    keep, copies, shapes, given_of = [], [], {}, {}
+    for item in todo:
+        k, _, given = item
+        patch, field = patches[k], fields[k]
+        if field.sizing is not None or not len(given) or not len(given[0]):
+            keep.append(item)
+            continue
+        rings = patch.region.rings
+        shape = (tuple(len(ring) for ring in rings), tuple(len(ring) for ring in given),
+                 len(field.sizes), field.grading, field.cap)
+        found = None
+        tolerance = _COPY_TOLERANCE * field.cap
+
+        def near(a, b, turns, shift):
+            return bool(np.all(np.abs(_turned(a, turns) + shift - b) <= tolerance))
+
+        for j in shapes.get(shape, ()):
+            if not np.all(np.abs(fields[j].sizes - field.sizes) <= _COPY_TOLERANCE * field.sizes):
+                continue
+            for turns in range(4):
+                shift = rings[0][0] - _turned(patches[j].region.rings[0][:1], turns)[0]
+                if (all(near(a, b, turns, shift) for a, b in zip(patches[j].region.rings, rings))
+                        and all(near(a, b, turns, shift) for a, b in zip(given_of[j], given))
+                        and near(fields[j].features, field.features, turns, shift)):
+                    found = (j, turns, shift)
+                    break
+            if found is not None:
+                break
+        if found is None:
+            shapes.setdefault(shape, []).append(k)
+            given_of[k] = given
+            keep.append(item)
+        else:
+            copies.append((item, *found))
+    return keep, copies
+
+
+_COPY_TOLERANCE = 1e-4
+"""How far (times alpha; relative for the field's sizes) a copy's coordinates may lie
+from the turned and moved ones of the patch it copies (:func:`_translates`)."""
+
+
+def _turned(xy, turns) -> np.ndarray:
+    """Points (n, 2) turned by ``turns`` quarter turns counterclockwise about the
+    origin: exact (swaps and signs)."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    turns %= 4
+    if turns == 0:
+        return xy
+    if turns == 1:
+        return np.column_stack([-xy[:, 1], xy[:, 0]])
+    if turns == 2:
+        return -xy
+    return np.column_stack([xy[:, 1], -xy[:, 0]])
+
+
+def _translated(mesh, turns, shift, given, patch, field):
+    """``mesh`` turned by ``turns`` quarter turns and moved by ``shift`` onto ``patch``,
+    its first vertices replaced by the patch's own given ring samples ``given`` (the
+    same up to rounding), with the patch's region and field; None unless its
+    certificate holds (``ok_with_exceptions``, as a patch at a spike is checked)."""
+    from .mesh import PlanarMesh
+
+    points = _turned(mesh.vertices, turns) + shift
+    n = sum(len(ring) for ring in given)
+    points[:n] = np.concatenate(given)
+    if not shapely.contains_xy(patch.region.geometry, points[n:, 0], points[n:, 1]).all():
+        return None
+    copy = PlanarMesh(points, mesh.faces, mesh.on_boundary, patch.region, field.cap, True,
+                      field=field)
+    return copy if copy.certificate().ok_with_exceptions else None
 
 
 def _joined(mesh, given) -> bool:
