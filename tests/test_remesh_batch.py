@@ -151,6 +151,7 @@ def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded,
         return copy
 
     monkeypatch.setattr(remeshing, "_translated", recorded)
+    monkeypatch.setattr(remeshing, "COPY_AREA", 0.0)      # the studs' faces are small
     result = pds.remesh(source, 0.05, graded=graded, seed=2)
     copies = [item for item in made if item[3] is not None]
     assert len(copies) >= 10                       # the studs' sides and tops
@@ -179,6 +180,7 @@ def test_a_copy_whose_certificate_fails_is_meshed_by_itself(monkeypatch):
     meshed on its own, and the result is as good as without copies."""
     source = studded_plate()
     monkeypatch.setattr(remeshing, "_translated", lambda *args: None)
+    monkeypatch.setattr(remeshing, "COPY_AREA", 0.0)
     result = pds.remesh(source, 0.05, seed=2)
     assert result.solid_ok and result.ok_with_exceptions, str(result)
     assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
