@@ -620,12 +620,10 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
         mine = ids[np.isin(ids, junction)]
         held.append(np.searchsorted(junction, mine))
         at.append(frames[r][mine])
-    union = top.layout_field(frames, fields)
-    if union is not None and held:              # all regions' fields in one call
-        np.minimum.at(size, np.concatenate(held), union(np.concatenate(at)))
-    else:
-        for r, (index, xy) in enumerate(zip(held, at)):
-            np.minimum.at(size, index, fields[r](xy))
+    # one read of a few points a region: a call each costs less than the layout
+    # field's cone tree over all their features (built for the chains' many reads)
+    for r, (index, xy) in enumerate(zip(held, at)):
+        np.minimum.at(size, index, fields[r](xy))
     # each open chain: its ends' distance (in its first owner's frame) over the
     # clearance of the other end, all chains at once
     chains = [vertices for vertices, closed in top.chains if not closed]
