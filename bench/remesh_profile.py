@@ -8,7 +8,8 @@ Per part: CPU time of the process (``time.process_time``) per call, warm (one un
 call first), averaged over ``--repeat`` calls; then the time of each stage (CPU time of
 the process in the wrapped function, the shared machine's load disturbs it less than wall
 time; nested stages included in their parents, so the column does not add up), its calls per remesh, and per remeshed patch. Stages: the radius fields, the
-chains and their agreement (``partition``), the meshing of the patches (the graded
+chains and their agreement (``partition``), the copies of repeated faces (``_translates``
+picks them, ``_translated`` makes and certifies each), the meshing of the patches (the graded
 sampler's boundary, leaves, dart passes and refinement levels, the complex, the exact
 tie-break), and the assembly (placing interior samples on the input, splitting kept
 faces, the solid's checks, the interface report).
@@ -40,10 +41,11 @@ SLOW = ("7_8ths_cube.stl", "shared.STL", "20mm-xyz-cube.stl", "g-block-pockets.s
 
 STAGES = [
     (sizing, "radius_field"), (sizing, "radius_fields"),
-    (remeshing, "junction_fields"), (remeshing, "agreeing_fields"),
+    (remeshing, "partition_topology"), (remeshing, "junction_fields"), (remeshing, "agreeing_fields"),
     (remeshing, "graded_sample_chains"), (remeshing, "chain_sample_radii"),
     (remeshing, "_agreeing_sizes"), (remeshing, "_usable_patches"),
     (remeshing, "_patch_meshes"), (remeshing, "_meshed_together"),
+    (remeshing, "_translates"), (remeshing, "_translated"),
     (graded_sampling, "graded_poisson_disc"),
     (graded_sampling._GradedSampler, "add_boundary"),
     (graded_sampling._GradedSampler, "_leaves"),

@@ -74,6 +74,8 @@ def test_small_patches_meshed_in_one_call_keep_the_solid(graded, monkeypatch):
         return meshed_together(patches, *args)
 
     monkeypatch.setattr(remeshing, "_meshed_together", counted)
+    # every patch meshed (no copies of the repeated studs: test_repeated_faces_...)
+    monkeypatch.setattr(remeshing, "_translates", lambda todo, patches, fields: (todo, []))
     result = pds.remesh(source, 0.05, graded=graded, seed=2)
     assert max(calls) >= 20                       # the studs' faces, in one call
     assert result.solid_ok and result.ok_with_exceptions, str(result)
@@ -132,3 +134,92 @@ def test_a_call_that_fails_meshes_its_patches_one_by_one(monkeypatch):
     assert refused
     assert result.solid_ok and result.ok_with_exceptions, str(result)
     assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
+
+
+@pytest.mark.parametrize("graded", [True, False])
+def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded, monkeypatch):
+    """The studs' repeated faces are meshed once: each copy is the mesh of the face it
+    copies, turned by quarter turns and moved, on its own given samples; it is certified
+    against its own region and field, and the solid is kept."""
+    source = studded_plate()
+    made = []
+    translated = remeshing._translated
+
+    def recorded(mesh, turns, shift, given, patch, field):
+        copy = translated(mesh, turns, shift, given, patch, field)
+        made.append((mesh, turns, shift, copy))
+        return copy
+
+    monkeypatch.setattr(remeshing, "_translated", recorded)
+    monkeypatch.setattr(remeshing, "COPY_AREA", 0.0)      # the studs' faces are small
+    result = pds.remesh(source, 0.05, graded=graded, seed=2)
+    copies = [item for item in made if item[3] is not None]
+    assert len(copies) >= 10                       # the studs' sides and tops
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert result.watertight == (True, True)
+    assert result.euler_number[0] == result.euler_number[1]
+    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
+    _, distance, _ = trimesh.proximity.closest_point(source, result.mesh.vertices)
+    assert distance.max() <= result.tolerance
+    kept = {id(mesh) for mesh in result.patch_meshes}
+    for mesh, turns, shift, copy in copies:
+        assert copy.faces is mesh.faces or np.array_equal(copy.faces, mesh.faces)
+        moved = remeshing._turned(mesh.vertices, turns) + shift
+        tolerance = remeshing._COPY_TOLERANCE * copy.field.cap
+        assert np.abs(moved - copy.vertices).max() <= tolerance
+        n = int(copy.on_boundary.sum())
+        assert np.array_equal(moved[n:], copy.vertices[n:])      # interiors moved as is
+        if id(copy) in kept:
+            assert copy.certificate().ok_with_exceptions
+    angles = result.angles()
+    assert angles.min() >= 20 and np.percentile(angles, 1) >= 25
+
+
+def test_a_copy_whose_certificate_fails_is_meshed_by_itself(monkeypatch):
+    """A copy is only a candidate: when its own certificate does not hold, the patch is
+    meshed on its own, and the result is as good as without copies."""
+    source = studded_plate()
+    monkeypatch.setattr(remeshing, "_translated", lambda *args: None)
+    monkeypatch.setattr(remeshing, "COPY_AREA", 0.0)
+    result = pds.remesh(source, 0.05, seed=2)
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
+
+
+@pytest.mark.parametrize("turns", range(4))
+def test_quarter_turns_are_exact_and_compose(turns):
+    points = np.random.default_rng(turns).normal(size=(50, 2)) * 1e3
+    turned = remeshing._turned(points, turns)
+    assert np.array_equal(remeshing._turned(turned, 4 - turns), points)
+    angle = turns * np.pi / 2
+    rotation = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+    assert np.allclose(turned, points @ rotation.T, atol=1e-9)
+
+
+def test_the_layout_field_reads_each_patch_its_own_field_bit_for_bit():
+    """partition's layout-wide field (one call for all patches' points) reads, at every
+    point of a patch's box, exactly what the patch's own field reads: the premise of
+    reading the fields of the chains' and samples' points in one call."""
+    from pds_plugin.partition import Frame, partition_topology
+
+    source = studded_plate()
+    result = pds.remesh(source, 0.05, seed=2)
+    meshes = result.patch_meshes
+    fields = [mesh.field for mesh in meshes]
+    rings, frames, vertex = [], [], 0
+    for mesh in meshes:                 # each patch's outline as a region of its own
+        region = []
+        for ring in mesh.region.rings:
+            region.append(np.arange(vertex, vertex + len(ring)))
+            vertex += len(ring)
+        rings.append(region)
+    for k, mesh in enumerate(meshes):
+        ids = np.concatenate(rings[k])
+        frames.append(Frame(ids, np.concatenate(mesh.region.rings)))
+    union = partition_topology(rings, frames).layout_field(frames, fields)
+    assert union is not None
+    rng = np.random.default_rng(0)
+    for mesh, field in zip(meshes, fields):
+        x0, y0, x1, y1 = mesh.region.bounds
+        points = np.concatenate([mesh.vertices, rng.uniform([x0, y0], [x1, y1], (500, 2))])
+        assert np.array_equal(union(points), field(points))

@@ -49,6 +49,7 @@ from . import _sampling_kernels as kern
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
            "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii",
+           "partition_topology",
            "with_sample_cones",
            "ChainSamples",
            "mesh_part", "interface_report", "InterfaceReport"]
@@ -217,7 +218,7 @@ def _assembled(rings, owner, junction, chains, positions) -> ChainSamples:
 
 
 def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, seed: int = 0,
-                         pinned=()) -> ChainSamples:
+                         pinned=(), topology=None) -> ChainSamples:
     """Sample the boundary chains of regions that share them, each chain once, for
     graded meshes: by the graded sampler's rules (:mod:`pds_plugin.graded_sampling`) with
     the radius r = the smallest of the fields of the regions the chain bounds.
@@ -238,6 +239,10 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
         As for :func:`sample_chains`.
     fields : list of RadiusField
         Per region, its radius field in its own frame (all of one grading L).
+
+    topology : optional
+        ``partition_topology(rings, frames, pinned)``, if already made (the same for
+        :func:`junction_fields` and :func:`agreeing_fields` of the same partition).
 
     Returns
     -------
@@ -261,16 +266,14 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     >>> bool(np.all(np.hypot(*np.diff(p, axis=0).T) >= np.minimum(r[:-1], r[1:])))
     True
     """
-    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
-    owner, angle = _edge_owners(rings, frames)
-    junction = _junctions(owner, pinned)
-    chains = _chains(rings, owner, junction)
+    top = topology if topology is not None else _Topology(rings, frames, pinned)
+    rings, owner, angle, junction, chains = top.rings, top.owner, top.angle, top.junction, top.chains
     if not chains:
         return _assembled(rings, owner, junction, chains, [])
     grading = max(field.grading for field in fields)
     unit = TAU_MARGIN / (1.0 - 0.5 * grading)
-    sides = [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
-    chain_set = _ChainSet(chains, sides, frames, fields)
+    sides = top.sides
+    chain_set = _ChainSet(chains, sides, frames, fields, top.layout_field(frames, fields))
     cid, segment, t = chain_set.dense(grading)
     xy, radius = chain_set.evaluate(cid, segment, t)
     bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
@@ -294,9 +297,11 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
 class _ChainSet:
     """The chains of a partition as flat arrays, and their points (chain, segment,
     fraction) read in each owner's frame, with the smallest of the owners' fields there
-    (one field call per region for all its chains' points)."""
+    (one field call per region for all its chains' points, or one call of ``union``,
+    :meth:`_Topology.layout_field`, for all regions)."""
 
-    def __init__(self, chains, sides, frames, fields):
+    def __init__(self, chains, sides, frames, fields, union=None):
+        self.union = union
         self.count = np.array([len(vertices) for vertices, _ in chains], dtype=np.int64)
         self.closed = np.array([closed for _, closed in chains], dtype=bool)
         self.offset = np.concatenate([[0], np.cumsum(self.count)[:-1]])
@@ -320,6 +325,13 @@ class _ChainSet:
         b = self.corner[side, self.offset[cid] + following]
         xy = a + t[:, None] * (b - a)
         radius = np.full(len(cid), np.inf)
+        if self.union is not None:                  # every region's field in one call
+            owned = self.side[cid, side] >= 0
+            if owned.all():
+                radius = self.union(xy)
+            elif owned.any():
+                radius[owned] = self.union(xy[owned])
+            return xy, radius
         for r, at in _groups(self.side[cid, side]):
             radius[at] = self.fields[r](xy[at])
         return xy, radius
@@ -568,7 +580,7 @@ def _junction_angle(vertex, neighbour, angle) -> float:
     return min(angles)
 
 
-def junction_fields(rings, frames, fields, pinned=()) -> list:
+def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     """The regions' fields made to agree at the junctions of their chains (vertices
     that must be samples: where the owners change, or ``pinned``), before
     :func:`graded_sample_chains`.
@@ -598,21 +610,23 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
     ...                                                   pinned=[1, 2])]
     [[0.21, 0.01, 0.01, 0.208, 0.291, 0.293]]
     """
-    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
-    owner, angle = _edge_owners(rings, frames)
-    junctions = _junctions(owner, pinned)
+    top = topology if topology is not None else _Topology(rings, frames, pinned)
+    rings, owner, angle, junctions = top.rings, top.owner, top.angle, top.junction
     junction = np.array(sorted(junctions), dtype=np.int64)
     size = np.full(len(junction), np.inf)
-    held = []                                   # per region, its junctions (indices)
+    held, at = [], []                           # per region, its junctions (indices), there
     for r, region in enumerate(rings):
         ids = np.unique(np.concatenate(region))
         mine = ids[np.isin(ids, junction)]
-        index = np.searchsorted(junction, mine)
-        held.append(index)
-        np.minimum.at(size, index, fields[r](frames[r][mine]))
+        held.append(np.searchsorted(junction, mine))
+        at.append(frames[r][mine])
+    # one read of a few points a region: a call each costs less than the layout
+    # field's cone tree over all their features (built for the chains' many reads)
+    for r, (index, xy) in enumerate(zip(held, at)):
+        np.minimum.at(size, index, fields[r](xy))
     # each open chain: its ends' distance (in its first owner's frame) over the
     # clearance of the other end, all chains at once
-    chains = [vertices for vertices, closed in _chains(rings, owner, junctions) if not closed]
+    chains = [vertices for vertices, closed in top.chains if not closed]
     if chains:
         ends = np.array([[vertices[0], vertices[-1]] for vertices in chains], dtype=np.int64)
         region = np.array([owner[_key(vertices[0], vertices[1])][0] for vertices in chains])
@@ -632,7 +646,7 @@ def junction_fields(rings, frames, fields, pinned=()) -> list:
             for r, index in enumerate(held)]
 
 
-def agreeing_fields(rings, frames, fields, pinned=()) -> list:
+def agreeing_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     """The regions' fields lowered until the regions that share a chain read the same r
     along it, before :func:`graded_sample_chains` (regions in planes of their own, each
     with its field: the patches of :func:`pds_plugin.remesh`).
@@ -669,10 +683,8 @@ def agreeing_fields(rings, frames, fields, pinned=()) -> list:
     >>> bool(np.allclose(a(edge), b(edge), rtol=0.02)), a is fine
     (True, True)
     """
-    rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
-    owner, _ = _edge_owners(rings, frames)
-    chains = _chains(rings, owner, _junctions(owner, pinned))
-    sides = [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
+    top = topology if topology is not None else _Topology(rings, frames, pinned)
+    chains, sides = top.chains, top.sides
     shared = [c for c, s in enumerate(sides) if len(s) == 2]
     fields = list(fields)
     grading = max(field.grading for field in fields) if fields else 0.0
@@ -681,7 +693,7 @@ def agreeing_fields(rings, frames, fields, pinned=()) -> list:
         if not todo:
             break
         chain_set = _ChainSet([chains[c] for c in todo], [sides[c] for c in todo], frames,
-                              fields)
+                              fields, top.layout_field(frames, fields))
         cid, segment, t = chain_set.dense(grading)
         reads = [chain_set.read(cid, segment, t, side) for side in (0, 1)]
         lowest = np.minimum(reads[0][1], reads[1][1])
@@ -704,7 +716,7 @@ _AGREEMENT_TOL = 1e-9
 in two planes), not a lowering."""
 
 
-def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
+def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None) -> np.ndarray:
     """The radius each region's field is given at each chain sample so that the regions
     agree on their shared samples and keep them separated: at a sample s, the smallest
     of the fields (after :func:`junction_fields`) of the regions whose rings hold it;
@@ -725,29 +737,43 @@ def chain_sample_radii(chains: ChainSamples, frames, fields) -> np.ndarray:
     (S,) float ndarray
     """
     size = np.full(len(chains.u), np.inf)
-    points = []
+    points, held = [], []
     for r, ring_ids in enumerate(chains.rings):
         frame = frames[r]
         ids = np.concatenate(ring_ids)
         xy = frame[chains.u[ids]] + chains.t[ids, None] * (frame[chains.v[ids]] - frame[chains.u[ids]])
         points.append(xy)
-        np.minimum.at(size, ids, fields[r](xy))
+        held.append(ids)
+    union = None if topology is None else topology.layout_field(frames, fields)
+    if union is not None and held:              # all regions' fields in one call
+        np.minimum.at(size, np.concatenate(held), union(np.concatenate(points)))
+    else:
+        for r, (ids, xy) in enumerate(zip(held, points)):
+            np.minimum.at(size, ids, fields[r](xy))
     radius = size.copy()
-    for ring_ids, xy in zip(chains.rings, points):
-        lengths = np.cumsum([0] + [len(ids) for ids in ring_ids])
-        for ids, lo, hi in zip(ring_ids, lengths[:-1], lengths[1:]):
-            p = xy[lo:hi]
-            for step in (1, 2):            # neighbours, and the two of a corner
-                following = np.roll(ids, -step)
-                gap = np.hypot(*(np.roll(p, -step, axis=0) - p).T)
-                close = gap < np.minimum(radius[ids], radius[following])
-                if step == 2:              # not across a spike (its pairs are exceptions)
-                    a, b = p - np.roll(p, -1, axis=0), np.roll(p, -2, axis=0) - np.roll(p, -1, axis=0)
-                    corner = np.arctan2(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
-                                        (a * b).sum(axis=1))
-                    close &= corner >= LADDER_ANGLE
-                lower = np.where(radius[ids] <= radius[following], ids, following)
-                np.minimum.at(size, lower[close], gap[close])
+    # every ring of every region at once: each sample's next and next but one along
+    # its ring (the same arithmetic, element by element, as ring by ring)
+    rings = [ids for ring_ids in chains.rings for ids in ring_ids]
+    if not rings:
+        return size
+    ids = np.concatenate(rings)
+    p = np.concatenate(points)
+    count = np.array([len(ring) for ring in rings])
+    start = np.repeat(np.cumsum(count) - count, count)
+    place = np.arange(len(ids)) - start
+    length = np.repeat(count, count)
+    after = [start + (place + step) % length for step in (0, 1, 2)]
+    for step in (1, 2):                    # neighbours, and the two of a corner
+        following = ids[after[step]]
+        gap = np.hypot(*(p[after[step]] - p).T)
+        close = gap < np.minimum(radius[ids], radius[following])
+        if step == 2:                      # not across a spike (its pairs are exceptions)
+            a, b = p - p[after[1]], p[after[2]] - p[after[1]]
+            corner = np.arctan2(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
+                                (a * b).sum(axis=1))
+            close &= corner >= LADDER_ANGLE
+        lower = np.where(radius[ids] <= radius[following], ids, following)
+        np.minimum.at(size, lower[close], gap[close])
     return size
 
 
@@ -758,6 +784,115 @@ def with_sample_cones(field, points, sizes):
     return RadiusField(np.concatenate([field.features, points]),
                        np.concatenate([field.sizes, sizes]), field.grading, field.cap,
                        field.sizing)
+
+
+class _Topology:
+    """What :func:`junction_fields`, :func:`agreeing_fields`, :func:`graded_sample_chains`
+    and :func:`chain_sample_radii` each found from the same rings, frames and pinned
+    vertices (the edges' owners and angles, the junctions, the chains and their sides),
+    found once (:func:`partition_topology`); and whether the regions' frames lie apart
+    in one plane (:meth:`layout_field`)."""
+
+    def __init__(self, rings, frames, pinned=()):
+        self.rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
+        self.owner, self.angle = _edge_owners(self.rings, frames)
+        self.junction = _junctions(self.owner, pinned)
+        self.chains = _chains(self.rings, self.owner, self.junction)
+        self.sides = [sorted(set(self.owner[_key(vertices[0], vertices[1])]))
+                      for vertices, _ in self.chains]
+        self._frames = frames
+        self._boxes = None
+        self._union = None
+
+    def boxes(self) -> np.ndarray:
+        """Per region, the bounding box (xmin, ymin, xmax, ymax) of its rings' vertices
+        in its frame."""
+        if self._boxes is None:
+            boxes = np.empty((len(self.rings), 4))
+            for r, region in enumerate(self.rings):
+                xy = np.asarray(self._frames[r][np.concatenate(region)], float)
+                boxes[r, :2], boxes[r, 2:] = xy.min(axis=0), xy.max(axis=0)
+            self._boxes = boxes
+        return self._boxes
+
+    def layout_field(self, frames, fields):
+        """One field (:class:`_Cones`) that reads, at every point of
+        each region's bounding box, exactly what that region's own field reads there,
+        or None when the regions' frames do not allow it.
+
+        It is the union of the fields' cones, for fields of one grading L and cap and no
+        sizing whose features lie in their regions' boxes, when every two boxes lie
+        more than 1.125 cap / L apart (remeshing's layout: 1.25 cap / L at least).
+        Then a cone s + L d of another region's feature (s > 0) is above the cap at
+        every point of a region's box, so the union's minimum, capped, is the region's
+        own, bit for bit (the cone minimum is exact; a cone the union finds dominated
+        by another region's has s above the cap). Read only points in their own
+        region's box: its chains' points, its samples."""
+        if frames is not self._frames or len(fields) < 2:
+            return None
+        key = tuple(map(id, fields))
+        if self._union is not None and self._union[0] == key:
+            return self._union[2]                   # the same fields (kept alive in [1])
+        first = fields[0]
+        if not (0.0 < first.grading < 1.0) or any(
+                f.sizing is not None or f.grading != first.grading or f.cap != first.cap
+                for f in fields):
+            return None
+        from .sizing import _apart
+
+        boxes = self.boxes()
+        if not hasattr(self, "_apart"):
+            self._apart = _apart(boxes, 1.125 * first.cap / first.grading)
+        if not self._apart:
+            return None
+        count = [len(f.sizes) for f in fields]
+        features = np.concatenate([f.features for f in fields]).reshape(-1, 2)
+        box = np.repeat(boxes, count, axis=0)
+        if not np.all((features >= box[:, :2]) & (features <= box[:, 2:])):
+            return None
+        union = _Cones(features, np.concatenate([f.sizes for f in fields]), first.grading,
+                       first.cap)
+        self._union = (key, list(fields), union)
+        return union
+
+
+class _Cones:
+    """min(cap, min_i(s_i + L|x - f_i|)) at points (n, 2): what a
+    :class:`~pds_plugin.sizing.RadiusField` without sizing reads (the same exact cone
+    minimum), without its test for dominated cones (the union of many regions'
+    fields, :meth:`_Topology.layout_field`: each region's cones were tested in its own
+    field; the test over all of them cost more than the reads it serves)."""
+
+    def __init__(self, features, sizes, grading, cap):
+        from . import _sizing_kernels as cones
+
+        self._kernel = cones
+        self.features = np.ascontiguousarray(features, dtype=np.float64).reshape(-1, 2)
+        self.sizes = np.ascontiguousarray(sizes, dtype=np.float64)
+        self.grading, self.cap = float(grading), float(cap)
+        self._tree = cones.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
+
+    def __call__(self, points) -> np.ndarray:
+        points = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 2))
+        if self._tree is None or not len(points):
+            return np.full(len(points), self.cap)
+        return self._kernel.cone_minimum(points, self.features, self.sizes, self.grading,
+                                         self.cap, *self._tree)
+
+
+def partition_topology(rings, frames, pinned=()):
+    """The edges' owners, junctions and chains of regions that share chains (as
+    :func:`graded_sample_chains` finds them), to pass as ``topology=`` to it and to
+    :func:`junction_fields`, :func:`agreeing_fields` and :func:`chain_sample_radii` of
+    the same ``rings``, ``frames`` (the same object) and ``pinned``: found once, and
+    the regions' fields read in one call where their frames lie apart in one plane.
+
+    Raises
+    ------
+    RegionError
+        As :func:`sample_chains`.
+    """
+    return _Topology(rings, frames, pinned)
 
 
 def _key(a, b):
