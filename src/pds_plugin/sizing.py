@@ -89,6 +89,9 @@ class RadiusField:
     def __init__(self, features, sizes, grading: float, cap: float, sizing=None):
         features = np.asarray(features, float).reshape(-1, 2)
         sizes = np.asarray(sizes, float).ravel()
+        below = sizes < cap                 # a cone from the cap up is nowhere below it
+        if not below.all():
+            features, sizes = features[below], sizes[below]
         keep, tree = _undominated(features, sizes, grading, True)
         if keep.all():                      # the tree of the test is the field's
             self.features, self.sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
