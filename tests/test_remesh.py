@@ -271,6 +271,18 @@ def test_random_blocks_beside_spikes_and_fine_neighbours_are_certified(seed):
     assert result.solid_ok and result.ok_with_exceptions, str(result)
 
 
+def test_a_chain_part_is_halved_where_r_dips_between_its_ends():
+    """Random cut block 55: a chain's part 0.81 long beside a patch's sharp corner had r
+    0.41 at its ends but 0.374 at its middle (a cone of the agreeing fields sits on it),
+    so its middle was 1.015 r from both ends, and the corner left no room for a sample
+    beside it (FAILED). A part is halved when longer than twice the smallest r at its
+    ends and its middle."""
+    source = random_cut_block(55)
+    result = pds.remesh(source, "auto", seed=55)
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert max(c.coverage_gap for c in result.certificates) <= 1 + 1e-9
+
+
 def tilted_float32_part(builder, seed):
     """A generated CAD part (bench/_cad_corpus) turned by random angles and written as a
     float32 STL, read back: its planar faces are planar to their rounding only."""

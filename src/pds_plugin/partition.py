@@ -487,9 +487,11 @@ def _chain_clearance(dense, radius, tau, corner, turn, unit):
 
 
 def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
-    """The positions with every part longer than :data:`_LONGEST_PART` times the smaller
-    r at its ends halved in τ, again until none is (at most :data:`_MAX_HALVINGS`
-    rounds); a part that keeps a sharp corner's neighbour clear of it (``cleared``: per
+    """The positions with every part longer than :data:`_LONGEST_PART` times the smallest
+    r at its ends and its middle halved in τ, again until none is (at most
+    :data:`_MAX_HALVINGS` rounds; r dips between the ends where a cone of the agreeing
+    fields sits on the part: random cut block 55's part 0.81 long had r 0.41 at its ends
+    and 0.374 at its middle, 1.015 r from both ends, a sharp corner blocking its guard); a part that keeps a sharp corner's neighbour clear of it (``cleared``: per
     chain, the positions of such corners, parts after and parts before them) only when
     longer than that times the larger r (the neighbour's: r at the corner may be far
     smaller, and halving there would undo the clearance). All chains at once; returns
@@ -514,6 +516,8 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
         pair = np.flatnonzero(c_e[1:] == c_e[:-1])
         chord = np.hypot(*(xy[pair + 1] - xy[pair]).T)
         low, high = (f(radius[pair], radius[pair + 1]) for f in (np.minimum, np.maximum))
+        middle = (0.5 * (e[pair] + e[pair + 1])) % flat.length[c_e[pair]]
+        low = np.minimum(low, chain_set.evaluate(c_e[pair], *flat.to_chain(c_e[pair], middle))[1])
         beside = np.zeros(len(pair), bool)
         for c, (starts, stops) in guarded.items():
             mine = c_e[pair] == c
@@ -521,9 +525,8 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
         long = chord > _LONGEST_PART * np.where(beside, high, low)
         todo = np.zeros(len(positions), bool)
         todo[c_e[pair[long]]] = True
-        middle = (0.5 * (e[pair] + e[pair + 1]))[long] % flat.length[c_e[pair[long]]]
         chain = np.concatenate([chain, c_e[pair[long]]])
-        at = np.concatenate([at, middle])
+        at = np.concatenate([at, middle[long]])
         order = np.lexsort((at, chain))
         chain, at = chain[order], at[order]
     return chain, at
