@@ -156,7 +156,13 @@ def test_a_sliver_with_a_spike_by_a_pinch_is_certified():
     # a needle component with a 4° spike at each end: the second spike's ladder rewrote
     # the side both share and took the first tip's mirror pairs away; the tip's triangle
     # was too large to keep, the tip isolated. A ladder now stops short of another's rungs
-    (60, "g14-bracket p3", "uniform auto")])
+    (60, "g14-bracket p3", "uniform auto"),
+    # a sliver component 1.3 wide between a 35° and a 49° tip beside a flange's
+    # section: every pair across it is across a spike, so "auto" took alpha 3.2 from the
+    # flange's walls and two samples across the sliver were 0.39 alpha apart. A
+    # component with a tip whose widest inscribed disc is narrower than every wall
+    # found counts by its width now
+    (72, "g13-flange p0", "uniform auto")])
 def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mode):
     import _cad_corpus
 
