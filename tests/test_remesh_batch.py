@@ -78,12 +78,7 @@ def test_small_patches_meshed_in_one_call_keep_the_solid(graded, monkeypatch):
     monkeypatch.setattr(remeshing, "_translates", lambda todo, patches, fields: (todo, []))
     result = pds.remesh(source, 0.05, graded=graded, seed=2)
     assert max(calls) >= 20                       # the studs' faces, in one call
-    assert result.solid_ok and result.ok_with_exceptions, str(result)
-    assert result.watertight == (True, True)
-    assert result.euler_number[0] == result.euler_number[1]
-    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
-    _, distance, _ = trimesh.proximity.closest_point(source, result.mesh.vertices)
-    assert distance.max() <= result.tolerance
+    assert_solid_kept(result, source)
     # each patch's mesh is its own: in its own region, with its own field, certified
     for mesh, certificate in zip(result.patch_meshes, result.certificates):
         assert certificate.ok_with_exceptions
@@ -136,6 +131,17 @@ def test_a_call_that_fails_meshes_its_patches_one_by_one(monkeypatch):
     assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
 
 
+def assert_solid_kept(result, source):
+    """The remesh is certified and is the input's solid: closed as it was, the same Euler
+    number and volume, every vertex on the input."""
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert result.watertight == (True, True)
+    assert result.euler_number[0] == result.euler_number[1]
+    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
+    _, distance, _ = trimesh.proximity.closest_point(source, result.mesh.vertices)
+    assert distance.max() <= result.tolerance
+
+
 @pytest.mark.parametrize("graded", [True, False])
 def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded, monkeypatch):
     """The studs' repeated faces are meshed once: each copy is the mesh of the face it
@@ -155,12 +161,7 @@ def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded,
     result = pds.remesh(source, 0.05, graded=graded, seed=2)
     copies = [item for item in made if item[3] is not None]
     assert len(copies) >= 10                       # the studs' sides and tops
-    assert result.solid_ok and result.ok_with_exceptions, str(result)
-    assert result.watertight == (True, True)
-    assert result.euler_number[0] == result.euler_number[1]
-    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
-    _, distance, _ = trimesh.proximity.closest_point(source, result.mesh.vertices)
-    assert distance.max() <= result.tolerance
+    assert_solid_kept(result, source)
     kept = {id(mesh) for mesh in result.patch_meshes}
     for mesh, turns, shift, copy in copies:
         assert copy.faces is mesh.faces or np.array_equal(copy.faces, mesh.faces)
