@@ -178,6 +178,32 @@ def test_held_out_sections_that_failed_are_certified(monkeypatch, seed, name, mo
         forget()
 
 
+@pytest.mark.parametrize("alpha", [1.2, 1.4, 1.6, 2.1, 2.5, 3.0])
+def test_a_needles_second_tip_keeps_its_ladder_at_fixed_alphas(monkeypatch, alpha):
+    """Held-out bracket seed 60 p3: a needle with 4° and 5° tips, their shorter sides
+    meeting at its blunt top, its longer side one concave arc between the tips. Each tip
+    mirrored its whole shorter side onto the arc by its angle alone (as if its sides
+    were straight, thinner than alpha for 28 alpha), so the first ladder reached almost
+    to the second tip and left it no room: its first samples, 3.1 and 3.5 alpha away on
+    its two sides, made a triangle too large to keep, the tip isolated at 30 of 50
+    alphas in [0.8, 3]. A ladder stops where its spike is alpha wide."""
+    import pds_plugin as pds
+    import _cad_corpus
+
+    monkeypatch.setattr(_cad_corpus, "GENERATED_SEED", 60)
+    _cad_corpus.generated_stl.cache_clear()
+    _cad_corpus._generated_solid.cache_clear()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            region = case("g14-bracket p3").region()
+    finally:
+        _cad_corpus.generated_stl.cache_clear()
+        _cad_corpus._generated_solid.cache_clear()
+    cert = pds.mesh_region(region, alpha, seed=0).certificate()
+    assert cert.ok_with_exceptions and cert.isolated_samples == 0, str(cert)
+
+
 def test_graded_coverage_in_a_chords_lens_is_an_exception_within_its_bound():
     """featuretype.STL's tilted section has a spike whose tip triangle has its
     circumcentre in the lens of a chord, where the graded sampler places no sample (one

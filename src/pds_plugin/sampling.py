@@ -490,7 +490,7 @@ def ring_positions(ring, turns, feature_angle, alpha, rng,
     # sliver of shared.STL at a random plane: its 16° tip's triangle too large, the tip
     # isolated)
     at = _ladders(_halved_long_chords(at, cum, closed, alpha), corners, angle, guard, alpha,
-                  length, rng)
+                  length, rng, (cum, closed))
     if len(at) == 1:                         # a ring smaller than alpha: keep it a ring
         at = np.sort((at[0] + length * np.arange(3) / 3) % length)
     while len(at) < 3:
@@ -560,7 +560,7 @@ def _halved_long_chords(at, cum, closed, alpha) -> np.ndarray:
     return np.sort(np.append(at, (at[long] + 0.5 * np.diff(ends)[long]) % length))
 
 
-def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
+def _ladders(at, corners, angle, guard, alpha, length, rng, ring=None) -> np.ndarray:
     """Boundary positions ``at`` with the samples beside each convex corner sharper than
     33.56° (a spike, whose first samples are √3 alpha from it) placed in mirror pairs,
     at equal arc length from the corner on its two sides, as far as the spike is thinner
@@ -574,7 +574,15 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
     if the spike is still thin there and the longer side goes on for alpha or more); the
     longer side is split again beyond the last mirrored one. ``corners`` are the ring's
     breaks (sharp corners and inflections) in order, ``angle`` the region's angle at
-    each, ``guard`` their clearances.
+    each, ``guard`` their clearances; ``ring`` its arc lengths at its vertices and the
+    closed ring (``cum``, ``closed``), by which a ladder also stops at the first sample
+    of the shorter side alpha or more from the longer side (without it, straight sides:
+    the spike's own width grows as from its angle). A spike whose longer side bends away
+    is alpha wide sooner: a needle's two 4-5° tips, whose shorter sides met at its blunt
+    top and whose longer side was one concave arc, each mirrored all of its shorter side
+    by its angle alone, the first ladder left the second no room on the arc, and the
+    second tip's first samples, 3.1 and 3.5 alpha away, made a triangle too large to keep
+    (held-out bracket seed 60 p3: the tip isolated at 30 of 50 alphas).
 
     Examples
     --------
@@ -607,10 +615,16 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
                 on_short = (offset > 0) & (offset < sides[short])
                 at = np.sort(np.concatenate([at[~on_short], (c + sign * inner) % length]))
                 offset = (sign * (at - c)) % length
-        mirrored = offset[(offset > 0) & (offset < min(reach[i], sides[short]))]
+        mirrored = np.sort(offset[(offset > 0) & (offset < min(reach[i], sides[short]))])
+        ends_inside = sides[short] <= reach[i]
+        if ring is not None:
+            thin = _thinner_than(np.append(mirrored, sides[short]), c, sign, sides[1 - short],
+                                 alpha, length, *ring)
+            ends_inside &= thin > len(mirrored)
+            mirrored = mirrored[:thin]
         if len(mirrored) and 2 * math.sin(angle[i] / 2) * mirrored.min() < RESOLUTION * alpha:
             continue                            # a needle: its sides are one line
-        if sides[short] <= reach[i] and beyond >= alpha:
+        if ends_inside and beyond >= alpha:
             # the short side ends inside the spike: its last rung is the corner there, even
             # nearer the tip than its clearance (a fold's two 4° tips 0.6 alpha apart: the
             # tip's triangle with a far neighbour was too large to keep, the tip isolated)
@@ -638,6 +652,23 @@ def _ladders(at, corners, angle, guard, alpha, length, rng) -> np.ndarray:
         rungs = np.concatenate([rungs, images, (c + sign * mirrored) % length])
         at = np.sort(np.concatenate([at[~on_long], images, (c - sign * rest) % length]))
     return at
+
+
+def _thinner_than(offsets, c, sign, long, alpha, length, cum, closed) -> int:
+    """How many of the sorted ``offsets`` (arc lengths from the corner at ``c`` along the
+    side in direction ``sign``) lie before the first that is ``alpha`` or more from the
+    other side (the ring from ``c`` the other way, ``long`` long)."""
+    def xy(at):
+        at = np.asarray(at) % length
+        return np.column_stack([np.interp(at, cum, closed[:, 0]),
+                                np.interp(at, cum, closed[:, 1])])
+
+    way = (sign * (c - cum[:-1])) % length             # the vertices along the other side
+    inner = np.sort(way[(way > 0) & (way < long)])
+    other = shapely.LineString(xy(c - sign * np.concatenate([[0.0], inner, [long]])))
+    width = shapely.distance(shapely.points(xy(c + sign * offsets)), other)
+    wide = np.flatnonzero(width >= alpha)
+    return int(wide[0]) if len(wide) else len(offsets)
 
 
 def _split(lo, hi, first, last, alpha, rng) -> np.ndarray:
