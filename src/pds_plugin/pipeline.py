@@ -19,7 +19,7 @@ import numpy as np
 
 from ._checks import check_alpha, check_positive, check_positive_int, check_seed
 from .analysis.certificate import Certificate
-from .analysis.feature import FeatureSize, feature_size
+from .analysis.feature import FeatureSize, feature_size, past_small_components
 from .analysis.topology import topology_report
 from .complex import solid_alpha_complex
 from .errors import ArgumentError, ArgumentTypeError, BudgetError, RegionError, TopologyError
@@ -105,7 +105,9 @@ def mesh_region(region: Region, alpha, seed: int = 0, *, conforming: bool = True
     alpha above what a feature needs and the topology is lost, the mesh at the smallest
     alpha the budget allows is returned with a warning (:func:`auto_mesh` raises a
     :class:`~pds_plugin.errors.TopologyError` there), and its certificate lists what it
-    could not keep.
+    could not keep. Where that feature lies in a component smaller than the alpha the
+    other components ask for (a speck of a section), that alpha is used instead if the
+    budget allows it, the speck meshed whole as a small ring, with a warning.
 
     Examples
     --------
@@ -219,8 +221,29 @@ def suggest_alpha(region: Region, max_samples: int | None = None,
     capped = largest_alpha(region, budget)
     if alpha >= capped:
         return alpha
+    rest = _past_small_rings(region, size, budget, capped) if conforming else None
+    if rest is not None:
+        return rest.lfs / 2
     _warn_over_budget(region, size, budget, capped)
     return capped
+
+
+def _past_small_rings(region: Region, size: FeatureSize, budget: int,
+                      smallest: float) -> FeatureSize | None:
+    """Where the feature ``size`` asks for an alpha below ``smallest`` (the sample
+    budget's), the thinnest wall outside the components smaller than its alpha
+    (:func:`pds_plugin.analysis.feature.past_small_components`) if its alpha is within
+    the budget, with a warning that those components are meshed whole, as small rings;
+    else None."""
+    rest = past_small_components(region, size)
+    if rest is size or rest.lfs / 2 < smallest:
+        return None
+    warnings.warn(f"alpha {size.lfs / 2:.6g} needed for the {size} would take over the budget "
+                  f"of {budget} samples; using alpha {rest.lfs / 2:.6g}, for the {rest}: the "
+                  "components smaller than that are meshed whole, as small rings, their close "
+                  "samples listed as exceptions (raise max_samples to resolve them)",
+                  stacklevel=3)
+    return rest
 
 
 def _warn_over_budget(region: Region, size: FeatureSize, budget: int, used: float) -> None:
@@ -286,6 +309,10 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     size = _usable_feature_size(region, sampling_options.get("conforming", True))
     alpha = size.lfs / 2 if max_alpha is None else check_positive(max_alpha, "max_alpha")
     smallest = largest_alpha(region, budget) * (1 + 1e-9)     # the budget's smallest alpha
+    if max_alpha is None and alpha < smallest and sampling_options.get("conforming", True):
+        rest = _past_small_rings(region, size, budget, smallest)
+        if rest is not None:
+            size, alpha = rest, rest.lfs / 2
     alpha = max(alpha, smallest)
     while True:
         mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)

@@ -239,6 +239,41 @@ def feature_size(region: Region, conforming: bool = True) -> FeatureSize:
                        kind="wall" if inside else "gap")
 
 
+def past_small_components(region: Region, size: FeatureSize) -> FeatureSize:
+    """``size`` (a conforming feature size, d), or the thinnest wall of the other
+    components where d lies in a component smaller across (its box's diagonal) than a
+    quarter of that wall, the alpha ``"auto"`` takes from it
+    (:func:`pds_plugin.suggest_alpha`), again while the thinnest wall left lies in such
+    a component. A component smaller than alpha is sampled whole, as a small ring of
+    three samples or more, its close pairs the certificate's "short piece" and "small
+    ring" exceptions. ``"auto"`` asks for it only when ``size`` is over the sample
+    budget: a speck of a held-out gear's section (a triangle 0.007 across, its altitude
+    0.0026) took the budget's 5 million samples and 18 s, where the rest asked for
+    alpha 0.046 (0.25 s, certified)."""
+    polygons = list(region.geometry.geoms)
+    if len(polygons) < 2:
+        return size
+    boundary = _Boundary(region)
+    owners = region.ring_owners
+    kept = list(range(len(polygons)))
+    while len(kept) > 1:
+        c = size.features[0].component
+        x0, y0, x1, y1 = polygons[c].bounds
+        rest = [k for k in kept if k != c]
+        other = feature_size(Region.from_shapely(shapely.MultiPolygon([polygons[k]
+                                                                       for k in rest])))
+        if not math.hypot(x1 - x0, y1 - y0) < other.value / 4:
+            break
+        ends = [boundary._nearest_boundary_point(point) for point in other.points]
+        points = np.array([point for _, point in ends])
+        points.setflags(write=False)
+        size = FeatureSize(value=other.value, points=points, kind=other.kind,
+                           features=tuple(boundary.describe(i, point, owners)
+                                          for i, point in ends))
+        kept = rest
+    return size
+
+
 class _Boundary:
     """The region's rings without collinear vertices, and the adjacency rule on them.
 
