@@ -44,8 +44,9 @@ from .mesh import PlanarMesh
 from .region import Region, turning_angles
 from .graded_sampling import TAU_MARGIN, cleared_piece, corner_leg, corner_side, tau_positions
 from .sampling import LADDER_ANGLE, STRAIGHT_TURN, corner_clearance, ring_positions
-from .sizing import graded_request
+from .sizing import DEFAULT_GRADING, RadiusField, _apart, graded_request, inradius, radius_field
 from . import _sampling_kernels as kern
+from . import _sizing_kernels
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
            "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii",
@@ -783,7 +784,6 @@ def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None) -
 def with_sample_cones(field, points, sizes):
     """``field`` combined by min with the cones ``sizes + L |x - points|`` (a
     :class:`~pds_plugin.sizing.RadiusField` of the same grading, cap and sizing)."""
-    from .sizing import RadiusField
     return RadiusField(np.concatenate([field.features, points]),
                        np.concatenate([field.sizes, sizes]), field.grading, field.cap,
                        field.sizing)
@@ -841,8 +841,6 @@ class _Topology:
                 f.sizing is not None or f.grading != first.grading or f.cap != first.cap
                 for f in fields):
             return None
-        from .sizing import _apart
-
         boxes = self.boxes()
         if not hasattr(self, "_apart"):
             self._apart = _apart(boxes, 1.125 * first.cap / first.grading)
@@ -867,20 +865,18 @@ class _Cones:
     field; the test over all of them cost more than the reads it serves)."""
 
     def __init__(self, features, sizes, grading, cap):
-        from . import _sizing_kernels as cones
-
-        self._kernel = cones
         self.features = np.ascontiguousarray(features, dtype=np.float64).reshape(-1, 2)
         self.sizes = np.ascontiguousarray(sizes, dtype=np.float64)
         self.grading, self.cap = float(grading), float(cap)
-        self._tree = cones.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
+        self._tree = (_sizing_kernels.build_cone_tree(self.features, self.sizes, 8)
+                      if len(self.sizes) else None)
 
     def __call__(self, points) -> np.ndarray:
         points = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 2))
         if self._tree is None or not len(points):
             return np.full(len(points), self.cap)
-        return self._kernel.cone_minimum(points, self.features, self.sizes, self.grading,
-                                         self.cap, *self._tree)
+        return _sizing_kernels.cone_minimum(points, self.features, self.sizes, self.grading,
+                                            self.cap, *self._tree)
 
 
 def partition_topology(rings, frames, pinned=()):
@@ -1328,8 +1324,6 @@ def _composite_field(parts, alpha, grading, sizing, feature_angle):
     """The radius field of a composite: the smallest of its regions' own fields
     (:func:`pds_plugin.sizing.radius_field`, each capped by ``alpha`` or, for "auto", by
     its inradius), capped by ``alpha`` or the largest inradius."""
-    from .sizing import DEFAULT_GRADING, RadiusField, inradius, radius_field
-
     grading = DEFAULT_GRADING if grading is None else grading
     caps = ([inradius(part) for part in parts] if isinstance(alpha, str)
             else [check_alpha(alpha)] * len(parts))

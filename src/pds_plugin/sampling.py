@@ -658,15 +658,11 @@ def _thinner_than(offsets, c, sign, long, alpha, length, cum, closed) -> int:
     """How many of the sorted ``offsets`` (arc lengths from the corner at ``c`` along the
     side in direction ``sign``) lie before the first that is ``alpha`` or more from the
     other side (the ring from ``c`` the other way, ``long`` long)."""
-    def xy(at):
-        at = np.asarray(at) % length
-        return np.column_stack([np.interp(at, cum, closed[:, 0]),
-                                np.interp(at, cum, closed[:, 1])])
-
     way = (sign * (c - cum[:-1])) % length             # the vertices along the other side
     inner = np.sort(way[(way > 0) & (way < long)])
-    other = shapely.LineString(xy(c - sign * np.concatenate([[0.0], inner, [long]])))
-    width = shapely.distance(shapely.points(xy(c + sign * offsets)), other)
+    other = along((c - sign * np.concatenate([[0.0], inner, [long]])) % length, cum, closed)
+    width = shapely.distance(shapely.points(along((c + sign * offsets) % length, cum, closed)),
+                             shapely.LineString(other))
     wide = np.flatnonzero(width >= alpha)
     return int(wide[0]) if len(wide) else len(offsets)
 
