@@ -46,6 +46,21 @@ def test_walls_thinner_than_alpha_get_rungs(seed):
     assert_certified(plate_with_hole_near_its_edge(0.2), 1.0, seed)
 
 
+@pytest.mark.parametrize("alpha", [1.5, 2.0, 3.0])
+@pytest.mark.parametrize("seed", range(3))
+def test_a_sliver_component_of_three_samples_gets_its_rung(alpha, seed):
+    """A held-out random DXF drawing (a bulged slot cutting its spline outline) left a
+    sliver component 1.9 long and 0.15 wide: a straight side with a reflex bend and an
+    arc. It was sampled at its two tips and one arc point, whose triangle (circumradius
+    3.9) the complex does not keep: the component was lost (FAILED). The arc point lies
+    in the long chord's lens, but its segments to the chord's ends are chords
+    themselves and counted as unseen; they count as seen now, and the rung across from
+    it splits the sliver into two thin triangles."""
+    sliver = [(80.415, 16.290), (79.429, 15.378), (79.619, 15.474), (80.126, 15.822),
+              (80.559, 16.219), (80.910, 16.659), (81.052, 16.917)]
+    assert_certified(pds.Region.from_shapely(shapely.Polygon(sliver)), alpha, seed)
+
+
 @pytest.mark.parametrize("plate", [
     shapely.box(0, 0, 8, 5).difference(shapely.box(1, 1, 3.95, 4)).difference(
         shapely.box(4, 1, 7, 4)),                         # two holes, a wall 0.05 between
