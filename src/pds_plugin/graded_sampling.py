@@ -551,7 +551,7 @@ def _unhidden(samples, fixed, ring, turns, radius, tol):
     >>> ring = np.array([[0, 0], [4, 0], [4, 1], [2, 1], [1.5, 1.1], [1, 1.15], [0, 1]])
     >>> samples = np.array([[0, 0], [4, 0], [4, 1], [2.05, 1], [0, 1]])
     >>> moved = _unhidden(samples, np.zeros(5, bool), ring, turning_angles(ring),
-    ...                  lambda x: np.ones(len(x)), 1e-9)
+    ...                  lambda x: np.full(len(x), 1.2), 1e-9)
     >>> moved[3].tolist()     # the bump beyond the chord is seen from (2, 1), reflex
     [2.0, 1.0]
     """
