@@ -423,10 +423,10 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> l
                 out[k] = cache[key] = mesh
             else:
                 left.append((k, key, given))
-        for (k, key, given), source, turns, shift in copies:
+        for (k, key, given), source, turns, shift, rolls in copies:
             mesh = made[source]
             if mesh is not None:
-                mesh = _translated(mesh, turns, shift, given, patches[k], coned[k])
+                mesh = _translated(mesh, turns, shift, given, patches[k], coned[k], rolls)
                 if mesh is None:                # not exact: meshed by itself
                     mesh = _meshed_together([patches[k]], [given], [coned[k]], seed + attempt,
                                             options)[0]
@@ -442,16 +442,23 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> l
 
 def _translates(todo, patches, fields) -> tuple:
     """``todo`` split into the patches to mesh and the copies: (item, the patch whose
-    mesh it takes, the quarter turns q, the shift d) for each patch that is a copy of
-    an earlier one to mesh, turned by q quarter turns and moved by d: a CAD part's
-    repeated faces (a patch's frame starts at an edge of its own, so their copies are
-    turned by quarter turns in the plane). Its region's rings, its given samples and
+    mesh it takes, the quarter turns q, the shift d, the rolls) for each patch that is a
+    copy of an earlier one to mesh, turned by q quarter turns and moved by d: a CAD
+    part's repeated faces (a patch's frame starts at an edge of its own, so their copies
+    are turned by quarter turns in the plane). Its region's rings, its given samples and
     its field's features are that one's turned (exact: swaps and signs) plus d, in the
     same order, to :data:`_COPY_TOLERANCE` alpha, and its field's sizes to that
     relative: a float32 export's copies differ by its rounding, and the samples are
-    points of input edges computed in each patch's own frame. This only picks the
-    candidates: a copy's mesh is kept only if its own certificate holds
-    (:func:`_translated`). Patches under :data:`COPY_AREA` alpha² are meshed."""
+    points of input edges computed in each patch's own frame. The rolls are None then.
+
+    A patch that is no such copy of any earlier one may still be one whose rings start
+    at another vertex (7_8ths_cube's L-shaped faces: the same shape a quarter turn
+    apart, each ring starting at the first edge of its own): its rings, its given
+    samples per ring, rolled (the rolls, one per ring, in given samples), and its
+    field's features as a set with their sizes (:func:`_rolled`).
+
+    This only picks the candidates: a copy's mesh is kept only if its own certificate
+    holds (:func:`_translated`). Patches under :data:`COPY_AREA` alpha² are meshed."""
     keep, copies, shapes, given_of = [], [], {}, {}
     for item in todo:
         k, _, given = item
@@ -477,9 +484,14 @@ def _translates(todo, patches, fields) -> tuple:
                 if (all(near(a, b, turns, shift) for a, b in zip(patches[j].region.rings, rings))
                         and all(near(a, b, turns, shift) for a, b in zip(given_of[j], given))
                         and near(fields[j].features, field.features, turns, shift)):
-                    found = (j, turns, shift)
+                    found = (j, turns, shift, None)
                     break
             if found is not None:
+                break
+        for j in shapes.get(shape, ()) if found is None else ():
+            found = _rolled(patches[j], given_of[j], fields[j], patch, given, field, tolerance)
+            if found is not None:
+                found = (j, *found)
                 break
         if found is None:
             shapes.setdefault(shape, []).append(k)
@@ -488,6 +500,56 @@ def _translates(todo, patches, fields) -> tuple:
         else:
             copies.append((item, *found))
     return keep, copies
+
+
+def _rolled(source, source_given, source_field, patch, given, field, tolerance):
+    """(quarter turns, shift, rolls) that put ``source``'s rings, given samples and
+    field onto ``patch``'s, each ring rolled to start where the patch's starts (rolls:
+    per ring, the given sample of ``source`` that becomes the patch's first), the
+    field's features matched as a set with their sizes; or None (:func:`_translates`)."""
+    from scipy.spatial import cKDTree
+
+    rings = patch.region.rings
+    for turns in range(4):
+        turned = [_turned(ring, turns) for ring in source.region.rings]
+        n = len(turned[0])
+        # every start of the source's outer ring, at once: the shift each would take
+        index = (np.arange(n)[:, None] + np.arange(n)[None, :]) % n
+        shifts = rings[0][0] - turned[0]
+        fits = np.all(np.abs(turned[0][index] + shifts[:, None] - rings[0][None]) <= tolerance,
+                      axis=(1, 2))
+        for start in np.flatnonzero(fits).tolist():
+            shift = shifts[start]
+            starts, rolls = [start], []
+            for a, b in zip(turned[1:], rings[1:]):      # the holes' starts, by the shift
+                at = int(np.argmin(np.abs(a + shift - b[0]).max(axis=1)))
+                starts.append(at)
+            ok = True
+            for a, b, at in zip(turned[1:], rings[1:], starts[1:]):
+                if not np.all(np.abs(np.roll(a, -at, axis=0) + shift - b) <= tolerance):
+                    ok = False
+                    break
+            if not ok:
+                continue
+            for ring, a, b, at in zip(source.region.rings, source_given, given, starts):
+                moved = _turned(a, turns) + shift
+                roll = int(np.argmin(np.abs(a - ring[at]).max(axis=1)))
+                if not np.all(np.abs(np.roll(moved, -roll, axis=0) - b) <= tolerance):
+                    ok = False
+                    break
+                rolls.append(roll)
+            if not ok:
+                continue
+            features = _turned(source_field.features, turns) + shift
+            if len(features):
+                distance, which = cKDTree(features).query(field.features)
+                if not (np.all(distance <= tolerance)
+                        and len(np.unique(which)) == len(which)
+                        and np.all(np.abs(source_field.sizes[which] - field.sizes)
+                                   <= _COPY_TOLERANCE * field.sizes)):
+                    continue
+            return turns, shift, rolls
+    return None
 
 
 COPY_AREA = 250.0
@@ -515,19 +577,31 @@ def _turned(xy, turns) -> np.ndarray:
     return np.column_stack([xy[:, 1], -xy[:, 0]])
 
 
-def _translated(mesh, turns, shift, given, patch, field):
+def _translated(mesh, turns, shift, given, patch, field, rolls=None):
     """``mesh`` turned by ``turns`` quarter turns and moved by ``shift`` onto ``patch``,
     its first vertices replaced by the patch's own given ring samples ``given`` (the
-    same up to rounding), with the patch's region and field; None unless its
-    certificate holds (``ok_with_exceptions``, as a patch at a spike is checked)."""
+    same up to rounding; with ``rolls``, each ring's given samples of ``mesh`` rolled to
+    start at its roll, the vertices renumbered), with the patch's region and field;
+    None unless its certificate holds (``ok_with_exceptions``, as a patch at a spike is
+    checked)."""
     from .mesh import PlanarMesh
 
-    points = _turned(mesh.vertices, turns) + shift
+    faces, on_boundary, points = mesh.faces, mesh.on_boundary, mesh.vertices
     n = sum(len(ring) for ring in given)
+    if rolls is not None and any(rolls):
+        sizes = [len(ring) for ring in given]
+        first = np.cumsum([0] + sizes[:-1])
+        old = np.arange(len(points))                 # the mesh's vertex at each new place
+        old[:n] = np.concatenate([start + (np.arange(size) + roll) % size
+                                  for start, size, roll in zip(first, sizes, rolls)])
+        new = np.empty_like(old)
+        new[old] = np.arange(len(old))
+        points, on_boundary, faces = points[old], on_boundary[old], new[faces]
+    points = _turned(points, turns) + shift
     points[:n] = np.concatenate(given)
     if not shapely.contains_xy(patch.region.geometry, points[n:, 0], points[n:, 1]).all():
         return None
-    copy = PlanarMesh(points, mesh.faces, mesh.on_boundary, patch.region, field.cap, True,
+    copy = PlanarMesh(points, faces, on_boundary, patch.region, field.cap, True,
                       field=field)
     return copy if copy.certificate().ok_with_exceptions else None
 
