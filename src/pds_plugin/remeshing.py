@@ -1174,7 +1174,10 @@ def _on_input(xy, patches, vertices, faces) -> list:
     beta, gamma = _barycentric(xy, a, b, c)
     p = np.take(vertices, np.take(triangles, first, axis=0), axis=0)
     out = p[:, 0] + beta[:, None] * (p[:, 1] - p[:, 0]) + gamma[:, None] * (p[:, 2] - p[:, 0])
-    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    u, v = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    normal = np.column_stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],     # np.cross's
+                              u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],     # arithmetic
+                              u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]])
     normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
     height = np.einsum("ij,ij->i", out - p[:, 0], normal)
     cut = np.cumsum(sizes)[:-1]
@@ -1200,7 +1203,8 @@ def _triangle_of(xy, corners) -> np.ndarray:
     found, which = _box_pairs(xy, low, high)
     a, b, c = (np.take(np.ascontiguousarray(corners[:, k]), which, axis=0) for k in range(3))
     beta, gamma = _barycentric(np.take(xy, found, axis=0), a, b, c)
-    score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+    with np.errstate(invalid="ignore"):                  # a degenerate triangle: NaN
+        score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
     first, best = np.full(len(xy), -1), np.full(len(xy), -np.inf)
     if len(found):
         # the pairs run point by point, each point's boxes in the triangles' order: the
