@@ -313,10 +313,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         own = agreeing_fields(rings, frames, own, pinned, topology=topology)
         chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
                                       seed=seed, pinned=pinned, topology=topology)
+        # each patch's ring samples in its plane, computed once for both steps below
+        given = [_ring_samples(chains, k, frame) for k, frame in enumerate(frames)]
         sizes, coned = _agreeing_sizes(chains, frames, own,
                                        chain_sample_radii(chains, frames, own,
-                                                          topology=topology), topology)
-        meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned)
+                                                          topology=topology), topology,
+                                       [points for _, points, _ in given])
+        meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
+                               given)
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
         # so is a patch with a corner sharper than 33.56° whose certificate does not hold
@@ -379,7 +383,17 @@ def _groups(todo, patches, alpha) -> list:
     return [group for group in groups if group] + large
 
 
-def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> list:
+def _ring_samples(chains, k, frame) -> tuple:
+    """Patch ``k``'s chain samples: their indices (its rings' in turn), their points in
+    its plane (``frame``) and the rings' sample counts."""
+    ids = np.concatenate(chains.rings[k])
+    start = frame[chains.u[ids]]                 # looked up once (a Frame searches)
+    points = start + chains.t[ids, None] * (frame[chains.v[ids]] - start)
+    return ids, points, [len(ring) for ring in chains.rings[k]]
+
+
+def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
+                  samples=None) -> list:
     """The mesh of each patch with its chains' samples, or None if its boundary edges
     are not exactly the chords between them (it would not join its neighbours) with any
     of the interiors drawn (``partition.ATTEMPTS`` seeds). Each patch is meshed with
@@ -391,13 +405,13 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned) -> l
     sampled and triangulated in one call, as one region of many components with one
     field (the union of their cones), and cut apart again (:func:`_meshed_together`).
     ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
-    change when another was dropped is not meshed again (the same mesh, bit for bit)."""
+    change when another was dropped is not meshed again (the same mesh, bit for bit).
+    ``samples``: per patch, :func:`_ring_samples` (computed here if not given)."""
     out, todo = [None] * len(patches), []
     for k, patch in enumerate(patches):
-        ring_ids = chains.rings[k]
-        given = [patch.frame[chains.u[ids]] + chains.t[ids, None]
-                 * (patch.frame[chains.v[ids]] - patch.frame[chains.u[ids]]) for ids in ring_ids]
-        ids = np.concatenate(ring_ids)
+        ids, points, counts = (samples[k] if samples is not None
+                               else _ring_samples(chains, k, patch.frame))
+        given = np.split(points, np.cumsum(counts)[:-1])
         key = (id(patch), b"".join(ring.tobytes() for ring in given),
                own[k].sizes.tobytes() + sizes[ids].tobytes())
         if key in cache:
@@ -722,7 +736,7 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     return out
 
 
-def _agreeing_sizes(chains, frames, fields, sizes, topology=None):
+def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
     """The chain samples' radii ``sizes`` lowered until every patch's field with its
     cones (:func:`_patch_mesh`) reads them at its own samples: at a sample s, the
     smallest of its patches' fields combined with cones of ``sizes`` at their samples,
@@ -733,19 +747,23 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None):
     chains' dense points, and a chain sample's separation lowering
     (:func:`pds_plugin.partition.chain_sample_radii`) to this. Then the patches read the
     same r at every sample they share. Returns the radii and, per patch, its field with
-    the cones (what :func:`_patch_mesh` meshes it with)."""
+    the cones (what :func:`_patch_mesh` meshes it with). ``points``: per patch, its
+    chain samples' points (:func:`_ring_samples`), computed here if not given."""
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
-    points = [frame[chains.u[i]] + chains.t[i, None] * (frame[chains.v[i]] - frame[chains.u[i]])
-              for frame, i in zip(frames, ids)]
+    if points is None:
+        points = [_ring_samples(chains, k, frame)[1] for k, frame in enumerate(frames)]
     union = None if topology is None else topology.layout_field(frames, fields)
     if union is not None and points:            # the same in every round; one call
         own = np.split(union(np.concatenate(points)), np.cumsum([len(xy) for xy in points])[:-1])
     else:
         own = [field(xy) for field, xy in zip(fields, points)]
+    every = np.concatenate(ids) if ids else np.zeros(0, np.int64)
     for _ in range(_AGREEMENT_ROUNDS):
         lowest = sizes.copy()
-        for field, r, i, xy in zip(fields, own, ids, points):
-            np.minimum.at(lowest, i, np.minimum(r, _cones_at(xy, sizes[i], field)))
+        if len(every):              # one minimum.at for all patches (min is exact)
+            np.minimum.at(lowest, every, np.concatenate(
+                [np.minimum(r, _cones_at(xy, sizes[i], field))
+                 for field, r, i, xy in zip(fields, own, ids, points)]))
         lower = lowest < sizes * (1 - _AGREEMENT_TOL)
         if not lower.any():
             break
