@@ -1014,17 +1014,20 @@ def _patch(members, ids, xy, basis, rings, cycles, shift):
 
 def _manifold_patches(patches) -> list:
     """The patches whose boundary edges no other patch runs the same way, nor two others
-    (non-manifold input: two bodies sharing a face); the rest are kept."""
-    runs = {}
-    for k, patch in enumerate(patches):
-        for ring in patch.rings:
-            for a, b in zip(ring.tolist(), np.roll(ring, -1).tolist()):
-                runs.setdefault((a, b), []).append(k)
-                runs.setdefault((min(a, b), max(a, b), None), []).append(k)
-    bad = set()
-    for key, owners in runs.items():
-        if len(owners) > (2 if len(key) == 3 else 1):
-            bad.update(owners)
+    (non-manifold input: two bodies sharing a face); the rest are kept. (An edge a
+    patch runs twice counts as two runs.)"""
+    if not patches:
+        return []
+    rings = [(k, ring) for k, patch in enumerate(patches) for ring in patch.rings]
+    start = np.concatenate([ring for _, ring in rings]).astype(np.int64)
+    end = np.concatenate([np.r_[ring[1:], ring[:1]] for _, ring in rings]).astype(np.int64)
+    owner = np.repeat([k for k, _ in rings], [len(ring) for _, ring in rings])
+    n = int(max(start.max(initial=0), end.max(initial=0))) + 1
+    bad = np.zeros(len(start), bool)
+    for code, most in ((start * n + end, 1), (np.minimum(start, end) * n + np.maximum(start, end), 2)):
+        _, inverse, count = np.unique(code, return_inverse=True, return_counts=True)
+        bad |= count[inverse.ravel()] > most
+    bad = set(owner[bad].tolist())
     return [patch for k, patch in enumerate(patches) if k not in bad]
 
 
@@ -1268,10 +1271,16 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     if not volume:
         return _largest(heights), unkept
     every = np.concatenate(points)
-    change = [_determinants(np.take(every, triangles, axis=0) - patch.basis[0]).sum() / 6
-              - _determinants(np.take(vertices, faces[patch.faces], axis=0)
-                              - patch.basis[0]).sum() / 6
-              for patch, triangles in zip(patches, new_faces)]
+    # every patch's new triangles and input faces in one determinant call each, about
+    # each patch's own origin (the same numbers, summed patch by patch as before)
+    origin = [patch.basis[0] for patch in patches]
+    new = _determinants(np.concatenate(
+        [np.take(every, triangles, axis=0) - o for o, triangles in zip(origin, new_faces)]))
+    old = _determinants(np.concatenate(
+        [np.take(vertices, faces[patch.faces], axis=0) - o for o, patch in zip(origin, patches)]))
+    new = np.split(new, np.cumsum([len(triangles) for triangles in new_faces])[:-1])
+    old = np.split(old, np.cumsum([len(patch.faces) for patch in patches])[:-1])
+    change = [a.sum() / 6 - b.sum() / 6 for a, b in zip(new, old)]
     if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
         return _largest(heights), unkept
     for k, ((start, normal, height), patch, triangles) in enumerate(zip(lifted, patches,
