@@ -1268,7 +1268,7 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     its interior points in the concatenation, their triangles' normals and their signed
     distances to those planes."""
     heights, unkept = [height for _, _, height in lifted], set()
-    if not volume:
+    if not volume or not patches:
         return _largest(heights), unkept
     every = np.concatenate(points)
     # every patch's new triangles and input faces in one determinant call each, about
