@@ -617,6 +617,9 @@ def _translated(mesh, turns, shift, given, patch, field, rolls=None):
         return None
     copy = PlanarMesh(points, faces, on_boundary, patch.region, field.cap, True,
                       field=field)
+    if faces is mesh.faces and "_edges" in mesh.__dict__:
+        # the same triangles: its edges are the mesh's (found by _joined), not found again
+        copy.__dict__["_edges"] = mesh.__dict__["_edges"]
     return copy if copy.certificate().ok_with_exceptions else None
 
 
