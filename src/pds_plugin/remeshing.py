@@ -761,12 +761,14 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
     else:
         own = [field(xy) for field, xy in zip(fields, points)]
     every = np.concatenate(ids) if ids else np.zeros(0, np.int64)
+    few = _FewCones(ids, points, fields)
     for _ in range(_AGREEMENT_ROUNDS):
         lowest = sizes.copy()
         if len(every):              # one minimum.at for all patches (min is exact)
+            cones = few(sizes)
             np.minimum.at(lowest, every, np.concatenate(
-                [np.minimum(r, _cones_at(xy, sizes[i], field))
-                 for field, r, i, xy in zip(fields, own, ids, points)]))
+                [np.minimum(r, cones[k] if k in cones else _cones_at(xy, sizes[i], field))
+                 for k, (field, r, i, xy) in enumerate(zip(fields, own, ids, points))]))
         lower = lowest < sizes * (1 - _AGREEMENT_TOL)
         if not lower.any():
             break
@@ -784,6 +786,40 @@ def _cones_at(xy, sizes, field) -> np.ndarray:
                           field.cap)
     from .sizing import RadiusField
     return RadiusField(xy, sizes, field.grading, field.cap)(xy)
+
+
+class _FewCones:
+    """:func:`_cones_at` of every patch of at most 32 samples at once (most patches of a
+    CAD part: the 20 mm cube's letters), each a row of padded arrays, its distances
+    times L found once for all rounds of :func:`_agreeing_sizes`: the same numbers
+    (the padding's sizes are infinite, so it is no one's minimum)."""
+
+    def __init__(self, ids, points, fields):
+        self.which = [k for k, xy in enumerate(points) if 0 < len(xy) <= 32]
+        if not self.which:
+            return
+        counts = np.array([len(points[k]) for k in self.which])
+        width = int(counts.max())
+        self.mask = np.arange(width)[None, :] < counts[:, None]
+        xy = np.zeros((len(self.which), width, 2))
+        xy[self.mask] = np.concatenate([points[k] for k in self.which])
+        distance = np.hypot(xy[:, :, None, 0] - xy[:, None, :, 0],
+                            xy[:, :, None, 1] - xy[:, None, :, 1])
+        grading = np.array([fields[k].grading for k in self.which])
+        self.slope = grading[:, None, None] * distance        # field.grading * distance
+        self.cap = np.array([fields[k].cap for k in self.which])[:, None]
+        self.ids = np.concatenate([ids[k] for k in self.which])
+        self.cut = np.cumsum(counts)[:-1]
+
+    def __call__(self, sizes) -> dict:
+        """Per patch of at most 32 samples (by index), its cones at its samples."""
+        if not self.which:
+            return {}
+        padded = np.full(self.mask.shape, np.inf)
+        padded[self.mask] = sizes[self.ids]
+        cones = np.minimum((padded[:, None, :] + self.slope).min(axis=2, initial=np.inf),
+                           self.cap)
+        return dict(zip(self.which, np.split(cones[self.mask], self.cut)))
 
 
 _AGREEMENT_ROUNDS = 16
