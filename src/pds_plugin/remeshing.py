@@ -524,16 +524,20 @@ def _rolled(source, source_given, source_field, patch, given, field, tolerance):
     from scipy.spatial import cKDTree
 
     rings = patch.region.rings
+    first = rings[0][1] - rings[0][0]                  # the patch's first edge
     for turns in range(4):
         turned = [_turned(ring, turns) for ring in source.region.rings]
-        n = len(turned[0])
-        # every start of the source's outer ring, at once: the shift each would take
-        index = (np.arange(n)[:, None] + np.arange(n)[None, :]) % n
-        shifts = rings[0][0] - turned[0]
-        fits = np.all(np.abs(turned[0][index] + shifts[:, None] - rings[0][None]) <= tolerance,
-                      axis=(1, 2))
-        for start in np.flatnonzero(fits).tolist():
-            shift = shifts[start]
+        outer = turned[0]
+        # the starts whose edge is the patch's first, to three times the tolerance (a
+        # start whose ring matches has it to twice, and rounding); each such start's
+        # ring checked whole: a ring's length of work a turn, not its square
+        step = np.r_[outer[1:], outer[:1]] - outer
+        for start in np.flatnonzero(np.all(np.abs(step - first) <= 3 * tolerance,
+                                           axis=1)).tolist():
+            shift = rings[0][0] - outer[start]
+            if not np.all(np.abs(np.roll(outer, -start, axis=0) + shift - rings[0])
+                          <= tolerance):
+                continue
             starts, rolls = [start], []
             for a, b in zip(turned[1:], rings[1:]):      # the holes' starts, by the shift
                 at = int(np.argmin(np.abs(a + shift - b[0]).max(axis=1)))
