@@ -1223,14 +1223,22 @@ def _on_input(xy, patches, vertices, faces) -> list:
     own = np.repeat(np.arange(len(patches)), sizes)
     first, best = np.full(len(xy), -1), np.full(len(xy), -np.inf)
     few = np.flatnonzero(count[own] <= _FEW_TRIANGLES)
-    for j in range(int(count[own[few]].max(initial=0))):    # the j-th triangle of each
-        at = few[count[own[few]] > j]
-        which = start[own[at]] + j
+    if len(few):
+        # every such point against each triangle of its patch, in one pass: the pairs
+        # point by point, the triangles in order, each point's first best kept
+        many = count[own[few]]
+        before = np.cumsum(many) - many
+        at = np.repeat(few, many)
+        which = start[own[at]] + np.arange(len(at)) - np.repeat(before, many)
         beta, gamma = _barycentric(np.take(xy, at, axis=0),
                                    *(np.take(c, which, axis=0) for c in corner))
-        score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
-        better = score > best[at]                            # the first best stays
-        first[at[better]], best[at[better]] = which[better], score[better]
+        with np.errstate(invalid="ignore"):              # a degenerate triangle: NaN
+            score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+        score = np.where(np.isnan(score), -np.inf, score)  # never the best
+        run = np.repeat(np.arange(len(few)), many)
+        pick = np.flatnonzero(score == np.maximum.reduceat(score, before)[run])
+        pick = pick[np.r_[True, run[pick][1:] != run[pick][:-1]]]   # the first best
+        first[at[pick]], best[at[pick]] = which[pick], score[pick]
     rest = np.flatnonzero((count[own] > _FEW_TRIANGLES) | ~(best >= -_INSIDE))
     if len(rest):
         first[rest] = _triangle_of(xy[rest], corners)
