@@ -362,3 +362,25 @@ def test_the_layout_field_reads_each_patch_its_own_field_bit_for_bit():
         x0, y0, x1, y1 = mesh.region.bounds
         points = np.concatenate([mesh.vertices, rng.uniform([x0, y0], [x1, y1], (500, 2))])
         assert np.array_equal(union(points), field(points))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_chords_of_many_chains_at_once_are_each_chains_own(seed):
+    """:func:`remeshing._chords` gives, chain after chain, what ``ChainSamples.chords``
+    gives chain by chain: open chains' consecutive pairs, a closed chain's last to its
+    first too, none for a chain of one sample."""
+    from types import SimpleNamespace
+
+    from pds_plugin.partition import ChainSamples
+
+    rng = np.random.default_rng(seed)
+    count = int(rng.integers(0, 30))
+    samples = [rng.integers(0, 1000, int(rng.integers(1, 7))).astype(np.int64)
+               for _ in range(count)]
+    chains = SimpleNamespace(chain_samples=samples, closed=[bool(rng.random() < 0.3)
+                                                            for _ in range(count)])
+    which = sorted(rng.choice(count, size=int(rng.integers(0, count + 1)),
+                              replace=False).tolist()) if count else []
+    expected = [ChainSamples.chords(chains, c) for c in which]
+    expected = np.concatenate(expected) if expected else np.zeros((0, 2), np.int64)
+    assert np.array_equal(remeshing._chords(chains, which), expected)

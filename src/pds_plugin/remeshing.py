@@ -1115,10 +1115,10 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     rim_keys = {(int(a), int(b)) for a, b in np.sort(rim, axis=1).tolist()}
     # every chain is an interface (two patches, or a patch and kept faces) but those on
     # the input's own open boundary
-    interfaces = [c for c, vertices in enumerate(chains.chains)
-                  if tuple(sorted((int(vertices[0]), int(vertices[1])))) not in rim_keys]
-    chords = np.concatenate([chains.chords(c) for c in interfaces] or
-                            [np.zeros((0, 2), np.int64)])
+    interfaces = (range(len(chains.chains)) if not rim_keys else
+                  [c for c, vertices in enumerate(chains.chains)
+                   if tuple(sorted((int(vertices[0]), int(vertices[1])))) not in rim_keys])
+    chords = _chords(chains, interfaces)
     on_rim = np.zeros(len(vertices), bool)
     on_rim[rim.ravel()] = True
     flags = np.zeros(len(all_points), bool)
@@ -1134,6 +1134,25 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
                         report, alpha, patch_count, patch_count - len(patches),
                         (closed_in, closed_out), (euler_in, euler_out), volume_error,
                         distance, tolerance, bool(graded)), unkept
+
+
+def _chords(chains, which) -> np.ndarray:
+    """The (m, 2) sample numbers of the consecutive samples along the chains ``which``,
+    chain after chain, a closed chain's last to its first at its end: what
+    ``chains.chords(c)`` gives chain by chain (ADIS16480: 3 ms of numpy calls for its
+    thousands of one-edge chains), in one pass."""
+    samples = [chains.chain_samples[c] for c in which]
+    if not samples:
+        return np.zeros((0, 2), np.int64)
+    length = np.array([len(s) for s in samples], np.int64)
+    closed = np.array([bool(chains.closed[c]) for c in which])
+    pairs = np.maximum(length - 1 + closed, 0) * (length > 0)
+    every = np.concatenate(samples).astype(np.int64)
+    chain = np.repeat(np.arange(len(samples)), pairs)
+    k = np.arange(int(pairs.sum())) - np.repeat(np.cumsum(pairs) - pairs, pairs)
+    first = np.cumsum(length) - length
+    return np.column_stack([every[first[chain] + k],
+                            every[first[chain] + (k + 1) % length[chain]]])
 
 
 def _inherited(faces, count, used, renumber) -> tuple:
