@@ -263,14 +263,15 @@ def main(argv=None):
         warm_up(Path(folder), graded=not args.uniform)
         for path in paths:
             rows += run(path, graded=not args.uniform, repeats=args.repeats)
-            print(f"{path.name}: pds {rows[-3]['seconds']:.2f} s, MeshLab {rows[-2]['seconds']:.2f} s",
-                  file=sys.stderr, flush=True)
+            print(f"{path.name}: pds {rows[-3]['seconds']:.3f} s, MeshLab "
+                  f"{rows[-2]['seconds']:.3f} s, pds / MeshLab "
+                  f"{rows[-3]['seconds'] / rows[-2]['seconds']:.2f}", file=sys.stderr, flush=True)
     print("| part / mesher | CPU s | / MeshLab | certify s | vertices | min angle | 1st pct | "
           "remeshed min / 1st pct | volume error | Hausdorff / diag | watertight | certificate |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for k, r in enumerate(rows):
         lab = rows[k - k % 3 + 1]["seconds"]
-        print(f"| {r['part']} | {r['seconds']:.2f} | {r['seconds'] / lab:.2f} | {r['certify']:.2f} | "
+        print(f"| {r['part']} | {r['seconds']:.3f} | {r['seconds'] / lab:.2f} | {r['certify']:.3f} | "
               f"{r['vertices']} | {r['min_angle']:.2f} | "
               f"{r['p1_angle']:.2f} | {r['patch_min']:.2f} / {r['patch_p1']:.2f} | "
               f"{r['volume_error']:.2g} | {r['hausdorff']:.2g} | {r['watertight']} | "

@@ -151,29 +151,167 @@ def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded,
     made = []
     translated = remeshing._translated
 
-    def recorded(mesh, turns, shift, given, patch, field):
-        copy = translated(mesh, turns, shift, given, patch, field)
-        made.append((mesh, turns, shift, copy))
+    def recorded(mesh, turns, shift, given, patch, field, rolls=None):
+        copy = translated(mesh, turns, shift, given, patch, field, rolls)
+        made.append((mesh, turns, shift, rolls, copy))
         return copy
 
     monkeypatch.setattr(remeshing, "_translated", recorded)
     monkeypatch.setattr(remeshing, "COPY_AREA", 0.0)      # the studs' faces are small
     result = pds.remesh(source, 0.05, graded=graded, seed=2)
-    copies = [item for item in made if item[3] is not None]
+    copies = [item for item in made if item[4] is not None]
     assert len(copies) >= 10                       # the studs' sides and tops
     assert_solid_kept(result, source)
     kept = {id(mesh) for mesh in result.patch_meshes}
-    for mesh, turns, shift, copy in copies:
-        assert copy.faces is mesh.faces or np.array_equal(copy.faces, mesh.faces)
-        moved = remeshing._turned(mesh.vertices, turns) + shift
-        tolerance = remeshing._COPY_TOLERANCE * copy.field.cap
-        assert np.abs(moved - copy.vertices).max() <= tolerance
-        n = int(copy.on_boundary.sum())
-        assert np.array_equal(moved[n:], copy.vertices[n:])      # interiors moved as is
+    for mesh, turns, shift, rolls, copy in copies:
+        assert_a_moved_copy(mesh, turns, shift, rolls, copy)
         if id(copy) in kept:
             assert copy.certificate().ok_with_exceptions
     angles = result.angles()
     assert angles.min() >= 20 and np.percentile(angles, 1) >= 25
+
+
+def assert_a_moved_copy(mesh, turns, shift, rolls, copy):
+    """``copy`` is ``mesh`` turned and moved: its interior vertices exactly, its given
+    ring samples to the copy tolerance, each ring rolled by its roll (its vertices
+    renumbered), the same triangles."""
+    n = int(copy.on_boundary.sum())
+    old = np.arange(len(mesh.vertices))
+    if rolls is not None:
+        assert len(rolls) == len(copy.region.rings)            # a given ring a region ring
+        # the given rings' lengths are the mesh's boundary cycles: read them off the
+        # copy's boundary edges (each ring's samples consecutive, closed)
+        edges = copy.boundary_edges
+        following = dict(zip(edges[:, 0].tolist(), edges[:, 1].tolist()))
+        ring_sizes, at = [], 0
+        while at < n:
+            size, vertex = 1, following[at]
+            while vertex != at:
+                size, vertex = size + 1, following[vertex]
+            ring_sizes.append(size)
+            at += size
+        starts = np.cumsum([0] + ring_sizes[:-1])
+        old[:n] = np.concatenate([start + (np.arange(size) + roll) % size
+                                  for start, size, roll in zip(starts, ring_sizes, rolls)])
+    new = np.empty_like(old)
+    new[old] = np.arange(len(old))
+    moved = remeshing._turned(mesh.vertices[old], turns) + shift
+    tolerance = remeshing._COPY_TOLERANCE * copy.field.cap
+    assert np.abs(moved - copy.vertices).max() <= tolerance
+    assert np.array_equal(moved[n:], copy.vertices[n:])          # interiors moved as is
+    assert np.array_equal(new[mesh.faces], copy.faces)
+
+
+def seven_eighths_cube():
+    """A 40 mm cube without one 20 mm octant, as float32, its vertices numbered at
+    random: its three L-shaped faces (and its squares) are quarter turns of each other
+    whose rings start at different corners (a patch's ring starts at its least vertex)."""
+    manifold3d = pytest.importorskip("manifold3d")
+    solid = (manifold3d.Manifold.cube([40.0, 40.0, 40.0])
+             - manifold3d.Manifold.cube([20.0, 20.0, 20.0]).translate([20.0, 20.0, 20.0]))
+    mesh = solid.to_mesh()
+    vertices = np.asarray(mesh.vert_properties[:, :3], dtype=np.float32).astype(np.float64)
+    number = np.random.default_rng(2).permutation(len(vertices))   # vertex k is number[k]
+    return trimesh.Trimesh(vertices[np.argsort(number)], number[np.asarray(mesh.tri_verts)],
+                           process=True)
+
+
+@pytest.mark.parametrize("graded", [True, False])
+def test_repeated_faces_whose_rings_start_elsewhere_are_copies_too(graded, monkeypatch):
+    """A face that is a quarter turn of another but whose rings start at another corner
+    takes that one's mesh with its rings rolled: the copy is the mesh turned, moved and
+    renumbered, certified against its own region and field, and the solid is kept."""
+    source = seven_eighths_cube()
+    made = []
+    translated = remeshing._translated
+
+    def recorded(mesh, turns, shift, given, patch, field, rolls=None):
+        copy = translated(mesh, turns, shift, given, patch, field, rolls)
+        made.append((mesh, turns, shift, rolls, copy))
+        return copy
+
+    monkeypatch.setattr(remeshing, "_translated", recorded)
+    result = pds.remesh(source, graded=graded, seed=3)
+    rolled = [item for item in made if item[3] is not None and any(item[3])]
+    assert rolled and all(item[4] is not None for item in rolled)
+    assert_solid_kept(result, source)
+    kept = {id(mesh) for mesh in result.patch_meshes}
+    for mesh, turns, shift, rolls, copy in made:
+        assert copy is not None
+        assert_a_moved_copy(mesh, turns, shift, rolls, copy)
+        assert id(copy) in kept and copy.certificate().ok
+    assert result.ok
+    angles = result.angles()
+    assert angles.min() >= 20 and np.percentile(angles, 1) >= 25
+
+
+def test_a_rolled_match_needs_every_ring_sample_and_feature():
+    """:func:`remeshing._rolled` finds the turn, shift and rolls of a square turned and
+    started at another corner, and none when a given sample or a feature moves."""
+    from types import SimpleNamespace
+
+    import shapely
+    from pds_plugin.region import Region
+    from shapely.geometry import MultiPolygon, Polygon
+
+    square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]])
+    samples = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]], float)
+
+    def patch_of(ring):
+        geometry = shapely.orient_polygons(MultiPolygon([Polygon(ring)]))  # as _patch makes it
+        return SimpleNamespace(region=Region(geometry, np.eye(4)))
+
+    field = RadiusField([[0.5, 0.5]], [0.1], 0.2, 1.0)
+    turned = remeshing._turned(square, 1) + [10.0, 5.0]        # (10, 5), (10, 7), ...
+    start = 2                                                  # starts at its third corner
+    copy = patch_of(np.roll(turned, -start, axis=0))
+    copy_samples = np.roll(remeshing._turned(samples, 1) + [10.0, 5.0], -3, axis=0)
+    copy_field = RadiusField(remeshing._turned(field.features, 1) + [10.0, 5.0], [0.1], 0.2, 1.0)
+    source = patch_of(square)
+    assert source.region.rings[0][0].tolist() == [0.0, 0.0]
+    found = remeshing._rolled(source, [samples], field, copy, [copy_samples], copy_field, 1e-9)
+    assert found is not None
+    turns, shift, rolls = found
+    assert turns == 1 and rolls == [3]
+    assert np.allclose(shift, [10.0, 5.0])
+    moved = copy_samples.copy()
+    moved[1] += [0.0, 1e-6]
+    assert remeshing._rolled(source, [samples], field, copy, [moved], copy_field, 1e-9) is None
+    elsewhere = RadiusField(copy_field.features + 1e-6, [0.1], 0.2, 1.0)
+    assert remeshing._rolled(source, [samples], field, copy, [copy_samples], elsewhere,
+                             1e-9) is None
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_points_find_the_triangle_they_are_in_as_a_scan_of_every_box_would(seed):
+    """:func:`remeshing._triangle_of` (a tree of the triangles' boxes, each point's best
+    pair kept in one pass) picks, per point, of the triangles whose box holds it one
+    with the largest smallest barycentric coordinate, as scoring every triangle would; a
+    point in no triangle goes to one whose box is nearest."""
+    rng = np.random.default_rng(seed)
+    m = int(rng.integers(1, 80))
+    corners = (rng.uniform(0, 10, (m, 1, 2))
+               + rng.uniform(-3, 3, (m, 3, 2)) * rng.choice([1.0, 0.01, 5.0], (m, 1, 1)))
+    if seed % 2:
+        corners[0, 2] = corners[0, 1]                  # a degenerate triangle
+    xy = rng.uniform(-2, 12, (int(rng.integers(1, 500)), 2))
+    if seed % 3 == 0:
+        xy = np.round(xy)                              # on box edges and corners
+    first = remeshing._triangle_of(xy, corners)
+    low, high = corners.min(axis=1), corners.max(axis=1)
+    for k, point in enumerate(xy):
+        holds = np.flatnonzero(((point >= low) & (point <= high)).all(axis=1))
+        beta, gamma = remeshing._barycentric(np.repeat(point[None], len(holds), axis=0),
+                                             *(corners[holds, j] for j in range(3)))
+        with np.errstate(invalid="ignore"):
+            score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+        score = np.where(np.isnan(score), -np.inf, score)
+        if len(holds) and score.max() >= -remeshing._INSIDE:
+            assert first[k] in holds[score == score.max()]
+        else:
+            outside = np.maximum(np.maximum(low - point, point - high), 0)
+            distance = np.hypot(outside[:, 0], outside[:, 1])
+            assert distance[first[k]] == distance.min()
 
 
 def test_a_copy_whose_certificate_fails_is_meshed_by_itself(monkeypatch):
@@ -224,3 +362,25 @@ def test_the_layout_field_reads_each_patch_its_own_field_bit_for_bit():
         x0, y0, x1, y1 = mesh.region.bounds
         points = np.concatenate([mesh.vertices, rng.uniform([x0, y0], [x1, y1], (500, 2))])
         assert np.array_equal(union(points), field(points))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_chords_of_many_chains_at_once_are_each_chains_own(seed):
+    """:func:`remeshing._chords` gives, chain after chain, what ``ChainSamples.chords``
+    gives chain by chain: open chains' consecutive pairs, a closed chain's last to its
+    first too, none for a chain of one sample."""
+    from types import SimpleNamespace
+
+    from pds_plugin.partition import ChainSamples
+
+    rng = np.random.default_rng(seed)
+    count = int(rng.integers(0, 30))
+    samples = [rng.integers(0, 1000, int(rng.integers(1, 7))).astype(np.int64)
+               for _ in range(count)]
+    chains = SimpleNamespace(chain_samples=samples, closed=[bool(rng.random() < 0.3)
+                                                            for _ in range(count)])
+    which = sorted(rng.choice(count, size=int(rng.integers(0, count + 1)),
+                              replace=False).tolist()) if count else []
+    expected = [ChainSamples.chords(chains, c) for c in which]
+    expected = np.concatenate(expected) if expected else np.zeros((0, 2), np.int64)
+    assert np.array_equal(remeshing._chords(chains, which), expected)
