@@ -1100,7 +1100,7 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     centre = vertices[np.unique(faces)].mean(axis=0)
     (closed_in, euler_in, volume_in) = _surface_facts(vertices, faces, centre)
     distance, unkept = _volume_kept(points, lifted, new_faces, patches, vertices, faces,
-                                    volume_in if closed_in else 0.0, tolerance)
+                                    volume_in if closed_in else 0.0, tolerance, centre)
     split, centres = _split_kept(faces[kept], chains, number, count, vertices)
     points.append(centres)
     new_faces.append(split)
@@ -1316,7 +1316,8 @@ def _triangle_of(xy, corners) -> np.ndarray:
     return first
 
 
-def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, tolerance):
+def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, tolerance,
+                 centre):
     """Move each patch's interior points along its normal, within the coplanarity
     ``tolerance`` of the input triangles they lie on, so that the patch's triangles
     bound the same volume as its input faces, when the remeshed patches together would
@@ -1336,18 +1337,24 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     patch's points (a margin for rounding). ``points`` (the input vertices, the chain samples, then each patch's
     interior points) is changed in place; ``lifted`` holds per patch the first index of
     its interior points in the concatenation, their triangles' normals and their signed
-    distances to those planes."""
+    distances to those planes.
+
+    The changes are measured about one point for all patches, ``centre`` (the solid's
+    volume's): a patch's new boundary is its chains' samples, which skip the chains'
+    input vertices between them, so a patch's change alone depends on the point it is
+    measured from, and only the sum about one point is the solid's. About each patch's
+    own origin a held-out float32 I-beam's patches summed to 2e-14 of its volume while
+    the solid changed by 1.3e-9, past the 1e-9 kept, and its remesh was not ``ok``."""
     heights, unkept = [height for _, _, height in lifted], set()
     if not volume or not patches:
         return _largest(heights), unkept
     every = np.concatenate(points)
     # every patch's new triangles and input faces in one determinant call each, about
-    # each patch's own origin (the same numbers, summed patch by patch as before)
-    origin = [patch.basis[0] for patch in patches]
+    # the one point the solid's volume is measured from
     new = _determinants(np.concatenate(
-        [np.take(every, triangles, axis=0) - o for o, triangles in zip(origin, new_faces)]))
+        [np.take(every, triangles, axis=0) for triangles in new_faces]) - centre)
     old = _determinants(np.concatenate(
-        [np.take(vertices, faces[patch.faces], axis=0) - o for o, patch in zip(origin, patches)]))
+        [np.take(vertices, faces[patch.faces], axis=0) for patch in patches]) - centre)
     new = np.split(new, np.cumsum([len(triangles) for triangles in new_faces])[:-1])
     old = np.split(old, np.cumsum([len(patch.faces) for patch in patches])[:-1])
     change = [a.sum() / 6 - b.sum() / 6 for a, b in zip(new, old)]
