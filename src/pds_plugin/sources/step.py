@@ -52,11 +52,11 @@ import numpy as np
 import shapely
 
 from .._checks import check_path, check_positive, import_optional
-from ..boundary_curves import BoundaryCurves, curves_builder
+from ..boundary_curves import BoundaryCurves
 from ..errors import RegionError, SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import (MAX_CHORDS, _spectral_norm, bezier_points, checked_file,
+from .curves import (MAX_CHORDS, bezier_points, checked_file,
                      elliptic_points, steps)
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
@@ -896,8 +896,8 @@ def _face_polygons(faces, curves, join, checked=True):
     """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
     a wire does not close within ``join`` or, if ``checked``, the polygons are not valid
     (the caller then assembles the curves by even-odd nesting, which finds the open ends).
-    All rings are made by one concatenation (each closed by its first point) and one call
-    of shapely."""
+    All rings are made by one concatenation (each closed by its first point), then one
+    call of shapely per ring and per polygon with holes."""
     pieces, sizes, ring_of, at = [], [], [], 0
     for number, face in enumerate(faces):
         for wire in face:
@@ -937,25 +937,40 @@ def _face_polygons(faces, curves, join, checked=True):
         if checked and not geometry.is_valid:
             return None
         return geometry if geometry.area > 0 else None
-    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(sizes)), sizes))
+    # one call of shapely per ring, per polygon with holes: shapely's ``indices`` (one call
+    # for all) sort and check them, twice the time on a plate's six rings
+    starts = (np.cumsum(sizes) - sizes).tolist()
+    linear = np.empty(len(sizes), dtype=object)
+    linear[:] = [shapely.linearrings(closed[start:start + size])
+                 for start, size in zip(starts, sizes.tolist())]
     if getattr(faces, "loose", False):
-        linear, ring_of = _nested(linear, closed[np.cumsum(sizes) - sizes])
-    polygons = shapely.polygons(linear, indices=np.asarray(ring_of))
-    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(list(polygons))
+        groups, shells = _nested(linear, closed[starts])
+    else:
+        groups, shells = [], None
+        for ring, number in enumerate(ring_of):
+            if ring and number == ring_of[ring - 1]:
+                groups[-1][1].append(ring)
+            else:
+                groups.append((ring, []))
+    polygons = [shapely.polygons(linear[shell], holes=linear[holes]) if holes else
+                shells[shell] if shells is not None else shapely.polygons(linear[shell])
+                for shell, holes in groups]
+    geometry = polygons[0] if len(polygons) == 1 else shapely.multipolygons(polygons)
     if checked and not geometry.is_valid:
         return None
     return geometry if geometry.area > 0 else None
 
 
 def _nested(rings, firsts):
-    """The closed rings of a Section's loops (which neither cross nor touch) ordered as
-    polygons take them, each shell before its holes, and the polygon of each: a ring
-    inside an even number of others is a shell, inside an odd number a hole of the
-    smallest ring around it. ``firsts``: a vertex of each ring (what is tested)."""
+    """The closed rings of a Section's loops (which neither cross nor touch) grouped as
+    polygons take them, each shell with its holes (``(shell, [holes])`` by ring number,
+    shells in ring order), and each ring's own polygon (what a shell without holes
+    is): a ring inside an even number of others is a shell, inside an odd number a hole
+    of the smallest ring around it. ``firsts``: a vertex of each ring (what is tested)."""
     count = len(rings)
-    if count == 1:
-        return rings, [0]
     shells = shapely.polygons(rings)
+    if count == 1:
+        return [(0, [])], shells
     areas = shapely.area(shells)
     low_x, low_y, high_x, high_y = shapely.bounds(shells).T
     inner, outer = np.nonzero((areas[None, :] > areas[:, None])           # [i, j]: i in j?
@@ -964,17 +979,17 @@ def _nested(rings, firsts):
                               & (high_x[None, :] >= high_x[:, None])
                               & (high_y[None, :] >= high_y[:, None]))
     inside = shapely.contains_xy(shells[outer], firsts[inner, 0], firsts[inner, 1])
-    inner, outer = inner[inside], outer[inside]
-    depth = np.bincount(inner, minlength=count)
-    parent = np.full(count, -1)
-    for i, j in sorted(zip(inner.tolist(), outer.tolist()), key=lambda p: -areas[p[1]]):
+    inner, outer = inner[inside].tolist(), outer[inside].tolist()
+    depth = [0] * count
+    parent = [-1] * count
+    for i, j in sorted(zip(inner, outer), key=lambda p: -areas[p[1]]):
+        depth[i] += 1
         parent[i] = j                                   # the smallest ring around i last
-    order, polygon_of = [], []
-    for number, shell in enumerate(np.flatnonzero(depth % 2 == 0).tolist()):
-        holes = np.flatnonzero(parent == shell).tolist()
-        order += [shell] + holes
-        polygon_of += [number] * (1 + len(holes))
-    return rings[order], polygon_of
+    holes = {}
+    for ring, around in enumerate(parent):
+        if around >= 0:
+            holes.setdefault(around, []).append(ring)
+    return [(ring, holes.get(ring, [])) for ring in range(count) if depth[ring] % 2 == 0], shells
 
 
 def _unrepeated(ring) -> np.ndarray:
@@ -992,21 +1007,57 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     ellipses as elliptic arcs (in two halves past half a turn, so that the seam of a
     whole circle is a junction of two pieces, as in the drawing readers); B-splines and
     other curves as their flattening (straight pieces within the tolerance of the
-    curve). Each is labelled by its face."""
-    build = curves_builder(tolerance)
+    curve). Each is labelled by its face.
+
+    The arrays of :func:`.boundary_curves.curves_builder` for the same calls, bit for
+    bit (lines as cubics with control points at thirds, then the polylines' segments,
+    then the arcs; labels numbered as first met), made from plain floats and a handful
+    of NumPy calls (the builder's per-piece calls were a tenth of a small section's
+    time after its Boolean)."""
+    labels, cubics, arcs, blocks = {}, [], [], []
     for curve in curves:
         label = curve.face or "section"
         if curve.kind == "line":
-            start, end = curve.points.tolist()
-            build.line(start, end, label)
+            (x0, y0), (x1, y1) = curve.points.tolist()
+            if (x0, y0) != (x1, y1):
+                cubics.append((x0, y0, (2 * x0 + x1) / 3, (2 * y0 + y1) / 3,
+                               (x0 + 2 * x1) / 3, (y0 + 2 * y1) / 3, x1, y1,
+                               labels.setdefault(label, len(labels))))
         elif curve.kind in ("circle", "ellipse"):        # halves past a half turn: a
             halves = 2 if abs(curve.sweep) > math.pi else 1  # whole one has a seam that an
+            (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
             for half in range(halves):                       # edge across it must see
-                build.arc(curve.center, curve.radii, curve.start + half * curve.sweep / halves,
-                          curve.sweep / halves, label)
+                arcs.append((cx, cy, ux, uy, vx, vy,
+                             float(curve.start + half * curve.sweep / halves),
+                             float(curve.sweep / halves), labels.setdefault(label, len(labels))))
         else:
-            build.polyline(curve.points, label)
-    return build.done()
+            points = np.asarray(curve.points, dtype=float).reshape(-1, 2)
+            first, last = points[:-1], points[1:]
+            keep = np.any(first != last, axis=1)
+            first, last = first[keep], last[keep]
+            if len(first):
+                control = np.stack([first, (2 * first + last) / 3, (first + 2 * last) / 3,
+                                    last], axis=1)
+                blocks.append((control, labels.setdefault(label, len(labels))))
+    count = len(cubics) + sum(len(control) for control, _ in blocks)
+    if not count + len(arcs):
+        return None
+    lines = np.array(cubics, dtype=float).reshape(-1, 9)
+    conics = np.array(arcs, dtype=float).reshape(-1, 9)
+    elliptic = np.zeros(count + len(arcs), dtype=bool)
+    elliptic[count:] = True
+    control = np.zeros((count + len(arcs), 4, 2))
+    control[:len(lines)] = lines[:, :8].reshape(-1, 4, 2)
+    at = len(lines)
+    for block, _ in blocks:
+        control[at:at + len(block)] = block
+        at += len(block)
+    conic = np.zeros((count + len(arcs), 8))
+    conic[count:] = conics[:, :8]
+    source = np.concatenate([lines[:, 8].astype(np.int64)]
+                            + [np.full(len(b), k, np.int64) for b, k in blocks]
+                            + [conics[:, 8].astype(np.int64)])
+    return BoundaryCurves(elliptic, control, conic, source, tuple(labels), float(tolerance))
 
 
 def _planar_faces(faces) -> tuple[np.ndarray, np.ndarray]:
@@ -1205,31 +1256,46 @@ def _arcs_flattened(conics, tolerance) -> dict:
     """Circles and ellipses flattened (again) within ``tolerance``, closed if they were,
     by ``id`` of the curve: the points of :func:`.curves.elliptic_points`, bit for bit
     (its chord counts and parameters, one cosine and sine call for all, then each arc's
-    own product with its radii), at a fraction of its per-call cost."""
+    own product with its radii), at a fraction of its per-call cost: the chord counts
+    in plain float arithmetic (the same IEEE operations as its NumPy scalars)."""
     if not conics:
         return {}
-    counts = []
+    counts, starts, sweeps = [], [], []
     for curve in conics:
         sweep = curve.sweep
-        bound = _spectral_norm(curve.radii) * sweep**2
-        with np.errstate(all="ignore"):                 # steps' count, as it takes it
-            count = np.ceil(np.sqrt(bound / (8 * tolerance)))
-        if not count <= MAX_CHORDS:
-            steps(bound, tolerance)                     # raises, naming the limit
-        counts.append(max(1, int(count)))
-    counts = np.array(counts)
-    sizes = counts + 1
+        (a, b), (c, d) = curve.radii.tolist()               # _spectral_norm, on floats
+        squares, determinant = a * a + b * b + c * c + d * d, a * d - b * c
+        norm = math.sqrt(0.5 * (squares + math.sqrt(max(squares * squares
+                                                         - 4 * determinant * determinant,
+                                                         0.0))))
+        bound = norm * sweep**2
+        ratio = bound / (8 * tolerance)
+        root = math.sqrt(ratio) if ratio >= 0 else math.nan
+        if not root <= MAX_CHORDS:                          # (ceil(r) <= N iff r <= N)
+            steps(bound, tolerance)                         # raises, naming the limit
+        counts.append(max(1, math.ceil(root)))
+        starts.append(curve.start)
+        sweeps.append(sweep)
+    sizes = [count + 1 for count in counts]
     offsets = np.cumsum(sizes) - sizes
+    chords = np.array(counts)
     # linspace(0, 1, m + 1) is arange(m + 1) * (1 / m) with its last value 1
-    step = np.repeat(1.0 / counts, sizes)
-    t = (np.arange(sizes.sum()) - np.repeat(offsets, sizes)) * step
-    t[offsets + counts] = 1.0
-    start = np.repeat([c.start for c in conics], sizes)
-    theta = start + np.repeat([c.sweep for c in conics], sizes) * t
-    trig = np.column_stack([np.cos(theta), np.sin(theta)])
+    t = (np.arange(offsets[-1] + sizes[-1]) - np.repeat(offsets, sizes)) * np.repeat(
+        1.0 / chords, sizes)
+    t[offsets + chords] = 1.0
+    theta = np.repeat(starts, sizes) + np.repeat(sweeps, sizes) * t
+    trig = np.empty((len(theta), 2))
+    np.cos(theta, out=trig[:, 0])
+    np.sin(theta, out=trig[:, 1])
     flattened = {}
-    for curve, at, size in zip(conics, offsets.tolist(), sizes.tolist()):
-        points = curve.center + trig[at:at + size] @ curve.radii.T
+    for curve, at, size in zip(conics, offsets.tolist(), sizes):
+        # the product with a C-ordered copy of the radii' transpose (BLAS's other path:
+        # the same bits, a third of the time), the centre added column by column (a
+        # broadcast of (2,) over (k, 2) runs NumPy's loop k times, for two elements)
+        points = trig[at:at + size] @ np.ascontiguousarray(curve.radii.T)
+        (cx, cy) = curve.center.tolist()
+        points[:, 0] += cx
+        points[:, 1] += cy
         (x0, y0), (x1, y1) = curve.points[0].tolist(), curve.points[-1].tolist()
         if x0 == x1 and y0 == y1:
             points[-1] = points[0]
