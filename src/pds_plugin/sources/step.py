@@ -449,7 +449,6 @@ class StepSolid:
         curves = [_flattened(edge, self.tolerance, frame, arcs, label, reversed_, rows)
                   for label, (edge, reversed_)
                   in zip(labels, (pair for face in faces for wire in face for pair in wire))]
-        faces.common = None       # the Boolean freed now, its memory (in cache) reused next
         return faces, _junctions_refined(faces, curves, arcs)
 
     def _common_faces(self, solid, origin, to_2d, reach) -> list:
