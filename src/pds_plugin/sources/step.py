@@ -512,16 +512,17 @@ class StepSolid:
             return None
         edges, ends = [], {}
         explorer = occ.TopExp_Explorer(cut.Shape(), occ.EDGE)
+        first, last = occ.TopoDS_Vertex(), occ.TopoDS_Vertex()     # filled edge by edge
         while explorer.More():
             edge = TopoDS.Edge(explorer.Current())
             explorer.Next()
-            first, last = TopExp.FirstVertex_s(edge), TopExp.LastVertex_s(edge)
+            TopExp.Vertices_s(edge, first, last)       # its FirstVertex and LastVertex
             if first.IsNull() or last.IsNull():
                 return None
-            first, last = hash(first), hash(last)
-            ends.setdefault(first, []).append(len(edges))
-            ends.setdefault(last, []).append(len(edges))
-            edges.append((edge, first, last))
+            one, other = hash(first), hash(last)
+            ends.setdefault(one, []).append(len(edges))
+            ends.setdefault(other, []).append(len(edges))
+            edges.append((edge, one, other))
         if any(len(at) != 2 for at in ends.values()):
             return None                     # an open end, or loops meeting at a vertex
         faces, used = _Faces(cut, loose=True), [False] * len(edges)
@@ -631,7 +632,7 @@ def _occ():
         from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
         from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
         from OCP.TopExp import TopExp, TopExp_Explorer
-        from OCP.TopoDS import TopoDS, TopoDS_Iterator, TopoDS_Shape
+        from OCP.TopoDS import TopoDS, TopoDS_Iterator, TopoDS_Shape, TopoDS_Vertex
 
         _OCC = SimpleNamespace(
             BRep_Tool=BRep_Tool, BRepAdaptor_Curve=BRepAdaptor_Curve,
@@ -641,7 +642,7 @@ def _occ():
             gp_Ax3=gp_Ax3, gp_Dir=gp_Dir, gp_Pln=gp_Pln, gp_Pnt=gp_Pnt,
             REVERSED=TopAbs_Orientation.TopAbs_REVERSED, FACE=TopAbs_ShapeEnum.TopAbs_FACE,
             EDGE=TopAbs_ShapeEnum.TopAbs_EDGE, TopExp=TopExp, TopExp_Explorer=TopExp_Explorer, TopoDS=TopoDS, TopoDS_Iterator=TopoDS_Iterator,
-            TopoDS_Shape=TopoDS_Shape)
+            TopoDS_Shape=TopoDS_Shape, TopoDS_Vertex=TopoDS_Vertex)
     return _OCC
 
 
