@@ -1261,7 +1261,7 @@ def _arcs_flattened(conics, tolerance) -> dict:
     in plain float arithmetic (the same IEEE operations as its NumPy scalars)."""
     if not conics:
         return {}
-    counts, starts, sweeps = [], [], []
+    counts = []
     for curve in conics:
         sweep = curve.sweep
         (a, b), (c, d) = curve.radii.tolist()               # _spectral_norm, on floats
@@ -1275,21 +1275,25 @@ def _arcs_flattened(conics, tolerance) -> dict:
         if not root <= MAX_CHORDS:                          # (ceil(r) <= N iff r <= N)
             steps(bound, tolerance)                         # raises, naming the limit
         counts.append(max(1, math.ceil(root)))
-        starts.append(curve.start)
-        sweeps.append(sweep)
-    sizes = [count + 1 for count in counts]
-    offsets = np.cumsum(sizes) - sizes
-    chords = np.array(counts)
-    # linspace(0, 1, m + 1) is arange(m + 1) * (1 / m) with its last value 1
-    t = (np.arange(offsets[-1] + sizes[-1]) - np.repeat(offsets, sizes)) * np.repeat(
-        1.0 / chords, sizes)
-    t[offsets + chords] = 1.0
-    theta = np.repeat(starts, sizes) + np.repeat(sweeps, sizes) * t
+    # each arc's θ = start + sweep t, t = linspace(0, 1, m + 1) = arange(m + 1) * (1 / m)
+    # with its last value 1, written in place into one array for one cosine and sine call
+    offsets, sizes = [], []
+    theta = np.empty(sum(counts) + len(counts))
+    at = 0
+    for curve, count in zip(conics, counts):
+        t = theta[at:at + count + 1]
+        np.multiply(np.arange(count + 1), 1.0 / count, out=t)
+        t[-1] = 1.0
+        t *= curve.sweep
+        t += curve.start
+        offsets.append(at)
+        sizes.append(count + 1)
+        at += count + 1
     trig = np.empty((len(theta), 2))
     np.cos(theta, out=trig[:, 0])
     np.sin(theta, out=trig[:, 1])
     flattened = {}
-    for curve, at, size in zip(conics, offsets.tolist(), sizes):
+    for curve, at, size in zip(conics, offsets, sizes):
         # the product with a C-ordered copy of the radii' transpose (BLAS's other path:
         # the same bits, a third of the time), the centre added column by column (a
         # broadcast of (2,) over (k, 2) runs NumPy's loop k times, for two elements)
