@@ -812,23 +812,25 @@ def _extent(curves) -> float:
 def _bounds(curves) -> tuple[float, float, float, float]:
     """``(xmin, ymin, xmax, ymax)`` of a box holding the curves (circles and ellipses
     whole)."""
-    low_x = low_y = math.inf
-    high_x = high_y = -math.inf
-    for curve in curves:
-        if curve.center is not None:
-            (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
-            rx, ry = math.hypot(ux, vx), math.hypot(uy, vy)   # |x| <= hypot(ux, vx)
-            low_x, low_y = min(low_x, cx - rx), min(low_y, cy - ry)
-            high_x, high_y = max(high_x, cx + rx), max(high_y, cy + ry)
-        else:
-            if len(curve.points) == 2:
-                (x0, y0), (x1, y1) = curve.points.tolist()
-                x0, x1, y0, y1 = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
-            else:
-                (x0, y0), (x1, y1) = curve.points.min(axis=0), curve.points.max(axis=0)
-            low_x, low_y = min(low_x, float(x0)), min(low_y, float(y0))
-            high_x, high_y = max(high_x, float(x1)), max(high_y, float(y1))
-    return low_x, low_y, high_x, high_y
+    boxes = [_box_of(curve) for curve in curves]
+    if not boxes:
+        return math.inf, math.inf, -math.inf, -math.inf
+    low_x, low_y, high_x, high_y = zip(*boxes)
+    return min(low_x), min(low_y), max(high_x), max(high_y)
+
+
+def _box_of(curve) -> tuple[float, float, float, float]:
+    """``(xmin, ymin, xmax, ymax)`` of a box holding one curve (a circle or an ellipse
+    whole: |x - cx| <= hypot(ux, vx))."""
+    if curve.center is not None:
+        (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
+        rx, ry = math.hypot(ux, vx), math.hypot(uy, vy)
+        return cx - rx, cy - ry, cx + rx, cy + ry
+    if len(curve.points) == 2:
+        (x0, y0), (x1, y1) = curve.points.tolist()
+        return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
+    (x0, y0), (x1, y1) = curve.points.min(axis=0).tolist(), curve.points.max(axis=0).tolist()
+    return x0, y0, x1, y1
 
 
 def _wire_area(faces, curves) -> float:
@@ -862,8 +864,8 @@ def _loops_area(faces, curves) -> float:
     wide = [_bounds(chain) for _, chain in loops]       # holds the loop
     tight = []                                          # held by the loop: its ends
     for _, chain in loops:
-        xs = [x for c in chain for x in (c.points[0, 0], c.points[-1, 0])]
-        ys = [y for c in chain for y in (c.points[0, 1], c.points[-1, 1])]
+        ends = [xy for c in chain for xy in (c.points[0].tolist(), c.points[-1].tolist())]
+        xs, ys = [x for x, _ in ends], [y for _, y in ends]
         tight.append((min(xs), min(ys), max(xs), max(ys)))
     area = 0.0
     for k, (own, _) in enumerate(loops):
