@@ -22,7 +22,6 @@ import pds_plugin as pds
 from pds_plugin.sources import step
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import _step_parts as parts  # noqa: E402
 import step_vs_stl as bench  # noqa: E402
 
 
@@ -51,6 +50,18 @@ def best(call, rounds=30, budget=3.0):
     return min(times)
 
 
+def interleaved(*calls, rounds=50, budget=10.0):
+    """The best CPU time of each call, the calls taking turns (as bench/step_vs_stl.py
+    times them: each runs after another's OCCT work, not after its own)."""
+    times = [[] for _ in calls]
+    while len(times[0]) < rounds and sum(map(sum, times)) < budget:
+        for call, spent in zip(calls, times):
+            start = time.process_time()
+            call()
+            spent.append(time.process_time() - start)
+    return [min(spent) for spent in times]
+
+
 def main():
     profile = sys.argv[2] if len(sys.argv) > 2 and sys.argv[1] == "--profile" else None
     with tempfile.TemporaryDirectory() as folder:
@@ -69,11 +80,7 @@ def main():
                 return
             own = bench.own_booleans(shape, origin, normal)
             ours = lambda: pds.section(shape, origin, normal)  # noqa: E731
-            b, s = [], []
-            for _ in range(5):
-                b.append(best(own, 10, 1.0))
-                s.append(best(ours, 10, 1.0))
-            b, s = min(b), min(s)
+            b, s = interleaved(own, ours)
             print(f"{name:32s} booleans {1e3 * b:7.2f} ms  section {1e3 * s:7.2f} ms  "
                   f"ratio {s / b:5.2f}  after {1e3 * (s - b):6.2f} ms  "
                   f"rings {ring_hash(region)}  area {region.area:.12g}", flush=True)
