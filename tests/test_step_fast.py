@@ -336,10 +336,10 @@ def test_a_multipolygon_makes_the_region_its_polygons_make():
 
 
 @needs_ocp
-def test_a_splines_bezier_poles_are_each_pieces_own_product():
-    """The Bézier pieces' poles, mapped into the plane by one product for all pieces,
-    are bit for bit those mapped piece by piece (the product the flattening was made
-    from before); a B-spline's pieces are its OCCT conversion's, end to end."""
+def test_a_splines_bezier_poles_are_occts_pieces_mapped():
+    """The Bézier pieces' poles are OCCT's conversion's, each piece's mapped into the
+    plane by its own product, bit for bit (what the flattening and the region's bits
+    rest on), end to end."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomConvert import GeomConvert_BSplineCurveToBezierCurve
 
