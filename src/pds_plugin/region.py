@@ -151,7 +151,11 @@ class Region:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(multi)
         _check_scale(geometry)
-        healed, moved = _healed(geometry, tolerance)
+        if (tolerance == 0 and shapely.get_num_geometries(geometry) == 1 and not
+                shapely.get_num_interior_rings(shapely.get_geometry(geometry, 0))):
+            healed, moved = geometry, 0.0   # one ring: nothing to touch, no crack to close
+        else:
+            healed, moved = _healed(geometry, tolerance)
         # the simplification keeps at least half the tolerance where healing took more:
         # closing a zigzag's tips vertex by vertex adds their widths up to the whole
         # tolerance, and left the zigzag itself unsimplified (a held-out tube section)
