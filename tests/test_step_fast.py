@@ -259,3 +259,113 @@ def test_nested_and_touching_loops_give_occts_section(build, loops, betti):
     region = pds.section(shape, origin, normal)
     assert region.betti == betti
     assert region.area == pytest.approx(occt_section_area(shape, origin, normal), rel=1e-6)
+
+
+def test_region_curves_are_the_builders_pieces_bit_for_bit():
+    """``_boundary_curves`` makes the arrays the curves builder makes for the same calls:
+    lines (a degenerate one left out, its label unnumbered), arcs halved past half a
+    turn, polylines with repeated points, labels numbered as first met."""
+    from pds_plugin.boundary_curves import curves_builder
+
+    rng = np.random.default_rng(2204)
+    for _ in range(40):
+        curves = []
+        for k in range(int(rng.integers(1, 9))):
+            kind = rng.choice(["line", "point", "arc", "turn", "polyline"])
+            face = f"face {int(rng.integers(0, 4))}" if rng.random() < 0.8 else ""
+            if kind in ("arc", "turn"):
+                curve = _conic(rng, closed=kind == "turn")
+                curves.append(step.SectionCurve("circle", curve.points, curve.center,
+                                                curve.radii, 0.0, curve.start, curve.sweep,
+                                                face=face))
+            elif kind == "polyline":
+                points = rng.normal(size=(int(rng.integers(2, 12)), 2))
+                points[1] = points[0]                      # a repeated point
+                curves.append(step.SectionCurve("bspline", points, face=face))
+            else:
+                start = rng.normal(size=2)
+                end = start if kind == "point" else rng.normal(size=2)
+                curves.append(step.SectionCurve("line", np.array([start, end]), face=face))
+        build = curves_builder(1e-3)
+        for curve in curves:
+            label = curve.face or "section"
+            if curve.kind == "line":
+                build.line(*curve.points.tolist(), label)
+            elif curve.kind == "circle":
+                halves = 2 if abs(curve.sweep) > np.pi else 1
+                for half in range(halves):
+                    build.arc(curve.center, curve.radii,
+                              curve.start + half * curve.sweep / halves,
+                              curve.sweep / halves, label)
+            else:
+                build.polyline(curve.points, label)
+        expected, ours = build.done(), step._boundary_curves(curves, 1e-3)
+        if expected is None:
+            assert ours is None
+            continue
+        for field in ("elliptic", "control", "conic", "source"):
+            a, b = getattr(expected, field), getattr(ours, field)
+            assert a.dtype == b.dtype and np.array_equal(a, b), field
+        assert expected.labels == ours.labels and expected.tolerance == ours.tolerance
+
+
+def test_a_multipolygon_makes_the_region_its_polygons_make():
+    """Region.from_shapely takes a MultiPolygon of non-empty polygons as it is (checked
+    and oriented without rebuilding it): the region is bit for bit the one the same
+    polygons make in a collection (rebuilt), holes, touching parts and wrong
+    orientations included; invalid ones raise the same error."""
+    from shapely.geometry import GeometryCollection, MultiPolygon, Polygon
+
+    clockwise = Polygon([(0, 0), (0, 3), (3, 3), (3, 0)], [[(1, 1), (2, 1), (2, 2), (1, 2)]])
+    cases = [MultiPolygon([clockwise]),
+             MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(1, 1, 2, 2)]),
+             MultiPolygon([Polygon([(0, 0), (4, 0), (4, 4), (0, 4)],
+                                   [[(0, 2), (2, 1), (2, 3)]])])]
+    for geometry in cases:
+        whole = pds.Region.from_shapely(geometry)
+        rebuilt = pds.Region.from_shapely(GeometryCollection(list(geometry.geoms)))
+        assert shapely.to_wkb(whole.geometry) == shapely.to_wkb(rebuilt.geometry)
+        assert whole.source_deviation == rebuilt.source_deviation
+    overlapping = MultiPolygon([shapely.box(0, 0, 2, 2), shapely.box(1, 1, 3, 3)])
+    errors = []
+    for geometry in (overlapping, GeometryCollection(list(overlapping.geoms))):
+        with pytest.raises(pds.PdsError) as raised:
+            pds.Region.from_shapely(geometry)
+        errors.append(str(raised.value))
+    assert errors[0] == errors[1] and "Self-intersection" in errors[0]
+
+
+@needs_ocp
+def test_a_splines_bezier_poles_are_occts_pieces_mapped():
+    """The Bézier pieces' poles are OCCT's conversion's, each piece's mapped into the
+    plane by its own product, bit for bit (what the flattening and the region's bits
+    rest on), end to end."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.GeomConvert import GeomConvert_BSplineCurveToBezierCurve
+
+    build, origin, normal = CASES[3]                  # the filleted block's slot
+    shape = build()
+    solid = step.StepSolid(shape)
+    origin, normal = np.asarray(origin, float), np.asarray(normal, float)
+    to_2d = plane_frames(origin, normal)[0]
+    frame = np.asarray(to_2d, dtype=float)[:2]
+    splines = 0
+    for number in solid._met(origin, normal):
+        faces = solid._common_faces(solid.solids[number], origin, to_2d,
+                                    solid._reach(origin))
+        for edge, _ in (pair for face in faces for wire in face for pair in wire):
+            curve = BRepAdaptor_Curve(edge)
+            kind = curve.GetType()
+            if kind.name != "GeomAbs_BSplineCurve" or curve.BSpline().IsRational():
+                continue
+            splines += 1
+            first, last = curve.FirstParameter(), curve.LastParameter()
+            pieces = step._bezier_pieces(curve, kind, first, last, frame)
+            split = GeomConvert_BSplineCurveToBezierCurve(curve.BSpline(), first, last, 1e-12)
+            assert len(pieces) == split.NbArcs()
+            for i, ours in enumerate(pieces, start=1):
+                arc = split.Arc(i)
+                xyz = np.array([arc.Pole(k).Coord() for k in range(1, arc.NbPoles() + 1)])
+                assert np.array_equal(ours, xyz @ frame[:, :3].T + frame[:, 3])
+            assert all(np.array_equal(a[-1], b[0]) for a, b in zip(pieces, pieces[1:]))
+    assert splines

@@ -132,17 +132,30 @@ class Region:
                              "clean the input coordinates first")
         if not polygons:
             raise RegionError("region geometry is empty: there is nothing to mesh")
-        multi = MultiPolygon(polygons)
-        if not multi.is_valid:
+        # a MultiPolygon of non-empty polygons is the MultiPolygon they make: checked and
+        # oriented as it is, not rebuilt (twice) from its parts
+        whole = (type(geometry) is MultiPolygon
+                 and len(polygons) == shapely.get_num_geometries(geometry))
+        multi = geometry if whole else shapely.multipolygons(polygons)
+        if multi.is_valid:                 # its parts are the polygons: those with area
+            areas = shapely.area(polygons)
+            if not (areas > 0).all():
+                polygons = [p for p, area in zip(polygons, areas.tolist()) if area > 0]
+                multi = MultiPolygon(polygons) if polygons else None
+        else:
             if not repair:
                 raise RegionError(_invalidity(polygons))
-            multi = shapely.make_valid(multi)
-        polygons = [p for p in _polygons_of(multi) if p.area > 0]
-        if not polygons:
+            polygons = [p for p in _polygons_of(shapely.make_valid(multi)) if p.area > 0]
+            multi = MultiPolygon(polygons) if polygons else None
+        if multi is None:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
-        geometry = shapely.orient_polygons(MultiPolygon(polygons))
+        geometry = shapely.orient_polygons(multi)
         _check_scale(geometry)
-        healed, moved = _healed(geometry, tolerance)
+        if (tolerance == 0 and shapely.get_num_geometries(geometry) == 1 and not
+                shapely.get_num_interior_rings(shapely.get_geometry(geometry, 0))):
+            healed, moved = geometry, 0.0   # one ring: nothing to touch, no crack to close
+        else:
+            healed, moved = _healed(geometry, tolerance)
         # the simplification keeps at least half the tolerance where healing took more:
         # closing a zigzag's tips vertex by vertex adds their widths up to the whole
         # tolerance, and left the zigzag itself unsimplified (a held-out tube section)
@@ -282,6 +295,8 @@ class Region:
 
 
 def _polygons_of(geometry) -> list[Polygon]:
+    if type(geometry) is Polygon:           # what get_parts makes of it, without arrays
+        return [] if geometry.is_empty else [geometry]
     if not isinstance(geometry, shapely.Geometry):
         raise ArgumentTypeError(f"expected a shapely Polygon or MultiPolygon, got {type(geometry).__name__}")
     parts = shapely.get_parts(geometry)

@@ -46,17 +46,17 @@ import math
 import os
 import sys
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
 from .._checks import check_path, check_positive, import_optional
-from ..boundary_curves import BoundaryCurves, curves_builder
+from ..boundary_curves import BoundaryCurves
 from ..errors import RegionError, SectionError, SourceError
 from ..region import Region
 from ._sniff import misnamed
-from .curves import (MAX_CHORDS, _spectral_norm, bezier_points, checked_file,
+from .curves import (MAX_CHORDS, bezier_points, checked_file,
                      elliptic_points, steps)
 from .planes import checked_on_face, checked_plane, places_in_3d, plane_frames
 from .polygons import outline_geometry
@@ -137,6 +137,27 @@ class SectionCurve:
     sweep: float = 0.0
     bezier: tuple | None = None
     face: str = ""
+
+
+def _made(kind, points, center=None, radii=None, edge_tolerance=0.0, start=0.0, sweep=0.0,
+          bezier=None, face="") -> SectionCurve:
+    """``SectionCurve(...)``, the same frozen object, made at a quarter of the cost of
+    its ``__init__`` (which sets each field through ``object.__setattr__``: 1.8 µs, and
+    a section makes two or three per edge)."""
+    curve = object.__new__(SectionCurve)
+    curve.__dict__.update(kind=kind, points=points, center=center, radii=radii,
+                          edge_tolerance=edge_tolerance, start=start, sweep=sweep,
+                          bezier=bezier, face=face)
+    return curve
+
+
+def _replaced(curve, **changes) -> SectionCurve:
+    """``dataclasses.replace(curve, **changes)``, made as :func:`_made` makes a curve."""
+    fields = dict(curve.__dict__)
+    fields.update(changes)
+    made = object.__new__(SectionCurve)
+    made.__dict__.update(fields)
+    return made
 
 
 def accepts(solid) -> bool:
@@ -512,16 +533,17 @@ class StepSolid:
             return None
         edges, ends = [], {}
         explorer = occ.TopExp_Explorer(cut.Shape(), occ.EDGE)
+        first, last = occ.TopoDS_Vertex(), occ.TopoDS_Vertex()     # filled edge by edge
         while explorer.More():
             edge = TopoDS.Edge(explorer.Current())
             explorer.Next()
-            first, last = TopExp.FirstVertex_s(edge), TopExp.LastVertex_s(edge)
+            TopExp.Vertices_s(edge, first, last)       # its FirstVertex and LastVertex
             if first.IsNull() or last.IsNull():
                 return None
-            first, last = hash(first), hash(last)
-            ends.setdefault(first, []).append(len(edges))
-            ends.setdefault(last, []).append(len(edges))
-            edges.append((edge, first, last))
+            one, other = hash(first), hash(last)
+            ends.setdefault(one, []).append(len(edges))
+            ends.setdefault(other, []).append(len(edges))
+            edges.append((edge, one, other))
         if any(len(at) != 2 for at in ends.values()):
             return None                     # an open end, or loops meeting at a vertex
         faces, used = _Faces(cut, loose=True), [False] * len(edges)
@@ -631,7 +653,7 @@ def _occ():
         from OCP.gp import gp_Ax3, gp_Dir, gp_Pln, gp_Pnt
         from OCP.TopAbs import TopAbs_Orientation, TopAbs_ShapeEnum
         from OCP.TopExp import TopExp, TopExp_Explorer
-        from OCP.TopoDS import TopoDS, TopoDS_Iterator, TopoDS_Shape
+        from OCP.TopoDS import TopoDS, TopoDS_Iterator, TopoDS_Shape, TopoDS_Vertex
 
         _OCC = SimpleNamespace(
             BRep_Tool=BRep_Tool, BRepAdaptor_Curve=BRepAdaptor_Curve,
@@ -641,7 +663,10 @@ def _occ():
             gp_Ax3=gp_Ax3, gp_Dir=gp_Dir, gp_Pln=gp_Pln, gp_Pnt=gp_Pnt,
             REVERSED=TopAbs_Orientation.TopAbs_REVERSED, FACE=TopAbs_ShapeEnum.TopAbs_FACE,
             EDGE=TopAbs_ShapeEnum.TopAbs_EDGE, TopExp=TopExp, TopExp_Explorer=TopExp_Explorer, TopoDS=TopoDS, TopoDS_Iterator=TopoDS_Iterator,
-            TopoDS_Shape=TopoDS_Shape)
+            TopoDS_Shape=TopoDS_Shape, TopoDS_Vertex=TopoDS_Vertex,
+            LINE=GeomAbs_CurveType.GeomAbs_Line.value,
+            CIRCLE=GeomAbs_CurveType.GeomAbs_Circle.value,
+            ELLIPSE=GeomAbs_CurveType.GeomAbs_Ellipse.value)
     return _OCC
 
 
@@ -811,23 +836,25 @@ def _extent(curves) -> float:
 def _bounds(curves) -> tuple[float, float, float, float]:
     """``(xmin, ymin, xmax, ymax)`` of a box holding the curves (circles and ellipses
     whole)."""
-    low_x = low_y = math.inf
-    high_x = high_y = -math.inf
-    for curve in curves:
-        if curve.center is not None:
-            (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
-            rx, ry = math.hypot(ux, vx), math.hypot(uy, vy)   # |x| <= hypot(ux, vx)
-            low_x, low_y = min(low_x, cx - rx), min(low_y, cy - ry)
-            high_x, high_y = max(high_x, cx + rx), max(high_y, cy + ry)
-        else:
-            if len(curve.points) == 2:
-                (x0, y0), (x1, y1) = curve.points.tolist()
-                x0, x1, y0, y1 = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
-            else:
-                (x0, y0), (x1, y1) = curve.points.min(axis=0), curve.points.max(axis=0)
-            low_x, low_y = min(low_x, float(x0)), min(low_y, float(y0))
-            high_x, high_y = max(high_x, float(x1)), max(high_y, float(y1))
-    return low_x, low_y, high_x, high_y
+    boxes = [_box_of(curve) for curve in curves]
+    if not boxes:
+        return math.inf, math.inf, -math.inf, -math.inf
+    low_x, low_y, high_x, high_y = zip(*boxes)
+    return min(low_x), min(low_y), max(high_x), max(high_y)
+
+
+def _box_of(curve) -> tuple[float, float, float, float]:
+    """``(xmin, ymin, xmax, ymax)`` of a box holding one curve (a circle or an ellipse
+    whole: |x - cx| <= hypot(ux, vx))."""
+    if curve.center is not None:
+        (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
+        rx, ry = math.hypot(ux, vx), math.hypot(uy, vy)
+        return cx - rx, cy - ry, cx + rx, cy + ry
+    if len(curve.points) == 2:
+        (x0, y0), (x1, y1) = curve.points.tolist()
+        return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
+    (x0, y0), (x1, y1) = curve.points.min(axis=0).tolist(), curve.points.max(axis=0).tolist()
+    return x0, y0, x1, y1
 
 
 def _wire_area(faces, curves) -> float:
@@ -861,8 +888,8 @@ def _loops_area(faces, curves) -> float:
     wide = [_bounds(chain) for _, chain in loops]       # holds the loop
     tight = []                                          # held by the loop: its ends
     for _, chain in loops:
-        xs = [x for c in chain for x in (c.points[0, 0], c.points[-1, 0])]
-        ys = [y for c in chain for y in (c.points[0, 1], c.points[-1, 1])]
+        ends = [xy for c in chain for xy in (c.points[0].tolist(), c.points[-1].tolist())]
+        xs, ys = [x for x, _ in ends], [y for _, y in ends]
         tight.append((min(xs), min(ys), max(xs), max(ys)))
     area = 0.0
     for k, (own, _) in enumerate(loops):
@@ -896,8 +923,8 @@ def _face_polygons(faces, curves, join, checked=True):
     """The polygons of a cut's faces, each ring its wire's curves end to end, or None if
     a wire does not close within ``join`` or, if ``checked``, the polygons are not valid
     (the caller then assembles the curves by even-odd nesting, which finds the open ends).
-    All rings are made by one concatenation (each closed by its first point) and one call
-    of shapely."""
+    All rings are made by one concatenation (each closed by its first point), then one
+    call of shapely per ring and per polygon with holes."""
     pieces, sizes, ring_of, at = [], [], [], 0
     for number, face in enumerate(faces):
         for wire in face:
@@ -937,25 +964,40 @@ def _face_polygons(faces, curves, join, checked=True):
         if checked and not geometry.is_valid:
             return None
         return geometry if geometry.area > 0 else None
-    linear = shapely.linearrings(closed, indices=np.repeat(np.arange(len(sizes)), sizes))
+    # one call of shapely per ring, per polygon with holes: shapely's ``indices`` (one call
+    # for all) sort and check them, twice the time on a plate's six rings
+    starts = (np.cumsum(sizes) - sizes).tolist()
+    linear = np.empty(len(sizes), dtype=object)
+    linear[:] = [shapely.linearrings(closed[start:start + size])
+                 for start, size in zip(starts, sizes.tolist())]
     if getattr(faces, "loose", False):
-        linear, ring_of = _nested(linear, closed[np.cumsum(sizes) - sizes])
-    polygons = shapely.polygons(linear, indices=np.asarray(ring_of))
-    geometry = polygons[0] if len(polygons) == 1 else shapely.MultiPolygon(list(polygons))
+        groups, shells = _nested(linear, closed[starts])
+    else:
+        groups, shells = [], None
+        for ring, number in enumerate(ring_of):
+            if ring and number == ring_of[ring - 1]:
+                groups[-1][1].append(ring)
+            else:
+                groups.append((ring, []))
+    polygons = [shapely.polygons(linear[shell], holes=linear[holes]) if holes else
+                shells[shell] if shells is not None else shapely.polygons(linear[shell])
+                for shell, holes in groups]
+    geometry = polygons[0] if len(polygons) == 1 else shapely.multipolygons(polygons)
     if checked and not geometry.is_valid:
         return None
     return geometry if geometry.area > 0 else None
 
 
 def _nested(rings, firsts):
-    """The closed rings of a Section's loops (which neither cross nor touch) ordered as
-    polygons take them, each shell before its holes, and the polygon of each: a ring
-    inside an even number of others is a shell, inside an odd number a hole of the
-    smallest ring around it. ``firsts``: a vertex of each ring (what is tested)."""
+    """The closed rings of a Section's loops (which neither cross nor touch) grouped as
+    polygons take them, each shell with its holes (``(shell, [holes])`` by ring number,
+    shells in ring order), and each ring's own polygon (what a shell without holes
+    is): a ring inside an even number of others is a shell, inside an odd number a hole
+    of the smallest ring around it. ``firsts``: a vertex of each ring (what is tested)."""
     count = len(rings)
-    if count == 1:
-        return rings, [0]
     shells = shapely.polygons(rings)
+    if count == 1:
+        return [(0, [])], shells
     areas = shapely.area(shells)
     low_x, low_y, high_x, high_y = shapely.bounds(shells).T
     inner, outer = np.nonzero((areas[None, :] > areas[:, None])           # [i, j]: i in j?
@@ -964,17 +1006,17 @@ def _nested(rings, firsts):
                               & (high_x[None, :] >= high_x[:, None])
                               & (high_y[None, :] >= high_y[:, None]))
     inside = shapely.contains_xy(shells[outer], firsts[inner, 0], firsts[inner, 1])
-    inner, outer = inner[inside], outer[inside]
-    depth = np.bincount(inner, minlength=count)
-    parent = np.full(count, -1)
-    for i, j in sorted(zip(inner.tolist(), outer.tolist()), key=lambda p: -areas[p[1]]):
+    inner, outer = inner[inside].tolist(), outer[inside].tolist()
+    depth = [0] * count
+    parent = [-1] * count
+    for i, j in sorted(zip(inner, outer), key=lambda p: -areas[p[1]]):
+        depth[i] += 1
         parent[i] = j                                   # the smallest ring around i last
-    order, polygon_of = [], []
-    for number, shell in enumerate(np.flatnonzero(depth % 2 == 0).tolist()):
-        holes = np.flatnonzero(parent == shell).tolist()
-        order += [shell] + holes
-        polygon_of += [number] * (1 + len(holes))
-    return rings[order], polygon_of
+    holes = {}
+    for ring, around in enumerate(parent):
+        if around >= 0:
+            holes.setdefault(around, []).append(ring)
+    return [(ring, holes.get(ring, [])) for ring in range(count) if depth[ring] % 2 == 0], shells
 
 
 def _unrepeated(ring) -> np.ndarray:
@@ -992,21 +1034,57 @@ def _boundary_curves(curves, tolerance) -> BoundaryCurves | None:
     ellipses as elliptic arcs (in two halves past half a turn, so that the seam of a
     whole circle is a junction of two pieces, as in the drawing readers); B-splines and
     other curves as their flattening (straight pieces within the tolerance of the
-    curve). Each is labelled by its face."""
-    build = curves_builder(tolerance)
+    curve). Each is labelled by its face.
+
+    The arrays of :func:`.boundary_curves.curves_builder` for the same calls, bit for
+    bit (lines as cubics with control points at thirds, then the polylines' segments,
+    then the arcs; labels numbered as first met), made from plain floats and a handful
+    of NumPy calls (the builder's per-piece calls were a tenth of a small section's
+    time after its Boolean)."""
+    labels, cubics, arcs, blocks = {}, [], [], []
     for curve in curves:
         label = curve.face or "section"
         if curve.kind == "line":
-            start, end = curve.points.tolist()
-            build.line(start, end, label)
+            (x0, y0), (x1, y1) = curve.points.tolist()
+            if (x0, y0) != (x1, y1):
+                cubics.append((x0, y0, (2 * x0 + x1) / 3, (2 * y0 + y1) / 3,
+                               (x0 + 2 * x1) / 3, (y0 + 2 * y1) / 3, x1, y1,
+                               labels.setdefault(label, len(labels))))
         elif curve.kind in ("circle", "ellipse"):        # halves past a half turn: a
             halves = 2 if abs(curve.sweep) > math.pi else 1  # whole one has a seam that an
+            (cx, cy), ((ux, vx), (uy, vy)) = curve.center.tolist(), curve.radii.tolist()
             for half in range(halves):                       # edge across it must see
-                build.arc(curve.center, curve.radii, curve.start + half * curve.sweep / halves,
-                          curve.sweep / halves, label)
+                arcs.append((cx, cy, ux, uy, vx, vy,
+                             float(curve.start + half * curve.sweep / halves),
+                             float(curve.sweep / halves), labels.setdefault(label, len(labels))))
         else:
-            build.polyline(curve.points, label)
-    return build.done()
+            points = np.asarray(curve.points, dtype=float).reshape(-1, 2)
+            first, last = points[:-1], points[1:]
+            keep = np.any(first != last, axis=1)
+            first, last = first[keep], last[keep]
+            if len(first):
+                control = np.stack([first, (2 * first + last) / 3, (first + 2 * last) / 3,
+                                    last], axis=1)
+                blocks.append((control, labels.setdefault(label, len(labels))))
+    count = len(cubics) + sum(len(control) for control, _ in blocks)
+    if not count + len(arcs):
+        return None
+    lines = np.array(cubics, dtype=float).reshape(-1, 9)
+    conics = np.array(arcs, dtype=float).reshape(-1, 9)
+    elliptic = np.zeros(count + len(arcs), dtype=bool)
+    elliptic[count:] = True
+    control = np.zeros((count + len(arcs), 4, 2))
+    control[:len(lines)] = lines[:, :8].reshape(-1, 4, 2)
+    at = len(lines)
+    for block, _ in blocks:
+        control[at:at + len(block)] = block
+        at += len(block)
+    conic = np.zeros((count + len(arcs), 8))
+    conic[count:] = conics[:, :8]
+    source = np.concatenate([lines[:, 8].astype(np.int64)]
+                            + [np.full(len(b), k, np.int64) for b, k in blocks]
+                            + [conics[:, 8].astype(np.int64)])
+    return BoundaryCurves(elliptic, control, conic, source, tuple(labels), float(tolerance))
 
 
 def _planar_faces(faces) -> tuple[np.ndarray, np.ndarray]:
@@ -1080,7 +1158,7 @@ def _curve(edge, tolerance, arcs, frame, reversed_=False, face="") -> SectionCur
 
 def _reversed(curve) -> SectionCurve:
     """``curve`` run the other way: its points, ``start`` / ``sweep`` and Bézier pieces."""
-    return replace(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
+    return _replaced(curve, points=curve.points[::-1], start=curve.start + curve.sweep,
                    sweep=-curve.sweep, bezier=None if curve.bezier is None else
                    tuple(control[::-1] for control in curve.bezier[::-1]))
 
@@ -1154,7 +1232,7 @@ def _junctions_refined(faces, curves, arcs) -> list:
         return curves
     refined = list(curves)
     for index, (start, end) in lines.items():
-        refined[index] = replace(curves[index], points=np.array([start, end]))
+        refined[index] = _replaced(curves[index], points=np.array([start, end]))
     for index, (first, last) in conics.items():
         curve = curves[index]
         if (last - first) * curve.sweep <= 0:             # a flipped range: keep OCCT's
@@ -1162,7 +1240,7 @@ def _junctions_refined(faces, curves, arcs) -> list:
         points = (elliptic_points(curve.center, curve.radii, first, last - first, arcs)
                   if arcs else _conic_ends(curve.center.tolist(), curve.radii.tolist(),
                                            first, last))
-        refined[index] = replace(curve, points=points, start=first, sweep=last - first)
+        refined[index] = _replaced(curve, points=points, start=first, sweep=last - first)
     return refined
 
 
@@ -1205,35 +1283,54 @@ def _arcs_flattened(conics, tolerance) -> dict:
     """Circles and ellipses flattened (again) within ``tolerance``, closed if they were,
     by ``id`` of the curve: the points of :func:`.curves.elliptic_points`, bit for bit
     (its chord counts and parameters, one cosine and sine call for all, then each arc's
-    own product with its radii), at a fraction of its per-call cost."""
+    own product with its radii), at a fraction of its per-call cost: the chord counts
+    in plain float arithmetic (the same IEEE operations as its NumPy scalars)."""
     if not conics:
         return {}
     counts = []
     for curve in conics:
         sweep = curve.sweep
-        bound = _spectral_norm(curve.radii) * sweep**2
-        with np.errstate(all="ignore"):                 # steps' count, as it takes it
-            count = np.ceil(np.sqrt(bound / (8 * tolerance)))
-        if not count <= MAX_CHORDS:
-            steps(bound, tolerance)                     # raises, naming the limit
-        counts.append(max(1, int(count)))
-    counts = np.array(counts)
-    sizes = counts + 1
-    offsets = np.cumsum(sizes) - sizes
-    # linspace(0, 1, m + 1) is arange(m + 1) * (1 / m) with its last value 1
-    step = np.repeat(1.0 / counts, sizes)
-    t = (np.arange(sizes.sum()) - np.repeat(offsets, sizes)) * step
-    t[offsets + counts] = 1.0
-    start = np.repeat([c.start for c in conics], sizes)
-    theta = start + np.repeat([c.sweep for c in conics], sizes) * t
-    trig = np.column_stack([np.cos(theta), np.sin(theta)])
+        (a, b), (c, d) = curve.radii.tolist()               # _spectral_norm, on floats
+        squares, determinant = a * a + b * b + c * c + d * d, a * d - b * c
+        norm = math.sqrt(0.5 * (squares + math.sqrt(max(squares * squares
+                                                         - 4 * determinant * determinant,
+                                                         0.0))))
+        bound = norm * sweep**2
+        ratio = bound / (8 * tolerance)
+        root = math.sqrt(ratio) if ratio >= 0 else math.nan
+        if not root <= MAX_CHORDS:                          # (ceil(r) <= N iff r <= N)
+            steps(bound, tolerance)                         # raises, naming the limit
+        counts.append(max(1, math.ceil(root)))
+    # each arc's θ = start + sweep t, t = linspace(0, 1, m + 1) = arange(m + 1) * (1 / m)
+    # with its last value 1, written in place into one array for one cosine and sine call
+    offsets, sizes = [], []
+    theta = np.empty(sum(counts) + len(counts))
+    at = 0
+    for curve, count in zip(conics, counts):
+        t = theta[at:at + count + 1]
+        np.multiply(np.arange(count + 1), 1.0 / count, out=t)
+        t[-1] = 1.0
+        t *= curve.sweep
+        t += curve.start
+        offsets.append(at)
+        sizes.append(count + 1)
+        at += count + 1
+    trig = np.empty((len(theta), 2))
+    np.cos(theta, out=trig[:, 0])
+    np.sin(theta, out=trig[:, 1])
     flattened = {}
-    for curve, at, size in zip(conics, offsets.tolist(), sizes.tolist()):
-        points = curve.center + trig[at:at + size] @ curve.radii.T
+    for curve, at, size in zip(conics, offsets, sizes):
+        # the product with a C-ordered copy of the radii' transpose (BLAS's other path:
+        # the same bits, a third of the time), the centre added column by column (a
+        # broadcast of (2,) over (k, 2) runs NumPy's loop k times, for two elements)
+        points = trig[at:at + size] @ np.ascontiguousarray(curve.radii.T)
+        (cx, cy) = curve.center.tolist()
+        points[:, 0] += cx
+        points[:, 1] += cy
         (x0, y0), (x1, y1) = curve.points[0].tolist(), curve.points[-1].tolist()
         if x0 == x1 and y0 == y1:
             points[-1] = points[0]
-        flattened[id(curve)] = SectionCurve(curve.kind, points, curve.center, curve.radii,
+        flattened[id(curve)] = _made(curve.kind, points, curve.center, curve.radii,
                                             curve.edge_tolerance, curve.start, curve.sweep,
                                             curve.bezier, curve.face)
     return flattened
@@ -1250,7 +1347,7 @@ def _splines_within(splines, budget, tolerance, floor) -> dict:
     M h, so ½ s ∫|D'| <= 4 s². The chords then miss at most t (C + 4 n t) in all, for
     n chords of total length C at tolerance t: t shrinks until that is within budget."""
     def flattened(curve, t):
-        return replace(curve, points=_bezier_chain(curve.bezier, t))
+        return _replaced(curve, points=_bezier_chain(curve.bezier, t))
 
     def missed(curves, t):
         return t * sum(float(np.hypot(*np.diff(c.points, axis=0).T).sum())
@@ -1276,19 +1373,20 @@ def _flattened(edge, tolerance, frame, arcs=None, face="", reversed_=False,
     The edge is read once (its adaptor, type, parameters and tolerance); lines and the
     ends of circles and ellipses are mapped by plain float arithmetic."""
     occ = _occ()
-    BRep_Tool, Kind = occ.BRep_Tool, occ.Kind
+    BRep_Tool = occ.BRep_Tool
     if rows is None:
         rows = tuple(np.asarray(frame, dtype=float)[:2].ravel().tolist())
     curve = occ.BRepAdaptor_Curve(edge)
     kind, first, last = curve.GetType(), curve.FirstParameter(), curve.LastParameter()
+    code = kind.value                  # (an int: a pybind enum's == costs 0.5 µs)
     bound = BRep_Tool.Tolerance_s(edge)
-    if kind == Kind.GeomAbs_Line:
+    if code == occ.LINE:
         ends = [_mapped(curve.Value(first).Coord(), rows),
                 _mapped(curve.Value(last).Coord(), rows)]
-        return SectionCurve("line", np.array(ends[::-1] if reversed_ else ends),
-                            edge_tolerance=bound, face=face)
-    if kind == Kind.GeomAbs_Circle or kind == Kind.GeomAbs_Ellipse:
-        if kind == Kind.GeomAbs_Circle:
+        return _made("line", np.array(ends[::-1] if reversed_ else ends),
+                     edge_tolerance=bound, face=face)
+    if code == occ.CIRCLE or code == occ.ELLIPSE:
+        if code == occ.CIRCLE:
             conic = curve.Circle()
             major = minor = conic.Radius()
         else:
@@ -1315,15 +1413,15 @@ def _flattened(edge, tolerance, frame, arcs=None, face="", reversed_=False,
                 points[-1 if not reversed_ else 0] = points[0 if not reversed_ else -1]
         if reversed_:
             first, sweep = first + sweep, -sweep
-        return SectionCurve("circle" if kind == Kind.GeomAbs_Circle else "ellipse", points,
-                            np.array(center), np.array(radii), bound, first, sweep,
-                            face=face)
+        return _made("circle" if code == occ.CIRCLE else "ellipse", points,
+                     np.array(center), np.array(radii), bound, first, sweep, face=face)
+    Kind = occ.Kind
     frame = np.asarray(frame, dtype=float)[:2]
     if kind == Kind.GeomAbs_BSplineCurve or kind == Kind.GeomAbs_BezierCurve:
         pieces = _bezier_pieces(curve, kind, first, last, frame)
         if pieces is not None:
-            flat = SectionCurve("bspline", _bezier_chain(pieces, tolerance),
-                                edge_tolerance=bound, bezier=tuple(pieces), face=face)
+            flat = _made("bspline", _bezier_chain(pieces, tolerance),
+                         edge_tolerance=bound, bezier=tuple(pieces), face=face)
             return _reversed(flat) if reversed_ else flat
     from OCP.GCPnts import GCPnts_QuasiUniformDeflection
 
@@ -1332,7 +1430,7 @@ def _flattened(edge, tolerance, frame, arcs=None, face="", reversed_=False,
         raise SourceError("OpenCASCADE could not flatten a curve of the section; pass a "
                           "larger tolerance or move the plane")
     points = np.array([_xy(sampler.Value(i), frame) for i in range(1, sampler.NbPoints() + 1)])
-    flat = SectionCurve("adaptive", points, edge_tolerance=bound, face=face)
+    flat = _made("adaptive", points, edge_tolerance=bound, face=face)
     return _reversed(flat) if reversed_ else flat
 
 
@@ -1371,6 +1469,9 @@ def _bezier_pieces(curve, kind, first, last, frame):
     from OCP.GeomConvert import GeomConvert_BSplineCurveToBezierCurve
 
     def poles(piece):
+        # one product per piece: one for all pieces, the same bits and a quarter of the
+        # time alone, made inside sections 0.1 ms slower (OpenBLAS, unless limited to one
+        # thread) and the stages after it slower too (docs/step.md, session 21)
         return np.array([piece.Pole(i).Coord() for i in range(1, piece.NbPoles() + 1)]
                         ) @ frame[:, :3].T + frame[:, 3]
 
