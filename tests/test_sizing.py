@@ -164,6 +164,33 @@ def test_a_corner_near_a_long_edge_is_sized_by_its_foot_on_it():
         assert cert.ok, str(cert)
 
 
+@settings(max_examples=6, deadline=None)
+@given(multiscale_plates())
+def test_a_corner_stops_searching_where_no_point_can_change_its_size(geometry):
+    """A corner's size is min(0.4 x the distance to its nearest other point, its pieces'
+    size): the search for that point stops at the distance where the first term passes
+    the second (a large face's square corner saw every point of the face). The sizes are
+    those of the unbounded search, bit for bit, the gear's corner by its foot too."""
+    from pds_plugin import sizing
+
+    gear = Polygon([(-19.1924, 1.1375), (27.1251, 5.7166), (27.5089, 6.5365),
+                    (26.4326, 8.3352), (23.5739, 5.3691), (22.9011, 6.3661), (22.21, 7.3302),
+                    (22.21, 14.0), (-19.1924, 14.0)])
+    slotted = box(0, 0, 100, 60).difference(box(20, 29.5, 80, 30.5))
+    regions = [pds.Region.from_shapely(g) for g in (geometry, gear, box(0, 0, 100, 60),
+                                                    box(0, 0, 100, 6), slotted)]
+    caps = [None, 0.5, 2.0]                # a remeshed face's cap is small beside it
+    bounded = [radius_field(region, cap=cap) for region in regions for cap in caps]
+    search = sizing._nearest_other
+    sizing._nearest_other = lambda *args: search(*args[:-1], np.full(len(args[4]), np.inf))
+    try:
+        unbounded = [radius_field(region, cap=cap) for region in regions for cap in caps]
+    finally:
+        sizing._nearest_other = search
+    for a, b in zip(bounded, unbounded):
+        assert np.array_equal(a.features, b.features) and np.array_equal(a.sizes, b.sizes)
+
+
 def test_the_proven_bound():
     assert angle_bound(0.1) == pytest.approx(math.degrees(math.asin(0.45)))
     assert angle_bound(0.1) > math.degrees(math.asin((1 - 2 * 0.1) / 2))    # the issue's
