@@ -511,6 +511,8 @@ class SampledBoundary:
         >>> bool(np.isclose(s.loop_area(~s.straight), disc.area - s.area()))
         True
         """
+        if not chords.any():
+            return 0.0
         segments, chord = self.arcs(chords)
         closing = np.stack([self.points[self.b[chords]], self.points[self.a[chords]]], axis=1)
         start = self.points[self.a[np.concatenate([chord, np.flatnonzero(chords)])]]
