@@ -4,6 +4,7 @@ costs").
 
     python bench/certificate_fixed_cost.py --dump before.txt   # every certificate's text
     python bench/certificate_fixed_cost.py --time              # CPU ms a call, base vs head
+    python bench/certificate_fixed_cost.py --compare           # base and head: the same text?
 
 Meshes: every patch mesh of the nine remesh bench parts (graded; with the meshes
 certified during the remesh: the copies and the patches at spikes), and graded meshes of
@@ -44,9 +45,9 @@ DRAWINGS = ("MIL.svg", "polygon.svg", "insert.dxf", "sliding-base.dxf", "spline.
 SECTIONS = ("featuretype.STL", "angle_block.STL")
 
 
-def remesh_meshes(folder):
+def remesh_meshes(folder, graded=True):
     """(name, mesh) of each remesh bench part's patch meshes and of the meshes certified
-    during its remesh."""
+    during its remesh (uniform ones with ``graded=False``)."""
     seen = []
     original = graded_certificate.certify_graded
 
@@ -60,16 +61,16 @@ def remesh_meshes(folder):
         seen.clear()
         graded_certificate.certify_graded = recording
         try:
-            result = pds.remesh(trimesh.load_mesh(path), seed=0)
+            result = pds.remesh(trimesh.load_mesh(path), seed=0, graded=graded)
         finally:
             graded_certificate.certify_graded = original
         meshes = {id(m): m for m in list(seen) + list(result.patch_meshes)}
         out += [(f"{path.name}#{k}", m) for k, m in enumerate(meshes.values())
-                if m.field is not None]
+                if (m.field is not None) == graded]
     return out
 
 
-def region_meshes():
+def region_meshes(graded=True):
     out = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -77,14 +78,14 @@ def region_meshes():
             if not (DATA / name).exists():
                 continue
             region = (pds.load_svg if name.endswith(".svg") else pds.load_dxf)(DATA / name)
-            out.append((name, pds.mesh_region(region, "auto", graded=True, seed=0)))
+            out.append((name, pds.mesh_region(region, "auto", graded=graded, seed=0)))
         for name in SECTIONS:
             if not (DATA / name).exists():
                 continue
             lo, hi = trimesh.load_mesh(DATA / name).bounds
             region = pds.section(DATA / name, plane_origin=(lo + hi) / 2,
                                  plane_normal=(0.0, 0.0, 1.0))
-            out.append((f"{name} section", pds.mesh_region(region, "auto", graded=True, seed=0)))
+            out.append((f"{name} section", pds.mesh_region(region, "auto", graded=graded, seed=0)))
     return out
 
 
@@ -111,13 +112,16 @@ def base_certify(revision):
         sys.modules[full] = module
         exec(compile(text, f"<{revision}:{name}.py>", "exec"), module.__dict__)
         loaded = module
-    return loaded.certify_graded
+    return loaded.certify_graded, sys.modules["pds_plugin.analysis._base_certificate"].certify
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--dump", type=Path)
     parser.add_argument("--time", action="store_true")
+    parser.add_argument("--compare", action="store_true",
+                        help="every certificate (graded and uniform meshes) of --base and of "
+                             "this tree, in one process: the same text and numbers?")
     parser.add_argument("--base", default="main")
     parser.add_argument("--calls", type=int, default=20)
     parser.add_argument("--max-vertices", type=int, default=600)
@@ -132,9 +136,25 @@ def main() -> None:
                 out.write(f"== {name} ({len(mesh.vertices)} vertices)\n{cert}\n"
                           f"{cert.as_dict()!r}\n")
         print(f"{len(meshes)} certificates written to {args.dump}")
+    if args.compare:
+        from pds_plugin.analysis.certificate import certify
+        graded_base, uniform_base = base_certify(args.base)
+        with tempfile.TemporaryDirectory() as folder:
+            uniform = remesh_meshes(Path(folder), graded=False) + region_meshes(graded=False)
+        cases = [(n, m, graded_base, graded_certificate.certify_graded)
+                 for n, m in meshes + region_meshes()]
+        cases += [(n, m, uniform_base, certify) for n, m in uniform]
+        different = 0
+        for name, mesh, before, after in cases:
+            a, b = before(fresh(mesh)), after(fresh(mesh))
+            if str(a) != str(b) or repr(a.as_dict()) != repr(b.as_dict()):
+                different += 1
+                print(f"DIFFERENT: {name}")
+        print(f"{len(cases)} certificates ({len(uniform)} uniform) compared with {args.base}: "
+              f"{different} different")
     if args.time:
         small = [(n, m) for n, m in meshes if len(m.vertices) <= args.max_vertices]
-        base = base_certify(args.base)
+        base = base_certify(args.base)[0]
         head = graded_certificate.certify_graded
         for name, mesh in small:
             a, b = base(fresh(mesh)), head(fresh(mesh))
@@ -142,11 +162,11 @@ def main() -> None:
                 print(f"DIFFERENT: {name}")
         totals = {"base": [], "head": []}
         for _ in range(3):
-            for label, certify in (("base", base), ("head", head)):
+            for label, certifier in (("base", base), ("head", head)):
                 copies = [fresh(m) for _, m in small for _ in range(args.calls)]
                 start = time.process_time()
                 for copy in copies:
-                    certify(copy)
+                    certifier(copy)
                 totals[label].append((time.process_time() - start) / len(copies) * 1e3)
         vertices = np.mean([len(m.vertices) for _, m in small])
         print(f"{len(small)} meshes of at most {args.max_vertices} vertices (mean "

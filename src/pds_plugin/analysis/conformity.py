@@ -606,12 +606,12 @@ class _Conformity:
         edges = self.boundary_edges
         extra = ~_isin(edges[:, 0] * self.n + edges[:, 1], s.a * self.n + s.b)
         self._say(int(extra.sum()), "mesh-boundary edges are not chords between consecutive "
-                  "boundary samples", self.points[edges[extra]].mean(axis=1))
+                  "boundary samples", self.points[edges[extra]].mean(axis=1) if extra.any() else ())
         faces = np.asarray(self.mesh.faces, np.int64).reshape(-1, 3)
         signed = signed_areas(self.points, faces)
         clockwise = signed <= 0
         self._say(int(clockwise.sum()), "triangles are clockwise or flat",
-                  self.points[faces[clockwise]].mean(axis=1))
+                  self.points[faces[clockwise]].mean(axis=1) if clockwise.any() else ())
         overlap = abs(signed.sum() - s.area()) > AREA_TOL * self.mesh.region.area
         if overlap:
             self.problems.append(f"the triangles' area {signed.sum():.9g} differs from the area "
