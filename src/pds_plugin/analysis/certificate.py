@@ -697,8 +697,7 @@ def coverage_peaks(points, faces, lengths):
     s0, s1, s2 = squared.T
     longest = np.where(s0 >= s1, np.where(s0 >= s2, 0, 2), np.where(s1 >= s2, 1, 2))
     obtuse = 2 * np.take_along_axis(squared, longest[:, None], axis=1)[:, 0] > s0 + s1 + s2
-    peaks = np.empty((len(centre), 2, 2))
-    peaks[:, 0] = peaks[:, 1] = centre
+    peaks = np.hstack([centre, centre]).reshape(-1, 2, 2)
     reach = np.column_stack([radius, radius])
     k = np.flatnonzero(obtuse)
     if len(k):

@@ -255,9 +255,10 @@ def _relative_coverage(points, faces, lengths, field, sampled):
     worst, at, lens, lens_at = 0.0, np.zeros(2), 0.0, np.zeros(2)
     if len(faces):
         peaks, reach, _ = coverage_peaks(points, faces, lengths)
+        radii = field(peaks.reshape(-1, 2)).reshape(-1, 2)      # r point by point, in one call
         for side in (0, 1):
             peak = peaks[:, side]
-            radius = field(peak)
+            radius = radii[:, side]
             ratio = reach[:, side] / radius
             high = np.flatnonzero(ratio > 1 + COVERAGE_TOL)
             high = high[_in_a_lens(peak[high], radius[high] / (1 - field.grading), sampled)]
