@@ -6,6 +6,7 @@ head run in turns in separate processes, so both see the same machine load
 
     python bench/remesh_fixed_costs.py --rounds 2 -- --parts 7_8ths_cube.stl g-block-pockets.stl
     python bench/remesh_fixed_costs.py --as-base main -- --parts 7_8ths_cube.stl   # base only
+    python bench/remesh_fixed_costs.py --script remesh_vs_meshlab.py --rounds 1    # the ratios
 """
 
 from __future__ import annotations
@@ -45,19 +46,23 @@ def main() -> None:
     parser.add_argument("--as-base", default=None, help="run once with this revision's costs")
     parser.add_argument("--base", default="main")
     parser.add_argument("--rounds", type=int, default=2)
+    parser.add_argument("--script", default="remesh_profile.py",
+                        help="the bench script run (its main(argv) or its __main__)")
     args = parser.parse_args(own)
     if args.as_base:
         swap_in(args.as_base)
-        import remesh_profile
-        remesh_profile.main(rest)
+        import runpy
+        sys.argv = [args.script, *rest]
+        runpy.run_path(str(ROOT / "bench" / args.script), run_name="__main__")
         return
     for k in range(args.rounds):
-        for label, extra in (("base", ["--as-base", args.base]), ("head", [])):
+        for label, extra in (("base", ["--as-base", args.base, "--script", args.script]),
+                             ("head", [])):
             print(f"\n=== round {k + 1}, {label}", flush=True)
             if extra:
                 subprocess.run([sys.executable, __file__, *extra, "--", *rest], check=True)
             else:
-                subprocess.run([sys.executable, str(ROOT / "bench" / "remesh_profile.py"), *rest],
+                subprocess.run([sys.executable, str(ROOT / "bench" / args.script), *rest],
                                check=True)
 
 
