@@ -1700,12 +1700,8 @@ def interface_report(vertices, faces, interface_edges, outer, inherited=None) ->
     outer = np.asarray(outer, dtype=bool)
     interface = np.sort(np.asarray(interface_edges, dtype=np.int64).reshape(-1, 2), axis=1)
     problems = []
-    # rows sorted by every coordinate (np.unique(axis=0) is ten times slower)
-    order = np.lexsort(vertices.T[::-1]) if len(vertices) else np.zeros(0, np.int64)
-    same = np.all(vertices[order[1:]] == vertices[order[:-1]], axis=1)
-    duplicate = int(np.count_nonzero(same))
-    starts = np.flatnonzero(same & np.r_[True, ~same[:-1]])
-    for k in np.sort(order[starts])[:3]:
+    duplicate, firsts = _duplicate_vertices(vertices)
+    for k in firsts[:3]:
         problems.append(f"two vertices at {_where(vertices[k])}")
     base = len(vertices) + 1                 # an edge (a, b) as the integer a base + b
     first, second = faces.T[[0, 1, 2]], faces.T[[1, 2, 0]]      # directed edges, corner k on
@@ -1740,6 +1736,35 @@ def interface_report(vertices, faces, interface_edges, outer, inherited=None) ->
                            int(np.count_nonzero(many)), int(np.count_nonzero(~shared)),
                            int(np.count_nonzero(open_edge)), tuple(problems),
                            int(np.count_nonzero(kept_run) + np.count_nonzero(kept_many)))
+
+
+def _duplicate_vertices(vertices):
+    """How many rows of ``vertices`` equal another row before them in the rows' order by
+    every coordinate, and the first row of each group of equal rows, in increasing order:
+    what a lexsort of all rows finds (rows equal under ``==``: -0.0 is 0.0, NaN nothing),
+    from a sort of one integer hash per row; only the rows whose hash another row shares
+    (in practice the duplicates themselves) are lexsorted (a lexsort of all 14,000 rows
+    took 1.8 ms of the interface report)."""
+    if len(vertices) < 2:
+        return 0, np.zeros(0, np.int64)
+    bits = np.ascontiguousarray(vertices + 0.0).view(np.uint64)     # -0.0 as 0.0
+    key = np.zeros(len(vertices), np.uint64)
+    for column in bits.T:
+        key = (key ^ column) * np.uint64(0x9E3779B97F4A7C15)
+        key ^= key >> np.uint64(29)
+    order = np.argsort(key)
+    key = key[order]
+    tie = key[1:] == key[:-1]
+    if not tie.any():
+        return 0, np.zeros(0, np.int64)
+    shares = np.r_[tie, False] | np.r_[False, tie]
+    rows = np.sort(order[shares])
+    sub = vertices[rows]
+    # rows sorted by every coordinate (np.unique(axis=0) is ten times slower)
+    order = np.lexsort(sub.T[::-1])
+    same = np.all(sub[order[1:]] == sub[order[:-1]], axis=1)
+    starts = np.flatnonzero(same & np.r_[True, ~same[:-1]])
+    return int(np.count_nonzero(same)), np.sort(rows[order[starts]])
 
 
 def _counted(codes):
