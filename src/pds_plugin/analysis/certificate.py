@@ -692,11 +692,13 @@ def coverage_peaks(points, faces, lengths):
     """
     centre, radius = circumcircles(points, faces)
     squared = lengths ** 2                                     # edge k opposite corner k
-    longest = np.argmax(squared, axis=1)
-    rows = np.arange(len(faces))
-    obtuse = 2 * squared[rows, longest] > squared.sum(axis=1)
-    peaks = np.repeat(centre[:, None, :], 2, axis=1)
-    reach = np.repeat(radius[:, None], 2, axis=1)
+    # np.argmax and sum over axis 1 (first of equal ones; (s0 + s1) + s2) from the columns:
+    # on (M, 3) arrays those reductions cost five times more
+    s0, s1, s2 = squared.T
+    longest = np.where(s0 >= s1, np.where(s0 >= s2, 0, 2), np.where(s1 >= s2, 1, 2))
+    obtuse = 2 * np.take_along_axis(squared, longest[:, None], axis=1)[:, 0] > s0 + s1 + s2
+    peaks = np.hstack([centre, centre]).reshape(-1, 2, 2)
+    reach = np.column_stack([radius, radius])
     k = np.flatnonzero(obtuse)
     if len(k):
         c = faces[k, longest[k]]
