@@ -142,12 +142,9 @@ def assert_solid_kept(result, source):
     assert distance.max() <= result.tolerance
 
 
-@pytest.mark.parametrize("graded", [True, False])
-def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded, monkeypatch):
-    """The studs' repeated faces are meshed once: each copy is the mesh of the face it
-    copies, turned by quarter turns and moved, on its own given samples; it is certified
-    against its own region and field, and the solid is kept."""
-    source = studded_plate()
+def recorded_copies(monkeypatch) -> list:
+    """Every copy the remesh makes, as (mesh, turns, shift, rolls, copy), appended to the
+    returned list while the test runs."""
     made = []
     translated = remeshing._translated
 
@@ -157,6 +154,16 @@ def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded,
         return copy
 
     monkeypatch.setattr(remeshing, "_translated", recorded)
+    return made
+
+
+@pytest.mark.parametrize("graded", [True, False])
+def test_repeated_faces_take_a_copy_of_one_mesh_and_keep_every_guarantee(graded, monkeypatch):
+    """The studs' repeated faces are meshed once: each copy is the mesh of the face it
+    copies, turned by quarter turns and moved, on its own given samples; it is certified
+    against its own region and field, and the solid is kept."""
+    source = studded_plate()
+    made = recorded_copies(monkeypatch)
     monkeypatch.setattr(remeshing, "COPY_AREA", 0.0)      # the studs' faces are small
     result = pds.remesh(source, 0.05, graded=graded, seed=2)
     copies = [item for item in made if item[4] is not None]
@@ -222,15 +229,7 @@ def test_repeated_faces_whose_rings_start_elsewhere_are_copies_too(graded, monke
     takes that one's mesh with its rings rolled: the copy is the mesh turned, moved and
     renumbered, certified against its own region and field, and the solid is kept."""
     source = seven_eighths_cube()
-    made = []
-    translated = remeshing._translated
-
-    def recorded(mesh, turns, shift, given, patch, field, rolls=None):
-        copy = translated(mesh, turns, shift, given, patch, field, rolls)
-        made.append((mesh, turns, shift, rolls, copy))
-        return copy
-
-    monkeypatch.setattr(remeshing, "_translated", recorded)
+    made = recorded_copies(monkeypatch)
     result = pds.remesh(source, graded=graded, seed=3)
     rolled = [item for item in made if item[3] is not None and any(item[3])]
     assert rolled and all(item[4] is not None for item in rolled)
