@@ -387,6 +387,26 @@ def test_an_explicit_plane_on_a_face_is_cut_above_or_below_on_request():
         section(block, (0, 0, 1), (0, 0, 1), on_face="middle")
 
 
+def test_a_face_height_typed_rounded_counts_as_on_the_face(tmp_path):
+    """An STL part's top face at z = 33.95000076 (float32): the plane at 33.950002, 1.3e-6
+    above it (a third of a float32 ulp there, within the file's tolerance), was refused as
+    missing the solid with on_face="below"; it is on the top face, and cut just below it.
+    Without on_face, and farther than the tolerance, the plane still misses."""
+    box = trimesh.creation.box((2.0, 1.0, 0.5))
+    box.apply_translation((10.3, 3.7, 33.7))
+    path = tmp_path / "box.stl"
+    box.export(path)
+    top, bottom = 33.95000076293945, 33.45000076293945
+    below = section(path, (10.3, 3.7, 33.950002), (0, 0, 1), on_face="below")
+    above = section(path, (10.3, 3.7, bottom - 1.3e-6), (0, 0, 1), on_face="above")
+    assert math.isclose(below.area, 2.0, rel_tol=1e-6) and math.isclose(above.area, 2.0,
+                                                                        rel_tol=1e-6)
+    assert 0 < top - below.frame[2, 3] < 1e-4 and 0 < above.frame[2, 3] - bottom < 1e-4
+    for z, on_face in ((33.950002, None), (33.951, "below")):
+        with pytest.raises(ValueError, match="misses the solid"):
+            section(path, (10.3, 3.7, z), (0, 0, 1), on_face=on_face)
+
+
 def test_automatic_planes_move_off_faces_and_say_so():
     """The middle plane of the stepped block (count=1) is on its step: it moves just
     above it, with a warning, instead of failing."""

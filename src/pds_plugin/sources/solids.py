@@ -63,7 +63,9 @@ def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) 
         What to do when the plane lies on faces of the solid (a CAD part's step, say):
         None refuses it (the section is ambiguous there); "above" / "below" cut just above
         / below those faces instead, 1e-6 of the solid's size along the normal, and
-        ``region.frame`` holds the plane used.
+        ``region.frame`` holds the plane used. A plane just outside the solid, within
+        ``tolerance`` of its top or bottom (a face's height typed rounded), counts as on
+        that face.
     tolerance : float, optional
         How far the section's boundary may lie from the solid's. For a mesh, to absorb
         its noise (:attr:`Region.tolerance`): by default :func:`mesh_tolerance`, the
@@ -284,7 +286,18 @@ class _Solid:
         return int((np.abs(heights / _unit(heights)) <= tol.merge)[self.faces].all(axis=1).sum())
 
     def _off_faces(self, origin, normal, on_face):
-        """The plane origin, moved off the faces it lies on as ``on_face`` says."""
+        """The plane origin, moved off the faces it lies on as ``on_face`` says; a plane
+        beyond the solid by at most its tolerance is first moved onto its nearest vertex
+        (on a face there, the plane is then on it): the height of a float32 part's top
+        face typed to 7 digits, 1.3e-6 above it (a third of a float32 ulp there), was
+        refused as missing the solid."""
+        if on_face is not None:
+            heights = self.heights(origin, normal)
+            low, high = float(heights.min()), float(heights.max())
+            if 0 < low <= self.tolerance:
+                origin = origin + low * normal
+            elif -self.tolerance <= high < 0:
+                origin = origin + high * normal
         offset = float(origin @ normal)
         flat = self._faces_on(self.heights(origin, normal))
         if not flat or on_face is None:
