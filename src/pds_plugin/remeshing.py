@@ -1251,13 +1251,8 @@ def _on_input(xy, patches, vertices, faces) -> list:
         which = start[own[at]] + np.arange(len(at)) - np.repeat(before, many)
         beta, gamma = _barycentric(np.take(xy, at, axis=0),
                                    *(np.take(c, which, axis=0) for c in corner))
-        with np.errstate(invalid="ignore"):              # a degenerate triangle: NaN
-            score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
-        score = np.where(np.isnan(score), -np.inf, score)  # never the best
-        run = np.repeat(np.arange(len(few)), many)
-        pick = np.flatnonzero(score == np.maximum.reduceat(score, before)[run])
-        pick = pick[np.r_[True, run[pick][1:] != run[pick][:-1]]]   # the first best
-        first[at[pick]], best[at[pick]] = which[pick], score[pick]
+        pick, score = _first_best(beta, gamma, before, np.repeat(np.arange(len(few)), many))
+        first[at[pick]], best[at[pick]] = which[pick], score
     rest = np.flatnonzero((count[own] > _FEW_TRIANGLES) | ~(best >= -_INSIDE))
     if len(rest):
         first[rest] = _triangle_of(xy[rest], corners)
@@ -1302,18 +1297,26 @@ def _triangle_of(xy, corners) -> np.ndarray:
         a, b, c = (np.take(np.ascontiguousarray(corners[:, k]), which, axis=0)
                    for k in range(3))
         beta, gamma = _barycentric(np.take(xy, found, axis=0), a, b, c)
-        with np.errstate(invalid="ignore"):              # a degenerate triangle: NaN
-            score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
-        score = np.where(np.isnan(score), -np.inf, score)  # never the best, as it was
         starts = np.flatnonzero(np.r_[True, found[1:] != found[:-1]])
-        at = np.repeat(np.arange(len(starts)), np.diff(np.r_[starts, len(found)]))
-        pick = np.flatnonzero(score == np.maximum.reduceat(score, starts)[at])
-        pick = pick[np.r_[True, at[pick][1:] != at[pick][:-1]]]   # the first best a point
-        first[found[pick]], best[found[pick]] = which[pick], score[pick]
+        pick, score = _first_best(beta, gamma, starts, np.repeat(
+            np.arange(len(starts)), np.diff(np.r_[starts, len(found)])))
+        first[found[pick]], best[found[pick]] = which[pick], score
     missing = np.flatnonzero(~(best >= -_INSIDE))        # in no triangle
     if len(missing):
         first[missing] = tree.query_nearest(shapely.points(xy[missing]), all_matches=False)[1]
     return first
+
+
+def _first_best(beta, gamma, starts, run):
+    """Of pairs (point, triangle) in runs, one run a point (``starts``; ``run``: each
+    pair's run), each run's first pair whose smallest barycentric coordinate is the
+    largest (a degenerate triangle's NaN never is), and that coordinate."""
+    with np.errstate(invalid="ignore"):
+        score = np.minimum(np.minimum(beta, gamma), 1 - beta - gamma)
+    score = np.where(np.isnan(score), -np.inf, score)
+    pick = np.flatnonzero(score == np.maximum.reduceat(score, starts)[run])
+    pick = pick[np.r_[True, run[pick][1:] != run[pick][:-1]]]
+    return pick, score[pick]
 
 
 def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, tolerance,

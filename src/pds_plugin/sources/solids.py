@@ -291,15 +291,14 @@ class _Solid:
         (on a face there, the plane is then on it): the height of a float32 part's top
         face typed to 7 digits, 1.3e-6 above it (a third of a float32 ulp there), was
         refused as missing the solid."""
+        heights = self.heights(origin, normal)
         if on_face is not None:
-            heights = self.heights(origin, normal)
             low, high = float(heights.min()), float(heights.max())
-            if 0 < low <= self.tolerance:
-                origin = origin + low * normal
-            elif -self.tolerance <= high < 0:
-                origin = origin + high * normal
+            if 0 < low <= self.tolerance or -self.tolerance <= high < 0:
+                origin = origin + (low if low > 0 else high) * normal
+                heights = self.heights(origin, normal)
         offset = float(origin @ normal)
-        flat = self._faces_on(self.heights(origin, normal))
+        flat = self._faces_on(heights)
         if not flat or on_face is None:
             return origin                  # refused, if on faces, by _check_plane
         step = 1e-6 * self.scale
