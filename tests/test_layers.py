@@ -5,7 +5,7 @@ Every import in src/pds_plugin is read with ast, function-level ones included (o
 layers of the README's Layout section:
 
     kernels, errors, checks -> region, boundary curves -> the stages' shared modules
-    (boundary sampling, local complex) -> boundary rules -> sampling, complex, sizing ->
+    (boundary sampling, local complex, disc tile) -> boundary rules -> sampling, complex, sizing ->
     graded sampling and complex -> mesh -> analysis, tags, quadratic
     -> pipeline -> sources, sinks, partition -> workflows, batch, remeshing -> cli
     -> the package's lazy names
@@ -31,6 +31,7 @@ LAYERS = [
     (2, "pds_plugin._checks"),
     (3, "pds_plugin.region"), (3, "pds_plugin.boundary_curves"),
     (4, "pds_plugin.boundary_sampling"), (4, "pds_plugin.local_complex"),
+    (4, "pds_plugin.disc_tile"),                # the graded sampler's periodic tile
     (4.5, "pds_plugin.boundary_rules"),         # the uniform sampler's boundary rules
     (5, "pds_plugin.sampling"), (5, "pds_plugin.complex"), (5, "pds_plugin.sizing"),
     (6, "pds_plugin.graded_sampling"), (6, "pds_plugin.graded_complex"),

@@ -317,9 +317,10 @@ def place(new, new_radius, tuple bins, nxt, points, radius, Py_ssize_t count, do
 
 
 def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tuple bins, nxt,
-                      points, radius, Py_ssize_t count, double x0, double y0, vis):
+                      points, radius, Py_ssize_t count, double x0, double y0, vis, kept=None):
     """Insert the candidates in ``order`` wherever the variable-radius Poisson condition
-    allows (:func:`_free`). Returns the new sample count."""
+    allows (:func:`_free`); ``kept`` (a bool array, one per candidate), if given, is set
+    True for each inserted candidate. Returns the new sample count."""
     cdef const double[:, ::1] cd = cand
     cdef const double[::1] cr = cand_radius
     cdef const int64_t[::1] od = order
@@ -330,12 +331,15 @@ def insert_where_free(cand, cand_radius, order, double grading, chord_bound, tup
     cdef Bins b = _bins_of(bins)
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
+    cdef uint8_t[::1] mark = (np.zeros(cd.shape[0], np.bool_) if kept is None
+                              else kept).view(np.uint8)
     cdef Py_ssize_t t, k
     with nogil:
         for t in range(od.shape[0]):
             k = od[t]
             if _free(cd[k, 0], cd[k, 1], cr[k], grading, cb, &b, &p, &c):
                 _place(cd[k, 0], cd[k, 1], cr[k], &b, nx, pt, rd, count, x0, y0)
+                mark[k] = 1
                 count += 1
     return count
 

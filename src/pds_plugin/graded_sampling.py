@@ -18,6 +18,8 @@ sampler (sampling.py):
    box whose sub-boxes are all covered is closed (``_graded_kernels.throw``); a box smaller than ``1e-10 r_low`` is dropped (the coverage gap is then
    within that of r), so no box is split more than about 35 times. Boxes left open are
    counted: more than ``_MAX_BOXES_PER_SAMPLE`` per allowed sample is a BudgetError.
+   With ``tile=True`` (remeshed faces) the points of a periodic maximal disc tile
+   (:mod:`.disc_tile`) are inserted first, and the leaves they provably cover get no dart.
 
 Random numbers come from ``numpy.random.default_rng(seed)`` in a fixed order: the same
 region, field and seed give the same samples bit for bit.
@@ -28,9 +30,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
+from . import disc_tile
 from ._checks import check_positive_int
 from .errors import BudgetError
 from .region import Region
@@ -51,12 +55,14 @@ _MAX_BINS = 4_000_000
 _MIN_BINS = 65_536
 _BINS_PER_SAMPLE = 64        # level-0 bins per boundary sample (a section has 2-4 samples
                              # inside per boundary sample)
+_TILE_CELLS = 65_536          # the most cells of the grid that finds the boxes a tile covers
 _MAX_BOXES_PER_SAMPLE = 4     # open refinement boxes (or quadtree leaves) per allowed sample
 
 
 def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
                         max_samples: int = DEFAULT_MAX_SAMPLES,
-                        feature_angle: float = 30.0, boundary_samples=None) -> Samples:
+                        feature_angle: float = 30.0, boundary_samples=None,
+                        tile: bool = False) -> Samples:
     """Maximal Poisson disc sampling of ``region`` with the radius field ``field``,
     conforming and constrained (see the module docstring).
 
@@ -79,6 +85,14 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
         boundary chain shared by two regions gets the same samples on both sides. They
         should be at least ``min(r(p), r(q))`` apart where consecutive (the certificate
         checks it).
+    tile : bool
+        Seed the interior with the periodic maximal disc tile of :mod:`.disc_tile`
+        scaled by the cap, at an offset drawn from ``seed``, before the darts: its
+        points that pass the insertion test are samples, and the leaves they provably
+        cover get no dart (:meth:`_GradedSampler._tile_covered`). Fewer darts where r
+        is the cap over large areas (remeshed planar faces: 3.5 to 7 times fewer);
+        separation and maximality are the sampler's as without it, and the
+        interior repeats the tile's pattern every ``side x cap``.
 
     Returns
     -------
@@ -107,7 +121,7 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     rng = np.random.default_rng(seed)
     sampler = _GradedSampler(region, field, max_samples)
     n_boundary = sampler.add_boundary(feature_angle, rng, boundary_samples)
-    sampler.add_interior(rng)
+    sampler.add_interior(rng, tile)
     points = sampler.points[:sampler.count].copy()
     on_boundary = np.zeros(len(points), bool)
     on_boundary[:n_boundary] = True
@@ -746,19 +760,24 @@ class _GradedSampler:
                                  self.y0, self.width, self.height, self.h)
         self.chord_bound = np.minimum(radius[a], radius[b]) / (1.0 - L)
 
-    def add_interior(self, rng):
+    def add_interior(self, rng, tile=False):
         """Dart passes over the quadtree's leaves, then the refinement of uncovered boxes.
         Boxes are (x, y, size, low, high, edge): ``low`` and ``high`` bounds of r on the
         box, ``edge`` whether it may reach outside the chord polygons. A box found open
         is tested again, after the darts, against the new samples only. Each level of
         the refinement is one kernel call (``_graded_kernels.split_open``: the coverage
         test, the split, r at the quarters, the in/out test and the coverage test of the
-        quarters) and one throw."""
+        quarters) and one throw. With ``tile``, the disc tile's points come first
+        (:meth:`_add_tile`), and the leaves they cover get no dart."""
         self.kernel_field = kern.Field(self.field)
+        tiled = self._add_tile(rng) if tile else None
         boxes, since = self._leaves(), 0
+        if tiled is not None:
+            open_ = ~self._tile_covered(boxes, *tiled)
+            boxes = tuple(a[open_] for a in boxes)
         for k in range(_PASSES):
             boxes, since = self._open(boxes, since), self.count
-            boxes = self._throw(boxes, rng, plain=k == 0)
+            boxes = self._throw(boxes, rng, plain=k == 0 and tiled is None)
         while len(boxes[0]):
             boxes = kern.split_open(boxes, since, RESOLUTION,
                                     _MAX_BOXES_PER_SAMPLE * self.max_samples,
@@ -769,6 +788,107 @@ class _GradedSampler:
                 self._check_boxes(boxes)
             since = self.count                  # darts only where no disc covers already
             boxes = self._throw(boxes, rng)
+
+    def _add_tile(self, rng) -> np.ndarray:
+        """Insert the points of the periodic disc tile (:mod:`.disc_tile`), scaled by the
+        cap and at a random offset, that lie in the region and pass the insertion test,
+        tile by tile. Returns those in the region that are no sample with r at the cap
+        (refused, or r below the cap there): the holes in the tile's cover.
+
+        Only the tile's points in the boxes of the region's polygons, widened by the cap
+        (boundary samples on exact arcs lie beyond the flattened polygons), are asked (a
+        layout of small patches far apart, ``remeshing._meshed_together``, is mostly
+        gaps), each once: by its number (tile row, tile column, point); and none in a
+        polygon whose box is at most ``4 cover`` (x cap) wide (most of it would be
+        within reach of its boundary, where :meth:`_tile_covered` closes no box): the
+        boxes of those polygons are returned too, as ``(holes, untiled)``. None if no
+        polygon is wider."""
+        tile = disc_tile.tile()
+        cap, side, count = self.field.cap, tile.side, len(tile.points)
+        offset = rng.random(2) * side
+        bounds = shapely.bounds(shapely.get_parts(self.region.geometry))
+        wide = (np.minimum(bounds[:, 2] - bounds[:, 0], bounds[:, 3] - bounds[:, 1])
+                > 4.0 * tile.cover * cap)
+        bounds = bounds + np.array([-cap, -cap, cap, cap])     # samples moved onto arcs
+        untiled, bounds = bounds[~wide], bounds[wide]
+        if not len(bounds):
+            return None
+        low = np.floor((bounds[:, :2] / cap - offset) / side).astype(np.int64)
+        high = np.floor((bounds[:, 2:] / cap - offset) / side).astype(np.int64)
+        base, columns = low.min(axis=0), int(high[:, 1].max() - low[:, 1].min()) + 1
+
+        found, numbers = [], []
+        for (x0, y0, x1, y1), (i0, j0), (i1, j1) in zip(bounds, low, high):
+            i, j = (a.ravel() for a in np.meshgrid(np.arange(i0, i1 + 1), np.arange(j0, j1 + 1),
+                                                   indexing="ij"))
+            xy = ((np.column_stack([i, j]) * side + offset)[:, None, :] + tile.points) * cap
+            tiles, at = np.nonzero((xy[..., 0] >= x0) & (xy[..., 0] <= x1)
+                                   & (xy[..., 1] >= y0) & (xy[..., 1] <= y1))
+            found.append(xy[tiles, at])
+            numbers.append(((i[tiles] - base[0]) * columns + j[tiles] - base[1]) * count + at)
+        points = np.concatenate(found)
+        if len(found) > 1:            # the polygons' boxes may overlap: each point once
+            points = points[np.unique(np.concatenate(numbers), return_index=True)[1]]
+        points = np.ascontiguousarray(
+            points[vis_kern.points_inside(*self.domain, points[:, 0], points[:, 1])])
+        radius = self.field(points)
+        kept = np.zeros(len(points), bool)
+        self._reserve(len(points))
+        self.count = kern.insert_where_free(points, radius, np.arange(len(points)),
+                                            self.field.grading, self.chord_bound, self.bins,
+                                            self.nxt, self.points, self.radius, self.count,
+                                            self.x0, self.y0, self.vis, kept)
+        self._check_count()
+        return points[~(kept & (radius >= cap))], untiled
+
+    def _tile_covered(self, boxes, holes, untiled) -> np.ndarray:
+        """The boxes (leaves) that the tile's samples cover, so that no dart is needed:
+        r is the cap on the box, and no hole in the tile's cover, no chord and no box of
+        an ``untiled`` polygon (:meth:`_add_tile`) lies within ``2 cover`` (x cap) of it.
+        Then every point x of the box lies in a periodic Delaunay triangle of the tile
+        whose corners are within ``2 cover`` of x, so in the region (no chord between),
+        tile points asked and samples with r at the cap (no hole); the nearest is within
+        ``cover`` (the triangle lies in its circumcircle), and x sees it.
+
+        Distances are bounded from the boxes' centres on a grid of cells of side cap / 2
+        (of at most :data:`_TILE_CELLS` cells): a point within d of a centre is within
+        ceil(d / side) cells of its cell. A chord within d of a point has an end within
+        d + its length / 2, and 1e-9 of the cap is added for rounding."""
+        bx, by, size = boxes[:3]
+        cap, cover = self.field.cap, disc_tile.tile().cover
+        half = float(size.max(initial=0.0)) / math.sqrt(2)       # half the diagonal
+        boundary = self.points[:int(self.rings[-1][-1]) + 1]
+        longest = max(float(np.hypot(*(boundary[np.roll(ring, -1)] - boundary[ring]).T).max())
+                      for ring in map(np.asarray, self.rings))
+        reach = half + 2.0 * cover * cap + 0.5 * longest + 1e-9 * cap
+        cell = max(0.5 * cap, math.sqrt(self.width * self.height / _TILE_CELLS))
+        nx, ny = int(self.width / cell) + 1, int(self.height / cell) + 1
+
+        def cells(x, y):
+            return (np.clip(((x - self.x0) / cell).astype(np.int64), 0, nx - 1),
+                    np.clip(((y - self.y0) / cell).astype(np.int64), 0, ny - 1))
+
+        far = np.vstack([holes, boundary])
+        fx, fy = cells(far[:, 0], far[:, 1])
+        marks = np.bincount(fy * nx + fx, minlength=nx * ny).reshape(ny, nx)
+        if len(untiled):                    # every cell of the boxes, by a difference grid
+            (lx, ly), (hx, hy) = cells(untiled[:, 0], untiled[:, 1]), cells(untiled[:, 2],
+                                                                            untiled[:, 3])
+            step = np.zeros((ny + 1, nx + 1), np.int64)
+            for dx, dy, sign in ((lx, ly, 1), (hx + 1, ly, -1), (lx, hy + 1, -1),
+                                 (hx + 1, hy + 1, 1)):
+                np.add.at(step, (dy, dx), sign)
+            marks = marks + step.cumsum(0).cumsum(1)[:ny, :nx]
+        within = np.zeros((ny + 1, nx + 1), np.int64)     # marks in cells [0, i) x [0, j)
+        within[1:, 1:] = marks.cumsum(0).cumsum(1)
+        centres = np.column_stack([bx + 0.5 * size, by + 0.5 * size])
+        cx, cy = cells(centres[:, 0], centres[:, 1])
+        k = int(math.ceil(reach / cell))
+        x0, x1 = np.clip(cx - k, 0, nx), np.clip(cx + k + 1, 0, nx)
+        y0, y1 = np.clip(cy - k, 0, ny), np.clip(cy + k + 1, 0, ny)
+        covered = (within[y1, x1] - within[y0, x1] - within[y1, x0] + within[y0, x0]) == 0
+        covered[covered] = self.field.capped_within(centres[covered], half)
+        return covered
 
     def _leaves(self):
         """Quadtree leaves over the region (``_graded_kernels.leaves``): boxes split while

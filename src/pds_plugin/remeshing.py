@@ -670,7 +670,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
         try:
             samples = graded_poisson_disc(region, union, seed,
                                           boundary_samples=[r for g in given for r in g],
-                                          **{**options, "max_samples": budget})
+                                          tile=True, **{**options, "max_samples": budget})
         except PdsError:
             samples = None
         if samples is not None:
@@ -684,7 +684,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
     for k, (patch, rings, field) in enumerate(zip(patches, given, fields)):
         if out[k] is None:
             samples = graded_poisson_disc(patch.region, field, seed, boundary_samples=rings,
-                                          **options)
+                                          tile=True, **options)
             faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
                                          boundary=samples.rings, chords=samples.chords)
             out[k] = PlanarMesh(samples.points, faces, samples.on_boundary, patch.region,

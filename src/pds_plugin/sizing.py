@@ -143,6 +143,25 @@ class RadiusField:
         return kern.quarter_cone_minimum(x, y, size, self.features, self.sizes, self.grading,
                                          self.cap, *self._tree)
 
+    def capped_within(self, points, reach: float) -> np.ndarray:
+        """Whether r is the cap everywhere within ``reach`` of each point: the cones
+        there are at least ``cap + L reach`` high (L-Lipschitz), and no ``sizing``.
+
+        Examples
+        --------
+        >>> field = RadiusField([[0, 0]], [0.1], grading=0.5, cap=1.0)
+        >>> field.capped_within([[1, 0], [3, 0]], 1.0).tolist()
+        [False, True]
+        """
+        points = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 2))
+        if self.sizing is not None:
+            return np.zeros(len(points), bool)
+        if self._tree is None or not len(points):
+            return np.ones(len(points), bool)
+        above = self.cap + self.grading * reach
+        return kern.cone_minimum(points, self.features, self.sizes, self.grading, above,
+                                 *self._tree) >= above
+
 
 def graded_request(alpha, graded: bool | None = None, grading: float | None = None,
                    sizing=None):
