@@ -87,6 +87,27 @@ def test_graded_meshes_keep_their_promises_at_steep_grading(geometry, seed):
     _promises(geometry, seed, 0.3)
 
 
+@pytest.mark.parametrize("grading", [0.45, 0.6])
+@pytest.mark.parametrize("seed", range(2))
+def test_a_long_chord_at_a_steep_grading_is_covered_on_the_chord_as_in_its_lens(grading, seed):
+    """A plate's edge 7 long between a notch and a corner, r = 2.8 at both ends: at
+    L = 0.45 the points of the chord near its middle were 1.046 r from every sample and
+    failed the certificate, while the lens beside them, where no sample may go, was
+    excused. The chord is the lens's edge: its coverage is the lens's, within
+    1 / (1 - L)."""
+    plate = box(0, 0, 40, 25).difference(Point(12, 12).buffer(4)).difference(
+        box(30, -1, 33, 10))
+    mesh = graded_mesh(pds.Region.from_shapely(plate), seed=seed, grading=grading)
+    certificate = mesh.certificate()
+    assert certificate.ok_with_exceptions, str(certificate)
+    assert certificate.coverage_gap <= 1 + 1e-9
+    assert certificate.lens_coverage <= 1 / (1 - grading)
+    radius = mesh.field(mesh.vertices)
+    a, b = mesh.edges.T
+    gap = np.hypot(*(mesh.vertices[a] - mesh.vertices[b]).T)
+    assert np.all(gap >= np.minimum(radius[a], radius[b]) * (1 - 1e-9))
+
+
 def test_many_seeds_on_features_three_orders_of_magnitude_apart():
     plate = box(0, 0, 200, 40).difference(box(10, 10, 10.2, 10.2)).difference(
         Point(100, 20).buffer(8, quad_segs=8)).difference(box(150, 5, 190, 5.3))
