@@ -89,7 +89,8 @@ def _circumcircles(points, side):
     ab, ac = b - a, c - a
     d = 2.0 * (ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
     bb, cc = (ab ** 2).sum(1), (ac ** 2).sum(1)
-    centre = np.stack([ac[:, 1] * bb - ab[:, 1] * cc, ab[:, 0] * cc - ac[:, 0] * bb], 1) / d[:, None]
+    centre = np.stack([ac[:, 1] * bb - ab[:, 1] * cc, ab[:, 0] * cc - ac[:, 0] * bb], 1)
+    centre /= d[:, None]
     return a + centre, np.hypot(centre[:, 0], centre[:, 1])
 
 
