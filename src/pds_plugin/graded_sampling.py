@@ -857,9 +857,9 @@ class _GradedSampler:
         bx, by, size = boxes[:3]
         cap, cover = self.field.cap, disc_tile.tile().cover
         half = float(size.max(initial=0.0)) / math.sqrt(2)       # half the diagonal
-        boundary = self.points[:int(self.rings[-1][-1]) + 1]
-        longest = max(float(np.hypot(*(boundary[np.roll(ring, -1)] - boundary[ring]).T).max())
-                      for ring in map(np.asarray, self.rings))
+        boundary = self.points[:sum(len(ring) for ring in self.rings)]    # rings are runs
+        longest = max(float(np.hypot(*(boundary[np.roll(ring, -1)] - boundary[ring]).T)
+                            .max(initial=0.0)) for ring in map(np.asarray, self.rings))
         reach = half + 2.0 * cover * cap + 0.5 * longest + 1e-9 * cap
         cell = max(0.5 * cap, math.sqrt(self.width * self.height / _TILE_CELLS))
         nx, ny = int(self.width / cell) + 1, int(self.height / cell) + 1
