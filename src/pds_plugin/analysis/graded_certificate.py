@@ -284,7 +284,8 @@ def _in_a_lens(x, limit, sampled) -> np.ndarray:
     of (a, b, x) above the limit, the graded sampler's rule for a place where no sample
     goes (``_graded_kernels._encroaches``, whose limit is at most this one, so its
     lenses hold these), or on the chord itself, the lens's edge (where the coverage is the
-    limit of the lens's). Such an x is in the circular segment of radius ``limit`` on ab,
+    limit of the lens's; 1e-9 of its length² across it, a peak on it computed a rounding
+    outside). Such an x is in the circular segment of radius ``limit`` on ab,
     and sees a or b within the distance from a to the middle of that segment's arc,
     √(2 limit h) ≤ limit for a chord of at most √3 limit (h the segment's height): within
     r(x) / (1 - L) of a sample. A chord 7 long between r = 2.8 at L = 0.45 (a plate's
@@ -301,7 +302,7 @@ def _in_a_lens(x, limit, sampled) -> np.ndarray:
         chords = np.asarray(chords, np.int64)
         ax, bx = point - a[chords], point - b[chords]
         cross = ab[chords, 0] * ax[:, 1] - ab[chords, 1] * ax[:, 0]
-        found[k] = ((cross >= 0) & (np.sum(ax * bx, axis=1) < 0)
+        found[k] = ((cross >= -1e-9 * ab2[chords]) & (np.sum(ax * bx, axis=1) < 0)
                     & (ab2[chords] * np.sum(ax * ax, axis=1) * np.sum(bx * bx, axis=1)
                        > 4 * reach ** 2 * cross ** 2)).any()
     return found
