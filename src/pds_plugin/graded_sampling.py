@@ -668,14 +668,18 @@ class _GradedSampler:
             out[:len(self.vis.out)] = self.vis.out
             self.vis = self.vis._replace(out=out)
 
-    def _insert(self, cand, order):
+    def _insert(self, cand, order, kept=None) -> np.ndarray:
+        """Insert the candidates in ``order`` where the insertion test allows (``kept``,
+        if given, marks them); returns r at the candidates."""
         cand = np.ascontiguousarray(cand, float)
+        radius = self.field(cand)
         self._reserve(len(cand))
-        self.count = kern.insert_where_free(cand, self.field(cand), order, self.field.grading,
+        self.count = kern.insert_where_free(cand, radius, order, self.field.grading,
                                             self.chord_bound, self.bins, self.nxt,
                                             self.points, self.radius, self.count, self.x0,
-                                            self.y0, self.vis)
+                                            self.y0, self.vis, kept)
         self._check_count()
+        return radius
 
     def _check_count(self):
         if self.count > self.max_samples:
@@ -789,7 +793,7 @@ class _GradedSampler:
             since = self.count                  # darts only where no disc covers already
             boxes = self._throw(boxes, rng)
 
-    def _add_tile(self, rng) -> np.ndarray:
+    def _add_tile(self, rng) -> tuple | None:
         """Insert the points of the periodic disc tile (:mod:`.disc_tile`), scaled by the
         cap and at a random offset, that lie in the region and pass the insertion test,
         tile by tile. Returns those in the region that are no sample with r at the cap
@@ -829,16 +833,9 @@ class _GradedSampler:
         points = np.concatenate(found)
         if len(found) > 1:            # the polygons' boxes may overlap: each point once
             points = points[np.unique(np.concatenate(numbers), return_index=True)[1]]
-        points = np.ascontiguousarray(
-            points[vis_kern.points_inside(*self.domain, points[:, 0], points[:, 1])])
-        radius = self.field(points)
+        points = points[vis_kern.points_inside(*self.domain, points[:, 0], points[:, 1])]
         kept = np.zeros(len(points), bool)
-        self._reserve(len(points))
-        self.count = kern.insert_where_free(points, radius, np.arange(len(points)),
-                                            self.field.grading, self.chord_bound, self.bins,
-                                            self.nxt, self.points, self.radius, self.count,
-                                            self.x0, self.y0, self.vis, kept)
-        self._check_count()
+        radius = self._insert(points, np.arange(len(points)), kept)
         return points[~(kept & (radius >= cap))], untiled
 
     def _tile_covered(self, boxes, holes, untiled) -> np.ndarray:
