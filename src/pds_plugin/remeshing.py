@@ -273,7 +273,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     normals = np.asarray(source.face_normals, dtype=np.float64)
     areas = np.asarray(source.area_faces, dtype=np.float64)
     label = _coplanar_patches(source, vertices, faces, normals, areas, tolerance)
-    from .sizing import DEFAULT_GRADING, RadiusField, radius_field, radius_fields
+    from .sizing import (DEFAULT_GRADING, RadiusField, angle_bound, radius_field,
+                         radius_fields)
     grading = check_grading(DEFAULT_GRADING if grading is None else grading)
     patches = _usable_patches(vertices, faces, normals, areas, label, alpha,
                               _gap(alpha, grading))
@@ -281,6 +282,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
         options["max_samples"] = max_samples
+    flat = RadiusField(np.zeros((0, 2)), [], grading, alpha)
     if graded:
         # the small patches' fields measured together (the same fields, a few dozen numpy
         # calls a patch fewer: they lie a gap apart, sizing.radius_fields), the large
@@ -292,9 +294,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                        for p in remeshed if id(p) not in fields})
     else:
         # uniform: alpha everywhere but where the input forces shorter pieces (the cones
-        # junction_fields and the agreement add): a uniform radius cannot shape the
-        # triangles on a piece much shorter than alpha (docs/remesh.md, "Uniform")
-        flat = RadiusField(np.zeros((0, 2)), [], grading, alpha)
+        # junction_fields and the agreement add) or thinner walls (_thin_walled): a
+        # uniform radius cannot shape the triangles there (docs/remesh.md, "Uniform")
         fields = {id(p): flat for p in remeshed}
     cache = {}
     while True:
@@ -321,6 +322,13 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                        [points for _, points, _ in given])
         meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
                                given)
+        if not graded:
+            # a uniform patch with a wall thinner than alpha allows takes its graded field
+            thin = _thin_walled(remeshed, meshes, fields, flat, angle_bound(grading))
+            if thin:
+                fields.update({id(p): radius_field(p.region, grading, alpha,
+                                                   feature_angle=feature_angle) for p in thin})
+                continue
         # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
         # where no guard fits) is kept instead, and the chains sampled again without it;
         # so is a patch with a corner sharper than 33.56° whose certificate does not hold
@@ -831,6 +839,18 @@ _AGREEMENT_ROUNDS = 16
 
 _AGREEMENT_TOL = 1e-9
 """A sample's r read lower than this (relative) by another patch is rounding."""
+
+
+def _thin_walled(patches, meshes, fields, flat, bound) -> list:
+    """The patches of a uniform remesh still at the ``flat`` field whose mesh has a
+    triangle below the proven ``bound`` that its certificate does not lay at a sharp
+    input corner: a wall (or a ring) thinner than alpha, where no triangle reaches the
+    bound at r = alpha (docs/remesh.md, "Uniform"). Only patches with such a triangle
+    pay for the certificate."""
+    return [patch for patch, mesh in zip(patches, meshes)
+            if mesh is not None and fields[id(patch)] is flat
+            and _min_angles(mesh.vertices, mesh.faces).min(initial=180.0) < bound
+            and any(e.cause != "sharp corner" for e in mesh.certificate().exceptions)]
 
 
 def _at_a_spike(patch, pointed) -> bool:
