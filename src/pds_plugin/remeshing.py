@@ -216,7 +216,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         corners. ``False`` (uniform): r = alpha everywhere but where the input forces
         boundary pieces shorter than alpha (vertices of kept faces, short edges between
         patches): there r is the piece's length and grows away from it at rate L, the
-        same bound, no thin triangle at the short pieces (docs/remesh.md, "Uniform").
+        same bound, no thin triangle at the short pieces; a patch with a wall thinner
+        than alpha takes its graded field (docs/remesh.md, "Uniform").
     grading : float, optional
         The Lipschitz constant L of the fields (graded) or of the cones around short
         pieces (uniform), in (0, 1); default :data:`pds_plugin.sizing.DEFAULT_GRADING`.
