@@ -422,3 +422,55 @@ def test_a_solid_wound_inconsistently_is_compared_with_itself():
     result = pds.remesh(source, seed=0)
     assert result.solid_ok and result.ok_with_exceptions, str(result)
     assert result.volume_error <= 1e-12
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_no_edge_of_the_graded_complex_is_longer_than_a_joinable_chord(seed):
+    """What pds.remesh keeps a patch by, before meshing it (remeshing._chords_joinable):
+    an edge pq of the graded complex is at most 2 min(r(p), r(q)) / (1 - L) long, so a
+    longer chord joins nothing, whatever is drawn inside."""
+    from pds_plugin.graded_complex import graded_alpha_complex
+    from pds_plugin.remeshing import _chords_joinable
+    from pds_plugin.sizing import RadiusField
+
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(0, 10, (300, 2))
+    radius = rng.uniform(0.3, 2.0, 300)
+    faces = graded_alpha_complex(points, radius, 0.2)
+    assert len(faces) > 100
+    p, q = faces.ravel(), np.roll(faces, -1, axis=1).ravel()
+    length = np.hypot(*(points[p] - points[q]).T)
+    assert np.all(length <= 2 * np.minimum(radius[p], radius[q]) / 0.8 * (1 + 1e-12))
+    # a unit square's chords: joinable at r = 0.8, not when two corners read 0.39
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    flat = RadiusField(np.zeros((0, 2)), [], 0.2, 0.8)
+    assert _chords_joinable(square, [4], flat)
+    dented = RadiusField([[0, 0], [1, 0]], [0.39, 0.39], 0.2, 0.8)
+    assert not _chords_joinable(square, [4], dented)
+    assert len(graded_alpha_complex(square, dented(square), 0.2, boundary=[[0, 1, 2, 3]])) == 0
+
+
+def test_patches_whose_chords_no_triangle_joins_are_kept_before_meshing(monkeypatch):
+    """A block drilled along its three axes (float32, 48 sections): strips about 2 alpha
+    wide beside the holes have a chord at a spike longer than their complex can join.
+    They are kept before any patch is meshed (each was meshed three times and thrown
+    away before), the chains are sampled again without them, and the rest is certified
+    with the solid kept."""
+    refused = []
+    joinable = pds.remeshing._chords_joinable
+    monkeypatch.setattr(pds.remeshing, "_chords_joinable",
+                        lambda *args: refused.append(not joinable(*args)) or not refused[-1])
+    source = trimesh.creation.box(extents=(13.924, 14.93, 16.767))
+    for axis, radius, shift in ((0, 1.584, (0, -1.024, 1.91)), (1, 1.482, (0.748, 0, -1.372)),
+                                (2, 2.639, (1.555, -2.157, 0))):
+        hole = trimesh.creation.cylinder(radius=radius, height=30, sections=48)
+        hole.apply_transform(trimesh.geometry.align_vectors((0, 0, 1), np.eye(3)[axis]))
+        hole.apply_translation(shift)
+        source = source.difference(hole)
+    source = trimesh.Trimesh(np.asarray(source.vertices, np.float32).astype(float),
+                             source.faces, process=True)
+    result = pds.remesh(source, "auto")
+    assert any(refused)
+    assert result.solid_ok and result.ok_with_exceptions, str(result)
+    assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
+    assert 0 < result.kept_patches < result.patches

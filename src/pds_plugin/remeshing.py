@@ -321,6 +321,14 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                        chain_sample_radii(chains, frames, own,
                                                           topology=topology), topology,
                                        [points for _, points, _ in given])
+        # a patch with a chord longer than any edge of its complex (a strip about 2 alpha
+        # wide at a spike) would not join its neighbours whatever is drawn inside: it is
+        # kept before any patch is meshed, and the chains sampled again without it
+        joinable = [_chords_joinable(points, counts, field)
+                    for (_, points, counts), field in zip(given, coned)]
+        if not all(joinable):
+            remeshed = [patch for patch, ok in zip(remeshed, joinable) if ok]
+            continue
         meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
                                given)
         if not graded:
@@ -330,9 +338,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                 fields.update({id(p): radius_field(p.region, grading, alpha,
                                                    feature_angle=feature_angle) for p in thin})
                 continue
-        # a patch whose mesh does not join all its chords (a strip about 2 alpha wide
-        # where no guard fits) is kept instead, and the chains sampled again without it;
-        # so is a patch with a corner sharper than 33.56° whose certificate does not hold
+        # a patch whose mesh does not join all its chords is kept instead, and the
+        # chains sampled again without it; so is a patch with a corner sharper than 33.56° whose certificate does not hold
         # (a spike where three faces meet: its legs' samples closer than the clearance)
         pointed = np.concatenate([p.corners for p in remeshed] + [np.zeros(0, np.int64)])
         joined = [mesh is not None and (not _at_a_spike(patch, pointed)
@@ -840,6 +847,20 @@ _AGREEMENT_ROUNDS = 16
 
 _AGREEMENT_TOL = 1e-9
 """A sample's r read lower than this (relative) by another patch is rounding."""
+
+
+def _chords_joinable(points, counts, field) -> bool:
+    """Can every chord of a patch (two consecutive of its ring samples ``points``, the
+    rings ``counts`` long) be an edge of its graded complex? A triangle of it has its
+    circumradius at most min r / (1 - L) over its corners (:mod:`.graded_complex`), so
+    an edge ab at most 2 min(r(a), r(b)) / (1 - L); a longer chord (1e-9 of margin) is
+    an edge of no triangle, and the patch would not join its neighbours."""
+    counts = np.asarray(counts)
+    following = np.arange(1, len(points) + 1)
+    following[np.cumsum(counts) - 1] = np.cumsum(counts) - counts      # rings are closed
+    r = field(points)
+    longest = 2.0 * np.minimum(r, r[following]) / (1.0 - field.grading) * (1.0 + 1e-9)
+    return bool(np.all(np.hypot(*(points[following] - points).T) <= longest))
 
 
 def _thin_walled(patches, meshes, fields, flat, bound) -> list:
