@@ -383,3 +383,37 @@ def test_the_chords_of_many_chains_at_once_are_each_chains_own(seed):
     expected = [ChainSamples.chords(chains, c) for c in which]
     expected = np.concatenate(expected) if expected else np.zeros((0, 2), np.int64)
     assert np.array_equal(remeshing._chords(chains, which), expected)
+
+
+def test_the_compiled_chain_densification_is_the_numpy_one_bit_for_bit(monkeypatch):
+    """partition._ChainSet.dense_reads (one kernel call where one field of cones reads
+    every patch: _graded_kernels.densified_chains) against its numpy rounds and reads,
+    at every call of a remesh whose chains meet finely graded neighbours (the studs)."""
+    from pds_plugin import partition
+
+    compiled, numpy_rounds = partition._ChainSet.dense_reads, partition._ChainSet.dense
+    calls = []
+
+    def unused(self, grading):
+        raise AssertionError("the numpy rounds ran: the kernel was not used")
+
+    def compared(self, grading):
+        compiled_here = len(self.union.sizes) > 0       # one field of cones (not the cap)
+        if compiled_here:
+            monkeypatch.setattr(partition._ChainSet, "dense", unused)
+        cid, segment, t, reads = compiled(self, grading)
+        monkeypatch.setattr(partition._ChainSet, "dense", numpy_rounds)
+        expected = self.dense(grading)
+        for got, want in zip((cid, segment, t), expected):
+            np.testing.assert_array_equal(got, want)
+        for (xy, r), side in zip(reads, (0, 1)):
+            want_xy, want_r = self.read(cid, segment, t, side)
+            np.testing.assert_array_equal(xy, want_xy)
+            np.testing.assert_array_equal(r, want_r)
+        if compiled_here:
+            calls.append(len(cid))
+        return cid, segment, t, reads
+
+    monkeypatch.setattr(partition._ChainSet, "dense_reads", compared)
+    result = pds.remesh(studded_plate(), 0.05)
+    assert result.ok_with_exceptions and len(calls) >= 2 and max(calls) > 1000

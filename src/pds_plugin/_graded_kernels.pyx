@@ -19,7 +19,7 @@ Conventions of the kernel modules: see ``_parallel.pyx``.
 import numpy as np
 
 from cython.parallel cimport parallel, prange
-from libc.math cimport hypot, sqrt
+from libc.math cimport INFINITY, hypot, sqrt
 from libc.stdlib cimport free, malloc, realloc
 from libc.stdint cimport int8_t, int32_t, int64_t, uint8_t, uint32_t, uint64_t
 from libc.string cimport memcpy
@@ -581,6 +581,192 @@ def densified_rings(Field field, points, counts, double grading):
     if not ok:
         raise MemoryError()
     return dense, radius, vertex, dense_counts, tau
+
+
+cdef struct ChainDense:
+    # the growing output of :func:`densified_chains`: per point its chain, segment and
+    # fraction, its place in each owner's frame (x0, y0, x1, y1) and r there (r0, r1)
+    int64_t *cid
+    int64_t *segment
+    double *t
+    double *xy
+    double *r
+    Py_ssize_t n, room
+    int64_t *stack
+    double *bound
+
+
+cdef struct ChainPart:
+    # one segment of a chain: its ends in both owners' frames, which owners read it
+    int64_t cid, segment
+    double ax0, ay0, bx0, by0, ax1, ay1, bx1, by1
+    bint owned0, owned1
+
+
+cdef void _chain_point(ChainDense *d, const ConeTree *tree, const ChainPart *part, double t,
+                       double *v) noexcept nogil:
+    """The point at fraction ``t`` of ``part``, a + t (b - a) in each owner's frame (as
+    ``partition._ChainSet.read`` computes it), and the field there (inf for a side
+    without owner): v = x0, y0, x1, y1, r0, r1."""
+    v[0] = part.ax0 + t * (part.bx0 - part.ax0)
+    v[1] = part.ay0 + t * (part.by0 - part.ay0)
+    v[2] = part.ax1 + t * (part.bx1 - part.ax1)
+    v[3] = part.ay1 + t * (part.by1 - part.ay1)
+    v[4] = cone_at(tree, v[0], v[1], tree.cap, d.stack, d.bound) if part.owned0 else INFINITY
+    v[5] = cone_at(tree, v[2], v[3], tree.cap, d.stack, d.bound) if part.owned1 else INFINITY
+
+
+cdef bint _chain_emit(ChainDense *d, const ChainPart *part, double t,
+                      const double *v) noexcept nogil:
+    """Append a point (False if memory ran out)."""
+    cdef Py_ssize_t room, k
+    cdef void *grown
+    if d.n == d.room:
+        room = 2 * d.room
+        grown = realloc(d.cid, room * sizeof(int64_t))
+        if grown == NULL:
+            return False
+        d.cid = <int64_t *>grown
+        grown = realloc(d.segment, room * sizeof(int64_t))
+        if grown == NULL:
+            return False
+        d.segment = <int64_t *>grown
+        grown = realloc(d.t, room * sizeof(double))
+        if grown == NULL:
+            return False
+        d.t = <double *>grown
+        grown = realloc(d.xy, 4 * room * sizeof(double))
+        if grown == NULL:
+            return False
+        d.xy = <double *>grown
+        grown = realloc(d.r, 2 * room * sizeof(double))
+        if grown == NULL:
+            return False
+        d.r = <double *>grown
+        d.room = room
+    k = d.n
+    d.cid[k], d.segment[k], d.t[k] = part.cid, part.segment, t
+    memcpy(&d.xy[4 * k], v, 4 * sizeof(double))
+    d.r[2 * k], d.r[2 * k + 1] = v[4], v[5]
+    d.n += 1
+    return True
+
+
+cdef bint _chain_bisect(ChainDense *d, const ConeTree *tree, const ChainPart *part,
+                        double tp, double xp, double yp, double rp, double tq, double xq,
+                        double yq, double rq, double grading, int depth) noexcept nogil:
+    """The points of ``part`` strictly between fractions ``tp`` and ``tq`` (at ``xp``,
+    ``yp`` and ``xq``, ``yq`` in the first owner's frame, the smaller r of the owners
+    there ``rp``, ``rq``) in order: the midpoint and those of both halves, while the
+    part is longer than 0.3 of the lowest r the field can have on it, at most 60
+    halvings deep."""
+    cdef double step = hypot(xq - xp, yq - yp)
+    cdef double low = min(rp, rq) - 0.5 * grading * step
+    cdef double tm, rm
+    cdef double v[6]
+    if depth >= 60 or not step > 0.3 * low:
+        return True
+    tm = 0.5 * (tp + tq)
+    _chain_point(d, tree, part, tm, v)
+    rm = min(v[4], v[5])
+    return (_chain_bisect(d, tree, part, tp, xp, yp, rp, tm, v[0], v[1], rm, grading, depth + 1)
+            and _chain_emit(d, part, tm, v)
+            and _chain_bisect(d, tree, part, tm, v[0], v[1], rm, tq, xq, yq, rq, grading,
+                              depth + 1))
+
+
+def densified_chains(Field field, corner0, corner1, owned, counts, closed, double grading):
+    """``partition._ChainSet.dense`` and the owners' reads at its points in one call, for
+    chains read by one field searched in C (the regions' union,
+    ``_Topology.layout_field``; None for a field with a user sizing). ``corner0``,
+    ``corner1``: (n, 2) the chains' vertices (concatenated, ``counts`` each) in the
+    frame of their owner on side 0 and 1 (NaN where none); ``owned``: (chains, 2) which
+    sides have an owner; ``closed``: which chains are closed. Each part between two
+    vertices (and from the last to the first of a closed chain) is halved while longer
+    than 0.3 of the lowest r the field can have on it (its ends' smaller r over both
+    owners), at most 60 halvings deep.
+
+    Returns (chain, segment, fraction, xy0, r0, xy1, r1) per point, chain by chain
+    along each: the same numbers bit for bit as the numpy rounds (each part is halved
+    or not by its own ends, so halving part by part, depth first, finds the same points
+    in order, and every point, r and step is computed as there)."""
+    if not field.fast:
+        return None
+    cdef const double[:, ::1] c0 = corner0
+    cdef const double[:, ::1] c1 = corner1
+    cdef const uint8_t[:, ::1] own = owned
+    cdef const int64_t[::1] count = counts
+    cdef const uint8_t[::1] shut = closed
+    cdef const ConeTree *tree = &field.tree
+    cdef Py_ssize_t chains = count.shape[0], n = c0.shape[0], c, j, k, lo, parts, i
+    cdef int step
+    cdef ChainPart part
+    cdef ChainDense d
+    cdef double *at = <double *>malloc(max(6 * n, 1) * sizeof(double))   # the vertices'
+    d.room = max(4 * n, 16)
+    d.n = 0
+    d.cid = <int64_t *>malloc(d.room * sizeof(int64_t))
+    d.segment = <int64_t *>malloc(d.room * sizeof(int64_t))
+    d.t = <double *>malloc(d.room * sizeof(double))
+    d.xy = <double *>malloc(4 * d.room * sizeof(double))
+    d.r = <double *>malloc(2 * d.room * sizeof(double))
+    d.stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+    d.bound = <double *>malloc(CONE_STACK * sizeof(double))
+    cdef bint ok = (at != NULL and d.cid != NULL and d.segment != NULL and d.t != NULL
+                    and d.xy != NULL and d.r != NULL and d.stack != NULL and d.bound != NULL)
+    with nogil:
+        for step in range(2):      # the vertices' points first, then chain by chain in order
+            lo = 0
+            for c in range(chains):
+                if not ok:
+                    break
+                part.cid = c
+                part.owned0, part.owned1 = own[c, 0], own[c, 1]
+                parts = count[c] if shut[c] else count[c] - 1
+                for j in range(count[c]):
+                    k = (j + 1) % count[c] if shut[c] else min(j + 1, count[c] - 1)
+                    part.segment = j
+                    part.ax0, part.ay0 = c0[lo + j, 0], c0[lo + j, 1]
+                    part.bx0, part.by0 = c0[lo + k, 0], c0[lo + k, 1]
+                    part.ax1, part.ay1 = c1[lo + j, 0], c1[lo + j, 1]
+                    part.bx1, part.by1 = c1[lo + k, 0], c1[lo + k, 1]
+                    i = 6 * (lo + j)
+                    if step == 0:
+                        _chain_point(&d, tree, &part, 0.0, &at[i])
+                        continue
+                    ok = _chain_emit(&d, &part, 0.0, &at[i])
+                    if ok and j < parts:
+                        k = 6 * (lo + k)
+                        ok = _chain_bisect(&d, tree, &part, 0.0, at[i], at[i + 1],
+                                           min(at[i + 4], at[i + 5]), 1.0, at[k], at[k + 1],
+                                           min(at[k + 4], at[k + 5]), grading, 0)
+                    if not ok:
+                        break
+                lo += count[c]
+    cdef int64_t[::1] out_cid, out_segment
+    cdef double[::1] out_t
+    cdef double[:, ::1] out_xy, out_r
+    if ok:
+        cid, segment, t = np.empty(d.n, np.int64), np.empty(d.n, np.int64), np.empty(d.n)
+        xy, r = np.empty((d.n, 4)), np.empty((d.n, 2))
+        out_cid, out_segment, out_t, out_xy, out_r = cid, segment, t, xy, r
+        with nogil:
+            for i in range(d.n):
+                out_cid[i], out_segment[i], out_t[i] = d.cid[i], d.segment[i], d.t[i]
+                out_xy[i, 0], out_xy[i, 1] = d.xy[4 * i], d.xy[4 * i + 1]
+                out_xy[i, 2], out_xy[i, 3] = d.xy[4 * i + 2], d.xy[4 * i + 3]
+                out_r[i, 0], out_r[i, 1] = d.r[2 * i], d.r[2 * i + 1]
+    free(at)
+    free(d.cid)
+    free(d.segment)
+    free(d.t)
+    free(d.xy)
+    free(d.r)
+    free(d.stack)
+    free(d.bound)
+    if not ok:
+        raise MemoryError()
+    return cid, segment, t, xy[:, :2], r[:, 0], xy[:, 2:], r[:, 1]
 
 
 cdef double ABOVE = 1.0 + 1e-9      # r at a point of a box is at most ABOVE x its ``high``:

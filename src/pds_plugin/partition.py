@@ -46,7 +46,7 @@ from .graded_sampling import TAU_MARGIN, cleared_piece, corner_leg, corner_side,
 from .sampling import LADDER_ANGLE, STRAIGHT_TURN, corner_clearance, ring_positions
 from .sizing import DEFAULT_GRADING, RadiusField, _apart, graded_request, inradius, radius_field
 from . import _sampling_kernels as kern
-from . import _sizing_kernels
+from . import _graded_kernels, _sizing_kernels
 
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
            "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii",
@@ -275,8 +275,8 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     unit = TAU_MARGIN / (1.0 - 0.5 * grading)
     sides = top.sides
     chain_set = _ChainSet(chains, sides, frames, fields, top.layout_field(frames, fields))
-    cid, segment, t = chain_set.dense(grading)
-    xy, radius = chain_set.evaluate(cid, segment, t)
+    cid, segment, t, ((xy, radius), (_, other)) = chain_set.dense_reads(grading)
+    radius = np.minimum(radius, other)
     bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
     single = _single_edges(chains, bounds, xy, radius, angle, junction, unit)
     taus, positions, cleared = [], [], []
@@ -343,6 +343,23 @@ class _ChainSet:
         if np.any(self.side[cid, 1] >= 0):
             radius = np.minimum(radius, self.read(cid, segment, t, 1)[1])
         return xy, radius
+
+    def dense_reads(self, grading):
+        """:meth:`dense` and, at its points, :meth:`read` of both sides: (chain, segment,
+        fraction, [(xy, r) of side 0, (xy, r) of side 1]). With one field for all regions
+        (``union``) searched in C, in one kernel call (``_graded_kernels.densified_chains``,
+        the same numbers bit for bit)."""
+        if self.union is not None:
+            owned = np.ascontiguousarray(self.side >= 0, dtype=np.uint8)
+            done = _graded_kernels.densified_chains(
+                _graded_kernels.Field(self.union), np.ascontiguousarray(self.corner[0]),
+                np.ascontiguousarray(self.corner[1]), owned, self.count,
+                np.ascontiguousarray(self.closed, dtype=np.uint8), grading)
+            if done is not None:
+                cid, segment, t, xy0, r0, xy1, r1 = done
+                return cid, segment, t, [(xy0, r0), (xy1, r1)]
+        cid, segment, t = self.dense(grading)
+        return cid, segment, t, [self.read(cid, segment, t, side) for side in (0, 1)]
 
     def dense(self, grading):
         """Every chain's points: its vertices, and midpoints inserted until every part
@@ -698,8 +715,7 @@ def agreeing_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
             break
         chain_set = _ChainSet([chains[c] for c in todo], [sides[c] for c in todo], frames,
                               fields, top.layout_field(frames, fields))
-        cid, segment, t = chain_set.dense(grading)
-        reads = [chain_set.read(cid, segment, t, side) for side in (0, 1)]
+        cid, segment, t, reads = chain_set.dense_reads(grading)
         lowest = np.minimum(reads[0][1], reads[1][1])
         lowered = set()
         for side, (xy, radius) in enumerate(reads):
@@ -863,6 +879,8 @@ class _Cones:
     minimum), without its test for dominated cones (the union of many regions'
     fields, :meth:`_Topology.layout_field`: each region's cones were tested in its own
     field; the test over all of them cost more than the reads it serves)."""
+
+    sizing = None                   # as a RadiusField without sizing (_graded_kernels.Field)
 
     def __init__(self, features, sizes, grading, cap):
         self.features = np.ascontiguousarray(features, dtype=np.float64).reshape(-1, 2)
