@@ -247,3 +247,30 @@ def test_fields_measured_together_are_the_fields_one_by_one():
             alone = radius_field(region, 0.2, cap)
             assert np.array_equal(field.features, alone.features)
             assert np.array_equal(field.sizes, alone.sizes)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_field_with_cones_added_is_the_field_of_both_feature_sets(seed):
+    """RadiusField.with_cones tests the field's own features against the new cones only;
+    it must keep exactly the cones a RadiusField of both sets keeps (ties, cones equal
+    to an old one, cones at the cap, a dominated old one), so the fields read the same
+    bit for bit."""
+    rng = np.random.default_rng(seed)
+    cap, L = 1.0, float(rng.uniform(0.1, 0.6))
+    field = RadiusField(rng.uniform(0, 10, (400, 2)), rng.uniform(0.01, 1.2, 400), L, cap)
+    points = np.vstack([rng.uniform(0, 10, (60, 2)), field.features[:5], field.features[5:7]])
+    sizes = np.concatenate([rng.uniform(0.005, 1.3, 60), field.sizes[:5],
+                            0.5 * field.sizes[5:7]])            # equal, and below two old
+    both = RadiusField(np.vstack([field.features, points]),
+                       np.concatenate([field.sizes, sizes]), L, cap)
+    added = field.with_cones(points, sizes)
+    np.testing.assert_array_equal(added.features, both.features)
+    np.testing.assert_array_equal(added.sizes, both.sizes)
+    assert len(both.sizes) < len(field.sizes) + len(sizes)      # some were dropped
+    x = rng.uniform(-1, 11, (2000, 2))
+    np.testing.assert_array_equal(added(x), both(x))
+    for added, reference in ((field.with_cones(np.zeros((0, 2)), []), field),
+                             (RadiusField(np.zeros((0, 2)), [], L, cap).with_cones(points, sizes),
+                              RadiusField(points, sizes, L, cap))):
+        np.testing.assert_array_equal(added.sizes, reference.sizes)
+        np.testing.assert_array_equal(added(x), reference(x))

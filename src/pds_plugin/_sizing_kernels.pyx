@@ -315,10 +315,12 @@ cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s,
     return False
 
 
-def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin):
+def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin,
+                    Py_ssize_t start=0):
     """True for the cones s_i + L|x - f_i| that another cone is nowhere above
     (:func:`_dominated`), over the ``build_cone_tree`` tree of all of them: dropping
-    them leaves min_i(s_i + L|x - f_i|) unchanged."""
+    them leaves min_i(s_i + L|x - f_i|) unchanged. Only cones ``start`` on are tested
+    (the others are False)."""
     cdef const double[:, ::1] f = xy
     cdef const double[::1] sz = s, sm = smin
     cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
@@ -327,10 +329,65 @@ def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin):
     out_array = np.zeros(n, np.bool_)
     cdef uint8_t[::1] out = out_array.view(np.uint8)
     cdef int64_t *stack
+    with nogil, parallel(num_threads=threads_for(n - start)):
+        stack = <int64_t *>malloc(STACK * sizeof(int64_t))
+        for k in prange(start, n, schedule="dynamic", chunksize=CHUNK):
+            out[k] = _dominated(k, f, sz, L, pm, fs, st, lf, rt, bx, sm, stack)
+        free(stack)
+    return out_array
+
+
+cdef bint _below_at(double x, double y, double s_i, const double[:, ::1] xy,
+                    const double[::1] s, double L, const int64_t[::1] perm,
+                    const int64_t[::1] first, const int64_t[::1] stop,
+                    const int64_t[::1] left, const int64_t[::1] right,
+                    const double[:, ::1] box, const double[::1] smin,
+                    int64_t *stack) noexcept nogil:
+    """Is s_j + L|f_j - (x, y)| < s_i for some cone j of the tree? :func:`_dominated`'s
+    search and arithmetic for a cone i that comes before all of the tree's."""
+    cdef double dx, dy, value
+    cdef Py_ssize_t top = 1, k, t, j
+    stack[0] = 0
+    while top:
+        top -= 1
+        k = stack[top]
+        if smin[k] + L * _box_distance(x, y, box, k) > s_i:
+            continue
+        if left[k] < 0:
+            for t in range(first[k], stop[k]):
+                j = perm[t]
+                dx, dy = xy[j, 0] - x, xy[j, 1] - y
+                value = s[j] + L * sqrt(dx * dx + dy * dy)
+                if value < s_i:
+                    return True
+            continue
+        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
+    return False
+
+
+def dominated_by(queries, query_s, xy, s, double L, perm, first, stop, left, right, box,
+                 smin):
+    """True for each query cone (``queries``, ``query_s``) that a cone of the
+    ``build_cone_tree`` tree of (``xy``, ``s``) is nowhere above, the query cones
+    counted before the tree's (a tie keeps the query): what :func:`dominated_cones`
+    finds for them against those cones."""
+    cdef const double[:, ::1] q = queries
+    cdef const double[::1] qs = query_s
+    cdef const double[:, ::1] f = xy
+    cdef const double[::1] sz = s, sm = smin
+    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
+    cdef const double[:, ::1] bx = box
+    cdef Py_ssize_t n = q.shape[0], k
+    out_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = out_array.view(np.uint8)
+    cdef int64_t *stack
+    if f.shape[0] == 0:
+        return out_array
     with nogil, parallel(num_threads=threads_for(n)):
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
-            out[k] = _dominated(k, f, sz, L, pm, fs, st, lf, rt, bx, sm, stack)
+            out[k] = _below_at(q[k, 0], q[k, 1], qs[k], f, sz, L, pm, fs, st, lf, rt, bx, sm,
+                               stack)
         free(stack)
     return out_array
 

@@ -800,9 +800,7 @@ def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None) -
 def with_sample_cones(field, points, sizes):
     """``field`` combined by min with the cones ``sizes + L |x - points|`` (a
     :class:`~pds_plugin.sizing.RadiusField` of the same grading, cap and sizing)."""
-    return RadiusField(np.concatenate([field.features, points]),
-                       np.concatenate([field.sizes, sizes]), field.grading, field.cap,
-                       field.sizing)
+    return field.with_cones(points, sizes)
 
 
 class _Topology:

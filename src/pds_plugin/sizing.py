@@ -106,6 +106,44 @@ class RadiusField:
             tree = kern.build_cone_tree(self.features, self.sizes, 8)
         self._tree = tree if len(self.sizes) else None
 
+    def with_cones(self, points, sizes) -> "RadiusField":
+        """This field combined by min with the cones ``sizes + L |x - points|``: the same
+        field as a ``RadiusField`` of both feature sets (its own first), bit for bit and
+        with the same cones kept, but its own features are tested against the new cones
+        only (against each other they were tested when it was made).
+
+        Examples
+        --------
+        >>> field = RadiusField([[0, 0]], [0.1], grading=0.5, cap=1.0)
+        >>> lowered = field.with_cones([[4, 0], [0.1, 0]], [0.2, 0.5])    # the 2nd is dominated
+        >>> lowered.sizes.tolist(), lowered([[4, 0]]).tolist()
+        ([0.1, 0.2], [0.2])
+        """
+        points = np.asarray(points, float).reshape(-1, 2)
+        sizes = np.asarray(sizes, float).ravel()
+        below = sizes < self.cap
+        points, sizes = np.ascontiguousarray(points[below]), np.ascontiguousarray(sizes[below])
+        features = np.concatenate([self.features, points])
+        all_sizes = np.concatenate([self.sizes, sizes])
+        own, L = len(self.sizes), self.grading
+        if len(all_sizes) < 2:
+            return RadiusField(features, all_sizes, L, self.cap, self.sizing)
+        tree = kern.build_cone_tree(features, all_sizes, 8)
+        keep = ~kern.dominated_cones(features, all_sizes, L, *tree, own)
+        if own and len(sizes):
+            keep[:own] = ~kern.dominated_by(self.features, self.sizes, points, sizes, L,
+                                            *kern.build_cone_tree(points, sizes, 8))
+        field = RadiusField.__new__(RadiusField)
+        if keep.all():                      # the tree of the test is the field's
+            field.features, field.sizes = features, all_sizes
+        else:
+            field.features = np.ascontiguousarray(features[keep])
+            field.sizes = np.ascontiguousarray(all_sizes[keep])
+            tree = kern.build_cone_tree(field.features, field.sizes, 8) if keep.any() else None
+        field.grading, field.cap, field.sizing = L, self.cap, self.sizing
+        field._tree = tree if len(field.sizes) else None
+        return field
+
     def __call__(self, points) -> np.ndarray:
         points = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 2))
         if self._tree is not None and len(points):
