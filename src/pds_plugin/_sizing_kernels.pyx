@@ -284,22 +284,25 @@ def quarter_cone_minimum(bx, by, size, xy, s, double L, double cap, perm, first,
     return out_array
 
 
-cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s, double L,
-                     const int64_t[::1] perm, const int64_t[::1] first,
-                     const int64_t[::1] stop, const int64_t[::1] left,
-                     const int64_t[::1] right, const double[:, ::1] box,
-                     const double[::1] smin, int64_t *stack) noexcept nogil:
-    """Is cone i nowhere below another: s_j + L|f_i - f_j| < s_i for some j, or equal
-    with j < i? (Then s_i + L|x - f_i| >= s_j + L|x - f_j| everywhere.) A depth-first
-    search, the more promising child first, pruning nodes whose smin + L·distance is
-    above s_i; it stops at the first such j."""
-    cdef double x = xy[i, 0], y = xy[i, 1], dx, dy, value
+cdef bint _dominated(double x, double y, double s_i, Py_ssize_t i, const double[:, ::1] xy,
+                     const double[::1] s, double L, const int64_t[::1] perm,
+                     const int64_t[::1] first, const int64_t[::1] stop,
+                     const int64_t[::1] left, const int64_t[::1] right,
+                     const double[:, ::1] box, const double[::1] smin,
+                     int64_t *stack) noexcept nogil:
+    """Is the cone of size s_i at (x, y) nowhere below one of the tree's cones: s_j +
+    L|(x, y) - f_j| < s_i for some j, or equal with j < i? (Then it is at least cone j
+    everywhere.)
+    ``i``: the cone's own number among the tree's (skipped), or -1 for a cone counted
+    before all of them. A depth-first search, the more promising child first, pruning
+    nodes whose smin + L·distance is above s_i; it stops at the first such j."""
+    cdef double dx, dy, value
     cdef Py_ssize_t top = 1, k, t, j
     stack[0] = 0
     while top:
         top -= 1
         k = stack[top]
-        if smin[k] + L * _box_distance(x, y, box, k) > s[i]:
+        if smin[k] + L * _box_distance(x, y, box, k) > s_i:
             continue
         if left[k] < 0:
             for t in range(first[k], stop[k]):
@@ -308,7 +311,7 @@ cdef bint _dominated(Py_ssize_t i, const double[:, ::1] xy, const double[::1] s,
                     continue
                 dx, dy = xy[j, 0] - x, xy[j, 1] - y
                 value = s[j] + L * sqrt(dx * dx + dy * dy)
-                if value < s[i] or (value == s[i] and j < i):
+                if value < s_i or (value == s_i and j < i):
                     return True
             continue
         top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
@@ -332,37 +335,10 @@ def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin,
     with nogil, parallel(num_threads=threads_for(n - start)):
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         for k in prange(start, n, schedule="dynamic", chunksize=CHUNK):
-            out[k] = _dominated(k, f, sz, L, pm, fs, st, lf, rt, bx, sm, stack)
+            out[k] = _dominated(f[k, 0], f[k, 1], sz[k], k, f, sz, L, pm, fs, st, lf, rt,
+                                bx, sm, stack)
         free(stack)
     return out_array
-
-
-cdef bint _below_at(double x, double y, double s_i, const double[:, ::1] xy,
-                    const double[::1] s, double L, const int64_t[::1] perm,
-                    const int64_t[::1] first, const int64_t[::1] stop,
-                    const int64_t[::1] left, const int64_t[::1] right,
-                    const double[:, ::1] box, const double[::1] smin,
-                    int64_t *stack) noexcept nogil:
-    """Is s_j + L|f_j - (x, y)| < s_i for some cone j of the tree? :func:`_dominated`'s
-    search and arithmetic for a cone i that comes before all of the tree's."""
-    cdef double dx, dy, value
-    cdef Py_ssize_t top = 1, k, t, j
-    stack[0] = 0
-    while top:
-        top -= 1
-        k = stack[top]
-        if smin[k] + L * _box_distance(x, y, box, k) > s_i:
-            continue
-        if left[k] < 0:
-            for t in range(first[k], stop[k]):
-                j = perm[t]
-                dx, dy = xy[j, 0] - x, xy[j, 1] - y
-                value = s[j] + L * sqrt(dx * dx + dy * dy)
-                if value < s_i:
-                    return True
-            continue
-        top = _push_children(x, y, k, L, left, right, box, smin, stack, top)
-    return False
 
 
 def dominated_by(queries, query_s, xy, s, double L, perm, first, stop, left, right, box,
@@ -386,8 +362,8 @@ def dominated_by(queries, query_s, xy, s, double L, perm, first, stop, left, rig
     with nogil, parallel(num_threads=threads_for(n)):
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         for k in prange(n, schedule="dynamic", chunksize=CHUNK):
-            out[k] = _below_at(q[k, 0], q[k, 1], qs[k], f, sz, L, pm, fs, st, lf, rt, bx, sm,
-                               stack)
+            out[k] = _dominated(q[k, 0], q[k, 1], qs[k], -1, f, sz, L, pm, fs, st, lf, rt, bx,
+                                sm, stack)
         free(stack)
     return out_array
 
