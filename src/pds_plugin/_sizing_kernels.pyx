@@ -319,51 +319,29 @@ cdef bint _dominated(double x, double y, double s_i, Py_ssize_t i, const double[
 
 
 def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin,
-                    Py_ssize_t start=0):
+                    Py_ssize_t start=0, queries=None, query_s=None):
     """True for the cones s_i + L|x - f_i| that another cone is nowhere above
     (:func:`_dominated`), over the ``build_cone_tree`` tree of all of them: dropping
     them leaves min_i(s_i + L|x - f_i|) unchanged. Only cones ``start`` on are tested
-    (the others are False)."""
+    (the others are False). With ``queries`` and ``query_s``: for those cones instead,
+    against the tree's, counted before all of them (a tie keeps the query)."""
+    own = queries is None
     cdef const double[:, ::1] f = xy
     cdef const double[::1] sz = s, sm = smin
+    cdef const double[:, ::1] q = xy if own else queries
+    cdef const double[::1] qs = s if own else query_s
     cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
     cdef const double[:, ::1] bx = box
-    cdef Py_ssize_t n = f.shape[0], k
+    cdef Py_ssize_t n = q.shape[0], k
+    cdef bint mine = own
     out_array = np.zeros(n, np.bool_)
     cdef uint8_t[::1] out = out_array.view(np.uint8)
     cdef int64_t *stack
     with nogil, parallel(num_threads=threads_for(n - start)):
         stack = <int64_t *>malloc(STACK * sizeof(int64_t))
         for k in prange(start, n, schedule="dynamic", chunksize=CHUNK):
-            out[k] = _dominated(f[k, 0], f[k, 1], sz[k], k, f, sz, L, pm, fs, st, lf, rt,
-                                bx, sm, stack)
-        free(stack)
-    return out_array
-
-
-def dominated_by(queries, query_s, xy, s, double L, perm, first, stop, left, right, box,
-                 smin):
-    """True for each query cone (``queries``, ``query_s``) that a cone of the
-    ``build_cone_tree`` tree of (``xy``, ``s``) is nowhere above, the query cones
-    counted before the tree's (a tie keeps the query): what :func:`dominated_cones`
-    finds for them against those cones."""
-    cdef const double[:, ::1] q = queries
-    cdef const double[::1] qs = query_s
-    cdef const double[:, ::1] f = xy
-    cdef const double[::1] sz = s, sm = smin
-    cdef const int64_t[::1] pm = perm, fs = first, st = stop, lf = left, rt = right
-    cdef const double[:, ::1] bx = box
-    cdef Py_ssize_t n = q.shape[0], k
-    out_array = np.zeros(n, np.bool_)
-    cdef uint8_t[::1] out = out_array.view(np.uint8)
-    cdef int64_t *stack
-    if f.shape[0] == 0:
-        return out_array
-    with nogil, parallel(num_threads=threads_for(n)):
-        stack = <int64_t *>malloc(STACK * sizeof(int64_t))
-        for k in prange(n, schedule="dynamic", chunksize=CHUNK):
-            out[k] = _dominated(q[k, 0], q[k, 1], qs[k], -1, f, sz, L, pm, fs, st, lf, rt, bx,
-                                sm, stack)
+            out[k] = _dominated(q[k, 0], q[k, 1], qs[k], k if mine else -1, f, sz, L, pm, fs,
+                                st, lf, rt, bx, sm, stack)
         free(stack)
     return out_array
 

@@ -131,8 +131,9 @@ class RadiusField:
         tree = kern.build_cone_tree(features, all_sizes, 8)
         keep = ~kern.dominated_cones(features, all_sizes, L, *tree, own)
         if own and len(sizes):
-            keep[:own] = ~kern.dominated_by(self.features, self.sizes, points, sizes, L,
-                                            *kern.build_cone_tree(points, sizes, 8))
+            keep[:own] = ~kern.dominated_cones(points, sizes, L,
+                                               *kern.build_cone_tree(points, sizes, 8),
+                                               queries=self.features, query_s=self.sizes)
         field = RadiusField.__new__(RadiusField)
         if keep.all():                      # the tree of the test is the field's
             field.features, field.sizes = features, all_sizes
