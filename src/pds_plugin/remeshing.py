@@ -217,7 +217,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         boundary pieces shorter than alpha (vertices of kept faces, short edges between
         patches): there r is the piece's length and grows away from it at rate L, the
         same bound, no thin triangle at the short pieces; a patch with a wall thinner
-        than alpha takes its graded field (docs/remesh.md, "Uniform").
+        than alpha or a spike sharper than the bound takes its graded field
+        (docs/remesh.md, "Uniform").
     grading : float, optional
         The Lipschitz constant L of the fields (graded) or of the cones around short
         pieces (uniform), in (0, 1); default :data:`pds_plugin.sizing.DEFAULT_GRADING`.
@@ -295,8 +296,9 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                        for p in remeshed if id(p) not in fields})
     else:
         # uniform: alpha everywhere but where the input forces shorter pieces (the cones
-        # junction_fields and the agreement add) or thinner walls (_thin_walled): a
-        # uniform radius cannot shape the triangles there (docs/remesh.md, "Uniform")
+        # junction_fields and the agreement add) or thinner walls and sharper spikes
+        # (_graded_instead): a uniform radius cannot shape the triangles there
+        # (docs/remesh.md, "Uniform")
         fields = {id(p): flat for p in remeshed}
     cache = {}
     while True:
@@ -332,11 +334,12 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
                                given)
         if not graded:
-            # a uniform patch with a wall thinner than alpha allows takes its graded field
-            thin = _thin_walled(remeshed, meshes, fields, flat, angle_bound(grading))
-            if thin:
+            # a uniform patch with a wall thinner than alpha or a spike sharper than the
+            # bound (exceptions in its mesh) takes its graded field
+            beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
+            if beyond:
                 fields.update({id(p): radius_field(p.region, grading, alpha,
-                                                   feature_angle=feature_angle) for p in thin})
+                                                   feature_angle=feature_angle) for p in beyond})
                 continue
         # a patch whose mesh does not join all its chords is kept instead, and the
         # chains sampled again without it; so is a patch with a corner sharper than 33.56° whose certificate does not hold
@@ -863,16 +866,17 @@ def _chords_joinable(points, counts, field) -> bool:
     return bool(np.all(np.hypot(*(points[following] - points).T) <= longest))
 
 
-def _thin_walled(patches, meshes, fields, flat, bound) -> list:
+def _graded_instead(patches, meshes, fields, flat, bound) -> list:
     """The patches of a uniform remesh still at the ``flat`` field whose mesh has a
-    triangle below the proven ``bound`` that its certificate does not lay at a sharp
-    input corner: a wall (or a ring) thinner than alpha, where no triangle reaches the
-    bound at r = alpha (docs/remesh.md, "Uniform"). Only patches with such a triangle
-    pay for the certificate."""
+    triangle below the proven ``bound`` that its certificate excuses (a wall thinner than
+    alpha, a spike sharper than the bound): at r = alpha there are many such triangles
+    across the wall or along the spike, and the graded field shrinks them with the wall
+    (docs/remesh.md, "Uniform"). Only patches with such a triangle pay for the
+    certificate."""
     return [patch for patch, mesh in zip(patches, meshes)
             if mesh is not None and fields[id(patch)] is flat
             and _min_angles(mesh.vertices, mesh.faces).min(initial=180.0) < bound
-            and any(e.cause != "sharp corner" for e in mesh.certificate().exceptions)]
+            and len(mesh.certificate().exceptions) > 0]
 
 
 def _at_a_spike(patch, pointed) -> bool:
