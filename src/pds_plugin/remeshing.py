@@ -298,8 +298,11 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         # uniform: alpha everywhere but where the input forces shorter pieces (the cones
         # junction_fields and the agreement add) or thinner walls and sharper spikes
         # (_graded_instead): a uniform radius cannot shape the triangles there
-        # (docs/remesh.md, "Uniform")
-        fields = {id(p): flat for p in remeshed}
+        # (docs/remesh.md, "Uniform"). A corner sharper than the bound is a triangle
+        # below it, whatever the mesh: such a patch is graded from the start.
+        spiked = math.radians(angle_bound(grading))
+        fields = {id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
+                  if _sharpest_corner(p) < spiked else flat for p in remeshed}
     cache = {}
     while True:
         kept = np.ones(len(faces), bool)
@@ -864,6 +867,15 @@ def _chords_joinable(points, counts, field) -> bool:
     r = field(points)
     longest = 2.0 * np.minimum(r, r[following]) / (1.0 - field.grading) * (1.0 + 1e-9)
     return bool(np.all(np.hypot(*(points[following] - points).T) <= longest))
+
+
+def _sharpest_corner(patch) -> float:
+    """The smallest angle, in radians, at a convex corner of ``patch`` among those sharper
+    than _CHECKED_CORNER (pi if none): a triangle there has it."""
+    if not len(patch.corners):
+        return math.pi
+    return min(float(np.min(np.pi - turning_angles(ring), initial=np.pi))
+               for ring in patch.region.rings)
 
 
 def _graded_instead(patches, meshes, fields, flat, bound) -> list:
