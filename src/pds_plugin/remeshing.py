@@ -345,8 +345,9 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                                    feature_angle=feature_angle) for p in beyond})
                 continue
         # a patch whose mesh does not join all its chords is kept instead, and the
-        # chains sampled again without it; so is a patch with a corner sharper than 33.56° whose certificate does not hold
-        # (a spike where three faces meet: its legs' samples closer than the clearance)
+        # chains sampled again without it; so is a patch with a corner sharper than
+        # 33.56° whose certificate does not hold (a spike where three faces meet: its
+        # legs' samples closer than the clearance)
         pointed = np.concatenate([p.corners for p in remeshed] + [np.zeros(0, np.int64)])
         joined = [mesh is not None and (not _at_a_spike(patch, pointed)
                                         or mesh.certificate().ok_with_exceptions)
@@ -870,8 +871,8 @@ def _chords_joinable(points, counts, field) -> bool:
 
 
 def _sharpest_corner(patch) -> float:
-    """The smallest angle, in radians, at a convex corner of ``patch`` among those sharper
-    than _CHECKED_CORNER (pi if none): a triangle there has it."""
+    """The smallest angle, in radians, at a convex corner of ``patch`` (pi if none is
+    sharper than _CHECKED_CORNER): the triangle at that corner has it or less."""
     if not len(patch.corners):
         return math.pi
     return min(float(np.min(np.pi - turning_angles(ring), initial=np.pi))
