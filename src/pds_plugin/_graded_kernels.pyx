@@ -584,13 +584,11 @@ def densified_rings(Field field, points, counts, double grading):
 
 
 cdef struct ChainDense:
-    # the growing output of :func:`densified_chains`: per point its chain, segment and
-    # fraction, its place in each owner's frame (x0, y0, x1, y1) and r there (r0, r1)
-    int64_t *cid
-    int64_t *segment
-    double *t
-    double *xy
-    double *r
+    # the growing output of :func:`densified_chains`, per point: its chain and segment
+    # (ids), its fraction, its place in each owner's frame and r there (values: t, x0,
+    # y0, x1, y1, r0, r1)
+    int64_t *ids
+    double *values
     Py_ssize_t n, room
     int64_t *stack
     double *bound
@@ -619,35 +617,20 @@ cdef void _chain_point(ChainDense *d, const ConeTree *tree, const ChainPart *par
 cdef bint _chain_emit(ChainDense *d, const ChainPart *part, double t,
                       const double *v) noexcept nogil:
     """Append a point (False if memory ran out)."""
-    cdef Py_ssize_t room, k
     cdef void *grown
     if d.n == d.room:
-        room = 2 * d.room
-        grown = realloc(d.cid, room * sizeof(int64_t))
+        grown = realloc(d.ids, 4 * d.room * sizeof(int64_t))
         if grown == NULL:
             return False
-        d.cid = <int64_t *>grown
-        grown = realloc(d.segment, room * sizeof(int64_t))
+        d.ids = <int64_t *>grown
+        grown = realloc(d.values, 14 * d.room * sizeof(double))
         if grown == NULL:
             return False
-        d.segment = <int64_t *>grown
-        grown = realloc(d.t, room * sizeof(double))
-        if grown == NULL:
-            return False
-        d.t = <double *>grown
-        grown = realloc(d.xy, 4 * room * sizeof(double))
-        if grown == NULL:
-            return False
-        d.xy = <double *>grown
-        grown = realloc(d.r, 2 * room * sizeof(double))
-        if grown == NULL:
-            return False
-        d.r = <double *>grown
-        d.room = room
-    k = d.n
-    d.cid[k], d.segment[k], d.t[k] = part.cid, part.segment, t
-    memcpy(&d.xy[4 * k], v, 4 * sizeof(double))
-    d.r[2 * k], d.r[2 * k + 1] = v[4], v[5]
+        d.values = <double *>grown
+        d.room *= 2
+    d.ids[2 * d.n], d.ids[2 * d.n + 1] = part.cid, part.segment
+    d.values[7 * d.n] = t
+    memcpy(&d.values[7 * d.n + 1], v, 6 * sizeof(double))
     d.n += 1
     return True
 
@@ -705,15 +688,12 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
     cdef double *at = <double *>malloc(max(6 * n, 1) * sizeof(double))   # the vertices'
     d.room = max(4 * n, 16)
     d.n = 0
-    d.cid = <int64_t *>malloc(d.room * sizeof(int64_t))
-    d.segment = <int64_t *>malloc(d.room * sizeof(int64_t))
-    d.t = <double *>malloc(d.room * sizeof(double))
-    d.xy = <double *>malloc(4 * d.room * sizeof(double))
-    d.r = <double *>malloc(2 * d.room * sizeof(double))
+    d.ids = <int64_t *>malloc(2 * d.room * sizeof(int64_t))
+    d.values = <double *>malloc(7 * d.room * sizeof(double))
     d.stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
     d.bound = <double *>malloc(CONE_STACK * sizeof(double))
-    cdef bint ok = (at != NULL and d.cid != NULL and d.segment != NULL and d.t != NULL
-                    and d.xy != NULL and d.r != NULL and d.stack != NULL and d.bound != NULL)
+    cdef bint ok = (at != NULL and d.ids != NULL and d.values != NULL and d.stack != NULL
+                    and d.bound != NULL)
     with nogil:
         for step in range(2):      # the vertices' points first, then chain by chain in order
             lo = 0
@@ -743,30 +723,23 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
                     if not ok:
                         break
                 lo += count[c]
-    cdef int64_t[::1] out_cid, out_segment
-    cdef double[::1] out_t
-    cdef double[:, ::1] out_xy, out_r
+    cdef int64_t[:, ::1] id_view
+    cdef double[:, ::1] value_view
     if ok:
-        cid, segment, t = np.empty(d.n, np.int64), np.empty(d.n, np.int64), np.empty(d.n)
-        xy, r = np.empty((d.n, 4)), np.empty((d.n, 2))
-        out_cid, out_segment, out_t, out_xy, out_r = cid, segment, t, xy, r
-        with nogil:
-            for i in range(d.n):
-                out_cid[i], out_segment[i], out_t[i] = d.cid[i], d.segment[i], d.t[i]
-                out_xy[i, 0], out_xy[i, 1] = d.xy[4 * i], d.xy[4 * i + 1]
-                out_xy[i, 2], out_xy[i, 3] = d.xy[4 * i + 2], d.xy[4 * i + 3]
-                out_r[i, 0], out_r[i, 1] = d.r[2 * i], d.r[2 * i + 1]
+        ids, values = np.empty((d.n, 2), np.int64), np.empty((d.n, 7))
+        id_view, value_view = ids, values
+        if d.n:
+            memcpy(&id_view[0, 0], d.ids, 2 * d.n * sizeof(int64_t))
+            memcpy(&value_view[0, 0], d.values, 7 * d.n * sizeof(double))
     free(at)
-    free(d.cid)
-    free(d.segment)
-    free(d.t)
-    free(d.xy)
-    free(d.r)
+    free(d.ids)
+    free(d.values)
     free(d.stack)
     free(d.bound)
     if not ok:
         raise MemoryError()
-    return cid, segment, t, xy[:, :2], r[:, 0], xy[:, 2:], r[:, 1]
+    return (ids[:, 0].copy(), ids[:, 1].copy(), values[:, 0].copy(), values[:, 1:3],
+            values[:, 5], values[:, 3:5], values[:, 6])
 
 
 cdef double ABOVE = 1.0 + 1e-9      # r at a point of a box is at most ABOVE x its ``high``:
