@@ -99,11 +99,24 @@ def test_bad_alpha_is_refused():
         pds.solid_alpha_complex(np.random.default_rng(0).random((5, 2)), -1)
 
 
-def test_many_cocircular_points_are_refused_quickly():
-    """100 points on a circle: every triangle ties; the exact tie-break would take minutes."""
+@pytest.mark.parametrize("centre", [0.0, 10.0])
+def test_many_cocircular_points_are_refused_quickly(centre):
+    """100 points on a circle (about the origin: ties left to the integer test; away
+    from it: settled in the kernel): every triangle ties, and the exact tie-break's work
+    grows with the fourth power of their number."""
     angles = np.arange(100) * 2 * np.pi / 100
+    circle = np.column_stack([np.cos(angles), np.sin(angles)]) + centre
     with pytest.raises(pds.PdsError, match="cocircular"):
-        pds.solid_alpha_complex(np.column_stack([np.cos(angles), np.sin(angles)]), 1.5)
+        pds.solid_alpha_complex(circle, 1.5)
+
+
+@pytest.mark.parametrize("centre", [0.0, 10.0])
+def test_a_few_dozen_cocircular_points_are_split_once(centre):
+    angles = np.arange(24) * 2 * np.pi / 24
+    circle = np.column_stack([np.cos(angles), np.sin(angles)]) + centre
+    faces = pds.solid_alpha_complex(circle, 1.5)
+    assert len(faces) == 22
+    assert_valid_triangulation(circle, faces)
 
 
 def test_an_alpha_far_above_the_spacing_is_refused_before_any_work():
@@ -130,6 +143,86 @@ def test_orientation_sign_is_exact_on_nearly_collinear_points(seed, scale):
     exact = ((Fraction(a[0]) - Fraction(c[0])) * (Fraction(b[1]) - Fraction(c[1]))
              - (Fraction(a[1]) - Fraction(c[1])) * (Fraction(b[0]) - Fraction(c[0])))
     assert orient(*a, *b, *c) == (exact > 0) - (exact < 0)
+
+
+def perturbed_inside_oracle(a, b, c, d, ranks) -> int:
+    """The incircle sign of (a, b, c; d) in exact rationals, a tie settled by lifting
+    each point by -eps**rank (the smallest rank perturbed most): the 4x4 determinant
+    of rows (x, y, x² + y² - eps**rank, 1) expanded in the perturbations."""
+    from fractions import Fraction
+    rows = [[Fraction(v) for v in p] for p in (a, b, c, d)]
+
+    def det3(m):
+        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+
+    def minor(k):   # the rows but k, columns (x, y, 1)
+        return [[x, y, 1] for i, (x, y) in enumerate(rows) if i != k]
+    lifted = sum((-1) ** k * (x * x + y * y) * det3(minor(k)) for k, (x, y) in enumerate(rows))
+    if lifted:
+        return 1 if lifted > 0 else -1
+    for k in sorted(range(4), key=lambda k: ranks[k]):
+        factor = -((-1) ** k) * det3(minor(k))      # the factor of -eps**rank[k]
+        if factor:
+            return 1 if factor > 0 else -1
+    raise AssertionError("a, b, c are collinear")
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(["lattice", "circle", "ulp"]))
+def test_the_kernels_tie_break_is_exact(seed, kind):
+    """The kernel's exact incircle (expansions) and its perturbation agree with rational
+    arithmetic where the filter cannot decide: exactly cocircular points (a lattice's
+    rectangles), points on a float circle, and both an ulp off."""
+    from pds_plugin import _complex_kernels as kern
+    rng = np.random.default_rng(seed)
+    centre = rng.uniform(10, 50, 2)         # every difference an exact float (Sterbenz)
+    if kind == "lattice":
+        step = rng.uniform(0.1, 2.0, 2)
+        points = centre + rng.integers(0, 3, (4, 2)) * step
+    else:
+        angles = np.sort(rng.random(4)) * 2 * np.pi
+        points = centre + rng.uniform(0.1, 3.0) * np.column_stack([np.cos(angles), np.sin(angles)])
+    if kind == "ulp":
+        points = points + rng.integers(-2, 3, (4, 2)) * np.spacing(points)
+    a, b, c, d = points
+    cross = (b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]
+    if len(np.unique(points, axis=0)) < 4 or cross == 0:
+        return
+    if cross < 0:
+        points = points[[0, 2, 1, 3]]
+    ranks = rng.permutation(4)
+    sign = kern.tie_sign(np.ascontiguousarray(points), 0, 1, 2, 3, ranks.astype(np.int64))
+    assert sign == perturbed_inside_oracle(*points, ranks)
+
+
+def test_ties_off_exact_differences_are_left_to_the_integer_test():
+    """A difference of coordinates that is not an exact float (points spanning
+    magnitudes) is not the kernel's: it says 0, and local_complex's integer test settles
+    the tie; the lattice is still split once."""
+    from pds_plugin import _complex_kernels as kern
+    square = np.array([[-0.1, -0.1], [1e-17, -0.1], [1e-17, 1e-17 + 0.1], [-0.1, 0.1]])
+    assert kern.tie_sign(square, 0, 1, 2, 3, np.arange(4)) == 0
+    points = np.stack(np.meshgrid(np.arange(6), np.arange(5)), -1).reshape(-1, 2) * 0.1 - 0.2
+    faces = pds.solid_alpha_complex(points, 0.1 / np.sqrt(2) * 1.0001)
+    assert len(faces) == 2 * 5 * 4
+    assert_valid_triangulation(points, faces)
+
+
+def test_a_lattice_off_the_axes_is_settled_in_the_kernel():
+    """Lattice squares away from zero (every difference exact, as in a remesh's laid-out
+    patches): no triangle is left to the integer test."""
+    from pds_plugin import _complex_kernels as kern
+    from pds_plugin._visibility_kernels import no_chords
+    points = (np.stack(np.meshgrid(np.arange(9), np.arange(7)), -1).reshape(-1, 2) * 0.37 + 20.0)
+    order, start = kern.bin_points(points, 20.0, 20.0, 0.5, 7, 6)
+    faces, flags, status = kern.local_complex(points[order], 0.37 / np.sqrt(2) * 1.0001, start,
+                                              20.0, 20.0, 0.5, 7, 6, 64, no_chords(len(points)),
+                                              order)
+    assert status == kern.COMPLETE and len(faces) == 2 * 8 * 6
+    assert not (flags == kern.UNSURE).any()
+    assert_valid_triangulation(points[order], faces)
 
 
 def test_boundary_keeps_triangles_out_of_a_notch():

@@ -12,14 +12,17 @@ from libc.stdlib cimport free, malloc
 from libc.stdint cimport int8_t, int32_t, int64_t
 
 from ._parallel cimport threads_for
-from ._visibility_kernels cimport Chords, chords_of, near_boundary, orient_sign, sees
+from ._visibility_kernels cimport (Chords, chords_of, exact_difference, incircle_sign,
+                                  near_boundary, orient_sign, sees)
 
 ACCEPT, REJECT, UNSURE = 1, 0, 2
+COMPLETE, MORE_NEIGHBOURS, TOO_MANY_TIES = 0, 1, 2
 cdef enum:
     C_ACCEPT = 1
     C_REJECT = 0
     C_UNSURE = 2
     SLOTS = 8       # triangles kept per point in the first pass
+    MAX_TIES = 5000     # exact tie-breaks a point's triangles may take (cocircular sets)
     CHUNK = 256     # iterations a thread takes at a time
 cdef double _INCIRCLE_ERR = 1e-12   # relative bound on the rounding error of the filtered incircle test
 
@@ -89,6 +92,62 @@ cdef int _incircle_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b,
     if det < -_INCIRCLE_ERR * permanent:
         return -1
     return 0
+
+
+cdef int _tie_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b, Py_ssize_t c,
+                   Py_ssize_t d, const int64_t *rank) noexcept nogil:
+    """The incircle sign of (a, b, c; d) where the filter could not decide, in exact
+    arithmetic, cocircular points settled by symbolic perturbation: each point lifted by
+    -eps^rank, the smallest rank perturbed most (Edelsbrunner and Mücke's simulation of
+    simplicity), so the answer is never 0. The determinant's term in the largest
+    perturbation with a non-zero factor decides; the factors are orientations: rank[a]'s
+    -orient(d, b, c), rank[b]'s -orient(d, c, a), rank[c]'s -orient(d, a, b), rank[d]'s
+    orient(a, b, c). Returns 0 when a difference to d is not an exact float (near the
+    axes, or spanning magnitudes): ``local_complex._exactly_empty`` settles those."""
+    cdef double adx, ady, bdx, bdy, cdx, cdy
+    if not (exact_difference(points[a, 0], points[d, 0], &adx)
+            and exact_difference(points[a, 1], points[d, 1], &ady)
+            and exact_difference(points[b, 0], points[d, 0], &bdx)
+            and exact_difference(points[b, 1], points[d, 1], &bdy)
+            and exact_difference(points[c, 0], points[d, 0], &cdx)
+            and exact_difference(points[c, 1], points[d, 1], &cdy)):
+        return 0
+    cdef int sign = incircle_sign(adx, ady, bdx, bdy, cdx, cdy)
+    if sign:
+        return sign
+    cdef Py_ssize_t roles[4]
+    roles[0], roles[1], roles[2], roles[3] = a, b, c, d
+    cdef Py_ssize_t done = 0, k, first, p, q, r
+    while True:                             # the roles by increasing rank
+        first = -1
+        for k in range(4):
+            if not (done >> k) & 1 and (first < 0 or rank[roles[k]] < rank[roles[first]]):
+                first = k
+        done |= 1 << first
+        if first == 3:
+            sign = orient_sign(points[a, 0], points[a, 1], points[b, 0], points[b, 1],
+                               points[c, 0], points[c, 1])
+        else:
+            p, q, r = d, roles[(first + 1) % 3], roles[(first + 2) % 3]
+            sign = -orient_sign(points[p, 0], points[p, 1], points[q, 0], points[q, 1],
+                                points[r, 0], points[r, 1])
+        if sign:
+            return sign
+
+
+def tie_sign(points, Py_ssize_t a, Py_ssize_t b, Py_ssize_t c, Py_ssize_t d, rank) -> int:
+    """:func:`_tie_sign` of points a, b, c (counter-clockwise) and d of ``points`` (a
+    C-contiguous (n, 2) float array), ``rank`` (n distinct integers) breaking ties: +1 if
+    d is inside their circle, -1 outside, 0 if a difference to d is not an exact float.
+
+    >>> import numpy as np
+    >>> square = np.array([[10.0, 10.0], [11.0, 10.0], [11.0, 11.0], [10.0, 11.0]])
+    >>> tie_sign(square, 0, 1, 2, 3, np.arange(4)), tie_sign(square, 0, 1, 2, 3, np.arange(4)[::-1].copy())
+    (-1, 1)
+    """
+    cdef const double[:, ::1] p = points
+    cdef const int64_t[::1] rk = rank
+    return _tie_sign(p, a, b, c, d, &rk[0])
 
 
 cdef inline Py_ssize_t _out(const Chords *vis, Py_ssize_t v) noexcept nogil:
@@ -177,10 +236,13 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
                             const double *bound, const int64_t[::1] start, double x0, double y0, double h,
                             Py_ssize_t nx, Py_ssize_t ny, int64_t *nbr, Py_ssize_t max_nbr,
                             int32_t *found_j, int32_t *found_k, int8_t *found_flag,
-                            Py_ssize_t room, const Chords *vis) noexcept nogil:
+                            Py_ssize_t room, const Chords *vis,
+                            const int64_t *rank) noexcept nogil:
     """Triangles whose smallest vertex index is i, counter-clockwise as (i, j, k):
-    written to found_* (the first ``room`` of them). Returns how many there are, or -1
-    if i has more than ``max_nbr`` neighbours within 2 alpha (the size of ``nbr``).
+    written to found_* (the first ``room`` of them). Returns how many there are, -1 if
+    i has more than ``max_nbr`` neighbours within 2 alpha (the size of ``nbr``), or -2
+    if its triangles take more than MAX_TIES exact tie-breaks (a large cocircular set:
+    the work would grow with its size to the fourth power).
 
     Every point inside the circumcircle (radius <= alpha) of a triangle at i is within
     2 alpha of i, so i's neighbours are the only points the empty-circle test needs.
@@ -188,13 +250,16 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
     With a ``bound`` per point (graded complexes, not NULL) a triangle is kept when its
     circumradius is at most the smallest bound of its vertices, and i's neighbours are
     the points within 2 bound[i], in as many cells as that takes.
+
+    Ties the filter cannot decide are settled exactly (:func:`_tie_sign`, the points'
+    ``rank`` breaking them); a triangle is UNSURE only where that cannot be done.
     """
     cdef double xi = points[i, 0], yi = points[i, 1]
     cdef Py_ssize_t ix = min(<Py_ssize_t>((xi - x0) / h), nx - 1)
     cdef Py_ssize_t iy = min(<Py_ssize_t>((yi - y0) / h), ny - 1)
     cdef double reach2 = 4.0 * alpha2, least2 = alpha2
     cdef Py_ssize_t window = 2
-    cdef Py_ssize_t m = 0, found = 0, jx, jy, c, j, k, p, r, q, other, a, b
+    cdef Py_ssize_t m = 0, found = 0, ties = 0, jx, jy, c, j, k, p, r, q, other, a, b
     cdef double dx, dy, bx, by, b2, cx, cy, cross, c2, d2, ux, uy, far2, ox, oy
     cdef int status, sign
     cdef bint constrained = near_boundary(xi, yi, vis)
@@ -256,6 +321,11 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
                 if sign >= 0 and constrained and not _seen_by_triangle(points, i, a, b, other,
                                                                        vis):
                     continue
+                if sign == 0:
+                    sign = _tie_sign(points, i, a, b, other, rank)
+                    ties += sign != 0
+                    if ties > MAX_TIES:
+                        return -2
                 if sign > 0:
                     status = C_REJECT
                     break
@@ -273,17 +343,20 @@ cdef Py_ssize_t _scan_point(const double[:, ::1] points, Py_ssize_t i, double al
 
 
 def local_complex(points, double alpha, start, double x0, double y0, double h,
-                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, vis,
+                  Py_ssize_t nx, Py_ssize_t ny, Py_ssize_t max_neighbours, vis, rank,
                   bound=None):
     """Every triangle of ``points`` (binned: cell c holds points start[c]:start[c+1])
     with circumradius <= alpha and an empty circumcircle, found from its smallest
     vertex; with chords in ``vis`` (indexed like ``points``), constrained: edges seen
     through the region and only points that see the triangle in the empty-circle test.
     With ``bound`` (one value per point, graded complexes) a triangle is kept when its
-    circumradius is at most the smallest bound of its vertices instead.
-    Returns (faces, flags, complete): flags ACCEPT or UNSURE; complete is False,
-    with nothing found, if a point has more than ``max_neighbours`` neighbours within
-    2 alpha."""
+    circumradius is at most the smallest bound of its vertices instead. Cocircular ties
+    are broken by ``rank`` (one distinct integer per point: their original indices).
+    Returns (faces, flags, status): flags ACCEPT or UNSURE (a tie whose differences
+    are not exact floats, :func:`_tie_sign`); status COMPLETE, or, with nothing found,
+    MORE_NEIGHBOURS if a point has more than ``max_neighbours`` neighbours within
+    2 alpha, TOO_MANY_TIES if a point's triangles take more than MAX_TIES exact
+    tie-breaks."""
     cdef const double[:, ::1] p = points
     cdef const int64_t[::1] st = start
     cdef Py_ssize_t n = p.shape[0], i, f, total = 0
@@ -297,6 +370,7 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
     cdef int32_t *more_k
     cdef int8_t *more_flag
     cdef Chords ch = chords_of(vis)
+    cdef const int64_t[::1] rk = rank
     cdef const double[::1] bound_view
     cdef const double *bd = NULL
     if bound is not None:
@@ -306,11 +380,13 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
         nbr = <int64_t *>malloc(max_neighbours * sizeof(int64_t))
         for i in prange(n, schedule="dynamic", chunksize=CHUNK):
             counts[i] = _scan_point(p, i, alpha2, bd, st, x0, y0, h, nx, ny, nbr, max_neighbours,
-                                    &slot_j[i, 0], &slot_k[i, 0], &slot_flag[i, 0], SLOTS, &ch)
+                                    &slot_j[i, 0], &slot_k[i, 0], &slot_flag[i, 0], SLOTS, &ch,
+                                    &rk[0])
         free(nbr)
     for i in range(n):
         if counts[i] < 0:
-            return np.empty((0, 3), np.int64), np.empty(0, np.int8), False
+            return (np.empty((0, 3), np.int64), np.empty(0, np.int8),
+                    MORE_NEIGHBOURS if counts[i] == -1 else TOO_MANY_TIES)
     offsets_array = np.zeros(n + 1, np.int64)
     np.cumsum(counts, out=offsets_array[1:])
     cdef int64_t[::1] offsets = offsets_array
@@ -329,7 +405,7 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
                 more_k = <int32_t *>malloc(counts[i] * sizeof(int32_t))
                 more_flag = <int8_t *>malloc(counts[i] * sizeof(int8_t))
                 _scan_point(p, i, alpha2, bd, st, x0, y0, h, nx, ny, nbr, max_neighbours,
-                            more_j, more_k, more_flag, counts[i], &ch)
+                            more_j, more_k, more_flag, counts[i], &ch, &rk[0])
                 for f in range(counts[i]):
                     faces[offsets[i] + f, 0] = i
                     faces[offsets[i] + f, 1] = more_j[f]
@@ -345,4 +421,4 @@ def local_complex(points, double alpha, start, double x0, double y0, double h,
                     faces[offsets[i] + f, 2] = slot_k[i, f]
                     flags[offsets[i] + f] = slot_flag[i, f]
         free(nbr)
-    return faces_array, flags_array, True
+    return faces_array, flags_array, COMPLETE

@@ -50,6 +50,9 @@ cdef inline void mark_cell(CellMarks *m, Py_ssize_t c) noexcept nogil:
 cdef Chords chords_of(vis) except *
 cdef int orient_sign(double ax, double ay, double bx, double by, double cx,
                      double cy) noexcept nogil
+cdef int incircle_sign(double adx, double ady, double bdx, double bdy, double cdx,
+                       double cdy) noexcept nogil
+cdef bint exact_difference(double a, double b, double *difference) noexcept nogil
 cdef bint sees_near_chords(double ax, double ay, Py_ssize_t a_out, double bx, double by,
                            Py_ssize_t b_out, const Chords *c, Py_ssize_t k) noexcept nogil
 cdef bint box_seen_near_chords(double px, double py, Py_ssize_t p_out, double bx, double by,

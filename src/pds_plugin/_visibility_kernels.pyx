@@ -17,7 +17,7 @@ Python passes the chords around as a :class:`ChordBundle` (its fields named, mad
 a :c:type:`Chords` struct (``chords_of``) and call the ``nogil`` tests of this module.
 
 Orientation signs are exact: a floating-point filter with Shewchuk's error bound and an
-exact expansion fallback. Conventions of the kernel modules: see ``_parallel.pyx``.
+exact expansion fallback; so is the incircle sign of :func:`incircle_sign` (expansions). Conventions of the kernel modules: see ``_parallel.pyx``.
 
 >>> orient(0.0, 0.0, 1.0, 0.0, 0.5, 1e-300), orient(0.0, 0.0, 1.0, 1.0, 3.0, 3.0)
 (1, 0)
@@ -108,6 +108,124 @@ def orient(double ax, double ay, double bx, double by, double cx, double cy) -> 
     """Exact sign of the orientation of (a, b, c): +1 counter-clockwise, -1 clockwise,
     0 collinear."""
     return orient_sign(ax, ay, bx, by, cx, cy)
+
+
+# ---- The exact incircle determinant, by Shewchuk's expansions --------------------------
+# An expansion is an array of doubles, nonoverlapping and in increasing magnitude, whose
+# sum is exact; its sign is its last component's (zero components are dropped).
+
+cdef inline void _fast_two_sum(double a, double b, double *x, double *y) noexcept nogil:
+    """x + y = a + b exactly, x = fl(a + b), given |a| >= |b| or a == 0."""
+    x[0] = a + b
+    y[0] = b - (x[0] - a)
+
+
+cdef int _scaled(const double *e, int n, double b, double *h) noexcept nogil:
+    """h = e b exactly (Shewchuk's scale-expansion, zeros dropped): at most 2 n
+    components; returns how many."""
+    cdef double q, product, low, sum_, error
+    cdef int i, k = 0
+    _two_product(e[0], b, &q, &error)
+    if error != 0.0:
+        h[k] = error
+        k += 1
+    for i in range(1, n):
+        _two_product(e[i], b, &product, &low)
+        _two_sum(q, low, &sum_, &error)
+        if error != 0.0:
+            h[k] = error
+            k += 1
+        _fast_two_sum(product, sum_, &q, &error)
+        if error != 0.0:
+            h[k] = error
+            k += 1
+    if q != 0.0 or k == 0:
+        h[k] = q
+        k += 1
+    return k
+
+
+cdef int _summed(const double *e, int ne, const double *f, int nf, double *h) noexcept nogil:
+    """h = e + f exactly (Shewchuk's fast-expansion-sum: the components merged by
+    magnitude, then carried; zeros dropped): at most ne + nf components; returns how
+    many."""
+    cdef double q, now, error
+    cdef int i = 0, j = 0, k = 0
+    if (f[0] > e[0]) == (f[0] > -e[0]):            # |e[0]| < |f[0]|
+        q = e[0]
+        i = 1
+    else:
+        q = f[0]
+        j = 1
+    while i < ne or j < nf:
+        if j == nf or (i < ne and (f[j] > e[i]) == (f[j] > -e[i])):
+            now = e[i]
+            i += 1
+        else:
+            now = f[j]
+            j += 1
+        if i + j == 2:                              # the second smallest: |now| >= |q|
+            _fast_two_sum(now, q, &q, &error)
+        else:
+            _two_sum(q, now, &q, &error)
+        if error != 0.0:
+            h[k] = error
+            k += 1
+    if q != 0.0 or k == 0:
+        h[k] = q
+        k += 1
+    return k
+
+
+cdef int _products(double a, double b, double c, double d, double *h) noexcept nogil:
+    """h = a b - c d exactly: at most 4 components."""
+    cdef double e[2]
+    cdef double f[2]
+    _two_product(a, b, &e[1], &e[0])
+    _two_product(-c, d, &f[1], &f[0])
+    return _summed(e, 2, f, 2, h)
+
+
+cdef int _lifted(double ax, double ay, double bx, double by, double cx, double cy,
+                 double *h) noexcept nogil:
+    """h = (ax² + ay²)(bx cy - by cx) exactly: at most 32 components."""
+    cdef double lift[4]
+    cdef double cross[4]
+    cdef double part[8]
+    cdef double total[32]
+    cdef int nl = _products(ax, ax, -ay, ay, lift), nc = _products(bx, cy, by, cx, cross)
+    cdef int n = _scaled(cross, nc, lift[0], h), m, i, t
+    for i in range(1, nl):
+        m = _scaled(cross, nc, lift[i], part)
+        n = _summed(h, n, part, m, total)
+        for t in range(n):
+            h[t] = total[t]
+    return n
+
+
+cdef int incircle_sign(double adx, double ady, double bdx, double bdy, double cdx,
+                       double cdy) noexcept nogil:
+    """Exact sign of the incircle determinant of a, b, c and d from the differences
+    a - d, b - d and c - d (exact floats): +1 if d is inside the circle through
+    counter-clockwise a, b, c, -1 outside, 0 on it."""
+    cdef double ta[32]
+    cdef double tb[32]
+    cdef double tc[32]
+    cdef double two[64]
+    cdef double det[96]
+    cdef int na = _lifted(adx, ady, bdx, bdy, cdx, cdy, ta)
+    cdef int nb = _lifted(bdx, bdy, cdx, cdy, adx, ady, tb)
+    cdef int nc = _lifted(cdx, cdy, adx, ady, bdx, bdy, tc)
+    cdef int n = _summed(ta, na, tb, nb, two)
+    n = _summed(two, n, tc, nc, det)
+    return (det[n - 1] > 0.0) - (det[n - 1] < 0.0)
+
+
+cdef bint exact_difference(double a, double b, double *difference) noexcept nogil:
+    """``difference`` = a - b; is it exact?"""
+    cdef double error
+    _two_sum(a, -b, difference, &error)
+    return error == 0.0
 
 
 cdef tuple bin_chords_by(chords, reach, ChordGrid grid, CellRule rule):

@@ -5,9 +5,11 @@ Each point's triangles are found among its binned neighbours (``_complex_kernels
 .local_complex``, in parallel over the points), with no global Delaunay triangulation.
 
 The empty-circle test is exact. A floating-point test with a proven error bound settles
-almost every case; the rest are redone in exact integer arithmetic, and ties (four or more
-cocircular points) are broken by symbolic perturbation (Edelsbrunner and Mücke's
-simulation of simplicity, a lifting perturbation that decreases with the point index).
+almost every case; the rest are redone in exact arithmetic (in the kernel, Shewchuk's
+expansions; here, integers, for the few whose coordinates' differences are not exact
+floats), and ties (four or more cocircular points) are broken by symbolic perturbation
+(Edelsbrunner and Mücke's simulation of simplicity, a lifting perturbation that
+decreases with the point index).
 The result is always part of one Delaunay triangulation: no overlaps, every edge shared
 by at most two triangles.
 
@@ -77,17 +79,17 @@ def local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha, bound=None)
     """
     max_neighbours = 64
     while True:
-        faces, flags, complete = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
-                                                    max_neighbours, vis, bound)
-        if complete:
+        faces, flags, status = kern.local_complex(binned, alpha, start, x0, y0, h, nx, ny,
+                                                  max_neighbours, vis, order, bound)
+        if status != kern.MORE_NEIGHBOURS:
             break
         max_neighbours *= 4
     unsure = np.flatnonzero(flags == kern.UNSURE)
-    if len(unsure) > _MAX_UNSURE:
-        raise BudgetError(f"{len(unsure)} candidate triangles have four or more cocircular "
-                          f"points (a circle or lattice of points), more than the {_MAX_UNSURE} "
-                          f"the exact tie-break settles in reasonable time; perturb the points "
-                          f"slightly or use a smaller alpha")
+    if status == kern.TOO_MANY_TIES or len(unsure) > _MAX_UNSURE:
+        raise BudgetError("too many candidate triangles have four or more cocircular points "
+                          "(a circle or lattice of points) for the exact tie-break to settle "
+                          "in reasonable time; perturb the points slightly or use a smaller "
+                          "alpha")
     if len(unsure):
         keep = np.ones(len(faces), bool)
         keep[unsure] = _exactly_empty(binned, order, faces[unsure], start, x0, y0, h, nx, ny,
@@ -189,10 +191,9 @@ def _exactly_empty(binned, order, faces, start, x0, y0, h, nx, ny, vis, radius=N
 
 
 def _integer_points(xy) -> list[tuple[int, int]]:
-    """The (k, 2) float points as integer pairs, all scaled by one power of two (as
-    :func:`_as_integers`, vectorised: each float is m 2^e with m a 53-bit integer, from
-    ``numpy.frexp``), so signs of polynomials homogeneous in the coordinates'
-    differences are exact.
+    """The (k, 2) float points as integer pairs, all scaled by one power of two (each
+    float is m 2^e with m a 53-bit integer, from ``numpy.frexp``), so signs of
+    polynomials homogeneous in the coordinates' differences are exact.
 
     >>> _integer_points(np.array([(0.5, 3.0), (0.25, -1.0)]))
     [(2, 12), (1, -4)]
@@ -210,19 +211,11 @@ def _integer_points(xy) -> list[tuple[int, int]]:
     return [(x << s, y << t) for (x, y), (s, t) in zip(m.tolist(), shift.tolist())]
 
 
-def _inside_perturbed(a, b, c, d) -> bool:
-    """Is point d inside the circle through counter-clockwise a, b, c? Each argument is
-    (xy, index). Exact; ties are broken by lifting each point by -eps**index (the
-    smaller the index, the larger the perturbation)."""
-    sign = _incircle_sign_filtered(a[0], b[0], c[0], d[0])
-    if sign:
-        return sign > 0
-    return _perturbed_inside(*_as_integers((a[0], b[0], c[0], d[0])), a[1], b[1], c[1], d[1])
-
-
 def _perturbed_inside(pa, pb, pc, pd, ia, ib, ic, id_) -> bool:
-    """:func:`_inside_perturbed` of integer points ``pa``..``pd`` (one scale) with
-    indices ``ia``..``id_``, in exact integer arithmetic."""
+    """Is point d inside the circle through counter-clockwise a, b, c, given as integer
+    points ``pa``..``pd`` (one scale) with indices ``ia``..``id_``? Exact; ties are broken
+    by lifting each point by -eps**index (the smaller the index, the larger the
+    perturbation)."""
     adx, ady = pa[0] - pd[0], pa[1] - pd[1]
     bdx, bdy = pb[0] - pd[0], pb[1] - pd[1]
     cdx, cdy = pc[0] - pd[0], pc[1] - pd[1]
@@ -237,31 +230,16 @@ def _perturbed_inside(pa, pb, pc, pd, ia, ib, ic, id_) -> bool:
     return next(coefficient[i] > 0 for i in sorted(coefficient) if coefficient[i] != 0)
 
 
-def _as_integers(points) -> list[tuple[int, int]]:
-    """The points' coordinates as integers, all scaled by one power of two: every float
-    is an integer over a power of two, so this is exact, and signs of polynomials
-    homogeneous in the coordinates' differences are those of the floats (Python's
-    integers are exact and several times faster than ``Fraction``, which reduces by a
-    gcd at every step).
-
-    >>> _as_integers([(0.5, 3.0), (0.25, -1.0)])
-    [(2, 12), (1, -4)]
-    """
-    ratios = [tuple(float(v).as_integer_ratio() for v in xy) for xy in points]
-    scale = max(denominator for xy in ratios for _, denominator in xy)
-    return [tuple(numerator * (scale // denominator) for numerator, denominator in xy)
-            for xy in ratios]
-
-
 _INCIRCLE_BOUND = (10 + 96 * 2.0 ** -53) * 2.0 ** -53
 """Shewchuk's error bound A of the floating-point incircle determinant, relative to its
 permanent (Adaptive Precision Floating-Point Arithmetic, 1997: ``iccerrboundA``)."""
 
 
 def _incircle_signs_filtered(pa, pb, pc, pd) -> np.ndarray:
-    """:func:`_incircle_sign_filtered` of many quadruples at once, each argument (m, 2):
-    1 inside, -1 outside, 0 where the error bound does not decide (the same arithmetic,
-    element by element)."""
+    """The sign of the incircle determinant of many quadruples (each argument (m, 2): d
+    inside the circle through counter-clockwise a, b, c) in floating point: 1 inside, -1
+    outside, 0 where Shewchuk's error bound does not decide (the caller then computes it
+    exactly)."""
     adx, ady = pa[:, 0] - pd[:, 0], pa[:, 1] - pd[:, 1]
     bdx, bdy = pb[:, 0] - pd[:, 0], pb[:, 1] - pd[:, 1]
     cdx, cdy = pc[:, 0] - pd[:, 0], pc[:, 1] - pd[:, 1]
@@ -273,29 +251,3 @@ def _incircle_signs_filtered(pa, pb, pc, pd) -> np.ndarray:
     permanent = (alift * (np.abs(bc) + np.abs(cb)) + blift * (np.abs(ca) + np.abs(ac))
                  + clift * (np.abs(ab) + np.abs(ba)))
     return np.where(np.abs(det) > _INCIRCLE_BOUND * permanent, np.sign(det), 0).astype(np.int64)
-
-
-def _incircle_sign_filtered(pa, pb, pc, pd) -> int:
-    """The sign of the incircle determinant of four points in floating point, when its
-    error bound decides it; 0 when it does not (the caller then computes it exactly).
-
-    Examples
-    --------
-    >>> inside = _incircle_sign_filtered((0, 0), (1, 0), (0, 1), (0.5, 0.5))
-    >>> cocircular = _incircle_sign_filtered((0, 0), (1, 0), (0, 1), (1, 1))
-    >>> inside, cocircular
-    (1, 0)
-    """
-    adx, ady = float(pa[0]) - float(pd[0]), float(pa[1]) - float(pd[1])
-    bdx, bdy = float(pb[0]) - float(pd[0]), float(pb[1]) - float(pd[1])
-    cdx, cdy = float(pc[0]) - float(pd[0]), float(pc[1]) - float(pd[1])
-    bc, cb = bdx * cdy, cdx * bdy
-    ca, ac = cdx * ady, adx * cdy
-    ab, ba = adx * bdy, bdx * ady
-    alift, blift, clift = adx * adx + ady * ady, bdx * bdx + bdy * bdy, cdx * cdx + cdy * cdy
-    det = alift * (bc - cb) + blift * (ca - ac) + clift * (ab - ba)
-    permanent = (alift * (abs(bc) + abs(cb)) + blift * (abs(ca) + abs(ac))
-                 + clift * (abs(ab) + abs(ba)))
-    if abs(det) > _INCIRCLE_BOUND * permanent:
-        return 1 if det > 0 else -1
-    return 0
