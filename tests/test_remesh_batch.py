@@ -385,22 +385,22 @@ def test_the_chords_of_many_chains_at_once_are_each_chains_own(seed):
     assert np.array_equal(remeshing._chords(chains, which), expected)
 
 
-def test_the_compiled_chain_densification_is_the_numpy_one_bit_for_bit(monkeypatch):
-    """partition._ChainSet.dense_reads (one kernel call where one field of cones reads
-    every patch: _graded_kernels.densified_chains) against its numpy rounds and reads,
-    at every call of a remesh whose chains meet finely graded neighbours (the studs)."""
+@pytest.mark.parametrize("graded", [True, False])
+def test_the_compiled_chain_densification_is_the_numpy_one_bit_for_bit(monkeypatch, graded):
+    """partition._ChainSet.dense_reads (one kernel call where one field reads every
+    patch: _graded_kernels.densified_chains) against its numpy rounds and reads, at
+    every call of a remesh whose chains meet finely graded neighbours (the studs), and
+    of its uniform remesh, whose first fields have no cone (r is the cap)."""
     from pds_plugin import partition
 
     compiled, numpy_rounds = partition._ChainSet.dense_reads, partition._ChainSet.dense
-    calls = []
+    calls = {True: [], False: []}                   # by: does the field have cones?
 
     def unused(self, grading):
         raise AssertionError("the numpy rounds ran: the kernel was not used")
 
     def compared(self, grading):
-        compiled_here = len(self.union.sizes) > 0       # one field of cones (not the cap)
-        if compiled_here:
-            monkeypatch.setattr(partition._ChainSet, "dense", unused)
+        monkeypatch.setattr(partition._ChainSet, "dense", unused)
         cid, segment, t, reads = compiled(self, grading)
         monkeypatch.setattr(partition._ChainSet, "dense", numpy_rounds)
         expected = self.dense(grading)
@@ -410,10 +410,10 @@ def test_the_compiled_chain_densification_is_the_numpy_one_bit_for_bit(monkeypat
             want_xy, want_r = self.read(cid, segment, t, side)
             np.testing.assert_array_equal(xy, want_xy)
             np.testing.assert_array_equal(r, want_r)
-        if compiled_here:
-            calls.append(len(cid))
+        calls[len(self.union.sizes) > 0].append(len(cid))
         return cid, segment, t, reads
 
     monkeypatch.setattr(partition._ChainSet, "dense_reads", compared)
-    result = pds.remesh(studded_plate(), 0.05)
-    assert result.ok_with_exceptions and len(calls) >= 2 and max(calls) > 1000
+    result = pds.remesh(studded_plate(), 0.05, graded=graded)
+    assert result.ok_with_exceptions
+    assert len(calls[graded]) >= 2 and max(calls[graded]) > 1000

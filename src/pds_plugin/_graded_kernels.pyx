@@ -363,12 +363,14 @@ cdef class Field:
     the box a point is in): it prunes more and finds the same exact minimum."""
     cdef ConeTree tree
     cdef bint fast
+    cdef bint constant          # no cone and no user sizing: r is the cap everywhere
     cdef object field
     cdef object keep            # the arrays the tree points into
 
     def __init__(self, field):
         self.field = field
         self.fast = field.sizing is None and field._tree is not None
+        self.constant = field.sizing is None and field._tree is None
         if self.fast:
             self.keep = (field.features, field.sizes, field._tree)
             self.tree = cone_tree_of(field.features, field.sizes, field.grading, field.cap,
@@ -592,6 +594,7 @@ cdef struct ChainDense:
     Py_ssize_t n, room
     int64_t *stack
     double *bound
+    double cap                  # r where the field has no cone (tree NULL)
 
 
 cdef struct ChainPart:
@@ -605,11 +608,16 @@ cdef void _chain_point(ChainDense *d, const ConeTree *tree, const ChainPart *par
                        double *v) noexcept nogil:
     """The point at fraction ``t`` of ``part``, a + t (b - a) in each owner's frame (as
     ``partition._ChainSet.read`` computes it), and the field there (inf for a side
-    without owner): v = x0, y0, x1, y1, r0, r1."""
+    without owner; the cap everywhere for a field without cones, ``tree`` NULL):
+    v = x0, y0, x1, y1, r0, r1."""
     v[0] = part.ax0 + t * (part.bx0 - part.ax0)
     v[1] = part.ay0 + t * (part.by0 - part.ay0)
     v[2] = part.ax1 + t * (part.bx1 - part.ax1)
     v[3] = part.ay1 + t * (part.by1 - part.ay1)
+    if tree == NULL:
+        v[4] = d.cap if part.owned0 else INFINITY
+        v[5] = d.cap if part.owned1 else INFINITY
+        return
     v[4] = cone_at(tree, v[0], v[1], tree.cap, d.stack, d.bound) if part.owned0 else INFINITY
     v[5] = cone_at(tree, v[2], v[3], tree.cap, d.stack, d.bound) if part.owned1 else INFINITY
 
@@ -661,7 +669,8 @@ cdef bint _chain_bisect(ChainDense *d, const ConeTree *tree, const ChainPart *pa
 def densified_chains(Field field, corner0, corner1, owned, counts, closed, double grading):
     """``partition._ChainSet.dense`` and the owners' reads at its points in one call, for
     chains read by one field searched in C (the regions' union,
-    ``_Topology.layout_field``; None for a field with a user sizing). ``corner0``,
+    ``_Topology.layout_field``, or the cap where it has no cone; None for a field with a
+    user sizing). ``corner0``,
     ``corner1``: (n, 2) the chains' vertices (concatenated, ``counts`` each) in the
     frame of their owner on side 0 and 1 (NaN where none); ``owned``: (chains, 2) which
     sides have an owner; ``closed``: which chains are closed. Each part between two
@@ -673,20 +682,21 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
     along each: the same numbers bit for bit as the numpy rounds (each part is halved
     or not by its own ends, so halving part by part, depth first, finds the same points
     in order, and every point, r and step is computed as there)."""
-    if not field.fast:
+    if not (field.fast or field.constant):
         return None
     cdef const double[:, ::1] c0 = corner0
     cdef const double[:, ::1] c1 = corner1
     cdef const uint8_t[:, ::1] own = owned
     cdef const int64_t[::1] count = counts
     cdef const uint8_t[::1] shut = closed
-    cdef const ConeTree *tree = &field.tree
+    cdef const ConeTree *tree = &field.tree if field.fast else NULL
     cdef Py_ssize_t chains = count.shape[0], n = c0.shape[0], c, j, k, lo, parts, i
     cdef int step
     cdef ChainPart part
     cdef ChainDense d
     cdef double *at = <double *>malloc(max(6 * n, 1) * sizeof(double))   # the vertices'
     d.room = max(4 * n, 16)
+    d.cap = field.field.cap
     d.n = 0
     d.ids = <int64_t *>malloc(2 * d.room * sizeof(int64_t))
     d.values = <double *>malloc(7 * d.room * sizeof(double))
