@@ -594,32 +594,40 @@ cdef struct ChainDense:
     Py_ssize_t n, room
     int64_t *stack
     double *bound
-    double cap                  # r where the field has no cone (tree NULL)
 
 
 cdef struct ChainPart:
-    # one segment of a chain: its ends in both owners' frames, which owners read it
+    # one segment of a chain: its ends in both owners' frames, which owners read it and
+    # their fields (NULL: no cone, r the cap)
     int64_t cid, segment
     double ax0, ay0, bx0, by0, ax1, ay1, bx1, by1
     bint owned0, owned1
+    const ConeTree *tree0
+    const ConeTree *tree1
+    double cap0, cap1
 
 
-cdef void _chain_point(ChainDense *d, const ConeTree *tree, const ChainPart *part, double t,
+cdef inline double _owner_r(ChainDense *d, bint owned, const ConeTree *tree, double cap,
+                            double x, double y) noexcept nogil:
+    """An owner's field at (x, y): inf without owner, the cap without cones."""
+    if not owned:
+        return INFINITY
+    if tree == NULL:
+        return cap
+    return cone_at(tree, x, y, tree.cap, d.stack, d.bound)
+
+
+cdef void _chain_point(ChainDense *d, const ChainPart *part, double t,
                        double *v) noexcept nogil:
     """The point at fraction ``t`` of ``part``, a + t (b - a) in each owner's frame (as
-    ``partition._ChainSet.read`` computes it), and the field there (inf for a side
-    without owner; the cap everywhere for a field without cones, ``tree`` NULL):
+    ``partition._ChainSet.read`` computes it), and each owner's field there:
     v = x0, y0, x1, y1, r0, r1."""
     v[0] = part.ax0 + t * (part.bx0 - part.ax0)
     v[1] = part.ay0 + t * (part.by0 - part.ay0)
     v[2] = part.ax1 + t * (part.bx1 - part.ax1)
     v[3] = part.ay1 + t * (part.by1 - part.ay1)
-    if tree == NULL:
-        v[4] = d.cap if part.owned0 else INFINITY
-        v[5] = d.cap if part.owned1 else INFINITY
-        return
-    v[4] = cone_at(tree, v[0], v[1], tree.cap, d.stack, d.bound) if part.owned0 else INFINITY
-    v[5] = cone_at(tree, v[2], v[3], tree.cap, d.stack, d.bound) if part.owned1 else INFINITY
+    v[4] = _owner_r(d, part.owned0, part.tree0, part.cap0, v[0], v[1])
+    v[5] = _owner_r(d, part.owned1, part.tree1, part.cap1, v[2], v[3])
 
 
 cdef bint _chain_emit(ChainDense *d, const ChainPart *part, double t,
@@ -643,7 +651,7 @@ cdef bint _chain_emit(ChainDense *d, const ChainPart *part, double t,
     return True
 
 
-cdef bint _chain_bisect(ChainDense *d, const ConeTree *tree, const ChainPart *part,
+cdef bint _chain_bisect(ChainDense *d, const ChainPart *part,
                         double tp, double xp, double yp, double rp, double tq, double xq,
                         double yq, double rq, double grading, int depth) noexcept nogil:
     """The points of ``part`` strictly between fractions ``tp`` and ``tq`` (at ``xp``,
@@ -658,22 +666,21 @@ cdef bint _chain_bisect(ChainDense *d, const ConeTree *tree, const ChainPart *pa
     if depth >= 60 or not step > 0.3 * low:
         return True
     tm = 0.5 * (tp + tq)
-    _chain_point(d, tree, part, tm, v)
+    _chain_point(d, part, tm, v)
     rm = min(v[4], v[5])
-    return (_chain_bisect(d, tree, part, tp, xp, yp, rp, tm, v[0], v[1], rm, grading, depth + 1)
+    return (_chain_bisect(d, part, tp, xp, yp, rp, tm, v[0], v[1], rm, grading, depth + 1)
             and _chain_emit(d, part, tm, v)
-            and _chain_bisect(d, tree, part, tm, v[0], v[1], rm, tq, xq, yq, rq, grading,
+            and _chain_bisect(d, part, tm, v[0], v[1], rm, tq, xq, yq, rq, grading,
                               depth + 1))
 
 
-def densified_chains(Field field, corner0, corner1, owned, counts, closed, double grading):
-    """``partition._ChainSet.dense`` and the owners' reads at its points in one call, for
-    chains read by one field searched in C (the regions' union,
-    ``_Topology.layout_field``, or the cap where it has no cone; None for a field with a
-    user sizing). ``corner0``,
-    ``corner1``: (n, 2) the chains' vertices (concatenated, ``counts`` each) in the
-    frame of their owner on side 0 and 1 (NaN where none); ``owned``: (chains, 2) which
-    sides have an owner; ``closed``: which chains are closed. Each part between two
+def densified_chains(fields, corner0, corner1, owner, counts, closed, double grading):
+    """``partition._ChainSet.dense`` and the owners' reads at its points in one call,
+    each owner read by its own field searched in C (``fields``: per region, its
+    :class:`Field`; None if one has a user sizing). ``corner0``, ``corner1``: (n, 2) the
+    chains' vertices (concatenated, ``counts`` each) in the frame of their owner on side
+    0 and 1 (NaN where none); ``owner``: (chains, 2) the region on each side (-1: none);
+    ``closed``: which chains are closed. Each part between two
     vertices (and from the last to the first of a closed chain) is halved while longer
     than 0.3 of the lowest r the field can have on it (its ends' smaller r over both
     owners), at most 60 halvings deep.
@@ -682,21 +689,35 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
     along each: the same numbers bit for bit as the numpy rounds (each part is halved
     or not by its own ends, so halving part by part, depth first, finds the same points
     in order, and every point, r and step is computed as there)."""
-    if not (field.fast or field.constant):
-        return None
+    cdef Field field
+    for field in fields:
+        if not (field.fast or field.constant):
+            return None
     cdef const double[:, ::1] c0 = corner0
     cdef const double[:, ::1] c1 = corner1
-    cdef const uint8_t[:, ::1] own = owned
+    cdef const int64_t[:, ::1] own = owner
     cdef const int64_t[::1] count = counts
     cdef const uint8_t[::1] shut = closed
-    cdef const ConeTree *tree = &field.tree if field.fast else NULL
+    cdef Py_ssize_t regions = len(fields), r
+    cdef ConeTree *trees = <ConeTree *>malloc(max(regions, 1) * sizeof(ConeTree))
+    cdef double *caps = <double *>malloc(max(regions, 1) * sizeof(double))
+    cdef uint8_t *coned = <uint8_t *>malloc(max(regions, 1) * sizeof(uint8_t))
+    if trees == NULL or caps == NULL or coned == NULL:
+        free(trees)
+        free(caps)
+        free(coned)
+        raise MemoryError()
+    for r in range(regions):
+        field = fields[r]
+        coned[r], caps[r] = field.fast, field.field.cap
+        if field.fast:
+            trees[r] = field.tree
     cdef Py_ssize_t chains = count.shape[0], n = c0.shape[0], c, j, k, lo, parts, i
     cdef int step
     cdef ChainPart part
     cdef ChainDense d
     cdef double *at = <double *>malloc(max(6 * n, 1) * sizeof(double))   # the vertices'
     d.room = max(4 * n, 16)
-    d.cap = field.field.cap
     d.n = 0
     d.ids = <int64_t *>malloc(2 * d.room * sizeof(int64_t))
     d.values = <double *>malloc(7 * d.room * sizeof(double))
@@ -711,7 +732,11 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
                 if not ok:
                     break
                 part.cid = c
-                part.owned0, part.owned1 = own[c, 0], own[c, 1]
+                part.owned0, part.owned1 = own[c, 0] >= 0, own[c, 1] >= 0
+                part.tree0 = &trees[own[c, 0]] if part.owned0 and coned[own[c, 0]] else NULL
+                part.tree1 = &trees[own[c, 1]] if part.owned1 and coned[own[c, 1]] else NULL
+                part.cap0 = caps[own[c, 0]] if part.owned0 else 0.0
+                part.cap1 = caps[own[c, 1]] if part.owned1 else 0.0
                 parts = count[c] if shut[c] else count[c] - 1
                 for j in range(count[c]):
                     k = (j + 1) % count[c] if shut[c] else min(j + 1, count[c] - 1)
@@ -722,12 +747,12 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
                     part.bx1, part.by1 = c1[lo + k, 0], c1[lo + k, 1]
                     i = 6 * (lo + j)
                     if step == 0:
-                        _chain_point(&d, tree, &part, 0.0, &at[i])
+                        _chain_point(&d, &part, 0.0, &at[i])
                         continue
                     ok = _chain_emit(&d, &part, 0.0, &at[i])
                     if ok and j < parts:
                         k = 6 * (lo + k)
-                        ok = _chain_bisect(&d, tree, &part, 0.0, at[i], at[i + 1],
+                        ok = _chain_bisect(&d, &part, 0.0, at[i], at[i + 1],
                                            min(at[i + 4], at[i + 5]), 1.0, at[k], at[k + 1],
                                            min(at[k + 4], at[k + 5]), grading, 0)
                     if not ok:
@@ -746,6 +771,9 @@ def densified_chains(Field field, corner0, corner1, owned, counts, closed, doubl
     free(d.values)
     free(d.stack)
     free(d.bound)
+    free(trees)
+    free(caps)
+    free(coned)
     if not ok:
         raise MemoryError()
     return (ids[:, 0].copy(), ids[:, 1].copy(), values[:, 0].copy(), values[:, 1:3],

@@ -346,18 +346,17 @@ class _ChainSet:
 
     def dense_reads(self, grading):
         """:meth:`dense` and, at its points, :meth:`read` of both sides: (chain, segment,
-        fraction, [(xy, r) of side 0, (xy, r) of side 1]). With one field for all regions
-        (``union``) searched in C, in one kernel call (``_graded_kernels.densified_chains``,
-        the same numbers bit for bit)."""
-        if self.union is not None:
-            owned = np.ascontiguousarray(self.side >= 0, dtype=np.uint8)
-            done = _graded_kernels.densified_chains(
-                _graded_kernels.Field(self.union), np.ascontiguousarray(self.corner[0]),
-                np.ascontiguousarray(self.corner[1]), owned, self.count,
-                np.ascontiguousarray(self.closed, dtype=np.uint8), grading)
-            if done is not None:
-                cid, segment, t, xy0, r0, xy1, r1 = done
-                return cid, segment, t, [(xy0, r0), (xy1, r1)]
+        fraction, [(xy, r) of side 0, (xy, r) of side 1]). With fields searched in C (no
+        user sizing), in one kernel call (``_graded_kernels.densified_chains``, each
+        owner read by its own field: what the union reads there, the same numbers bit
+        for bit, without building the union)."""
+        done = _graded_kernels.densified_chains(
+            [_graded_kernels.Field(field) for field in self.fields],
+            np.ascontiguousarray(self.corner[0]), np.ascontiguousarray(self.corner[1]),
+            self.side, self.count, np.ascontiguousarray(self.closed, dtype=np.uint8), grading)
+        if done is not None:
+            cid, segment, t, xy0, r0, xy1, r1 = done
+            return cid, segment, t, [(xy0, r0), (xy1, r1)]
         cid, segment, t = self.dense(grading)
         return cid, segment, t, [self.read(cid, segment, t, side) for side in (0, 1)]
 
@@ -714,7 +713,7 @@ def agreeing_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
         if not todo:
             break
         chain_set = _ChainSet([chains[c] for c in todo], [sides[c] for c in todo], frames,
-                              fields, top.layout_field(frames, fields))
+                              fields)                   # dense_reads only: no union
         cid, segment, t, reads = chain_set.dense_reads(grading)
         lowest = np.minimum(reads[0][1], reads[1][1])
         lowered = set()
