@@ -35,6 +35,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from shapely.geometry import MultiPolygon, Polygon
 
+from . import _sizing_kernels
 from ._checks import check_alpha, check_grading, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
@@ -787,32 +788,39 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
         own = np.split(union(np.concatenate(points)), np.cumsum([len(xy) for xy in points])[:-1])
     else:
         own = [field(xy) for field, xy in zip(fields, points)]
-    every = np.concatenate(ids) if ids else np.zeros(0, np.int64)
     few = _FewCones(ids, points, fields)
+    changed = np.ones(len(sizes), bool)
     for _ in range(_AGREEMENT_ROUNDS):
         lowest = sizes.copy()
-        if len(every):              # one minimum.at for all patches (min is exact)
-            cones = few(sizes)
-            np.minimum.at(lowest, every, np.concatenate(
-                [np.minimum(r, cones[k] if k in cones else _cones_at(xy, sizes[i], field))
-                 for k, (field, r, i, xy) in enumerate(zip(fields, own, ids, points))]))
+        cones = few(sizes)
+        # a larger patch none of whose samples' sizes changed reads what it read in the
+        # last round, which lowered nothing then and lowers nothing now
+        touched = [k for k, i in enumerate(ids) if k in cones or changed[i].any()]
+        if touched:                 # one minimum.at for them all (min is exact)
+            reads = [np.minimum(own[k], cones[k] if k in cones else
+                                _cones_at(points[k], sizes[ids[k]], fields[k]))
+                     for k in touched]
+            np.minimum.at(lowest, np.concatenate([ids[k] for k in touched]),
+                          np.concatenate(reads))
         lower = lowest < sizes * (1 - _AGREEMENT_TOL)
         if not lower.any():
             break
-        sizes = np.where(lower, lowest, sizes)
+        sizes, changed = np.where(lower, lowest, sizes), lower
     return sizes, [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
 
 
 def _cones_at(xy, sizes, field) -> np.ndarray:
     """min_j sizes_j + L |x_i - x_j| at each point x_i of ``xy`` (cones of ``sizes`` at
     the points themselves, ``field``'s L), no more than its cap: pairwise for up to 32
-    points (most patches of a CAD part), else by a :class:`~pds_plugin.sizing.RadiusField` of the cones."""
+    points (most patches of a CAD part), else by the cone tree's exact minimum (the
+    cones the dominance test of a field would drop change no minimum)."""
     if len(xy) <= 32:
         distance = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
         return np.minimum((sizes[None, :] + field.grading * distance).min(axis=1, initial=np.inf),
                           field.cap)
-    from .sizing import RadiusField
-    return RadiusField(xy, sizes, field.grading, field.cap)(xy)
+    xy, sizes = np.ascontiguousarray(xy), np.ascontiguousarray(sizes)
+    return _sizing_kernels.cone_minimum(xy, xy, sizes, field.grading, field.cap,
+                                        *_sizing_kernels.build_cone_tree(xy, sizes, 8))
 
 
 class _FewCones:
