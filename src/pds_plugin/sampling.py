@@ -639,8 +639,8 @@ def _ladders(at, corners, angle, guard, alpha, length, rng, ring=None) -> np.nda
         along_long = (sign * (c - at)) % length
         on_long = (along_long > 0) & (along_long < sides[1 - short])
         end, last = sides[1 - short], max(guard[far], alpha)
-        held = on_long & (np.abs(at[:, None] - rungs).min(axis=1, initial=np.inf)
-                          <= 1e-12 * length)
+        held = on_long.copy()
+        held[on_long] = _near(at[on_long], rungs, 1e-12 * length)
         if held.any():
             end, last = along_long[held].min(), alpha
             mirrored = mirrored[mirrored <= end - alpha]
@@ -649,9 +649,24 @@ def _ladders(at, corners, angle, guard, alpha, length, rng, ring=None) -> np.nda
             on_long &= along_long < end
         rest = _split(mirrored.max(), end, alpha, last, alpha, rng)
         images = (c - sign * mirrored) % length
-        rungs = np.concatenate([rungs, images, (c + sign * mirrored) % length])
+        rungs = np.sort(np.concatenate([rungs, images, (c + sign * mirrored) % length]))
         at = np.sort(np.concatenate([at[~on_long], images, (c - sign * rest) % length]))
     return at
+
+
+def _near(values, points, tolerance) -> np.ndarray:
+    """Whether each of ``values`` lies within ``tolerance`` of one of the sorted
+    ``points`` (the nearest is beside its place among them: no values x points table,
+    which a star of 1,000 spikes made 40 s long).
+
+    >>> _near(np.array([0.5, 2.0]), np.array([1.0, 2.0 + 1e-13]), 1e-12).tolist()
+    [False, True]
+    """
+    if not len(points):
+        return np.zeros(len(values), bool)
+    k = np.searchsorted(points, values)
+    below, above = points[np.maximum(k - 1, 0)], points[np.minimum(k, len(points) - 1)]
+    return (np.abs(values - below) <= tolerance) | (np.abs(values - above) <= tolerance)
 
 
 def _thinner_than(offsets, c, sign, long, alpha, length, cum, closed) -> int:
