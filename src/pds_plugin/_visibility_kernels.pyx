@@ -120,29 +120,36 @@ cdef inline void _fast_two_sum(double a, double b, double *x, double *y) noexcep
     y[0] = b - (x[0] - a)
 
 
+cdef inline int _kept(double *h, int k, double value) noexcept nogil:
+    """Append ``value`` to the expansion ``h`` of length k unless it is 0 (zeros are
+    dropped); the new length."""
+    if value == 0.0:
+        return k
+    h[k] = value
+    return k + 1
+
+
+cdef inline int _closed(double *h, int k, double q) noexcept nogil:
+    """Append the last (largest) component ``q``, kept even if 0 when it is the only
+    one; the expansion's length."""
+    h[k] = q
+    return k + (q != 0.0 or k == 0)
+
+
 cdef int _scaled(const double *e, int n, double b, double *h) noexcept nogil:
     """h = e b exactly (Shewchuk's scale-expansion, zeros dropped): at most 2 n
     components; returns how many."""
     cdef double q, product, low, sum_, error
     cdef int i, k = 0
     _two_product(e[0], b, &q, &error)
-    if error != 0.0:
-        h[k] = error
-        k += 1
+    k = _kept(h, k, error)
     for i in range(1, n):
         _two_product(e[i], b, &product, &low)
         _two_sum(q, low, &sum_, &error)
-        if error != 0.0:
-            h[k] = error
-            k += 1
+        k = _kept(h, k, error)
         _fast_two_sum(product, sum_, &q, &error)
-        if error != 0.0:
-            h[k] = error
-            k += 1
-    if q != 0.0 or k == 0:
-        h[k] = q
-        k += 1
-    return k
+        k = _kept(h, k, error)
+    return _closed(h, k, q)
 
 
 cdef int _summed(const double *e, int ne, const double *f, int nf, double *h) noexcept nogil:
@@ -168,13 +175,8 @@ cdef int _summed(const double *e, int ne, const double *f, int nf, double *h) no
             _fast_two_sum(now, q, &q, &error)
         else:
             _two_sum(q, now, &q, &error)
-        if error != 0.0:
-            h[k] = error
-            k += 1
-    if q != 0.0 or k == 0:
-        h[k] = q
-        k += 1
-    return k
+        k = _kept(h, k, error)
+    return _closed(h, k, q)
 
 
 cdef int _products(double a, double b, double c, double d, double *h) noexcept nogil:
