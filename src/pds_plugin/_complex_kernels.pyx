@@ -22,7 +22,7 @@ cdef enum:
     C_REJECT = 0
     C_UNSURE = 2
     SLOTS = 8       # triangles kept per point in the first pass
-    MAX_TIES = 5000     # exact tie-breaks a point's triangles may take (cocircular sets)
+    MAX_TIES = 5000 # exact tie-breaks a point's triangles may take (cocircular sets)
     CHUNK = 256     # iterations a thread takes at a time
 cdef double _INCIRCLE_ERR = 1e-12   # relative bound on the rounding error of the filtered incircle test
 

@@ -17,7 +17,8 @@ Python passes the chords around as a :class:`ChordBundle` (its fields named, mad
 a :c:type:`Chords` struct (``chords_of``) and call the ``nogil`` tests of this module.
 
 Orientation signs are exact: a floating-point filter with Shewchuk's error bound and an
-exact expansion fallback; so is the incircle sign of :func:`incircle_sign` (expansions). Conventions of the kernel modules: see ``_parallel.pyx``.
+exact expansion fallback; so is :func:`incircle_sign` (expansions all through).
+Conventions of the kernel modules: see ``_parallel.pyx``.
 
 >>> orient(0.0, 0.0, 1.0, 0.0, 0.5, 1e-300), orient(0.0, 0.0, 1.0, 1.0, 3.0, 3.0)
 (1, 0)
