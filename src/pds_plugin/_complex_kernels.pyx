@@ -94,6 +94,14 @@ cdef int _incircle_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b,
     return 0
 
 
+cdef inline bint _in_range(double difference) noexcept nogil:
+    """Is ``difference`` 0 or between 2^-200 and 2^200 in magnitude? Then the incircle
+    determinant's products (degree 4) and their rounding errors stay normal floats, so
+    the expansions are exact (1e80 apart, they overflowed to a wrong sign)."""
+    cdef double size = abs(difference)
+    return size == 0.0 or (6.223015277861142e-61 <= size <= 1.6069380442589903e+60)
+
+
 cdef int _tie_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b, Py_ssize_t c,
                    Py_ssize_t d, const int64_t *rank) noexcept nogil:
     """The incircle sign of (a, b, c; d) where the filter could not decide, in exact
@@ -103,14 +111,17 @@ cdef int _tie_sign(const double[:, ::1] points, Py_ssize_t a, Py_ssize_t b, Py_s
     perturbation with a non-zero factor decides; the factors are orientations: rank[a]'s
     -orient(d, b, c), rank[b]'s -orient(d, c, a), rank[c]'s -orient(d, a, b), rank[d]'s
     orient(a, b, c). Returns 0 when a difference to d is not an exact float (near the
-    axes, or spanning magnitudes): ``local_complex._exactly_empty`` settles those."""
+    axes, or spanning magnitudes), or is out of the expansions' range (:func:`_in_range`):
+    ``local_complex._exactly_empty`` settles those."""
     cdef double adx, ady, bdx, bdy, cdx, cdy
     if not (exact_difference(points[a, 0], points[d, 0], &adx)
             and exact_difference(points[a, 1], points[d, 1], &ady)
             and exact_difference(points[b, 0], points[d, 0], &bdx)
             and exact_difference(points[b, 1], points[d, 1], &bdy)
             and exact_difference(points[c, 0], points[d, 0], &cdx)
-            and exact_difference(points[c, 1], points[d, 1], &cdy)):
+            and exact_difference(points[c, 1], points[d, 1], &cdy)
+            and _in_range(adx) and _in_range(ady) and _in_range(bdx) and _in_range(bdy)
+            and _in_range(cdx) and _in_range(cdy)):
         return 0
     cdef int sign = incircle_sign(adx, ady, bdx, bdy, cdx, cdy)
     if sign:
