@@ -112,7 +112,8 @@ def checked_points(points) -> np.ndarray:
         raise ArgumentError("points contain NaN or infinite coordinates")
     if len(points):
         low, high = SCALE_LIMITS           # the predicates' powers of the coordinates
-        largest, extent = float(np.abs(points).max()), float(np.ptp(points, axis=0).max())
+        with np.errstate(over="ignore"):                # an inf extent is refused here
+            largest, extent = float(np.abs(points).max()), float(np.ptp(points, axis=0).max())
         if not largest < high or 0 < extent <= low:
             raise ArgumentError(f"the points span {extent:.3g} with coordinates up to "
                                 f"{largest:.3g}: the empty-circle test needs an extent above "
