@@ -28,7 +28,7 @@ import numpy as np
 
 from . import _complex_kernels as kern
 from .errors import ArgumentError, ArgumentTypeError, BudgetError
-from .region import SCALE_LIMITS
+from .region import check_scale
 
 __all__ = ["local_faces", "checked_points", "checked_rings", "check_distinct"]
 
@@ -110,15 +110,9 @@ def checked_points(points) -> np.ndarray:
         raise ArgumentError(f"points must be an (N, 2) array, got shape {points.shape}")
     if not np.isfinite(points).all():
         raise ArgumentError("points contain NaN or infinite coordinates")
-    if len(points):
-        low, high = SCALE_LIMITS           # the predicates' powers of the coordinates
-        with np.errstate(over="ignore"):                # an inf extent is refused here
-            largest, extent = float(np.abs(points).max()), float(np.ptp(points, axis=0).max())
-        if not largest < high or 0 < extent <= low:
-            raise ArgumentError(f"the points span {extent:.3g} with coordinates up to "
-                                f"{largest:.3g}: the empty-circle test needs an extent above "
-                                f"{low:g} and coordinates below {high:g}; scale the points "
-                                "(e.g. change their units)")
+    if len(points):                  # the predicates raise coordinates to powers up to 6
+        check_scale((*points.min(axis=0), *points.max(axis=0)), "the points span",
+                    "scale the points (e.g. change their units)", ArgumentError)
     return np.ascontiguousarray(points)
 
 

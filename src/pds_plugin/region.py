@@ -14,7 +14,7 @@ from ._checks import check_flag, check_instance
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 
 __all__ = ["Region", "lift", "plane_label", "turning_angles", "require_region", "check_tolerance",
-           "source_deviation"]
+           "check_scale", "source_deviation"]
 
 
 class Region:
@@ -150,7 +150,7 @@ class Region:
         if multi is None:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(multi)
-        _check_scale(geometry)
+        check_scale(geometry.bounds)
         if (tolerance == 0 and shapely.get_num_geometries(geometry) == 1 and not
                 shapely.get_num_interior_rings(shapely.get_geometry(geometry, 0))):
             healed, moved = geometry, 0.0   # one ring: nothing to touch, no crack to close
@@ -633,14 +633,25 @@ within about 1e±51: a square of side 1e54 (or 1e-54) got triangles of aspect ra
 more, a square of side 1e90 of 312."""
 
 
-def _check_scale(geometry) -> None:
+def check_scale(bounds, what: str = "the region spans",
+                fix: str = "scale the geometry (e.g. change its units)",
+                error=RegionError) -> None:
+    """Refuse what lies in the box ``bounds`` (xmin, ymin, xmax, ymax) if it spans at
+    most ``SCALE_LIMITS[0]`` (but more than 0) or has a coordinate of
+    ``SCALE_LIMITS[1]`` or more (``what`` and ``fix`` name it in the message).
+
+    >>> check_scale((0.0, 0.0, 1e60, 1.0))
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.RegionError: the region spans 1e+60 with coordinates up to 1e+60: areas and distances need an extent above 1e-50 and coordinates below 1e+50; scale the geometry (e.g. change its units)
+    """
     low, high = SCALE_LIMITS
-    xmin, ymin, xmax, ymax = geometry.bounds
-    extent, largest = max(xmax - xmin, ymax - ymin), max(map(abs, geometry.bounds))
-    if not (extent > low and largest < high):
-        raise RegionError(f"the region spans {extent:.3g} with coordinates up to {largest:.3g}: "
-                          f"areas and distances need an extent above {low:g} and coordinates "
-                          f"below {high:g}; scale the geometry (e.g. change its units)")
+    xmin, ymin, xmax, ymax = map(float, bounds)
+    extent, largest = max(xmax - xmin, ymax - ymin), max(map(abs, (xmin, ymin, xmax, ymax)))
+    if not largest < high or 0 < extent <= low:
+        raise error(f"{what} {extent:.3g} with coordinates up to {largest:.3g}: areas and "
+                    f"distances need an extent above {low:g} and coordinates below {high:g}; "
+                    f"{fix}")
 
 
 def _checked_frame(frame) -> np.ndarray:
