@@ -139,6 +139,29 @@ def test_uniform_patches_grade_along_spikes_sharper_than_the_bound():
     assert np.median(radii[-1]) == 1.0                   # the base: alpha but at the cones
 
 
+def test_graded_facets_of_a_tessellated_cylinder_are_meshed_at_alpha():
+    """A shaft with a milled flat, its cylinder in 24 facets 1.6 alpha wide. A facet's
+    walls and corners are the tessellation's (its long sides are folds of 15° to the
+    next facet): graded to them it had r down to 0.31 alpha and more triangles than
+    uniform. Facets (half their boundary on folds) take alpha as uniform patches do,
+    with every angle at least 30°; the caps, with the flat's sharp corners, and the
+    facets beside the flat stay graded. The solid is kept and every patch certified."""
+    from pds_plugin.remeshing import _min_angles
+
+    cylinder = trimesh.creation.cylinder(radius=3.0, height=4.0, sections=24)
+    source = cylinder.difference(trimesh.creation.box(
+        (2, 8, 6), trimesh.transformations.translation_matrix((3.5, 0, 0))))
+    graded = pds.remesh(source, 0.5)
+    assert graded.graded and graded.solid_ok and graded.ok_with_exceptions, str(graded)
+    assert abs(graded.mesh.volume - source.volume) <= 1e-9 * source.volume
+    at_alpha = [m for m in graded.patch_meshes if not len(m.field.sizes)]
+    assert len(at_alpha) >= 14
+    assert all(m.field(m.vertices).min() == 0.5 for m in at_alpha)
+    assert min(_min_angles(m.vertices, m.faces).min() for m in at_alpha) >= 30 - 1e-9
+    shaped = [m for m in graded.patch_meshes if len(m.field.sizes)]
+    assert min(m.field(m.vertices).min() for m in shaped) < 0.5 * 0.9
+
+
 def test_the_command_line_remeshes_graded_or_uniform(tmp_path):
     import json
 

@@ -214,7 +214,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         spacing of the samples its boundary must keep (vertices of kept faces), so the
         triangles grow from small features instead of meeting them at alpha; every
         angle is then at least arcsin((1 - L)/2) (23.6° at L = 0.2) but at sharp input
-        corners. ``False`` (uniform): r = alpha everywhere but where the input forces
+        corners. A facet of a tessellated curved surface (convex, half its boundary on
+        folds turning by less than ``feature_angle``) is meshed as uniform: its walls
+        and corners are the tessellation's, not the part's (docs/remesh.md, "Facets").
+        ``False`` (uniform): r = alpha everywhere but where the input forces
         boundary pieces shorter than alpha (vertices of kept faces, short edges between
         patches): there r is the piece's length and grows away from it at rate L, the
         same bound, no thin triangle at the short pieces; a patch with a wall thinner
@@ -226,7 +229,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     seed : int
         The same seed gives the same mesh, bit for bit.
     feature_angle : float
-        Patch boundary vertices turning by at least this many degrees are corners.
+        Patch boundary vertices turning by at least this many degrees are corners;
+        patches whose normals turn by less meet at a fold (graded: facets).
     tolerance : float, optional
         Coplanarity tolerance (absolute); default 16 units in the last place of the
         largest coordinate, in float32 if every vertex is a float32 number.
@@ -286,24 +290,28 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     if max_samples is not None:
         options["max_samples"] = max_samples
     flat = RadiusField(np.zeros((0, 2)), [], grading, alpha)
-    if graded:
-        # the small patches' fields measured together (the same fields, a few dozen numpy
-        # calls a patch fewer: they lie a gap apart, sizing.radius_fields), the large
-        # ones one by one (together, every round would measure all of them again)
-        small = [p for p in remeshed if p.region.area <= SMALL_PATCH * alpha ** 2]
-        fields = dict(zip(map(id, small), radius_fields([p.region for p in small], grading,
-                                                         alpha, feature_angle)))
-        fields.update({id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
-                       for p in remeshed if id(p) not in fields})
-    else:
-        # uniform: alpha everywhere but where the input forces shorter pieces (the cones
-        # junction_fields and the agreement add) or thinner walls and sharper spikes
-        # (_graded_instead): a uniform radius cannot shape the triangles there
-        # (docs/remesh.md, "Uniform"). A corner sharper than the bound is a triangle
-        # below it, whatever the mesh: such a patch is graded from the start.
-        spiked = math.radians(angle_bound(grading))
-        fields = {id(p): radius_field(p.region, grading, alpha, feature_angle=feature_angle)
-                  if _sharpest_corner(p) < spiked else flat for p in remeshed}
+    # uniform: every patch at alpha, graded: the facets of tessellated curved surfaces
+    # (their walls and corners are the tessellation's, not the part's: _facets); alpha
+    # is lowered where the input forces shorter pieces (the cones junction_fields and
+    # the agreement add), and a patch whose mesh then has thinner walls or sharper spikes
+    # than a uniform radius can shape takes its graded field (_graded_instead), one with
+    # a convex corner sharper than the bound from the start (a triangle below it,
+    # whatever the mesh) (docs/remesh.md, "Uniform" and "Facets")
+    spiked = math.radians(angle_bound(grading))
+    uniform = (remeshed if not graded or not remeshed else
+               [p for p, facet in zip(remeshed, _facets(remeshed, vertices, faces, normals,
+                                                         feature_angle)) if facet])
+    at_alpha = {id(p) for p in uniform if _sharpest_corner(p) >= spiked}
+    shaped = [p for p in remeshed if id(p) not in at_alpha]
+    # the small patches' fields measured together (the same fields, a few dozen numpy
+    # calls a patch fewer: they lie a gap apart, sizing.radius_fields), the large ones
+    # one by one (together, every round would measure all of them again)
+    small = [p for p in shaped if p.region.area <= SMALL_PATCH * alpha ** 2]
+    fields = dict(zip(map(id, small), radius_fields([p.region for p in small], grading,
+                                                     alpha, feature_angle)))
+    fields.update({id(p): flat if id(p) in at_alpha else
+                   radius_field(p.region, grading, alpha, feature_angle=feature_angle)
+                   for p in remeshed if id(p) not in fields})
     cache = {}
     while True:
         kept = np.ones(len(faces), bool)
@@ -337,14 +345,13 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             continue
         meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
                                given)
-        if not graded:
-            # a uniform patch with a wall thinner than alpha or a spike sharper than the
-            # bound (exceptions in its mesh) takes its graded field
-            beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
-            if beyond:
-                fields.update({id(p): radius_field(p.region, grading, alpha,
-                                                   feature_angle=feature_angle) for p in beyond})
-                continue
+        # a patch at alpha with a wall thinner than alpha or a spike sharper than the
+        # bound (exceptions in its mesh) takes its graded field
+        beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
+        if beyond:
+            fields.update({id(p): radius_field(p.region, grading, alpha,
+                                               feature_angle=feature_angle) for p in beyond})
+            continue
         # a patch whose mesh does not join all its chords is kept instead, and the
         # chains sampled again without it; so is a patch with a corner sharper than
         # 33.56° whose certificate does not hold (a spike where three faces meet: its
@@ -876,6 +883,39 @@ def _chords_joinable(points, counts, field) -> bool:
     r = field(points)
     longest = 2.0 * np.minimum(r, r[following]) / (1.0 - field.grading) * (1.0 + 1e-9)
     return bool(np.all(np.hypot(*(points[following] - points).T) <= longest))
+
+
+def _facets(patches, vertices, faces, normals, feature_angle) -> np.ndarray:
+    """Per patch: is it a facet of a tessellated curved surface, convex and with at
+    least half of its boundary (by length) on folds, edges to faces turning from it by
+    less than ``feature_angle`` (docs/remesh.md, "Facets")? A remeshed convex patch is
+    at least alpha wide (2 area / perimeter >= alpha, :data:`KEEP_NARROWER`), so it has
+    no wall a uniform radius cannot shape; a facet notched by a milled flat has one."""
+    rings = [ring for patch in patches for ring in patch.rings]
+    owner = np.repeat(np.arange(len(patches)),
+                      [sum(len(ring) for ring in patch.rings) for patch in patches])
+    start = np.concatenate(rings)
+    end = np.concatenate([np.r_[ring[1:], ring[:1]] for ring in rings])
+    n = len(vertices)
+    code = (faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2) * [n, 1]).sum(axis=1)
+    order = np.argsort(code, kind="stable")
+    twin = end * n + start                      # the same edge, run by the face beyond
+    at = np.minimum(np.searchsorted(code, twin, sorter=order), len(code) - 1)
+    beyond = normals[order[at] // 3]
+    normal = np.array([patch.basis[3] for patch in patches])[owner]
+    fold = (code[order[at]] == twin) & (np.einsum("ij,ij->i", beyond, normal)
+                                        > math.cos(math.radians(feature_angle)))
+    length = np.linalg.norm(vertices[end] - vertices[start], axis=1)
+    convex = [len(patch.region.rings) == 1
+              and turning_angles(patch.region.rings[0]).min() >= -_ROUNDED_TURN
+              for patch in patches]
+    return convex & (2 * np.bincount(owner, length * fold, minlength=len(patches))
+                     >= np.bincount(owner, length, minlength=len(patches)))
+
+
+_ROUNDED_TURN = 1e-6
+"""A convex patch's corners turn right by at most this much (radians): rounding, at
+vertices of a straight edge (:func:`_facets`)."""
 
 
 def _sharpest_corner(patch) -> float:
