@@ -184,8 +184,9 @@ def run(path: Path, graded: bool = True, repeats: int = 3) -> list[dict]:
     return [pds_row, lab_row, count_row]
 
 
-def held_out(seed: int, count: int) -> None:
-    """Issue 24's guarantees on random float32 CAD parts (see the module's docstring)."""
+def held_out_part(seed: int, k: int) -> tuple:
+    """Held-out part ``k`` of ``seed``: its builder's name, the part as trimesh reads
+    its float32 STL (odd parts turned at random), and the STL's bytes."""
     import io
 
     from trimesh.transformations import random_rotation_matrix
@@ -193,6 +194,22 @@ def held_out(seed: int, count: int) -> None:
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     import _cad_corpus
 
+    rng = np.random.default_rng([seed, k])
+    build = _cad_corpus.BUILDERS[k % len(_cad_corpus.BUILDERS)]
+    solid = build(rng)
+    if not isinstance(solid, trimesh.Trimesh):
+        shape = solid.to_mesh()
+        solid = trimesh.Trimesh(shape.vert_properties[:, :3], shape.tri_verts)
+    vertices = np.asarray(solid.vertices, float)
+    if k % 2:
+        vertices = vertices @ random_rotation_matrix(rand=rng.random(3))[:3, :3].T
+    written = trimesh.Trimesh(vertices.astype(np.float32), solid.faces,
+                              process=False).export(file_type="stl")
+    return build.__name__, trimesh.load(io.BytesIO(written), file_type="stl"), written
+
+
+def held_out(seed: int, count: int) -> None:
+    """Issue 24's guarantees on random float32 CAD parts (see the module's docstring)."""
     print(f"Held-out parts, seed {seed} (bench/_cad_corpus builders, float32 STL, odd parts "
           f"turned); alpha auto, remesh seed = part number; CPU s the best of 3 remeshes "
           f"taking turns with MeshLab's at pds's mean edge length (/ MeshLab).\n")
@@ -204,18 +221,7 @@ def held_out(seed: int, count: int) -> None:
     with tempfile.TemporaryDirectory() as folder:
         warm_up(Path(folder), True)
         for k in range(count):
-            rng = np.random.default_rng([seed, k])
-            build = _cad_corpus.BUILDERS[k % len(_cad_corpus.BUILDERS)]
-            solid = build(rng)
-            if not isinstance(solid, trimesh.Trimesh):
-                shape = solid.to_mesh()
-                solid = trimesh.Trimesh(shape.vert_properties[:, :3], shape.tri_verts)
-            vertices = np.asarray(solid.vertices, float)
-            if k % 2:
-                vertices = vertices @ random_rotation_matrix(rand=rng.random(3))[:3, :3].T
-            written = trimesh.Trimesh(vertices.astype(np.float32), solid.faces,
-                                      process=False).export(file_type="stl")
-            source = trimesh.load(io.BytesIO(written), file_type="stl")
+            name, source, written = held_out_part(seed, k)
             path = Path(folder) / "part.stl"
             path.write_bytes(written)
             for graded in (True, False):
@@ -245,7 +251,7 @@ def held_out(seed: int, count: int) -> None:
                 met = (verdict != "FAILED" and kept and volume <= 1e-9
                        and gap <= result.tolerance and unexcused == 0 and not p1 < 25)
                 missed += not met
-                print(f"| {seed}/{k} {build.__name__} | {'graded' if graded else 'uniform'} | "
+                print(f"| {seed}/{k} {name} | {'graded' if graded else 'uniform'} | "
                       f"{verdict} | {kept} | {volume:.1e} | {gap:.1e} / {result.tolerance:.1e} | "
                       f"{unexcused} | {angles.min(initial=180.0):.1f} / {p1:.1f} | "
                       f"{result.kept_patches} of {result.patches} | {min(spent):.3f} | "
