@@ -541,3 +541,27 @@ def test_a_sliver_bending_a_hair_the_other_way_is_bounded_along_its_arc():
     back = arc.copy()
     back[400:410, 0] = back[400:410, 0][::-1]
     assert _along_the_arc(back, along, along[-1], a, b, lambda d, _: d) is None
+
+
+def test_a_spike_folded_onto_its_own_vertex_gives_no_numpy_error():
+    """Found by the fuzz test (a star scaled by 1e-3 and moved 1e5 away): the ring runs
+    out to a zero-width spike and back through the vertex before it. The sampler's
+    search for the reflex vertex ending a hidden run indexed the ring with an empty
+    float array (IndexError). Such a ring is meshed or refused with a clear error."""
+    ring = [(100000.00067095422, -49999.99996483678), (100000.00099862953, -49999.999947664044),
+            (100000.00037448607, -49999.999980374014), (100000.00098431292, -49999.99982356851),
+            (100000.00095463645, -49999.99970222614), (100000.00085128867, -49999.99947530238),
+            (100000.0006950119, -49999.999281001765), (100000.00049552265, -49999.999131404984),
+            (100000.00038336456, -49999.9990764029), (100000.00032492881, -49999.99905426152),
+            (100000.00026522421, -49999.999035813235), (100000.0000184354, -49999.99900016995),
+            (99999.99953683453, -49999.999113728176), (99999.99958431635, -49999.99972213833),
+            (99999.9990039786, -49999.9999108856), (99999.99954159264, -50000.000199656424),
+            (99999.99969343007, -50000.0003949872), (99999.99992032653, -50000.000493611326),
+            (100000.0003650542, -50000.000085792926)]
+    region = pds.Region.from_shapely(Polygon(ring))
+    try:
+        mesh = pds.mesh_region(region, 0.00031156577880263016, seed=0)
+    except pds.PdsError as error:
+        assert "Traceback" not in str(error)
+    else:
+        assert mesh.certificate().ok_with_exceptions

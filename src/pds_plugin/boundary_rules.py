@@ -205,7 +205,7 @@ def _reflex_run(samples, end, other, w, ring, turns, chord_of):
     while turns[k] < 0 and chord_of[k] == chord_of[w]:
         run.append(k)
         k = (k + step) % len(ring)
-    return run, [k] if chord_of[k] == chord_of[w] else []
+    return run, np.array([k] if chord_of[k] == chord_of[w] else [], dtype=np.int64)
 
 
 def _move_along_run(samples, end, other, run, ring, turns, alpha):
