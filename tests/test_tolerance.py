@@ -85,6 +85,43 @@ def test_mesh_tolerance_is_the_float_noise_or_the_chord_error():
     assert mesh_tolerance(box) == 16 * float(np.spacing(15.0))    # in memory: float64
 
 
+def test_each_polygon_may_have_its_own_tolerance():
+    """A sequence gives each polygon its own tolerance: each is simplified within its
+    own, healing takes the smallest, and the region's tolerance is the largest."""
+    near = Polygon([(0, 0), (1, 1e-9), (2, 0), (2, 1), (0, 1)])          # noise 1e-9
+    far = Polygon([(1e6, 0), (1e6 + 1, 0.02), (1e6 + 2, 0), (1e6 + 2, 1), (1e6, 1)])
+    region = pds.Region.from_shapely(MultiPolygon([near, far]), tolerance=[1e-6, 0.05])
+    assert [len(ring) for ring in region.rings] == [4, 4]
+    assert region.tolerance == 0.05 and region.source_deviation == pytest.approx(0.02)
+    kept = pds.Region.from_shapely(MultiPolygon([near, far]), tolerance=[1e-6, 0.01])
+    assert [len(ring) for ring in kept.rings] == [4, 5]                 # 0.02 > 0.01: kept
+    with pytest.raises(pds.PdsError, match="one per polygon"):
+        pds.Region.from_shapely(MultiPolygon([near, far]), tolerance=[1e-6])
+
+
+def test_a_body_far_from_the_origin_does_not_simplify_the_others(tmp_path):
+    """A float32 STL with a plate of ten 0.2-wide holes at the origin and a 1-unit box
+    1e6 away (docs/reliability.md): one tolerance from the largest coordinate, 16 ulps
+    of 1e6 = 1.0, simplified the holes and the box to triangles. Each polygon now takes
+    its own body's noise (the plate's 1.9e-6), at most an eighth of its mean width
+    (the box's 0.0625): the section is the solid's, holes and box as drawn."""
+    plate = trimesh.creation.box(extents=(10, 10, 1))
+    for i in range(10):
+        plate = plate.difference(trimesh.creation.box(extents=(0.2, 0.2, 2))
+                                 .apply_translation((-4.5 + i, 0, 0)))
+    far = trimesh.creation.box(extents=(1, 1, 1)).apply_translation((1e6, 1e6, 0))
+    path = tmp_path / "stray.stl"
+    trimesh.util.concatenate([plate, far]).export(path)
+    region = pds.section(path, (0, 0, 0), (0, 0, 1))
+    assert region.betti == (2, 10)
+    assert region.area == pytest.approx(100 - 10 * 0.04 + 1, rel=1e-8)
+    assert region.tolerance == pytest.approx(1 / 16)
+    plate_alone = tmp_path / "plate.stl"
+    plate.export(plate_alone)
+    assert pds.section(plate_alone, (0, 0, 0), (0, 0, 1)).tolerance == pytest.approx(
+        16 * float(np.spacing(np.float32(5))))
+
+
 # --- sections of CAD exports: float32 noise and tessellated curves ---
 
 def test_an_stl_read_by_trimesh_has_the_tolerance_of_its_file():

@@ -84,9 +84,12 @@ class Region:
         repair : bool
             Mend invalid geometry with ``shapely.make_valid`` (never ``buffer(0)``,
             which drops lobes) and drop zero-area parts, instead of raising.
-        tolerance : float
+        tolerance : float or sequence of float
             Absolute; 0 (the default) keeps every vertex: shapely input is taken as
-            exact. :func:`pds_plugin.section` derives one from the mesh file.
+            exact. :func:`pds_plugin.section` derives one from the mesh file. A sequence
+            gives each polygon of ``geometry``, in order, its own (float noise grows with
+            the coordinates: bodies far apart have different noise); healing takes the
+            smallest, and :attr:`tolerance` is the largest.
         curves : BoundaryCurves, optional
             The exact curves the geometry was flattened from (the drawing readers').
 
@@ -122,10 +125,14 @@ class Region:
         >>> region = Region.from_shapely(noisy, tolerance=1e-6)
         >>> len(region.rings[0]), region.source_deviation
         (4, 1e-09)
+        >>> far = Polygon([(1e6, 0), (1e6 + 1, 2e-3), (1e6 + 2, 0), (1e6 + 2, 1), (1e6, 1)])
+        >>> both = Region.from_shapely(MultiPolygon([noisy, far]), tolerance=[1e-6, 0.01])
+        >>> [len(ring) for ring in both.rings], both.tolerance
+        ([4, 4], 0.01)
         """
         repair = check_flag(repair, "repair")
-        tolerance = check_tolerance(tolerance)
         polygons = _polygons_of(geometry)
+        given = _tolerances(tolerance, len(polygons))
         coords = shapely.get_coordinates(geometry)
         if not np.isfinite(coords).all():
             raise RegionError("region geometry has NaN or infinite coordinates; "
@@ -137,7 +144,8 @@ class Region:
         whole = (type(geometry) is MultiPolygon
                  and len(polygons) == shapely.get_num_geometries(geometry))
         multi = geometry if whole else shapely.multipolygons(polygons)
-        if multi.is_valid:                 # its parts are the polygons: those with area
+        given_polygons, valid = polygons, multi.is_valid
+        if valid:                          # its parts are the polygons: those with area
             areas = shapely.area(polygons)
             if not (areas > 0).all():
                 polygons = [p for p, area in zip(polygons, areas.tolist()) if area > 0]
@@ -151,16 +159,23 @@ class Region:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(multi)
         check_scale(geometry.bounds)
-        if (tolerance == 0 and shapely.get_num_geometries(geometry) == 1 and not
+        # one tolerance, or each polygon's (the smallest of the given polygons it meets)
+        tolerance = float(given.min())
+        if given.max() > tolerance:
+            # repaired, the given polygons may be invalid: no predicate on them
+            tolerance = _matched(geometry, given_polygons, given) if valid else tolerance
+        if (np.all(tolerance == 0) and shapely.get_num_geometries(geometry) == 1 and not
                 shapely.get_num_interior_rings(shapely.get_geometry(geometry, 0))):
             healed, moved = geometry, 0.0   # one ring: nothing to touch, no crack to close
         else:
-            healed, moved = _healed(geometry, tolerance)
+            healed, moved = _healed(geometry, float(np.min(tolerance)))
+            if np.ndim(tolerance) and healed is not geometry:
+                tolerance = _matched(healed, list(geometry.geoms), tolerance)
         # the simplification keeps at least half the tolerance where healing took more:
         # closing a zigzag's tips vertex by vertex adds their widths up to the whole
         # tolerance, and left the zigzag itself unsimplified (a held-out tube section)
-        simplify = max(tolerance - moved, tolerance / 2)
-        tolerance = max(tolerance, moved + simplify)
+        simplify = np.maximum(tolerance - moved, tolerance / 2)
+        tolerance = float(np.max(np.maximum(tolerance, moved + simplify)))
         region = cls(_within_tolerance(healed, simplify), _checked_frame(frame),
                      tolerance, geometry, curves)
         if moved:
@@ -329,21 +344,54 @@ def check_tolerance(tolerance) -> float:
     return value
 
 
+def _tolerances(tolerance, count: int) -> np.ndarray:
+    """``tolerance`` (a number, or one per polygon of ``count``) as an array of finite
+    numbers >= 0 (:func:`check_tolerance`)."""
+    if np.ndim(tolerance) == 0:
+        return np.array([check_tolerance(tolerance)])
+    values = np.array([check_tolerance(value) for value in tolerance])
+    if len(values) != count:
+        raise ArgumentError(f"tolerance gives {len(values)} values for a geometry of {count} "
+                            f"polygon(s): pass one number, or one per polygon")
+    return values
+
+
+def _matched(geometry: MultiPolygon, polygons, tolerances) -> np.ndarray:
+    """Per polygon of ``geometry``: the smallest of ``tolerances`` (one per polygon of
+    ``polygons``, which ``geometry`` was made from) among the polygons it meets, or the
+    smallest of all if it meets none."""
+    target = np.array(geometry.geoms)
+    found, which = shapely.STRtree(np.array(polygons)).query(target, predicate="intersects")
+    out = np.full(len(target), np.inf)
+    np.minimum.at(out, found, tolerances[which])
+    return np.where(np.isinf(out), tolerances.min(), out)
+
+
 def _within_tolerance(geometry: MultiPolygon, tolerance: float) -> MultiPolygon:
     """The tolerance pass: ``geometry`` simplified within ``tolerance`` with its topology
     kept, or ``geometry`` itself where no result is the same valid region with a
-    subsequence of each ring's vertices within the tolerance (see :func:`source_deviation`).
+    subsequence of each ring's vertices within the tolerance (see :func:`source_deviation`);
+    with one tolerance per polygon, each polygon simplified within its own.
     GEOS's simplifier may move a ring's start past the tolerance (1.2 times it, on noisy
     rings): the pass then simplifies at half and a quarter of it before giving up."""
-    if tolerance == 0:
+    if np.all(tolerance == 0):
         return geometry
+    own = np.ndim(tolerance) > 0                # one per polygon: each simplified alone
     for fraction in _SIMPLIFY_FRACTIONS:
-        parts = _polygons_of(shapely.simplify(geometry, fraction * tolerance,
-                                              preserve_topology=True))
+        if own:
+            parts = [p for p in shapely.simplify(np.array(geometry.geoms), fraction * tolerance,
+                                                 preserve_topology=True) if not p.is_empty]
+        else:
+            parts = _polygons_of(shapely.simplify(geometry, fraction * tolerance,
+                                                  preserve_topology=True))
         if len(parts) != len(geometry.geoms) or not MultiPolygon(parts).is_valid:
             continue
         simplified = shapely.orient_polygons(MultiPolygon(parts))
-        if source_deviation(simplified, geometry) <= tolerance:
+        if own and all(source_deviation(MultiPolygon([after]), MultiPolygon([before])) <= limit
+                       for after, before, limit in zip(simplified.geoms, geometry.geoms,
+                                                       tolerance.tolist())):
+            return simplified
+        if not own and source_deviation(simplified, geometry) <= tolerance:
             return simplified
     return geometry
 

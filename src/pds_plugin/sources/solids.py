@@ -69,9 +69,11 @@ def section(solid, plane_origin, plane_normal, *, on_face=None, tolerance=None) 
     tolerance : float, optional
         How far the section's boundary may lie from the solid's. For a mesh, to absorb
         its noise (:attr:`Region.tolerance`): by default :func:`mesh_tolerance`, the
-        mesh's float precision, or the chord error of its tessellated curves if larger;
-        0 keeps every vertex of the cut. For a B-rep solid, the chord tolerance of its
-        flattened curves: 1e-5 of the solid's diagonal by default.
+        mesh's float precision, or the chord error of its tessellated curves if larger,
+        taken for each polygon from its own bodies' coordinates (a body far from the
+        origin is noisier: docs/conforming.md); 0 keeps every vertex of the cut. For a
+        B-rep solid, the chord tolerance of its flattened curves: 1e-5 of the solid's
+        diagonal by default.
 
     Returns
     -------
@@ -189,10 +191,13 @@ class _Solid:
         corners = self.vertices[self.faces] - self.vertices.mean(axis=0)
         volume = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))
         self.outward = 1.0 if volume.sum() >= 0 else -1.0
+        self.bodies = None                      # a tolerance given: the same for every part
         if tolerance is None:
             from_file = isinstance(solid, (str, os.PathLike))
             precision = np.float32 if _float32_rounded(self.mesh, from_file) else np.float64
-            tolerance = mesh_tolerance(self.mesh, precision)
+            self.bodies = _bodies(self.vertices, self.faces, self.shell, precision,
+                                  _chord_error(self.mesh))
+            tolerance = max(float(self.bodies[2].max()), self.bodies[3])
         self.tolerance = check_tolerance(tolerance)
 
     def heights(self, origin, normal) -> np.ndarray:
@@ -217,7 +222,30 @@ class _Solid:
             raise SectionError(
                 f"the plane at normal·x = {offset:.9g} crosses the solid's extent but cuts no "
                 f"material (it passes through a gap between parts); move the plane")
-        return Region.from_shapely(geometry, frame=to_3d, tolerance=self.tolerance)
+        return Region.from_shapely(geometry, frame=to_3d,
+                                   tolerance=self._tolerances(geometry, to_3d))
+
+    def _tolerances(self, geometry, to_3d):
+        """The section's tolerance: the one given, or, by default, each polygon's own:
+        the largest of the bodies it lies in (their boxes hold a point of it), each
+        body's from its own coordinates' float noise (:func:`_bodies`). A body
+        far from the origin has coarser noise than one at it, and its tolerance would
+        simplify the other's small features away (a plate's 0.2-wide holes beside a box
+        1e6 away): one number where every polygon gets the same."""
+        if self.bodies is None:
+            return self.tolerance
+        low, high, noise, chord = self.bodies
+        polygons = shapely.get_parts(geometry)
+        inside = shapely.get_coordinates(shapely.point_on_surface(polygons))
+        lifted = inside @ to_3d[:3, :2].T + to_3d[:3, 3]
+        margin = self.tolerance + 1e-9 * self.scale
+        holds = ((lifted[:, None] >= low - margin) & (lifted[:, None] <= high + margin)).all(axis=2)
+        own = np.where(holds.any(axis=1), np.where(holds, noise, 0.0).max(axis=1), noise.max())
+        # a body only a few ulps across (1 unit at 1e6 in float32) is no noise to simplify
+        # away: its noise is at most NOISE_SHARE of its mean width, 2 area / perimeter
+        width = 2 * shapely.area(polygons) / shapely.length(polygons)
+        own = np.maximum(np.minimum(own, NOISE_SHARE * width), chord)
+        return float(own[0]) if np.all(own == own[0]) else own.tolist()
 
     def _section_geometry(self, local):
         """The section in the plane's 2D coordinates, and the open ends of its curves.
@@ -356,6 +384,10 @@ NOISE_ULPS = 16
 """Float noise of a mesh's sections, in units in the last place of its largest coordinate
 in the precision its file stores (float32 for STL): a plane through two facets that
 rounding left not quite coplanar bends there by a few of them."""
+NOISE_SHARE = 1 / 8
+"""A section polygon's float noise is taken at most this share of its mean width
+(2 area / perimeter): the tolerance pass keeps the shape of a body only a few ulps
+across, far from the origin."""
 CURVED = (1e-4, np.radians(30))
 """Angles between neighbouring faces' normals (radians) of a tessellated curved surface:
 above rounding, below a feature edge."""
@@ -418,18 +450,41 @@ def mesh_tolerance(mesh, precision=np.float64) -> float:
     >>> mesh_tolerance(trimesh.creation.box(), np.float32)   # flat: 16 float32 ulps of 0.5
     9.5367431640625e-07
     """
-    vertices = np.asarray(mesh.vertices, dtype=np.float64)
-    largest = precision(np.abs(vertices).max(initial=0.0))
-    noise = NOISE_ULPS * float(np.spacing(largest))
+    largest = precision(np.abs(np.asarray(mesh.vertices, dtype=np.float64)).max(initial=0.0))
+    return max(NOISE_ULPS * float(np.spacing(largest)), _chord_error(mesh))
+
+
+def _bodies(vertices, faces, shell, precision, chord) -> tuple:
+    """Per body (shell) of a mesh: the low and high corners of its box and its float
+    noise (as :func:`mesh_tolerance` counts it, from its own largest coordinate); and
+    the mesh's ``chord`` error."""
+    used = np.zeros(len(vertices), bool)
+    used[faces.ravel()] = True
+    body = np.full(len(vertices), -1)
+    body[faces.ravel()] = np.repeat(shell, 3)
+    order = np.flatnonzero(used)
+    order = order[np.argsort(body[order], kind="stable")]
+    starts = np.flatnonzero(np.r_[True, np.diff(body[order]) > 0])
+    points = vertices[order]
+    low = np.minimum.reduceat(points, starts, axis=0)
+    high = np.maximum.reduceat(points, starts, axis=0)
+    largest = np.maximum(np.abs(low), np.abs(high)).max(axis=1)
+    noise = NOISE_ULPS * np.spacing(largest.astype(precision)).astype(np.float64)
+    return low, high, noise, chord
+
+
+def _chord_error(mesh) -> float:
+    """The median sagitta over the edges of ``mesh``'s curved surfaces, 0 if it has none
+    (:func:`mesh_tolerance`)."""
     angle = np.asarray(mesh.face_adjacency_angles)
     curved = (angle > CURVED[0]) & (angle < CURVED[1])
     if not curved.any():
-        return noise
+        return 0.0
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
     edge = vertices[mesh.face_adjacency_edges[curved]]
     length = np.linalg.norm(edge[:, 1] - edge[:, 0], axis=1)
     width = 2 * np.asarray(mesh.area_faces)[mesh.face_adjacency[curved]].min(axis=1) / length
-    sagitta = width * np.tan(angle[curved] / 4) / 2
-    return max(noise, float(np.median(sagitta)))
+    return float(np.median(width * np.tan(angle[curved] / 4) / 2))
 
 
 def _consistently_oriented(mesh):
