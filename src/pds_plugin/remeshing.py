@@ -928,12 +928,12 @@ def _sharpest_corner(patch) -> float:
 
 
 def _graded_instead(patches, meshes, fields, flat, bound) -> list:
-    """The patches of a uniform remesh still at the ``flat`` field whose mesh has a
-    triangle below the proven ``bound`` that its certificate excuses (a wall thinner than
-    alpha, a spike sharper than the bound): at r = alpha there are many such triangles
-    across the wall or along the spike, and the graded field shrinks them with the wall
-    (docs/remesh.md, "Uniform"). Only patches with such a triangle pay for the
-    certificate."""
+    """The patches still at the ``flat`` field (a uniform remesh's, a graded remesh's
+    facets) whose mesh has a triangle below the proven ``bound`` that its certificate
+    excuses (a wall thinner than alpha, a spike sharper than the bound): at r = alpha
+    there are many such triangles across the wall or along the spike, and the graded
+    field shrinks them with the wall (docs/remesh.md, "Uniform"). Only patches with such
+    a triangle pay for the certificate."""
     return [patch for patch, mesh in zip(patches, meshes)
             if mesh is not None and fields[id(patch)] is flat
             and _min_angles(mesh.vertices, mesh.faces).min(initial=180.0) < bound
