@@ -4,6 +4,7 @@ one 2D -> 3D lift)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import cached_property
 
 import numpy as np
@@ -58,7 +59,7 @@ class Region:
 
     @classmethod
     def from_shapely(cls, geometry, frame=None, *, repair: bool = False,
-                     tolerance: float = 0.0, curves=None) -> "Region":
+                     tolerance: float | Sequence[float] = 0.0, curves=None) -> "Region":
         """Validate a shapely Polygon or MultiPolygon and make a Region of it.
 
         With a ``tolerance`` τ > 0 the boundary is simplified within τ, keeping its
