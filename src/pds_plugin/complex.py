@@ -88,7 +88,7 @@ def solid_alpha_complex(points, alpha: float, *, boundary=None) -> np.ndarray:
     order, start = kern.bin_points(points, x0, y0, h, nx, ny)
     _check_work(points, alpha, np.diff(start).reshape(ny, nx))
     binned = points[order]                       # cell by cell: local memory access
-    check_distinct(binned, order, start)
+    check_distinct(binned, order, start, rings)
     vis = vis_kern.chord_bundle(points, rings, len(points), 2 * alpha)
     vis = vis._replace(out=np.ascontiguousarray(vis.out[order]))     # indexed like binned
     return order[local_faces(binned, order, start, x0, y0, h, nx, ny, vis, alpha)]

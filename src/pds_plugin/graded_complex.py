@@ -90,7 +90,7 @@ def graded_alpha_complex(points, radius, grading: float, *, boundary=None,
     nx, ny = (int(v) + 1 for v in (hi - lo) / h)
     order, start = ckern.bin_points(points, lo[0], lo[1], h, nx, ny)
     binned = np.ascontiguousarray(points[order])
-    check_distinct(binned, order, start)
+    check_distinct(binned, order, start, rings)
     if chords is None or not rings:
         vis = _chords(points, rings, radius, grading)
     elif len(chords.out) != len(points):

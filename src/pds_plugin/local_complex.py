@@ -133,13 +133,21 @@ def checked_rings(boundary, n) -> list[np.ndarray]:
     return rings
 
 
-def check_distinct(binned, order, start):
-    """Duplicate points make the Delaunay triangulation undefined: refuse them."""
+def check_distinct(binned, order, start, rings=()):
+    """Duplicate points make the Delaunay triangulation undefined: refuse them. Two
+    samples of the ``rings`` (index arrays) at one point are a boundary that runs back
+    onto itself there: the message says so too (a region's samples, not a user's)."""
     p, q = kern.first_duplicate(binned, start)
     if p >= 0:
         i, j = sorted((int(order[p]), int(order[q])))
-        raise ArgumentError(f"points {i} and {j} are the same point {tuple(binned[p].tolist())}; "
-                         "remove duplicates first (e.g. numpy.unique(points, axis=0))")
+        point = tuple(binned[p].tolist())
+        if len(rings) and np.isin([i, j], np.concatenate(rings)).all():
+            raise ArgumentError(
+                f"boundary samples {i} and {j} are the same point {point}: the boundary runs "
+                f"back onto itself there (a spike or fold of zero width, its sides within "
+                f"rounding of each other); remove that spike from the outline")
+        raise ArgumentError(f"points {i} and {j} are the same point {point}; "
+                            "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 
 
 def _exactly_empty(binned, order, faces, start, x0, y0, h, nx, ny, vis, radius=None):
