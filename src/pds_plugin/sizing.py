@@ -619,6 +619,8 @@ def _wall_sizes(region, dense, cap):
     rows = np.flatnonzero(reach > 0)
     after_d, after_j = np.zeros(len(rows)), np.full(len(rows), np.iinfo(np.int64).max)
     for attempt in range(_FACING_TRIES):
+        if not len(rows):
+            break
         d, j = kern.nearest_facing(xy, normal, rows, reach[rows], after_d, after_j, _OPPOSED,
                                    perm, first, stop, left, right, box, normal_box)
         found = j >= 0
@@ -629,8 +631,6 @@ def _wall_sizes(region, dense, cap):
             inside[:] = True                # the last tried is taken as the wall: nearer
         wall[rows[inside]] = d[inside]
         rows, after_d, after_j = rows[~inside], d[~inside], j[~inside]
-        if not len(rows):
-            break
     return np.minimum(dense["base"], _WALL * wall)
 
 

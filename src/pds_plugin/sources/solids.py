@@ -450,8 +450,14 @@ def mesh_tolerance(mesh, precision=np.float64) -> float:
     >>> mesh_tolerance(trimesh.creation.box(), np.float32)   # flat: 16 float32 ulps of 0.5
     9.5367431640625e-07
     """
-    largest = precision(np.abs(np.asarray(mesh.vertices, dtype=np.float64)).max(initial=0.0))
-    return max(NOISE_ULPS * float(np.spacing(largest)), _chord_error(mesh))
+    largest = np.abs(np.asarray(mesh.vertices, dtype=np.float64)).max(initial=0.0)
+    return max(float(_noise(largest, precision)), _chord_error(mesh))
+
+
+def _noise(largest, precision):
+    """``NOISE_ULPS`` units in the last place of the coordinates ``largest`` (a number or
+    an array) in ``precision``, as float64."""
+    return NOISE_ULPS * np.spacing(np.asarray(largest).astype(precision)).astype(np.float64)
 
 
 def _bodies(vertices, faces, shell, precision, chord) -> tuple:
@@ -469,8 +475,7 @@ def _bodies(vertices, faces, shell, precision, chord) -> tuple:
     low = np.minimum.reduceat(points, starts, axis=0)
     high = np.maximum.reduceat(points, starts, axis=0)
     largest = np.maximum(np.abs(low), np.abs(high)).max(axis=1)
-    noise = NOISE_ULPS * np.spacing(largest.astype(precision)).astype(np.float64)
-    return low, high, noise, chord
+    return low, high, _noise(largest, precision), chord
 
 
 def _chord_error(mesh) -> float:
