@@ -36,6 +36,7 @@ PROBES_PER_ALPHA = 50
 deviation is then measured to alpha / 100 (the distance is 1-Lipschitz)."""
 
 ON_BOUNDARY_TOL = 1e-9    # relative to alpha: how far a boundary sample may lie off its ring
+ON_BOUNDARY_ROUNDING = 4  # float64 spacings at the region's coordinates: at least that far
 _CUTS_PER_CHORD = 8       # a piece beyond a chord may be cut every 1/8 of the chord at least
 AREA_TOL = 1e-9           # relative to the region's area: rounding of area sums
 _MAX_NAMED = 3            # located examples per kind of problem
@@ -140,12 +141,17 @@ class SampledBoundary:
     samples_per_ring : (R,) int ndarray
     offset : float
         The largest distance of a boundary sample from its ring.
+    tol : float
+        How far a boundary sample may lie off its ring: ``ON_BOUNDARY_TOL`` x alpha, or
+        the rounding of the region's coordinates (``ON_BOUNDARY_ROUNDING`` spacings)
+        where that is more (a region far from the origin).
     """
 
     def __init__(self, region, points, on_boundary, alpha, faces=None, radius=None):
         self.region, self.points, self.alpha = region, np.asarray(points, float), float(alpha)
         self.faces = faces
         self.radius = radius
+        self.tol = max(ON_BOUNDARY_TOL * self.alpha, ON_BOUNDARY_ROUNDING * region.resolution)
         rings = region.rings
         sizes = np.array([len(r) for r in rings])
         segments = region.segments
@@ -196,7 +202,7 @@ class SampledBoundary:
         chord_of_sorted[chord] = np.arange(len(chord))
         arc_chord = chord_of_sorted[j]
         xy = region.segments[vertex, 0]
-        tol = ON_BOUNDARY_TOL * self.alpha
+        tol = self.tol
         apart = ((np.hypot(*(xy - self.points[self.a[arc_chord]]).T) > tol)
                  & (np.hypot(*(xy - self.points[self.b[arc_chord]]).T) > tol))
         arc = np.lexsort((key[apart], arc_chord[apart]))
@@ -219,7 +225,7 @@ class SampledBoundary:
     def sliver(self) -> np.ndarray:
         """Chords whose arc bulges away from Q and with it bounds a convex sliver of region
         that Q misses (every arc vertex on the far side of the chord, turning towards it)."""
-        tol = ON_BOUNDARY_TOL * self.alpha
+        tol = self.tol
         n = len(self.a)
         beyond = np.bincount(self.arc_chord, self.arc_offset < -tol, minlength=n) > 0
         inward = np.bincount(self.arc_chord, self.arc_offset > tol, minlength=n) > 0
@@ -230,7 +236,7 @@ class SampledBoundary:
     def mixed(self) -> np.ndarray:
         """Chords whose arc reaches beyond the chord but is not a convex sliver: it crosses
         the chord, or bends both ways beyond it."""
-        tol = ON_BOUNDARY_TOL * self.alpha
+        tol = self.tol
         beyond = np.bincount(self.arc_chord, self.arc_offset < -tol, minlength=len(self.a)) > 0
         return beyond & ~self.sliver
 
@@ -263,7 +269,7 @@ class SampledBoundary:
         apex = self._apexes.get(int(k))
         xy = np.concatenate([[a], self.arc_xy[on], [b]])
         height = np.concatenate([[0.0], self.arc_offset[on], [0.0]])
-        tol = ON_BOUNDARY_TOL * self.alpha
+        tol = self.tol
         height[np.abs(height) <= tol] = 0.0
         along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
 
@@ -580,7 +586,7 @@ class _Conformity:
 
     def _conforming(self) -> bool:
         s, mesh = self.sampled, self.mesh
-        far = s.offset > ON_BOUNDARY_TOL * self.alpha
+        far = s.offset > s.tol
         if far:
             self.problems.append(f"samples marked on the boundary lie up to "
                                  f"{s.offset / self.alpha:.3g} alpha off it")

@@ -43,7 +43,7 @@ import shapely
 
 from ..sampling import LADDER_ANGLE, corner_clearance
 from ..sizing import angle_bound
-from .conformity import ON_BOUNDARY_TOL, SampledBoundary, edge_keys, point_text, say_located
+from .conformity import SampledBoundary, edge_keys, point_text, say_located
 from .quality import ASPECT_BOUND
 
 __all__ = ["ExceptionalTriangle", "small_feature_exceptions", "CAUSES"]
@@ -275,7 +275,7 @@ def _explain(pairs, points, on_boundary, sampled, alpha, scale=None):
     is_chord = both & (chord_keys[chord] == keys) if len(order) else np.zeros(k, bool)
     segments = region.segments
     segment_p, segment_q = sampled.segment_of[p], sampled.segment_of[q]
-    tol = ON_BOUNDARY_TOL * alpha
+    tol = sampled.tol
 
     def at_vertex(sample, segment):
         ends = segments[np.maximum(segment, 0)]
