@@ -117,3 +117,52 @@ def test_a_singular_frame_is_refused():
     frame[:3, 1] = frame[:3, 0]
     with pytest.raises(ArgumentError, match="rank 2"):
         Region.from_shapely(box(0, 0, 1, 1), frame=frame)
+
+
+def test_a_ring_folded_back_onto_itself_is_mended_by_repair():
+    """Found by the fuzz test: a star scaled by 1e-3 and moved 1e5 away runs out to a
+    spike and back through the vertex before it, 3e-12 from it (a fifth of the float
+    spacing there). Shapely calls it valid; the uniform complex refuses the two sides'
+    samples there (one point), and the graded field fell to 6e-10 (a sampler that ran
+    for minutes; now refused at once). repair=True drops the spike's tip, which removes
+    no area, and both meshes are certified, far from the origin as it is (the
+    certificate allows for the rounding of its coordinates)."""
+    from regions import folded_star
+
+    star = folded_star()
+    region = Region.from_shapely(star)
+    alpha = 0.1 * region.area ** 0.5
+    with pytest.raises(ArgumentError, match="runs back onto itself.*repair=True"):
+        pds.mesh_region(region, alpha, seed=1)
+    with pytest.raises(RegionError, match="radius field falls to .* within rounding"):
+        pds.mesh_region(region, alpha, seed=1, graded=True)
+    repaired = Region.from_shapely(star, repair=True)
+    tip = star.exterior.coords[1]
+    assert len(repaired.rings[0]) == len(star.exterior.coords) - 2
+    assert not np.any(np.all(repaired.rings[0] == tip, axis=1))
+    assert abs(repaired.area - star.area) <= 1e-9 * star.area
+    for graded in (False, True):
+        mesh = pds.mesh_region(repaired, alpha, seed=1, graded=graded)
+        assert mesh.certificate().ok_with_exceptions
+
+
+def test_repair_drops_spikes_within_rounding_only():
+    fold = Polygon([(0, 0), (2, 0), (2, 1), (1 + 1e-15, 1), (1, 3), (1, 1), (0, 1)])
+    assert fold.is_valid
+    assert Region.from_shapely(fold, repair=True).geometry.equals(box(0, 0, 2, 1))
+    spike = Polygon([(0, 0), (2, 0), (2, 1), (1 + 1e-9, 1), (1, 3), (1, 1), (0, 1)])
+    assert Region.from_shapely(spike, repair=True).geometry.equals(spike)     # thin, kept
+
+
+def test_walls_within_rounding_are_refused_before_sampling():
+    """A hole 3 float spacings from the outline, 1e5 from the origin: no alpha the
+    coordinates resolve keeps the wall. 'auto' took 42 s and warned of dozens of
+    uncovered holes (uniform), or gave a FAILED mesh (graded); both now refuse it."""
+    x0 = 1e5
+    u = float(np.spacing(x0))
+    hole = [(x0 + 3 * u, 2e-4), (x0 + 5e-4, 2e-4), (x0 + 5e-4, 8e-4), (x0 + 3 * u, 8e-4)]
+    region = Region.from_shapely(Polygon(box(x0, 0, x0 + 1e-3, 1e-3).exterior, [hole]))
+    with pytest.raises(RegionError, match="within rounding of itself"):
+        pds.mesh_region(region, "auto", seed=1)
+    with pytest.raises(RegionError, match="radius field falls to .* within rounding"):
+        pds.mesh_region(region, "auto", seed=1, graded=True)

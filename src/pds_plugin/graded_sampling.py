@@ -36,8 +36,8 @@ from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from . import disc_tile
 from ._checks import check_positive_int
-from .errors import BudgetError
-from .region import Region
+from .errors import BudgetError, RegionError
+from .region import ALPHA_RESOLUTION, Region
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
                                 graded_chords, guard_candidates, hidden_bends, joined,
                                 onto_curves)
@@ -116,6 +116,7 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     """
     max_samples = check_positive_int(max_samples, "max_samples")
     check_rings_apart(region)
+    _check_resolved(region, field)
     if boundary_samples is not None:
         boundary_samples = given_boundary(region, boundary_samples, True)
     rng = np.random.default_rng(seed)
@@ -128,6 +129,22 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     chords = sampler.vis._replace(out=sampler.vis.out[:sampler.count].copy())
     return Samples(points, on_boundary, field.cap, sampler.rings,
                    sampler.radius[:sampler.count].copy(), sampler.sampled_region, chords)
+
+
+def _check_resolved(region: Region, field: RadiusField):
+    """Refuse a field whose radius falls below what the region's coordinates resolve
+    (``ALPHA_RESOLUTION``): where the boundary comes within rounding of itself."""
+    if not len(field.sizes):
+        return
+    k = int(np.argmin(field.sizes))
+    if field.sizes[k] < ALPHA_RESOLUTION * region.resolution:
+        x, y = field.features[k]
+        raise RegionError(
+            f"the radius field falls to {field.sizes[k]:.3g} at ({x:.9g}, {y:.9g}), below "
+            f"{ALPHA_RESOLUTION:g} float64 spacings ({region.resolution:.3g}) of the "
+            "region's coordinates: the boundary comes within rounding of itself there; "
+            "separate or merge those parts in the geometry, or move the region towards "
+            "the origin")
 
 
 def _tau_rings(rings, field, grading):

@@ -145,7 +145,8 @@ def check_distinct(binned, order, start, rings=()):
             raise ArgumentError(
                 f"boundary samples {i} and {j} are the same point {point}: the boundary runs "
                 f"back onto itself there (a spike or fold of zero width, its sides within "
-                f"rounding of each other); remove that spike from the outline")
+                f"rounding of each other); remove that spike from the outline, or make "
+                f"the region with Region.from_shapely(..., repair=True), which drops it")
         raise ArgumentError(f"points {i} and {j} are the same point {point}; "
                             "remove duplicates first (e.g. numpy.unique(points, axis=0))")
 

@@ -26,7 +26,7 @@ from .errors import ArgumentError, ArgumentTypeError, BudgetError, RegionError, 
 from .graded_complex import graded_alpha_complex
 from .graded_sampling import graded_poisson_disc
 from .mesh import PlanarMesh
-from .region import Region, require_region
+from .region import ALPHA_RESOLUTION, Region, require_region
 from .sampling import DEFAULT_MAX_SAMPLES, estimate_samples, largest_alpha, poisson_disc
 from .sizing import DEFAULT_GRADING, graded_request, radius_field
 
@@ -332,10 +332,6 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
                         "widen that feature", mesh=mesh)
 
 
-ALPHA_RESOLUTION = 1e3
-"""Smallest alpha, in units of the float spacing at the region's coordinates."""
-
-
 def _check_resolution(region: Region, alpha: float) -> None:
     """Refuse an alpha the region's coordinates cannot resolve (the sampler would run
     away trying to place samples that rounding puts on top of each other)."""
@@ -354,10 +350,17 @@ def _budget(max_samples) -> int:
 
 
 def _usable_feature_size(region: Region, conforming: bool) -> FeatureSize:
+    """The feature size, refused where no alpha the coordinates resolve can keep it."""
     size = feature_size(region, conforming)
     if size.value == 0:
         raise RegionError(f"the region's boundary touches itself ({size}): no alpha can keep "
                          "those parts apart; separate them or merge them in the geometry")
+    if size.value < ALPHA_RESOLUTION * region.resolution:
+        raise RegionError(
+            f"the region's boundary comes within rounding of itself ({size}, less than "
+            f"{ALPHA_RESOLUTION:g} float64 spacings of its coordinates): no alpha they "
+            "resolve can keep those parts apart; separate or merge them in the geometry, "
+            "or move the region towards the origin")
     return size
 
 

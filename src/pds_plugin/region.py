@@ -84,7 +84,10 @@ class Region:
             2D -> 3D transform of the plane the region lies in; identity by default.
         repair : bool
             Mend invalid geometry with ``shapely.make_valid`` (never ``buffer(0)``,
-            which drops lobes) and drop zero-area parts, instead of raising.
+            which drops lobes) and drop zero-area parts, instead of raising; and drop
+            the spikes of zero width where a ring folds back onto itself within
+            rounding (:func:`fold_tips`), which shapely may call valid but conforming
+            samplings refuse.
         tolerance : float or sequence of float
             Absolute; 0 (the default) keeps every vertex: shapely input is taken as
             exact. :func:`pds_plugin.section` derives one from the mesh file. A sequence
@@ -160,6 +163,8 @@ class Region:
             raise RegionError("region geometry has no area after repair: there is nothing to mesh")
         geometry = shapely.orient_polygons(multi)
         check_scale(geometry.bounds)
+        if repair:
+            geometry = _folds_dropped(geometry)
         # one tolerance, or each polygon's (the smallest of the given polygons it meets)
         tolerance = float(given.min())
         if given.max() > tolerance:
@@ -199,13 +204,15 @@ class Region:
         """Boundary rings as (k, 2) float arrays without the closing duplicate.
 
         Exteriors run counter-clockwise, holes clockwise, so the region is on the left.
+        A vertex within rounding of the one before it (``FOLD_WIDTH`` float spacings)
+        repeats it and is left out: the samplers would put a sample on each.
         """
-        rings = []
+        rings, width = [], FOLD_WIDTH * self.resolution
         for polygon in self.geometry.geoms:
             for ring in (polygon.exterior, *polygon.interiors):
                 xy = shapely.get_coordinates(ring)[:-1]
-                keep = np.any(xy != np.roll(xy, 1, axis=0), axis=1)  # drop repeated vertices
-                rings.append(np.ascontiguousarray(xy[keep]))
+                step = np.abs(xy - np.roll(xy, 1, axis=0))
+                rings.append(np.ascontiguousarray(xy[(step > width).any(axis=1)]))
         return rings
 
     @cached_property
@@ -400,6 +407,49 @@ def _within_tolerance(geometry: MultiPolygon, tolerance: float) -> MultiPolygon:
 _SIMPLIFY_FRACTIONS = (1.0, 0.5, 0.25)
 
 
+ALPHA_RESOLUTION = 1e3
+"""Smallest alpha (or radius of a graded field), in float64 spacings at the region's
+largest coordinate (:attr:`Region.resolution`): below it, rounding puts samples on top of
+each other and the sampler runs away."""
+
+
+FOLD_WIDTH = 16
+"""The widest spike a ring may fold into and still count as folded back onto itself
+(see :func:`_folds_dropped`), in float64 spacings at the region's largest coordinate."""
+
+
+def _folds_dropped(geometry: MultiPolygon) -> MultiPolygon:
+    """``geometry`` with its folds mended: where a ring runs out and back along itself
+    within rounding, a spike (of material, or a crack into it) whose two sides lie within
+    ``FOLD_WIDTH`` float spacings of each other, the tip goes, vertex by vertex as
+    :func:`_ring_cracks_closed` closes cracks. Shapely may call such a ring valid, but
+    no triangle fits in the spike, and where one side passes through a vertex of the
+    other, both get the same boundary sample (the complex refuses it). The spikes have
+    no area to speak of. Mended by ``shapely.make_valid`` if what is left is not valid;
+    ``geometry`` itself if nothing goes.
+
+    >>> fold = Polygon([(0, 0), (2, 0), (2, 1), (1 + 1e-15, 1), (1, 3), (1, 1), (0, 1)])
+    >>> _folds_dropped(MultiPolygon([fold])).geoms[0].exterior.coords[:-1]  # and its mouth
+    [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]
+    """
+    width = FOLD_WIDTH * float(np.spacing(np.abs(shapely.get_coordinates(geometry)).max()))
+    polygons, dropped = [], False
+    for polygon in geometry.geoms:
+        rings = []
+        for ring in (polygon.exterior, *polygon.interiors):
+            xy = shapely.get_coordinates(ring)[:-1]
+            xy = xy[(np.abs(xy - np.roll(xy, 1, axis=0)) > width).any(axis=1)]   # repeats
+            rings.append(_ring_cracks_closed(xy, width, folds=True)[0])
+            dropped |= len(rings[-1]) < len(xy)
+        polygons.append(Polygon(rings[0], rings[1:]))
+    if not dropped:
+        return geometry
+    mended = MultiPolygon(polygons)
+    if not mended.is_valid:
+        mended = MultiPolygon([p for p in _polygons_of(shapely.make_valid(mended)) if p.area > 0])
+    return shapely.orient_polygons(mended)
+
+
 PINCH_STEP = 1e-7
 """How far, relative to the region's extent, the vertices where two components touch are
 moved into their own component when the tolerance is smaller (see :func:`_pinches_opened`):
@@ -462,12 +512,13 @@ def _cracks_closed(geometry: MultiPolygon, width: float):
     return healed, float(widest)
 
 
-def _ring_cracks_closed(xy: np.ndarray, width: float):
+def _ring_cracks_closed(xy: np.ndarray, width: float, folds: bool = False):
     """One ring (region on its left) with its cracks thinner than ``width`` closed (see
-    :func:`_cracks_closed`), and the largest width closed."""
+    :func:`_cracks_closed`), and the largest width closed; with ``folds``, the tips of
+    spikes of material that thin go too (:func:`_folds_dropped`)."""
     behind, ahead = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
     tip = ((xy - behind) * (ahead - xy)).sum(axis=1) < 0     # the ring goes back there
-    todo = list(np.flatnonzero(tip & (_thinness(behind, xy, ahead) <= width))[::-1])
+    todo = list(np.flatnonzero(tip & (_thinness(behind, xy, ahead, folds) <= width))[::-1])
     if not todo:
         return xy, 0.0
     n = len(xy)
@@ -479,7 +530,7 @@ def _ring_cracks_closed(xy: np.ndarray, width: float):
         if before[t] < 0:
             continue                            # removed already
         p, q = before[t], after[t]
-        w = _thinness(xy[p][None], xy[t][None], xy[q][None])[0]
+        w = _thinness(xy[p][None], xy[t][None], xy[q][None], folds)[0]
         if not w <= width:
             continue
         off[p] = w + max(off[p], off[t])        # the new segment p -> q
@@ -490,16 +541,18 @@ def _ring_cracks_closed(xy: np.ndarray, width: float):
     return xy[before >= 0], widest
 
 
-def _thinness(p, t, q) -> np.ndarray:
+def _thinness(p, t, q, folds: bool = False) -> np.ndarray:
     """For rows of three consecutive ring vertices p, t, q (region on its left): the
     smallest altitude of the triangle p t q where the ring turns right at t (every point
     of the triangle is that near the sides p t and t q), infinity where it turns left
-    (cutting the corner off would take material away)."""
+    (cutting the corner off would take material away), unless ``folds`` (the width of
+    a spike of material too)."""
     u, v = t - p, q - t
     cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     longest = np.maximum(np.maximum(np.hypot(*u.T), np.hypot(*v.T)), np.hypot(*(u + v).T))
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where((cross <= 0) & (longest > 0), -cross / longest, np.inf)
+        return np.where((folds | (cross <= 0)) & (longest > 0), np.abs(cross) / longest,
+                        np.inf)
 
 
 def _pinches_opened(geometry: MultiPolygon, tolerance: float):
