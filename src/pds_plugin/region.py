@@ -86,8 +86,8 @@ class Region:
             Mend invalid geometry with ``shapely.make_valid`` (never ``buffer(0)``,
             which drops lobes) and drop zero-area parts, instead of raising; and drop
             the spikes of zero width where a ring folds back onto itself within
-            rounding (:func:`fold_tips`), which shapely may call valid but conforming
-            samplings refuse.
+            rounding (:func:`_folds_dropped`), which shapely may call valid but no
+            triangle fills.
         tolerance : float or sequence of float
             Absolute; 0 (the default) keeps every vertex: shapely input is taken as
             exact. :func:`pds_plugin.section` derives one from the mesh file. A sequence
