@@ -30,6 +30,7 @@ solid unrolled into their planes) are meshed so that the meshes join with no T-j
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -1076,11 +1077,10 @@ def _along_chains(chains) -> dict:
     """Per directed edge of the chains: (chain, whether the chain runs it that way)."""
     along = {}
     for c, (vertices, closed) in enumerate(chains):
-        n = len(vertices)
-        for k in range(n if closed else n - 1):
-            a, b = int(vertices[k]), int(vertices[(k + 1) % n])
-            along[(a, b)] = (c, True)
-            along[(b, a)] = (c, False)
+        heads = np.asarray(vertices).tolist()
+        tails = heads[1:] + heads[:1] if closed else heads[1:]
+        along.update(zip(zip(heads, tails), itertools.repeat((c, True))))
+        along.update(zip(zip(tails, heads), itertools.repeat((c, False))))
     return along
 
 
