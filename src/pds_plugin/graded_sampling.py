@@ -144,7 +144,8 @@ def _check_resolved(region: Region, field: RadiusField):
             f"{ALPHA_RESOLUTION:g} float64 spacings ({region.resolution:.3g}) of the "
             "region's coordinates: the boundary comes within rounding of itself there; "
             "separate or merge those parts in the geometry, or move the region towards "
-            "the origin")
+            "the origin (a spike of zero width, where the boundary runs out and back along "
+            "itself: Region.from_shapely(..., repair=True) drops it)")
 
 
 def _tau_rings(rings, field, grading):

@@ -360,7 +360,9 @@ def _usable_feature_size(region: Region, conforming: bool) -> FeatureSize:
             f"the region's boundary comes within rounding of itself ({size}, less than "
             f"{ALPHA_RESOLUTION:g} float64 spacings of its coordinates): no alpha they "
             "resolve can keep those parts apart; separate or merge them in the geometry, "
-            "or move the region towards the origin")
+            "or move the region towards the origin (a spike of zero width, where the "
+            "boundary runs out and back along itself: Region.from_shapely(..., "
+            "repair=True) drops it)")
     return size
 
 
