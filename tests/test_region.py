@@ -166,3 +166,17 @@ def test_walls_within_rounding_are_refused_before_sampling():
         pds.mesh_region(region, "auto", seed=1)
     with pytest.raises(RegionError, match="radius field falls to .* within rounding"):
         pds.mesh_region(region, "auto", seed=1, graded=True)
+
+
+def test_ring_vertices_within_rounding_of_the_one_before_are_repeats():
+    """Found by the fuzz test: a spike whose tip is two vertices 7e-31 apart, at
+    coordinates of 1e-3 (a spacing of 2e-19). With both in the ring, the conforming
+    meshes failed their certificates (18 of 18 alphas and seeds); ``Region.rings``
+    leaves the second out, as it left exact repeats out."""
+    spike = Polygon([(0.001, 8.727e-6), (6.16e-33, -7.059e-31), (0, 0), (0.0002, 2.182e-6),
+                     (0.0003, 0.0006), (0.0012, 0.0006)])
+    region = Region.from_shapely(spike)
+    assert len(region.rings[0]) == 5 and len(Region.from_shapely(box(0, 0, 1, 1)).rings[0]) == 4
+    for fraction in (0.05, 0.25):
+        mesh = pds.mesh_region(region, fraction * region.area ** 0.5, seed=0)
+        assert mesh.certificate().ok_with_exceptions
