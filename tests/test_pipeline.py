@@ -8,6 +8,7 @@ import warnings
 from pathlib import Path
 
 import pytest
+import shapely
 from shapely.geometry import Point, box
 
 import pds_plugin as pds
@@ -314,3 +315,17 @@ def test_auto_meshes_a_speck_over_the_budget_as_a_small_ring():
     cert = mesh.certificate()
     assert cert.ok_with_exceptions and cert.betti_mesh == (2, 0), str(cert)
     assert cert.exceptions and len(mesh.vertices) < 100
+
+
+def test_a_coarse_alpha_over_a_cluster_of_small_holes_points_to_the_graded_mesh():
+    """100 holes of radius 0.05 in a 2 x 2 patch of a 10 x 10 plate, alpha 2: the
+    conforming samples of the holes crowd the complex (309 points within 2 alpha of one,
+    the laser sheets of bench/fixed_alpha.py at extent / 20 likewise), which refuses
+    them; the message names the graded mesh with alpha as its cap, which is certified."""
+    holes = shapely.union_all([Point(4 + 0.2 * (i % 10), 4 + 0.2 * (i // 10)).buffer(
+        0.05, quad_segs=4) for i in range(100)])
+    region = pds.Region.from_shapely(box(0, 0, 10, 10).difference(holes))
+    with pytest.raises(pds.BudgetError, match=r"graded=True \(pds-mesh --graded\)"):
+        pds.mesh_region(region, 2.0)
+    mesh = pds.mesh_region(region, 2.0, graded=True)
+    assert mesh.certificate().ok and mesh.certificate().betti_mesh == (1, 100)

@@ -122,5 +122,6 @@ def _check_work(points, alpha, counts) -> None:
         raise BudgetError(f"{crowd} points lie within 2 alpha={2 * alpha:.6g} of one point, "
                           f"more than {_MAX_NEIGHBOURS} (a Poisson sampling has about 20): alpha "
                           f"is far larger than the points' spacing (of a region: than its holes "
-                          f"and features, each of which keeps samples of its own); use a smaller "
-                          f"alpha, or subsample a point set")
+                          f"and features, each of which keeps samples of its own; graded=True "
+                          f"(pds-mesh --graded) meshes them finer and the rest at most alpha); "
+                          f"use a smaller alpha, or subsample a point set")
