@@ -376,6 +376,20 @@ cdef class Field:
             self.tree = cone_tree_of(field.features, field.sizes, field.grading, field.cap,
                                      field._tree)
 
+    cdef double low_on_box(self, double x, double y, double r, double spread,
+                           int64_t *stack, double *bound) noexcept nogil:
+        """A lower bound of r on a box centred at (x, y), where r is ``r`` and moves by at
+        most ``spread``: r - spread; where r is the cap, min(cap, the cones at (x, y) -
+        spread), searched up to cap + spread: the cap itself on boxes that no cone
+        comes near, which one disc of the cap's radius may then cover. Exact: r(x) >=
+        min(cap, min_i(s_i + L |c - f_i|) - L |x - c|)."""
+        if self.constant:
+            return r
+        if not self.fast or r < self.tree.cap or stack == NULL or bound == NULL:
+            return r - spread
+        return min(self.tree.cap,
+                   cone_at(&self.tree, x, y, self.tree.cap + spread, stack, bound) - spread)
+
     cdef object at(self, double[:, ::1] xy, const double[::1] high,
                    const int64_t[::1] order):
         """r at the points ``xy``, each in a box where r <= ``high``, searched in
@@ -806,7 +820,10 @@ def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
     cdef const int8_t[::1] sides = domain[1]
     cdef const int8_t *sd = &sides[0] if sides.shape[0] else NULL
     cdef Chords region = chords_of(domain[0])
-    cdef double grading = field.field.grading, half, spread
+    cdef double grading = field.field.grading, half, spread, lowest
+    cdef int64_t *stack
+    cdef double *bound
+    cdef double slope = 0.0 if field.constant else grading   # r's spread over a box
     cdef const int64_t[::1] start
     if cells is not None:
         start = np.ascontiguousarray(cells, np.int64)
@@ -852,17 +869,23 @@ def leaves(double xmin, double ymin, double side, Py_ssize_t nx, Py_ssize_t ny,
         j = 0
         split = 0
         with nogil:
+            stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+            bound = <double *>malloc(CONE_STACK * sizeof(double))
             for k in range(m):
-                spread = grading * (s[k] / SQRT2)
-                if s[k] <= r[k] - spread:
+                spread = slope * (s[k] / SQRT2)
+                lowest = field.low_on_box(x[k] + 0.5 * s[k], y[k] + 0.5 * s[k], r[k], spread,
+                                          stack, bound)
+                if s[k] <= lowest:
                     kept[0, j], kept[1, j], kept[2, j] = x[k], y[k], s[k]
-                    kept[3, j], kept[4, j] = r[k] - spread, r[k] + spread
+                    kept[3, j], kept[4, j] = lowest, r[k] + spread
                     kept_edge[j] = e[k]
                     j += 1
                 else:                       # the boxes to split, first in place
                     x[split], y[split], s[split], e[split] = x[k], y[k], s[k], e[k]
                     parent_high[split] = r[k] + spread
                     split += 1
+            free(bound)
+            free(stack)
         done.append((kept_array[:, :j], kept_edge_array[:j]))
         total += j
         if total + 4 * split > max_boxes:
@@ -1257,6 +1280,7 @@ def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_
     cdef Placed p = _placed_of(nxt, points, radius, x0, y0)
     cdef Chords c = chords_of(vis)
     cdef double grading = field.field.grading, half, spread
+    cdef double slope = 0.0 if field.constant else grading   # r's spread over a box
     cdef Py_ssize_t n = x.shape[0], m = 0, k, i, q, kept = 0
     open_array = np.empty(n, np.bool_)
     cdef uint8_t[::1] still = open_array.view(np.uint8)
@@ -1286,18 +1310,25 @@ def split_open(tuple boxes, Py_ssize_t since, double resolution, Py_ssize_t max_
         ch[0, q] = fx[i] + half if (q // m) & 1 else fx[i]
         ch[1, q] = fy[i] + half if (q // m) & 2 else fy[i]
         states[q] = box_state(&region, sd, ch[0, q], ch[1, q], half) if fe[i] else 2
+    cdef int64_t *stack
+    cdef double *bound
     with nogil:
+        stack = <int64_t *>malloc(CONE_STACK * sizeof(int64_t))
+        bound = <double *>malloc(CONE_STACK * sizeof(double))
         for q in range(4 * m):             # the quarters in the region, in order
             if states[q] == 0:
                 continue
             i = q % m
             half = 0.5 * fs[i]
-            spread = grading * (half / SQRT2)
+            spread = slope * (half / SQRT2)
             ch[0, kept], ch[1, kept], ch[2, kept] = ch[0, q], ch[1, q], half
-            ch[3, kept] = r[q] - spread
+            ch[3, kept] = field.low_on_box(ch[0, q] + 0.5 * half, ch[1, q] + 0.5 * half, r[q],
+                                           spread, stack, bound)
             ch[4, kept] = r[q] + spread
             ce[kept] = fe[i] and states[q] != 2
             kept += 1
+        free(bound)
+        free(stack)
     cx, cy, cs, cl, chh = (np.ascontiguousarray(children[a, :kept]) for a in range(5))
     keep_array = uncovered_boxes(cx, cy, cs, cl, chh, grading, chord_bound, bins, nxt, points,
                                  radius, x0, y0, vis)
