@@ -382,9 +382,8 @@ cdef class Field:
         most ``spread``: r - spread; where r is the cap, min(cap, the cones at (x, y) -
         spread), searched up to cap + spread: the cap itself on boxes that no cone
         comes near, which one disc of the cap's radius may then cover. Exact: r(x) >=
-        min(cap, min_i(s_i + L |c - f_i|) - L |x - c|)."""
-        if self.constant:
-            return r
+        min(cap, min_i(s_i + L |c - f_i|) - L |x - c|). (A field without cones is the
+        cap everywhere: its callers pass spread 0.)"""
         if not self.fast or r < self.tree.cap or stack == NULL or bound == NULL:
             return r - spread
         return min(self.tree.cap,

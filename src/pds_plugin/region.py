@@ -210,9 +210,8 @@ class Region:
         rings, width = [], FOLD_WIDTH * self.resolution
         for polygon in self.geometry.geoms:
             for ring in (polygon.exterior, *polygon.interiors):
-                xy = shapely.get_coordinates(ring)[:-1]
-                step = np.abs(xy - np.concatenate([xy[-1:], xy[:-1]]))   # np.roll's 1/3
-                rings.append(np.ascontiguousarray(xy[(step > width).any(axis=1)]))
+                rings.append(np.ascontiguousarray(
+                    _repeats_dropped(shapely.get_coordinates(ring)[:-1], width)))
         return rings
 
     @cached_property
@@ -432,13 +431,12 @@ def _folds_dropped(geometry: MultiPolygon) -> MultiPolygon:
     >>> _folds_dropped(MultiPolygon([fold])).geoms[0].exterior.coords[:-1]  # and its mouth
     [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]
     """
-    width = FOLD_WIDTH * float(np.spacing(np.abs(shapely.get_coordinates(geometry)).max()))
+    width = FOLD_WIDTH * float(np.spacing(np.abs(geometry.bounds).max()))
     polygons, dropped = [], False
     for polygon in geometry.geoms:
         rings = []
         for ring in (polygon.exterior, *polygon.interiors):
-            xy = shapely.get_coordinates(ring)[:-1]
-            xy = xy[(np.abs(xy - np.roll(xy, 1, axis=0)) > width).any(axis=1)]   # repeats
+            xy = _repeats_dropped(shapely.get_coordinates(ring)[:-1], width)
             rings.append(_ring_cracks_closed(xy, width, folds=True)[0])
             dropped |= len(rings[-1]) < len(xy)
         polygons.append(Polygon(rings[0], rings[1:]))
@@ -448,6 +446,13 @@ def _folds_dropped(geometry: MultiPolygon) -> MultiPolygon:
     if not mended.is_valid:
         mended = MultiPolygon([p for p in _polygons_of(shapely.make_valid(mended)) if p.area > 0])
     return shapely.orient_polygons(mended)
+
+
+def _repeats_dropped(xy: np.ndarray, width: float) -> np.ndarray:
+    """The vertices of a ring (no closing duplicate) more than ``width`` from the one
+    before it along x or y: the others repeat it within rounding."""
+    step = np.abs(xy - np.concatenate([xy[-1:], xy[:-1]]))     # np.roll costs 3 times this
+    return xy[(step > width).any(axis=1)]
 
 
 PINCH_STEP = 1e-7
