@@ -121,6 +121,25 @@ def test_uniform_patches_grade_at_walls_thinner_than_alpha():
     assert lowest[-1] == 1.0                            # the far side, at alpha
 
 
+def test_walls_thinner_than_alpha_are_seen_before_any_patch_is_meshed(monkeypatch):
+    """The wall's faces have boundary samples 0.2 alpha apart across it: they take their
+    graded field before the patches are meshed (one round of meshing, not two), and the
+    mesh has no exception, as when the wall was found in the mesh."""
+    from pds_plugin import remeshing
+
+    block = trimesh.creation.box((10, 10, 2), trimesh.transformations.translation_matrix((5, 5, 1)))
+    slot = trimesh.creation.box((8, 3, 4), trimesh.transformations.translation_matrix((5, 1.7, 1)))
+    source = block.difference(slot)
+    rounds, meshed = [], remeshing._patch_meshes
+    monkeypatch.setattr(remeshing, "_patch_meshes",
+                        lambda *args: rounds.append(1) or meshed(*args))
+    uniform = pds.remesh(source, 1.0, graded=False)
+    assert uniform.ok and len(rounds) == 1, str(uniform)
+    assert not any(c.exceptions for c in uniform.certificates)
+    lowest = sorted(float(mesh.field(mesh.vertices).min()) for mesh in uniform.patch_meshes)
+    assert lowest[1] <= 0.9 * 0.2 + 1e-9                # both faces with the wall, graded
+
+
 def test_uniform_patches_grade_along_spikes_sharper_than_the_bound():
     """A wedge whose top and bottom are 2.4° needles 60 long (a tessellated tube's thin
     facet triangle, held-out 4404/39): at r = alpha its mesh has 38 triangles at the
