@@ -343,9 +343,9 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         if not all(joinable):
             remeshed = [patch for patch, ok in zip(remeshed, joinable) if ok]
             continue
-        # a patch at alpha with a wall thinner than alpha or a spike sharper than the
-        # bound takes its graded field: seen across its samples before it is meshed, or
-        # in its mesh (exceptions)
+        # a patch at alpha with a wall thinner than alpha (most seen across its samples
+        # before it is meshed) or a spike sharper than the bound (exceptions in its
+        # mesh) takes its graded field
         beyond = _thin_walled(remeshed, given, sizes, fields, flat)
         if not beyond:
             meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes,
