@@ -344,9 +344,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             remeshed = [patch for patch, ok in zip(remeshed, joinable) if ok]
             continue
         # a patch at alpha with a wall thinner than alpha (most seen across its samples
-        # before it is meshed) or a spike sharper than the bound (exceptions in its
+        # before it is meshed; a graded remesh's patches at alpha are facets, convex and
+        # at least alpha wide) or a spike sharper than the bound (exceptions in its
         # mesh) takes its graded field
-        beyond = _thin_walled(remeshed, given, sizes, fields, flat)
+        beyond = [] if graded else _thin_walled(remeshed, given, sizes, fields, flat)
         if not beyond:
             meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes,
                                    coned, given)
