@@ -100,6 +100,13 @@ def test_uniform_patches_fit_the_short_pieces_the_input_forces():
     assert steeper.ok_with_exceptions and steeper.patch_meshes[0].field.grading == 0.3
 
 
+def block_with_thin_wall():
+    """A 10 x 10 x 2 block whose top and bottom faces keep a wall 0.2 thin beside a slot."""
+    block = trimesh.creation.box((10, 10, 2), trimesh.transformations.translation_matrix((5, 5, 1)))
+    slot = trimesh.creation.box((8, 3, 4), trimesh.transformations.translation_matrix((5, 1.7, 1)))
+    return block.difference(slot)
+
+
 def test_uniform_patches_grade_at_walls_thinner_than_alpha():
     """A block whose top and bottom faces keep a wall 0.2 alpha thin beside a slot (a
     milled flat beside a tessellated cylinder's facet gives such faces). At r = alpha
@@ -108,9 +115,7 @@ def test_uniform_patches_grade_at_walls_thinner_than_alpha():
     their graded field, the others stay at alpha where the cones do not reach."""
     from pds_plugin.sizing import angle_bound
 
-    block = trimesh.creation.box((10, 10, 2), trimesh.transformations.translation_matrix((5, 5, 1)))
-    slot = trimesh.creation.box((8, 3, 4), trimesh.transformations.translation_matrix((5, 1.7, 1)))
-    source = block.difference(slot)
+    source = block_with_thin_wall()
     uniform = pds.remesh(source, 1.0, graded=False)
     assert uniform.ok, str(uniform)
     assert abs(uniform.mesh.volume - source.volume) <= 1e-9 * source.volume
@@ -127,9 +132,7 @@ def test_walls_thinner_than_alpha_are_seen_before_any_patch_is_meshed(monkeypatc
     mesh has no exception, as when the wall was found in the mesh."""
     from pds_plugin import remeshing
 
-    block = trimesh.creation.box((10, 10, 2), trimesh.transformations.translation_matrix((5, 5, 1)))
-    slot = trimesh.creation.box((8, 3, 4), trimesh.transformations.translation_matrix((5, 1.7, 1)))
-    source = block.difference(slot)
+    source = block_with_thin_wall()
     rounds, meshed = [], remeshing._patch_meshes
     monkeypatch.setattr(remeshing, "_patch_meshes",
                         lambda *args: rounds.append(1) or meshed(*args))
