@@ -219,8 +219,11 @@ def chord_ends(rings):
     ([0, 1, 2, 3, 4, 5, 6], [1, 2, 0, 4, 5, 6, 3])
     """
     a = np.concatenate(rings)
-    b = np.concatenate([np.roll(ring, -1) for ring in rings])
-    return a, b
+    sizes = np.array([len(ring) for ring in rings], dtype=np.int64)
+    ends = np.cumsum(sizes)[sizes > 0]
+    following = np.arange(1, len(a) + 1)
+    following[ends - 1] = ends - sizes[sizes > 0]       # each ring's last to its first
+    return a, a[following]
 
 
 def guard_candidates(boundary, rings, alpha) -> np.ndarray:

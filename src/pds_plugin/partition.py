@@ -104,6 +104,12 @@ class ChainSamples:
         ends = np.roll(samples, -1) if self.closed[chain] else samples[1:]
         return np.column_stack([samples[:len(ends)], ends])
 
+    def region_points(self, region: int, frame) -> np.ndarray:
+        """The samples of ``region``'s rings, ring after ring, read in its ``frame``."""
+        ids = np.concatenate(self.rings[region])
+        start = frame[self.u[ids]]                   # looked up once (a Frame searches)
+        return start + self.t[ids, None] * (frame[self.v[ids]] - start)
+
     def points(self, coordinates) -> np.ndarray:
         """The samples read in ``coordinates`` (indexable by vertex number: an array, or
         :class:`Frame`)."""
@@ -127,12 +133,14 @@ class Frame:
         self.ids, self.xy = ids[order], np.asarray(xy, dtype=float)[order]
 
     def __getitem__(self, ids):
+        # the array methods, not numpy's functions (their dispatch doubled the time of
+        # the few thousand small look-ups of a remesh)
         ids = np.asarray(ids, dtype=np.int64)
-        at = np.searchsorted(self.ids, ids)
+        at = self.ids.searchsorted(ids)
         if ids.size and (not len(self.ids)
-                         or not np.array_equal(self.ids.take(at, mode="clip"), ids)):
+                         or not (self.ids.take(at, mode="clip") == ids).all()):
             raise KeyError("a vertex outside this frame")
-        return self.xy[at]
+        return self.xy.take(at, axis=0)
 
 
 def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, seed: int = 0,
@@ -635,10 +643,13 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     rings, owner, angle, junctions = top.rings, top.owner, top.angle, top.junction
     junction = np.array(sorted(junctions), dtype=np.int64)
     size = np.full(len(junction), np.inf)
+    vertices = [np.concatenate(region) for region in rings]
+    is_junction = np.zeros(max((int(v.max(initial=-1)) for v in vertices), default=-1)
+                           + 1, bool)
+    is_junction[junction[junction < len(is_junction)]] = True
     held, at = [], []                           # per region, its junctions (indices), there
-    for r, region in enumerate(rings):
-        ids = np.unique(np.concatenate(region))
-        mine = ids[np.isin(ids, junction)]
+    for r, ids in enumerate(vertices):
+        mine = np.unique(ids[is_junction[ids]])
         held.append(np.searchsorted(junction, mine))
         at.append(frames[r][mine])
     # one read of a few points a region: a call each costs less than the layout
@@ -736,7 +747,8 @@ _AGREEMENT_TOL = 1e-9
 in two planes), not a lowering."""
 
 
-def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None) -> np.ndarray:
+def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None,
+                       points=None) -> np.ndarray:
     """The radius each region's field is given at each chain sample so that the regions
     agree on their shared samples and keep them separated: at a sample s, the smallest
     of the fields (after :func:`junction_fields`) of the regions whose rings hold it;
@@ -752,18 +764,17 @@ def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None) -
     fields is L-Lipschitz, so no cone undercuts another's sample), whichever region it
     is read in.
 
+    ``points``: per region, its rings' samples read in its frame (:meth:`ChainSamples.
+    region_points`), if already read.
+
     Returns
     -------
     (S,) float ndarray
     """
     size = np.full(len(chains.u), np.inf)
-    points, held = [], []
-    for r, ring_ids in enumerate(chains.rings):
-        frame = frames[r]
-        ids = np.concatenate(ring_ids)
-        xy = frame[chains.u[ids]] + chains.t[ids, None] * (frame[chains.v[ids]] - frame[chains.u[ids]])
-        points.append(xy)
-        held.append(ids)
+    held = [np.concatenate(ring_ids) for ring_ids in chains.rings]
+    if points is None:
+        points = [chains.region_points(r, frame) for r, frame in enumerate(frames)]
     union = None if topology is None else topology.layout_field(frames, fields)
     if union is not None and held:              # all regions' fields in one call
         np.minimum.at(size, np.concatenate(held), union(np.concatenate(points)))

@@ -259,17 +259,17 @@ class Region:
         return tuple((c, h) for c, polygon in enumerate(self.geometry.geoms)
                      for h in (None, *range(len(polygon.interiors))))
 
-    @property
+    @cached_property
     def area(self) -> float:
         """The region's area."""
         return float(self.geometry.area)
 
-    @property
+    @cached_property
     def bounds(self) -> tuple[float, float, float, float]:
         """``(xmin, ymin, xmax, ymax)`` in the region's 2D coordinates."""
         return tuple(float(v) for v in self.geometry.bounds)
 
-    @property
+    @cached_property
     def resolution(self) -> float:
         """The spacing of float64 numbers at the region's largest coordinate: no two
         points of the region closer than this can be told apart.

@@ -331,10 +331,11 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                       seed=seed, pinned=pinned, topology=topology)
         # each patch's ring samples in its plane, computed once for both steps below
         given = [_ring_samples(chains, k, frame) for k, frame in enumerate(frames)]
+        points = [points for _, points, _ in given]
         sizes, coned = _agreeing_sizes(chains, frames, own,
                                        chain_sample_radii(chains, frames, own,
-                                                          topology=topology), topology,
-                                       [points for _, points, _ in given])
+                                                          topology=topology, points=points),
+                                       topology, points)
         # a patch with a chord longer than any edge of its complex (a strip about 2 alpha
         # wide at a spike) would not join its neighbours whatever is drawn inside: it is
         # kept before any patch is meshed, and the chains sampled again without it
@@ -421,10 +422,8 @@ def _groups(todo, patches, alpha) -> list:
 def _ring_samples(chains, k, frame) -> tuple:
     """Patch ``k``'s chain samples: their indices (its rings' in turn), their points in
     its plane (``frame``) and the rings' sample counts."""
-    ids = np.concatenate(chains.rings[k])
-    start = frame[chains.u[ids]]                 # looked up once (a Frame searches)
-    points = start + chains.t[ids, None] * (frame[chains.v[ids]] - start)
-    return ids, points, [len(ring) for ring in chains.rings[k]]
+    return (np.concatenate(chains.rings[k]), chains.region_points(k, frame),
+            [len(ring) for ring in chains.rings[k]])
 
 
 def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
@@ -793,7 +792,7 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
     chain samples' points (:func:`_ring_samples`), computed here if not given."""
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     if points is None:
-        points = [_ring_samples(chains, k, frame)[1] for k, frame in enumerate(frames)]
+        points = [chains.region_points(k, frame) for k, frame in enumerate(frames)]
     union = None if topology is None else topology.layout_field(frames, fields)
     if union is not None and points:            # the same in every round; one call
         own = np.split(union(np.concatenate(points)), np.cumsum([len(xy) for xy in points])[:-1])
@@ -938,10 +937,16 @@ def _graded_instead(patches, meshes, fields, flat, bound) -> list:
     there are many such triangles across the wall or along the spike, and the graded
     field shrinks them with the wall (docs/remesh.md, "Uniform"). Only patches with such
     a triangle pay for the certificate."""
-    return [patch for patch, mesh in zip(patches, meshes)
-            if mesh is not None and fields[id(patch)] is flat
-            and _min_angles(mesh.vertices, mesh.faces).min(initial=180.0) < bound
-            and len(mesh.certificate().exceptions) > 0]
+    todo = [(patch, mesh) for patch, mesh in zip(patches, meshes)
+            if mesh is not None and fields[id(patch)] is flat and len(mesh.faces)]
+    if not todo:
+        return []
+    # every mesh's triangles at once (the same arithmetic, triangle by triangle)
+    corners = np.concatenate([mesh.vertices[mesh.faces] for _, mesh in todo])
+    starts = np.cumsum([0] + [len(mesh.faces) for _, mesh in todo[:-1]])
+    smallest = np.minimum.reduceat(_corner_angles(corners), starts)
+    return [patch for (patch, mesh), angle in zip(todo, smallest.tolist())
+            if angle < bound and len(mesh.certificate().exceptions) > 0]
 
 
 _THIN = 0.5
@@ -1627,7 +1632,11 @@ def _corner_fan(ring, face):
 
 def _min_angles(vertices, faces) -> np.ndarray:
     """The smallest angle of each triangle, in degrees."""
-    p = np.asarray(vertices)[np.asarray(faces)]
+    return _corner_angles(np.asarray(vertices)[np.asarray(faces)])
+
+
+def _corner_angles(p) -> np.ndarray:
+    """The smallest angle of each triangle (its corners ``p``, (n, 3, d)), in degrees."""
     lengths = np.linalg.norm(p[:, [1, 2, 0]] - p[:, [2, 0, 1]], axis=2)   # opposite each corner
     a, b, c = lengths.T
     cos = np.clip(np.stack([(b * b + c * c - a * a) / (2 * b * c), (a * a + c * c - b * b) / (2 * a * c),
