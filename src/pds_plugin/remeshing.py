@@ -40,7 +40,8 @@ from ._checks import check_alpha, check_grading, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
-                        junction_fields, partition_topology, with_sample_cones)
+                        junction_fields, partition_topology, split_counts,
+                        with_sample_cones)
 from .region import check_tolerance, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
@@ -312,18 +313,19 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     fields.update({id(p): flat if id(p) in at_alpha else
                    radius_field(p.region, grading, alpha, feature_angle=feature_angle)
                    for p in remeshed if id(p) not in fields})
-    cache = {}
+    cache, topology = {}, None
     while True:
-        kept = np.ones(len(faces), bool)
-        for patch in remeshed:
-            kept[patch.faces] = False
-        on_kept = np.zeros(len(vertices), bool)
-        on_kept[faces[kept].ravel()] = True
-        rings, frames = [p.rings for p in remeshed], [p.frame for p in remeshed]
-        pinned = np.flatnonzero(on_kept).tolist()
-        # the chains found once for the four steps, and the patches' fields read in one
-        # call (they lie apart in one plane: partition_topology)
-        topology = partition_topology(rings, frames, pinned)
+        if topology is None:                # the first round, or patches kept since
+            kept = np.ones(len(faces), bool)
+            for patch in remeshed:
+                kept[patch.faces] = False
+            on_kept = np.zeros(len(vertices), bool)
+            on_kept[faces[kept].ravel()] = True
+            rings, frames = [p.rings for p in remeshed], [p.frame for p in remeshed]
+            pinned = np.flatnonzero(on_kept).tolist()
+            # the chains found once for the four steps (and again only when patches are
+            # kept), the patches' fields read in one call (they lie apart in one plane)
+            topology = partition_topology(rings, frames, pinned)
         own = junction_fields(rings, frames, [fields[id(p)] for p in remeshed], pinned,
                               topology=topology)
         own = agreeing_fields(rings, frames, own, pinned, topology=topology)
@@ -343,6 +345,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                     for (_, points, counts), field in zip(given, coned)]
         if not all(joinable):
             remeshed = [patch for patch, ok in zip(remeshed, joinable) if ok]
+            topology = None
             continue
         # a patch at alpha with a wall thinner than alpha (most seen across its samples
         # before it is meshed; a graded remesh's patches at alpha are facets, convex and
@@ -374,6 +377,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                 return result
             joined = [id(patch) not in unkept for patch in remeshed]
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
+        topology = None
 
 
 def _gap(alpha, grading) -> float:
@@ -445,8 +449,8 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
     for k, patch in enumerate(patches):
         ids, points, counts = (samples[k] if samples is not None
                                else _ring_samples(chains, k, patch.frame))
-        given = np.split(points, np.cumsum(counts)[:-1])
-        key = (id(patch), b"".join(ring.tobytes() for ring in given),
+        given = split_counts(points, counts)
+        key = (id(patch), points.tobytes(),                  # its rings' samples in turn
                own[k].sizes.tobytes() + sizes[ids].tobytes())
         if key in cache:
             out[k] = cache[key]
@@ -795,7 +799,7 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
         points = [chains.region_points(k, frame) for k, frame in enumerate(frames)]
     union = None if topology is None else topology.layout_field(frames, fields)
     if union is not None and points:            # the same in every round; one call
-        own = np.split(union(np.concatenate(points)), np.cumsum([len(xy) for xy in points])[:-1])
+        own = split_counts(union(np.concatenate(points)), [len(xy) for xy in points])
     else:
         own = [field(xy) for field, xy in zip(fields, points)]
     few = _FewCones(ids, points, fields)
@@ -1421,8 +1425,8 @@ def _on_input(xy, patches, vertices, faces) -> list:
                               u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]])
     normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
     height = np.einsum("ij,ij->i", out - p[:, 0], normal)
-    cut = np.cumsum(sizes)[:-1]
-    return list(zip(np.split(out, cut), np.split(normal, cut), np.split(height, cut)))
+    return list(zip(split_counts(out, sizes), split_counts(normal, sizes),
+                    split_counts(height, sizes)))
 
 
 _FEW_TRIANGLES = 8
@@ -1513,8 +1517,8 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
         [np.take(every, triangles, axis=0) for triangles in new_faces]) - centre)
     old = _determinants(np.concatenate(
         [np.take(vertices, faces[patch.faces], axis=0) for patch in patches]) - centre)
-    new = np.split(new, np.cumsum([len(triangles) for triangles in new_faces])[:-1])
-    old = np.split(old, np.cumsum([len(patch.faces) for patch in patches])[:-1])
+    new = split_counts(new, [len(triangles) for triangles in new_faces])
+    old = split_counts(old, [len(patch.faces) for patch in patches])
     change = [a.sum() / 6 - b.sum() / 6 for a, b in zip(new, old)]
     if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
         return _largest(heights), unkept
