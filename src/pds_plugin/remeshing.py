@@ -343,19 +343,25 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         # kept before any patch is meshed, and the chains sampled again without it
         joinable = [_chords_joinable(points, counts, field)
                     for (_, points, counts), field in zip(given, coned)]
+        # a patch at alpha with a wall thinner than alpha (most seen across its samples
+        # before it is meshed, in the same round as the chords that cannot join; a
+        # graded remesh's patches at alpha are facets, convex and at least alpha wide)
+        # or a spike sharper than the bound (exceptions in its mesh) takes its graded
+        # field
+        beyond = [] if graded else _thin_walled(
+            [patch for patch, ok in zip(remeshed, joinable) if ok],
+            [samples for samples, ok in zip(given, joinable) if ok], sizes, fields, flat)
+        fields.update({id(p): radius_field(p.region, grading, alpha,
+                                           feature_angle=feature_angle) for p in beyond})
         if not all(joinable):
             remeshed = [patch for patch, ok in zip(remeshed, joinable) if ok]
             topology = None
             continue
-        # a patch at alpha with a wall thinner than alpha (most seen across its samples
-        # before it is meshed; a graded remesh's patches at alpha are facets, convex and
-        # at least alpha wide) or a spike sharper than the bound (exceptions in its
-        # mesh) takes its graded field
-        beyond = [] if graded else _thin_walled(remeshed, given, sizes, fields, flat)
-        if not beyond:
-            meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes,
-                                   coned, given)
-            beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
+        if beyond:
+            continue
+        meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
+                               given)
+        beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
         if beyond:
             fields.update({id(p): radius_field(p.region, grading, alpha,
                                                feature_angle=feature_angle) for p in beyond})
