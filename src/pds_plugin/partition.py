@@ -537,7 +537,9 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
     flat = _FlatTau(taus, segment, t, bounds)
     chain = np.repeat(np.arange(len(positions)), [len(at) for at in positions])
     at = np.concatenate(positions)
-    guarded = {c: clear for c, clear in enumerate(cleared) if len(clear[0]) or len(clear[1])}
+    # the guarded parts' ends as chain + 1j x position: exact keys for np.isin
+    starts, stops = ([c + 1j * position for c, clear in enumerate(cleared)
+                      for position in clear[side].tolist()] for side in (0, 1))
     todo = np.ones(len(positions), bool)
     for _ in range(_MAX_HALVINGS):
         pick = todo[chain]
@@ -556,10 +558,8 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
         low, high = (f(radius[pair], radius[pair + 1]) for f in (np.minimum, np.maximum))
         middle = (0.5 * (e[pair] + e[pair + 1])) % flat.length[c_e[pair]]
         low = np.minimum(low, chain_set.evaluate(c_e[pair], *flat.to_chain(c_e[pair], middle))[1])
-        beside = np.zeros(len(pair), bool)
-        for c, (starts, stops) in guarded.items():
-            mine = c_e[pair] == c
-            beside[mine] = np.isin(e[pair][mine], starts) | np.isin(e[pair + 1][mine], stops)
+        beside = (np.isin(c_e[pair] + 1j * e[pair], starts)
+                  | np.isin(c_e[pair] + 1j * e[pair + 1], stops))
         long = chord > _LONGEST_PART * np.where(beside, high, low)
         todo = np.zeros(len(positions), bool)
         todo[c_e[pair[long]]] = True
