@@ -333,11 +333,12 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                       seed=seed, pinned=pinned, topology=topology)
         # each patch's ring samples in its plane, computed once for both steps below
         given = [_ring_samples(chains, k, frame) for k, frame in enumerate(frames)]
-        points = [points for _, points, _ in given]
+        ring_points = [points for _, points, _ in given]
         sizes, coned = _agreeing_sizes(chains, frames, own,
                                        chain_sample_radii(chains, frames, own,
-                                                          topology=topology, points=points),
-                                       topology, points)
+                                                          topology=topology,
+                                                          points=ring_points),
+                                       topology, ring_points)
         # a patch with a chord longer than any edge of its complex (a strip about 2 alpha
         # wide at a spike) would not join its neighbours whatever is drawn inside: it is
         # kept before any patch is meshed, and the chains sampled again without it
