@@ -143,6 +143,36 @@ def test_walls_thinner_than_alpha_are_seen_before_any_patch_is_meshed(monkeypatc
     assert lowest[1] <= 0.9 * 0.2 + 1e-9                # both faces with the wall, graded
 
 
+def test_a_thin_wall_and_chords_that_cannot_join_take_one_more_round_of_chains(monkeypatch):
+    """Held-out cross-drilled block 4401/28, uniform: its first round of chains finds
+    patches whose chords cannot join (kept) and a patch with a wall thinner than alpha
+    (graded). Both changes take the next round: two rounds of chains, where the wall
+    found a round later cost a third."""
+    import sys
+    from pathlib import Path
+
+    from pds_plugin import remeshing
+
+    pytest.importorskip("manifold3d")
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    from remesh_vs_meshlab import held_out_part
+
+    _, source, _ = held_out_part(4401, 28)
+    found, walled = [], remeshing._thin_walled
+    monkeypatch.setattr(remeshing, "_thin_walled",
+                        lambda *a: found.append(walled(*a)) or found[-1])
+    joinable, joins = [], remeshing._chords_joinable
+    monkeypatch.setattr(remeshing, "_chords_joinable",
+                        lambda *a: joinable.append(joins(*a)) or joinable[-1])
+    rounds, sample = [], remeshing.graded_sample_chains        # where each round starts
+    monkeypatch.setattr(remeshing, "graded_sample_chains", lambda *a, **k: rounds.append(
+        (len(joinable), len(found))) or sample(*a, **k))
+    uniform = pds.remesh(source, "auto", graded=False, seed=28)
+    assert uniform.ok_with_exceptions and uniform.solid_ok, str(uniform)
+    assert len(rounds) == 2
+    assert not all(joinable[:rounds[1][0]]) and any(found[:rounds[1][1]])   # round one
+
+
 def test_uniform_patches_grade_along_spikes_sharper_than_the_bound():
     """A wedge whose top and bottom are 2.4° needles 60 long (a tessellated tube's thin
     facet triangle, held-out 4404/39): at r = alpha its mesh has 38 triangles at the
