@@ -352,6 +352,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         beyond = [] if graded else _thin_walled(
             [patch for patch, ok in zip(remeshed, joinable) if ok],
             [samples for samples, ok in zip(given, joinable) if ok], sizes, fields, flat)
+        if all(joinable) and not beyond:
+            meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes,
+                                   coned, given)
+            beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
         fields.update({id(p): radius_field(p.region, grading, alpha,
                                            feature_angle=feature_angle) for p in beyond})
         if not all(joinable):
@@ -359,13 +363,6 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             topology = None
             continue
         if beyond:
-            continue
-        meshes = _patch_meshes(remeshed, chains, seed, options, cache, own, sizes, coned,
-                               given)
-        beyond = _graded_instead(remeshed, meshes, fields, flat, angle_bound(grading))
-        if beyond:
-            fields.update({id(p): radius_field(p.region, grading, alpha,
-                                               feature_angle=feature_angle) for p in beyond})
             continue
         # a patch whose mesh does not join all its chords is kept instead, and the
         # chains sampled again without it; so is a patch with a corner sharper than
