@@ -101,3 +101,45 @@ def test_graded_sampler_keeps_the_given_boundary_samples():
     assert not samples.on_boundary[n:].any()
     with pytest.raises(pds.errors.ArgumentError, match="at least 3 samples"):
         graded_poisson_disc(region, field, boundary_samples=[ring[:2]])
+
+
+def test_single_edge_chains_at_sharp_junctions_take_the_general_rule_in_one_pass(monkeypatch):
+    """A fan of nine triangles about a centre (40° there, a clearance of 1.46 r): every
+    spoke is a chain of one edge between two junctions, sampled by the one-pass path
+    (``partition._single_edges``); it gives exactly what the general rule of each chain
+    (``_graded_chain``, forced by leaving that path out) gives, legs and all."""
+    from pds_plugin import partition
+    from pds_plugin.sizing import RadiusField
+
+    turn = np.linspace(0, 2 * np.pi, 10)[:-1]
+    xy = np.vstack([[0.0, 0.0], 3.0 * np.column_stack([np.cos(turn), np.sin(turn)])])
+    rings = [[np.array([0, 1 + k, 1 + (k + 1) % 9])] for k in range(9)]
+    field = RadiusField([[0.4, 0.1]], [0.08], grading=0.2, cap=0.5)
+    topology = partition.partition_topology(rings, [xy] * 9)
+    spokes = [c for c, (vertices, _) in enumerate(topology.chains)
+              if len(vertices) == 2 and 0 in vertices.tolist()]
+    assert len(spokes) == 9
+
+    def sampled():
+        chains = partition.graded_sample_chains(rings, [xy] * 9, [field] * 9, seed=3,
+                                                topology=topology)
+        return [chains.points(xy)[ids] for ids in chains.chain_samples]
+
+    general_rule, asked = partition._graded_chain, []
+
+    def recorded(vertices, *args):
+        asked.append(sorted(vertices.tolist()))
+        return general_rule(vertices, *args)
+
+    monkeypatch.setattr(partition, "_graded_chain", recorded)
+    one_pass = sampled()
+    assert not any(0 in vertices for vertices in asked)      # no spoke asked one by one
+    monkeypatch.setattr(partition, "_single_edges", lambda *args: {})
+    general = sampled()
+    assert all(np.array_equal(a, b) for a, b in zip(one_pass, general))
+    # the spokes keep the centre's clearance: their first sample is over r beyond it
+    for c in spokes:
+        points = one_pass[c]
+        centre = 0 if np.all(points[0] == 0) else -1
+        nearest = points[1] if centre == 0 else points[-2]
+        assert np.hypot(*nearest) > 1.02 * field(nearest[None])[0]

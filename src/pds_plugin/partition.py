@@ -425,10 +425,12 @@ def _groups(labels):
 
 def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
     """What :func:`_graded_chain` gives the open chains of one edge between two junctions
-    whose angles ask no clearance (most chains of a remeshed CAD part: its faces meet
-    kept tessellations, pinned at every vertex), all at once: by chain, its τ and its
-    equal parts. The same arithmetic, element by element; the other chains are left out.
-    """
+    (most chains of a remeshed CAD part, whose faces meet kept tessellations pinned at
+    every vertex; every chain of a sphere's facets), all at once: by chain, its τ, its
+    samples' positions and its cleared corners. The same arithmetic, element by element;
+    the other chains are left out. The legs of the junctions whose angles ask a
+    clearance (:func:`_chain_clearance`'s, on the edge and on the chord back that closes
+    the chain) are found for all chains in one pass (:func:`_first_reaches`)."""
     simple = [c for c, (vertices, closed) in enumerate(chains)
               if not closed and len(vertices) == 2 and int(vertices[0]) in junction
               and int(vertices[1]) in junction]
@@ -437,7 +439,7 @@ def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
     ends = np.array([chains[c][0] for c in simple], dtype=np.int64)
     sharpest = np.array([[_junction_angle(a, b, angle), _junction_angle(b, a, angle)]
                          for a, b in ends.tolist()])
-    easy = np.all(corner_clearance(np.pi - (np.pi - sharpest), 1.0) <= 1, axis=1)
+    k = corner_clearance(np.pi - (np.pi - sharpest), 1.0)
     # τ increments along every chain's dense points, closed by its chord back
     cid = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
     following = np.arange(1, len(cid) + 1)
@@ -445,14 +447,79 @@ def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
     step = np.hypot(*(dense[following] - dense).T)
     inverse = 1.0 / radius
     increment = 0.5 * step * (inverse + inverse[following])
+    lo, hi = bounds[simple], bounds[np.asarray(simple) + 1]
+    taus = [np.concatenate([[0.0], np.cumsum(increment[a:b])])
+            for a, b in zip(lo.tolist(), hi.tolist())]
+    after, before = _first_reaches(taus, lo, hi, dense, radius, k, unit)
     out = {}
-    for c in np.asarray(simple)[easy].tolist():
-        lo, hi = bounds[c], bounds[c + 1]
-        tau = np.concatenate([[0.0], np.cumsum(increment[lo:hi])])
-        span = tau[hi - lo - 1]                 # the far end: the chain's last dense point
-        parts = max(int(span // unit), 1)
-        out[c] = (tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0)))
+    for i, (c, tau) in enumerate(zip(simple, taus)):
+        span = tau[-2]                          # the far end: the chain's last dense point
+        if k[i, 0] <= 1 and k[i, 1] <= 1:       # equal parts, no clearance
+            parts = max(int(span // unit), 1)
+            out[c] = (tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0)))
+            continue
+        corners = tau[[0, -2]]
+        first, last = after[i, 0], before[i, 1]
+        if span - corners[0] < first + last:    # too short for both clearances: its ends
+            inner = np.zeros(0)
+        elif first > unit or last > unit:
+            inner = cleared_piece(corners[0], span - corners[0], first, last, unit)
+        else:
+            parts = max(int((span - corners[0]) // unit), 1)
+            inner = corners[0] + (span - corners[0]) * np.arange(1, parts) / parts
+        out[c] = (tau, np.sort(np.concatenate([corners[:1], inner])),
+                  (corners[after[i] > unit], corners[before[i] > unit]))
     return out
+
+
+def _first_reaches(taus, lo, hi, dense, radius, k, unit):
+    """:func:`_chain_clearance`'s (after, before) of single-edge chains (their τ ``taus``,
+    their dense points ``lo:hi``) at both ends, ``k`` their clearances: for each end whose
+    k exceeds 1, where |p - c| first reaches 1.02 k r(p) (``graded_sampling.corner_leg``)
+    walking from the end c along the edge and along the chord back, every walk in one
+    pass, the same arithmetic element by element; ``unit`` elsewhere."""
+    after, before = np.full((len(taus), 2), unit), np.full((len(taus), 2), unit)
+    count = hi - lo
+    legs = []                # (chain, end, its table, local start, steps, walk, direction)
+    for i in np.flatnonzero(k[:, 0] > 1).tolist():
+        m = int(count[i])
+        legs += [(i, 0, after, 0, np.arange(m), 1), (i, 0, before, 0, np.array([0, m - 1]), -1)]
+    for i in np.flatnonzero(k[:, 1] > 1).tolist():
+        m = int(count[i])
+        legs += [(i, 1, after, m - 1, np.array([m - 1, 0]), 1),
+                 (i, 1, before, m - 1, np.arange(m - 1, -1, -1), -1)]
+    if not legs:
+        return after, before
+    sizes = np.array([len(walk) for *_, walk, _ in legs])
+    leg = np.repeat(np.arange(len(legs)), sizes)
+    chain = np.array([i for i, *_ in legs])
+    start = np.array([s for _, _, _, s, _, _ in legs])
+    direction = np.array([d for *_, d in legs], dtype=float)
+    walk = np.concatenate([walk for *_, walk, _ in legs])
+    offsets = np.cumsum([0] + [len(tau) for tau in taus[:-1]])
+    flat_tau = np.concatenate(taus)
+    length = flat_tau[offsets + count]                 # each chain's τ, closed
+    # corner_side's τ from the corner, corner_leg's reach, leg by leg
+    position = np.remainder(direction[leg] * (flat_tau[offsets[chain][leg] + walk]
+                                              - flat_tau[offsets[chain] + start][leg]),
+                            length[chain][leg])
+    last = np.cumsum(sizes) - 1
+    position[last] = np.where(position[last] == 0, length[chain], position[last])
+    at = lo[chain][leg] + walk
+    g = (np.hypot(*(dense[at] - dense[(lo[chain] + start)[leg]]).T)
+         - (TAU_MARGIN * k[chain, [end for _, end, *_ in legs]])[leg] * radius[at])
+    first = last - sizes + 1
+    local = np.arange(len(leg)) - first[leg]
+    j = np.minimum.reduceat(np.where(g >= 0, local, len(leg)), first)
+    found = j < len(leg)
+    b = first + np.where(found, j, 1)
+    a = b - 1
+    t = g[a] / (g[a] - g[b])
+    reach = position[a] + t * (position[b] - position[a])
+    value = np.where(found, np.where(reach > unit, reach, unit), position[last])
+    for (i, end, table, *_), v in zip(legs, value.tolist()):
+        table[i, end] = v
+    return after, before
 
 
 def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
