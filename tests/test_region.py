@@ -180,3 +180,37 @@ def test_ring_vertices_within_rounding_of_the_one_before_are_repeats():
     for fraction in (0.05, 0.25):
         mesh = pds.mesh_region(region, fraction * region.area ** 0.5, seed=0)
         assert mesh.certificate().ok_with_exceptions
+
+
+def test_simple_regions_are_what_from_shapely_makes_of_each_ring():
+    """region.simple_regions (the remesh's patches of one ring, made together): None
+    exactly where the ring's polygon is not valid, else the region Region.from_shapely
+    makes of it (same geometry); rings given as the region's own (counter-clockwise,
+    nothing to drop) are exactly what Region.rings reads back from its geometry, and
+    the others are read back by it. Oracle: shapely's validity and the property itself,
+    on rings clockwise, with a repeated vertex, self-crossing and far from the origin."""
+    from pds_plugin.region import simple_regions
+
+    rng = np.random.default_rng(7)
+    rings = []
+    for k in range(200):
+        n = int(rng.integers(3, 9))
+        turn = np.sort(rng.uniform(0, 2 * np.pi, n))
+        ring = (rng.uniform(0.5, 2, n)[:, None] * np.column_stack([np.cos(turn), np.sin(turn)])
+                + rng.uniform(-1e3, 1e3, 2))
+        ring = [ring, ring[::-1], np.insert(ring, 1, ring[0] + 1e-14, axis=0),
+                rng.uniform(0, 1, (n, 2))][k % 4]
+        rings.append(ring)
+    made = simple_regions(rings)
+    assert sum(region is None for region in made) > 10
+    given = 0
+    for ring, region in zip(rings, made):
+        assert (region is None) == (not Polygon(ring).is_valid)
+        if region is None:
+            continue
+        reference = Region.from_shapely(Polygon(ring))
+        assert region.geometry.equals_exact(reference.geometry, 0)
+        given += "rings" in vars(region)
+        assert all(np.array_equal(a, b) for a, b in zip(region.rings, reference.rings))
+        assert len(region.rings) == len(reference.rings) == 1
+    assert 30 < given < len(rings)

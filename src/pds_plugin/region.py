@@ -316,6 +316,53 @@ class Region:
                 f"bounds={tuple(round(v, 6) for v in self.bounds)})")
 
 
+def simple_regions(rings) -> list:
+    """A Region of each ring ((k, 2) arrays, no closing duplicate) as one valid polygon
+    of it is taken by :meth:`Region.from_shapely` at tolerance 0 (oriented, nothing to
+    heal), or None where that polygon is not valid; made together in a few vectorized
+    shapely calls. A ring already counter-clockwise with no vertex to drop as a repeat
+    is the region's :attr:`Region.rings` as given (the property would read it back).
+
+    >>> square, bowtie = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float), np.array(
+    ...     [[0, 0], [1, 1], [1, 0], [0, 1]], float)
+    >>> [None if r is None else r.area for r in simple_regions([square, bowtie])]
+    [1.0, None]
+    """
+    if not len(rings):
+        return []
+    sizes = np.array([len(ring) for ring in rings])
+    owner = np.repeat(np.arange(len(rings)), sizes)
+    flat = np.concatenate(rings)
+    polygons = shapely.polygons(shapely.linearrings(flat, indices=owner))
+    kept = np.flatnonzero(shapely.is_valid(polygons))
+    if not len(kept):
+        return [None] * len(rings)
+    geometries = shapely.orient_polygons(shapely.multipolygons(polygons[kept],
+                                                               indices=np.arange(len(kept))))
+    # what Region.rings would read back, every ring at once: the oriented exterior's
+    # points (the ring as given, unless turned) less the repeats (_repeats_dropped's
+    # test); a ring read back as given is the cached property's value
+    width = np.full(len(rings), np.nan)
+    width[kept] = FOLD_WIDTH * np.spacing(np.abs(shapely.bounds(geometries)).max(axis=1))
+    first = np.cumsum(sizes) - sizes
+    before = np.arange(len(flat)) - 1
+    before[first] = first + sizes - 1
+    apart = (np.abs(flat - flat[before]) > width[owner, None]).any(axis=1)
+    as_given = np.logical_and.reduceat(apart, first)
+    count = sizes[kept] + 1                       # each kept ring closed: its first again
+    start = np.cumsum(count) - count
+    closed = np.repeat(first[kept] - start, count) + np.arange(count.sum())
+    closed[start + count - 1] = first[kept]
+    same = (shapely.get_coordinates(geometries) == flat[closed]).all(axis=1)
+    as_given[kept] &= np.logical_and.reduceat(same, start)
+    out = [None] * len(rings)
+    for k, geometry in zip(kept.tolist(), geometries):
+        region = out[k] = Region(geometry, np.eye(4))
+        if as_given[k]:
+            region.__dict__["rings"] = [np.ascontiguousarray(rings[k], dtype=float)]
+    return out
+
+
 def _polygons_of(geometry) -> list[Polygon]:
     if type(geometry) is Polygon:           # what get_parts makes of it, without arrays
         return [] if geometry.is_empty else [geometry]

@@ -42,7 +42,7 @@ from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
                         junction_fields, partition_topology, split_counts,
                         with_sample_cones)
-from .region import check_tolerance, turning_angles
+from .region import check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
 from .sources.solids import NOISE_ULPS
 
@@ -1104,8 +1104,12 @@ def _usable_patches(vertices, faces, normals, areas, label, alpha, gap) -> list:
         edges = directed[rim_order[rim_starts[p]:rim_starts[p + 1]]]
         planes.append(_plane_rings(vertices, faces, normals, areas, members, edges))
     shifts = _layout([None if plane is None else plane[4] for plane in planes], gap)
-    return [None if plane is None else _patch(*plane, shift)
-            for plane, shift in zip(planes, shifts)]
+    # the patches of one ring (most: a CAD face, a facet) are valid polygons or not all
+    # at once, their regions made together
+    single = [k for k, plane in enumerate(planes) if plane is not None and len(plane[4]) == 1]
+    regions = dict(zip(single, simple_regions([planes[k][4][0] + shifts[k] for k in single])))
+    return [None if plane is None else _patch(*plane, shift, regions.get(k))
+            for k, (plane, shift) in enumerate(zip(planes, shifts))]
 
 
 def _plane_rings(vertices, faces, normals, areas, members, edges):
@@ -1183,21 +1187,20 @@ def _layout(rings, gap) -> list:
     return shifts
 
 
-def _patch(members, ids, xy, basis, rings, cycles, shift):
+def _patch(members, ids, xy, basis, rings, cycles, shift, region):
     """The :class:`_Patch` of :func:`_plane_rings`' output, its 2D frame moved by
-    ``shift``, or None if not a valid polygon."""
+    ``shift``, or None if not a valid polygon. ``region``: a patch of one ring's, made
+    with the others' (``region.simple_regions``; None: not valid); unused for more."""
     from .region import Region
 
+    if len(rings) == 1 and region is None:
+        return None
     xy = xy + shift
     frame = Frame(ids, xy)
-    polygon = Polygon(rings[0] + shift, [ring + shift for ring in rings[1:]])
-    if len(rings) == 1 and polygon.is_valid:
-        # one valid ring is simple: what Region.from_shapely would make of it (at
-        # tolerance 0 it heals only rings that touch), without its passes
-        region = Region(shapely.orient_polygons(MultiPolygon([polygon])), np.eye(4))
-    else:
+    if len(rings) > 1:
         try:
-            region = Region.from_shapely(polygon)
+            region = Region.from_shapely(Polygon(rings[0] + shift,
+                                                 [ring + shift for ring in rings[1:]]))
         except PdsError:
             return None
     # the region's rings are most often the cycles' own points (one ring, already
