@@ -515,6 +515,26 @@ def test_a_solid_wound_inconsistently_is_compared_with_itself():
     result = pds.remesh(source, seed=0)
     assert result.solid_ok and result.ok_with_exceptions, str(result)
     assert result.volume_error <= 1e-12
+    assert result.turned > 0 and result.mesh.is_winding_consistent
+
+
+def test_faces_wound_against_their_neighbours_are_turned_first():
+    """Every third face of a box turned (an exporter's slip): its coplanar faces were
+    patches of their own that met edge to edge the same way round, and the remesh said
+    FAILED. They are turned on the remesh's copy, each body outward; the result says
+    how many, and the mesh is the consistent box's, volume and all."""
+    box = trimesh.creation.box((2, 1, 1)).subdivide()
+    faces = box.faces.copy()
+    faces[::3] = faces[::3, ::-1]
+    given = trimesh.Trimesh(box.vertices, faces, process=False)
+    assert not given.is_winding_consistent
+    result = pds.remesh(given, 0.2)
+    assert result.ok, str(result)
+    assert result.turned == len(faces[::3]) and "turned first" in str(result)
+    assert result.mesh.is_winding_consistent
+    assert result.mesh.volume == pytest.approx(2.0, rel=1e-12)
+    assert np.array_equal(given.faces, faces)                 # the input is not modified
+    assert pds.remesh(box, 0.2).turned == 0
 
 
 @pytest.mark.parametrize("seed", range(4))

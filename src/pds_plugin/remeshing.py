@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING
 
@@ -103,6 +103,9 @@ class RemeshResult:
         Whether the patches' fields follow their features (graded), or are alpha but
         around the input's short pieces (uniform). Either way each patch is meshed with
         its field and its certificate measures against it (r).
+    turned : int
+        How many input faces were turned to wind like their neighbours before the
+        remesh (:func:`_wound_alike`); the input above is that surface.
     """
 
     mesh: "trimesh.Trimesh"
@@ -118,6 +121,7 @@ class RemeshResult:
     surface_distance: float
     tolerance: float
     graded: bool = False
+    turned: int = 0
 
     @cached_property
     def certificates(self) -> tuple:
@@ -168,6 +172,7 @@ class RemeshResult:
                 "kept_patches": self.kept_patches, "watertight": list(self.watertight),
                 "euler_number": list(self.euler_number), "volume_error": self.volume_error,
                 "surface_distance": self.surface_distance, "tolerance": self.tolerance,
+                "turned": self.turned,
                 "min_angle_remeshed": float(angles.min(initial=180.0)),
                 "angle_p1_remeshed": float(np.percentile(angles, 1)) if len(angles) else None,
                 "interfaces": self.interfaces.as_dict(),
@@ -193,6 +198,9 @@ class RemeshResult:
                     f"kept as they were)" if self.interfaces.inherited_edges else "")
                  + f"; patch certificates failed: {failed}"]
         lines += [f"    {problem}" for problem in self.interfaces.problems]
+        if self.turned:
+            lines.append(f"  input: {self.turned} face(s) wound against their neighbours "
+                         f"turned first (each body outward)")
         return "\n".join(lines)
 
 
@@ -264,6 +272,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     {0.2}
     """
     source = _as_trimesh(mesh)
+    turned = _wound_alike(source)
     check_seed(seed)
     vertices = np.asarray(source.vertices, dtype=np.float64)
     faces = np.asarray(source.faces, dtype=np.int64)
@@ -378,7 +387,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             result, unkept = _assemble(source, vertices, faces, kept, remeshed, meshes,
                                        chains, tolerance, len(patches), alpha, graded)
             if not unkept:
-                return result
+                return replace(result, turned=turned) if turned else result
             joined = [id(patch) not in unkept for patch in remeshed]
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
         topology = None
@@ -1028,6 +1037,21 @@ def _as_trimesh(mesh) -> "trimesh.Trimesh":
         raise ArgumentError("the mesh has no triangles: there is nothing to remesh")
     return trimesh.Trimesh(np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64),
                            process=True)
+
+
+def _wound_alike(source) -> int:
+    """Turn the faces of ``source`` (the remesh's own copy) that are wound against their
+    neighbours, each body then outward (``trimesh.repair.fix_normals``), and return how
+    many were turned. An exporter's slip (multibody.stl) leaves a surface with no volume
+    to keep, and coplanar faces wound two ways in two patches that meet edge to edge
+    the same way round: the remesh said FAILED on every such part."""
+    if source.is_winding_consistent:
+        return 0
+    import trimesh
+
+    before = source.faces.copy()
+    trimesh.repair.fix_normals(source, multibody=True)
+    return int(np.count_nonzero((source.faces != before).any(axis=1)))
 
 
 def _coplanar_patches(source, vertices, faces, normals, areas, tolerance) -> np.ndarray:
