@@ -458,15 +458,15 @@ def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
             parts = max(int(span // unit), 1)
             out[c] = (tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0)))
             continue
-        corners = tau[[0, -2]]
+        corners = tau[[0, -2]]                  # τ = 0 at the first
         first, last = after[i, 0], before[i, 1]
-        if span - corners[0] < first + last:    # too short for both clearances: its ends
+        if span < first + last:                 # too short for both clearances: its ends
             inner = np.zeros(0)
         elif first > unit or last > unit:
-            inner = cleared_piece(corners[0], span - corners[0], first, last, unit)
+            inner = cleared_piece(0.0, span, first, last, unit)
         else:
-            parts = max(int((span - corners[0]) // unit), 1)
-            inner = corners[0] + (span - corners[0]) * np.arange(1, parts) / parts
+            parts = max(int(span // unit), 1)
+            inner = span * np.arange(1, parts) / parts
         out[c] = (tau, np.sort(np.concatenate([corners[:1], inner])),
                   (corners[after[i] > unit], corners[before[i] > unit]))
     return out
@@ -480,7 +480,7 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     pass, the same arithmetic element by element; ``unit`` elsewhere."""
     after, before = np.full((len(taus), 2), unit), np.full((len(taus), 2), unit)
     count = hi - lo
-    legs = []                # (chain, end, its table, local start, steps, walk, direction)
+    legs = []                      # (chain, end, its table, local start, walk, direction)
     for i in np.flatnonzero(k[:, 0] > 1).tolist():
         m = int(count[i])
         legs += [(i, 0, after, 0, np.arange(m), 1), (i, 0, before, 0, np.array([0, m - 1]), -1)]
@@ -511,12 +511,13 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     first = last - sizes + 1
     local = np.arange(len(leg)) - first[leg]
     j = np.minimum.reduceat(np.where(g >= 0, local, len(leg)), first)
-    found = j < len(leg)
-    b = first + np.where(found, j, 1)
+    found = np.flatnonzero(j < len(leg))
+    value = position[last]                         # never reached: the whole walk
+    b = first[found] + j[found]
     a = b - 1
     t = g[a] / (g[a] - g[b])
     reach = position[a] + t * (position[b] - position[a])
-    value = np.where(found, np.where(reach > unit, reach, unit), position[last])
+    value[found] = np.where(reach > unit, reach, unit)
     for (i, end, table, *_), v in zip(legs, value.tolist()):
         table[i, end] = v
     return after, before
