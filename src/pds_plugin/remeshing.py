@@ -1044,7 +1044,8 @@ def _wound_alike(source) -> int:
     neighbours, each body then outward (``trimesh.repair.fix_normals``), and return how
     many were turned. An exporter's slip (multibody.stl) leaves a surface with no volume
     to keep, and coplanar faces wound two ways in two patches that meet edge to edge
-    the same way round: the remesh said FAILED on every such part."""
+    the same way round: the remesh said FAILED (a box with every third face turned), or
+    kept most of such a part's patches (multibody.stl: 18 of 31)."""
     if source.is_winding_consistent:
         return 0
     import trimesh
@@ -1213,8 +1214,9 @@ def _layout(rings, gap) -> list:
 
 def _patch(members, ids, xy, basis, rings, cycles, shift, region):
     """The :class:`_Patch` of :func:`_plane_rings`' output, its 2D frame moved by
-    ``shift``, or None if not a valid polygon. ``region``: a patch of one ring's, made
-    with the others' (``region.simple_regions``; None: not valid); unused for more."""
+    ``shift``, or None if not a valid polygon. ``region``: for a patch of one ring its
+    region, made with the others' (``region.simple_regions``; None if not valid); for a
+    patch with holes None (made here)."""
     from .region import Region
 
     if len(rings) == 1 and region is None:
