@@ -56,9 +56,10 @@ SHARED = ("featuretype.STL", "angle_block.STL", "7_8ths_cube.stl", "ADIS16480.ST
 
 
 def generated_parts(folder: Path) -> list[Path]:
-    """Plates and brackets with holes and pockets, as float32 STL."""
+    """Plates and brackets with holes and pockets, and a ball on a stem, as float32 STL."""
     import manifold3d as m3d
 
+    ball = trimesh.creation.icosphere(3, radius=12.0).apply_translation([0.0, 0.0, 30.0])
     parts = {
         "g-plate-holes": m3d.Manifold.cube([60.0, 40.0, 8.0])
         - m3d.Manifold.cylinder(20.0, 5.0, 5.0, 48).translate([15.0, 20.0, -5.0])
@@ -72,6 +73,12 @@ def generated_parts(folder: Path) -> list[Path]:
         - m3d.Manifold.cube([10.0, 10.0, 12.0]).translate([4.0, 4.0, 10.0])
         - m3d.Manifold.cube([12.0, 8.0, 12.0]).translate([15.0, 18.0, 10.0])
         - m3d.Manifold.cylinder(30.0, 2.5, 2.5, 24).translate([22.0, 8.0, -5.0]),
+        # a ball on a stem, the ball an icosphere: its facets are patches of one triangle
+        # each, all remeshed (a sphere of lat-long strips, Manifold's, is mostly kept)
+        "g-ball-knob": m3d.Manifold(m3d.Mesh(ball.vertices.astype(np.float32),
+                                             ball.faces.astype(np.uint32)))
+        + m3d.Manifold.cylinder(24.0, 5.0, 5.0, 48)
+        - m3d.Manifold.cylinder(10.0, 2.0, 2.0, 24).translate([0.0, 0.0, -1.0]),
     }
     paths = []
     for name, solid in parts.items():
