@@ -467,7 +467,7 @@ def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
         else:
             parts = max(int(span // unit), 1)
             inner = span * np.arange(1, parts) / parts
-        out[c] = (tau, np.sort(np.concatenate([corners[:1], inner])),
+        out[c] = (tau, np.concatenate([corners[:1], inner]),          # in order already
                   (corners[after[i] > unit], corners[before[i] > unit]))
     return out
 
@@ -490,12 +490,12 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
                  (i, 1, before, m - 1, np.arange(m - 1, -1, -1), -1)]
     if not legs:
         return after, before
-    sizes = np.array([len(walk) for *_, walk, _ in legs])
+    chain, end, tables, start, walks, direction = zip(*legs)
+    chain, end, start = np.array(chain), np.array(end), np.array(start)
+    direction = np.array(direction, dtype=float)
+    sizes = np.array([len(walk) for walk in walks])
     leg = np.repeat(np.arange(len(legs)), sizes)
-    chain = np.array([i for i, *_ in legs])
-    start = np.array([s for _, _, _, s, _, _ in legs])
-    direction = np.array([d for *_, d in legs], dtype=float)
-    walk = np.concatenate([walk for *_, walk, _ in legs])
+    walk = np.concatenate(walks)
     offsets = np.cumsum([0] + [len(tau) for tau in taus[:-1]])
     flat_tau = np.concatenate(taus)
     length = flat_tau[offsets + count]                 # each chain's τ, closed
@@ -507,7 +507,7 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     position[last] = np.where(position[last] == 0, length[chain], position[last])
     at = lo[chain][leg] + walk
     g = (np.hypot(*(dense[at] - dense[(lo[chain] + start)[leg]]).T)
-         - (TAU_MARGIN * k[chain, [end for _, end, *_ in legs]])[leg] * radius[at])
+         - (TAU_MARGIN * k[chain, end])[leg] * radius[at])
     first = last - sizes + 1
     local = np.arange(len(leg)) - first[leg]
     j = np.minimum.reduceat(np.where(g >= 0, local, len(leg)), first)
@@ -518,8 +518,8 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     t = g[a] / (g[a] - g[b])
     reach = position[a] + t * (position[b] - position[a])
     value[found] = np.where(reach > unit, reach, unit)
-    for (i, end, table, *_), v in zip(legs, value.tolist()):
-        table[i, end] = v
+    for i, e, table, v in zip(chain.tolist(), end.tolist(), tables, value.tolist()):
+        table[i, e] = v
     return after, before
 
 
