@@ -537,6 +537,58 @@ def test_faces_wound_against_their_neighbours_are_turned_first():
     assert pds.remesh(box, 0.2).turned == 0
 
 
+def test_faces_naming_a_vertex_twice_are_dropped_and_the_solid_checked():
+    """A face [a, a, b] (no area) runs its edge ab both ways, so ab bounds four faces and
+    a closed box read as open: its volume was not checked (watertight False -> False,
+    volume error nan). Dropped first, the box is closed and its volume kept."""
+    box = trimesh.creation.box((2, 1, 1))
+    a, b = box.faces[0, :2]
+    given = trimesh.Trimesh(box.vertices, np.vstack([box.faces, [[a, a, b]]]), process=False)
+    faces = given.faces.copy()
+    assert not given.is_watertight
+    result = pds.remesh(given, 0.2)
+    assert result.ok, str(result)
+    assert result.dropped == 1 and "dropped first" in str(result)
+    assert result.watertight == (True, True) and result.euler_number == (2, 2)
+    assert result.volume_error <= 1e-12
+    assert np.array_equal(given.faces, faces)                 # the input is not modified
+    assert pds.remesh(box, 0.2).dropped == 0
+
+
+def test_an_opencascade_export_of_a_ball_and_fillets_is_closed_and_kept(tmp_path):
+    """OpenCASCADE's tessellation (FreeCAD's, CadQuery's STL) leaves a face naming one
+    vertex twice at a sphere's pole and at each corner where three fillets blend: such
+    exports are remeshed as the closed solids they are."""
+    pytest.importorskip("OCP", reason="OCP (the [step] extra) is not installed")
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakeSphere
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+    from OCP.StlAPI import StlAPI_Writer
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    knob = BRepAlgoAPI_Fuse(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 30), 12).Shape(),
+                            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)),
+                                                     5, 24).Shape()).Shape()
+    block = BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(60, 40, 20).Shape(), BRepPrimAPI_MakeCylinder(
+        gp_Ax2(gp_Pnt(30, 20, -1), gp_Dir(0, 0, 1)), 8, 30).Shape()).Shape()
+    fillet, edges = BRepFilletAPI_MakeFillet(block), TopExp_Explorer(block, TopAbs_EDGE)
+    while edges.More():
+        fillet.Add(3.0, TopoDS.Edge(edges.Current()))
+        edges.Next()
+    for name, shape in (("knob", knob), ("filleted", fillet.Shape())):
+        BRepMesh_IncrementalMesh(shape, 0.05, False, 0.3, True)
+        path = tmp_path / f"{name}.stl"
+        StlAPI_Writer().Write(shape, str(path))
+        result = pds.remesh(str(path))
+        assert result.dropped >= 1, name
+        assert result.watertight == (True, True), str(result)
+        assert result.volume_error <= 1e-9 and result.ok_with_exceptions, str(result)
+        assert result.angles().min() >= 20
+
 @pytest.mark.parametrize("seed", range(4))
 def test_no_edge_of_the_graded_complex_is_longer_than_a_joinable_chord(seed):
     """What pds.remesh keeps a patch by, before meshing it (remeshing._chords_joinable):

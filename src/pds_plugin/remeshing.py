@@ -106,6 +106,10 @@ class RemeshResult:
     turned : int
         How many input faces were turned to wind like their neighbours before the
         remesh (:func:`_wound_alike`); the input above is that surface.
+    dropped : int
+        How many input faces naming one vertex twice (no area: a tessellated pole's, a
+        blend corner's) were dropped before the remesh (:func:`_needles_dropped`); the
+        input above is the surface without them.
     """
 
     mesh: "trimesh.Trimesh"
@@ -122,6 +126,7 @@ class RemeshResult:
     tolerance: float
     graded: bool = False
     turned: int = 0
+    dropped: int = 0
 
     @cached_property
     def certificates(self) -> tuple:
@@ -172,7 +177,7 @@ class RemeshResult:
                 "kept_patches": self.kept_patches, "watertight": list(self.watertight),
                 "euler_number": list(self.euler_number), "volume_error": self.volume_error,
                 "surface_distance": self.surface_distance, "tolerance": self.tolerance,
-                "turned": self.turned,
+                "turned": self.turned, "dropped": self.dropped,
                 "min_angle_remeshed": float(angles.min(initial=180.0)),
                 "angle_p1_remeshed": float(np.percentile(angles, 1)) if len(angles) else None,
                 "interfaces": self.interfaces.as_dict(),
@@ -198,6 +203,9 @@ class RemeshResult:
                     f"kept as they were)" if self.interfaces.inherited_edges else "")
                  + f"; patch certificates failed: {failed}"]
         lines += [f"    {problem}" for problem in self.interfaces.problems]
+        if self.dropped:
+            lines.append(f"  input: {self.dropped} face(s) naming one vertex twice (no "
+                         f"area) dropped first")
         if self.turned:
             lines.append(f"  input: {self.turned} face(s) wound against their neighbours "
                          f"turned first (each body outward)")
@@ -272,6 +280,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     {0.2}
     """
     source = _as_trimesh(mesh)
+    dropped = _needles_dropped(source)
     turned = _wound_alike(source)
     check_seed(seed)
     vertices = np.asarray(source.vertices, dtype=np.float64)
@@ -387,7 +396,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             result, unkept = _assemble(source, vertices, faces, kept, remeshed, meshes,
                                        chains, tolerance, len(patches), alpha, graded)
             if not unkept:
-                return replace(result, turned=turned) if turned else result
+                return replace(result, turned=turned, dropped=dropped)
             joined = [id(patch) not in unkept for patch in remeshed]
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
         topology = None
@@ -1037,6 +1046,22 @@ def _as_trimesh(mesh) -> "trimesh.Trimesh":
         raise ArgumentError("the mesh has no triangles: there is nothing to remesh")
     return trimesh.Trimesh(np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64),
                            process=True)
+
+
+def _needles_dropped(source) -> int:
+    """Drop the faces of ``source`` (the remesh's own copy, its vertices merged) that
+    name one vertex twice, and return how many. Such a face has no area: OpenCASCADE's
+    tessellation leaves one at each pole of a sphere and at each corner where fillets
+    blend (FreeCAD, CadQuery). Its edge to the other vertex is run both ways by it, so
+    the edge bounds four faces and the closed part read as open: its volume was not
+    checked. Without it the surface is the same point set, and closed."""
+    faces = source.faces
+    needle = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (
+        faces[:, 2] == faces[:, 0])
+    if needle.any():
+        source.update_faces(~needle)
+        source.remove_unreferenced_vertices()
+    return int(np.count_nonzero(needle))
 
 
 def _wound_alike(source) -> int:
