@@ -44,7 +44,7 @@ from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         with_sample_cones)
 from .region import check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
-from .sources.solids import NOISE_ULPS
+from .sources.solids import float_noise
 
 if TYPE_CHECKING:
     import pymeshlab
@@ -259,7 +259,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         patches whose normals turn by less meet at a fold (graded: facets).
     tolerance : float, optional
         Coplanarity tolerance (absolute); default 16 units in the last place of the
-        largest coordinate, in float32 if every vertex is a float32 number.
+        largest coordinate, in float32 if every vertex is a float32 number (a binary
+        STL), in the last decimal digit if every coordinate reads back from 5-15
+        significant digits (a text file), else in float64
+        (:func:`pds_plugin.sources.solids.float_noise`).
     max_samples : int, optional
         The sample budget of each patch.
 
@@ -301,9 +304,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         alpha = diagonal / AUTO_DIVISIONS
     alpha = check_alpha(alpha)
     if tolerance is None:
-        single = np.array_equal(vertices.astype(np.float32), vertices)
-        largest = (np.float32 if single else np.float64)(np.abs(vertices).max(initial=0.0))
-        tolerance = NOISE_ULPS * float(np.spacing(largest))
+        tolerance = float_noise(vertices)
     tolerance = check_tolerance(tolerance)
     normals = np.asarray(source.face_normals, dtype=np.float64)
     areas = np.asarray(source.area_faces, dtype=np.float64)

@@ -194,7 +194,7 @@ class _Solid:
         self.bodies = None                      # a tolerance given: the same for every part
         if tolerance is None:
             from_file = isinstance(solid, (str, os.PathLike))
-            precision = np.float32 if _float32_rounded(self.mesh, from_file) else np.float64
+            precision = _section_precision(self.mesh, from_file)
             self.bodies = _bodies(self.vertices, self.faces, self.shell, precision,
                                   _chord_error(self.mesh))
             tolerance = max(float(self.bodies[2].max()), self.bodies[3])
@@ -393,27 +393,76 @@ CURVED = (1e-4, np.radians(30))
 above rounding, below a feature edge."""
 
 
-def _float32_rounded(mesh, from_file: bool) -> bool:
-    """Whether the vertices of ``mesh`` went through float32 rounding: they are all float32
-    numbers, and it was read from a file (an STL file is float32), or neighbouring faces
+def stored_precision(vertices):
+    """The precision coordinates were stored in: ``np.float32`` for float32 numbers (a
+    binary STL's) and for text that holds them (each coordinate is its nearest float32
+    written with the file's digits); the count of significant decimal digits if they
+    all read back from 5 to 15 of them (OpenCASCADE's ASCII STL: 13); else
+    ``np.float64`` (round numbers that need fewer digits are exact). A tilted planar
+    face of a text file is flat only to its last digit, far above float64's noise.
+
+    >>> stored_precision([[0.1, 2.5]]), stored_precision([[0.25, 2.5]]), stored_precision([[1 / 3]])
+    (<class 'numpy.float64'>, <class 'numpy.float32'>, <class 'numpy.float64'>)
+    >>> stored_precision([[6.290878e+00, 3.957885e-01, -1.978882e+01]])   # "%.6e"
+    <class 'numpy.float32'>
+    >>> stored_precision([[6.290878129645e+00, 3.957885042599e-01, 1.978881966579e+01]])
+    13
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    if np.array_equal(vertices.astype(np.float32), vertices):
+        return np.float32
+    values = np.abs(vertices[np.isfinite(vertices)])
+    values = values[values > 0]
+    values = values[::max(1, len(values) // _DIGITS_SAMPLE)]
+
+    def reads_back(digits, written):
+        return all(float(f"{x:.{digits - 1}e}") == value
+                   for x, value in zip(written.tolist(), values.tolist()))
+
+    if not len(values) or not reads_back(15, values) or reads_back(4, values):
+        return np.float64
+    low, high = 5, 15                         # reads_back(high, values) holds throughout
+    while low < high:
+        middle = (low + high) // 2
+        low, high = (low, middle) if reads_back(middle, values) else (middle + 1, high)
+    return np.float32 if reads_back(high, values.astype(np.float32)) else high
+
+
+_DIGITS_SAMPLE = 1000
+"""Coordinates :func:`stored_precision` reads back at most (evenly spread)."""
+
+
+def float_noise(vertices) -> float:
+    """``NOISE_ULPS`` units in the last place of the largest coordinate of ``vertices``,
+    in the precision they were stored in (:func:`stored_precision`).
+
+    >>> float_noise([[88.0, 0.5, 1.25]]), float_noise([[88.123456789012, 0.5, 1.25]])
+    (0.0001220703125, 1.6e-11)
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    return float(_noise(np.abs(vertices).max(initial=0.0), stored_precision(vertices)))
+
+
+def _section_precision(mesh, from_file: bool):
+    """The precision of ``mesh``'s coordinates for its sections' noise: what
+    :func:`stored_precision` finds, if it was read from a file or neighbouring faces
     are coplanar only up to rounding (normals apart by less than ``CURVED[0]`` but not
-    0: a Trimesh read from an STL, a manifold3d solid). A solid typed in with round
-    coordinates is exact in any precision.
+    0: a Trimesh read from an STL, a manifold3d solid); else float64 (a solid typed in
+    with round coordinates is exact in any precision).
 
     >>> import trimesh
     >>> box = trimesh.creation.box()
     >>> turned = box.copy().apply_transform(trimesh.transformations.rotation_matrix(0.3, [1, 2, 3]))
     >>> turned.vertices = turned.vertices.astype(np.float32).astype(float)   # an STL export
-    >>> _float32_rounded(box, False), _float32_rounded(box, True), _float32_rounded(turned, False)
-    (False, True, True)
+    >>> [_section_precision(mesh, from_file).__name__ for mesh, from_file in
+    ...  ((box, False), (box, True), (turned, False))]
+    ['float64', 'float32', 'float32']
     """
-    vertices = np.asarray(mesh.vertices, dtype=np.float64)
-    if not np.array_equal(vertices.astype(np.float32), vertices):
-        return False
-    if from_file:
-        return True
+    precision = stored_precision(mesh.vertices)
+    if precision is np.float64 or from_file:
+        return precision
     angle = np.asarray(mesh.face_adjacency_angles)
-    return bool(np.any((angle > 0) & (angle < CURVED[0])))
+    return precision if np.any((angle > 0) & (angle < CURVED[0])) else np.float64
 
 
 def mesh_tolerance(mesh, precision=np.float64) -> float:
@@ -423,7 +472,8 @@ def mesh_tolerance(mesh, precision=np.float64) -> float:
     - Noise: ``NOISE_ULPS`` units in the last place of the largest coordinate, in the
       ``precision`` the mesh was stored in (:func:`section` gives float32 for a mesh
       whose vertices went through float32 rounding, as an STL file's did, read by
-      trimesh or not, and a manifold3d solid's).
+      trimesh or not, and a manifold3d solid's; the last decimal digit's unit for one
+      read from text, :func:`stored_precision`).
     - Chord error: a facet of width w between neighbours whose normals turn by φ
       approximates an arc that lies up to w·tan(φ/4)/2 from it (the sagitta of a circle
       through the facet's ends, w = 2ρ sin(φ/2)); the median over the edges of curved
@@ -434,8 +484,9 @@ def mesh_tolerance(mesh, precision=np.float64) -> float:
     Parameters
     ----------
     mesh : trimesh.Trimesh
-    precision : numpy float type
-        The precision the mesh's coordinates were stored in.
+    precision : numpy float type or int
+        The precision the mesh's coordinates were stored in (an int: significant
+        decimal digits).
 
     Returns
     -------
@@ -456,8 +507,14 @@ def mesh_tolerance(mesh, precision=np.float64) -> float:
 
 def _noise(largest, precision):
     """``NOISE_ULPS`` units in the last place of the coordinates ``largest`` (a number or
-    an array) in ``precision``, as float64."""
-    return NOISE_ULPS * np.spacing(np.asarray(largest).astype(precision)).astype(np.float64)
+    an array) in ``precision`` (a numpy float type, or a count of significant decimal
+    digits: :func:`stored_precision`), as float64."""
+    largest = np.asarray(largest, dtype=np.float64)
+    if isinstance(precision, int):
+        with np.errstate(divide="ignore"):
+            unit = 10.0 ** (np.floor(np.log10(largest)) - precision + 1)
+        return NOISE_ULPS * np.where(largest > 0, unit, 0.0)
+    return NOISE_ULPS * np.spacing(largest.astype(precision)).astype(np.float64)
 
 
 def _bodies(vertices, faces, shell, precision, chord) -> tuple:
