@@ -30,7 +30,8 @@ Run: ``python bench/remesh_vs_meshlab.py [--uniform] [--repeats N] [--parts NAME
 on N random CAD parts (the builders of ``bench/_cad_corpus.py``, drawn from ``[SEED,
 k]``, every other one turned by random angles) written as float32 STL and read back:
 certificates, watertightness and Euler number kept, volume to 1e-9, every vertex within
-the coplanarity tolerance of the input (trimesh's closest point: not pds's own report),
+the coplanarity tolerance of the input (the triangle trimesh's closest point finds, the
+distance measured again in long double: not pds's own report),
 no remeshed triangle under 20° that is not an itemised exception within its bound, and
 the 1st percentile of the remeshed triangles' smallest angles >= 25°; and the time
 against MeshLab's at pds's mean edge length (the best of 3 each, taking turns).

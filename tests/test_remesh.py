@@ -2,11 +2,21 @@
 the solid kept. Oracles: trimesh's own watertightness, Euler number and volume of the
 input, and the input's triangles (every output vertex lies on one)."""
 
+import importlib
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 import trimesh
 
 import pds_plugin as pds
+
+
+def bench_module(name):
+    """A module of the repository's bench/ folder (its generated parts are inputs here)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    return importlib.import_module(name)
 
 
 def part_with_hole(sections=24):
@@ -148,16 +158,10 @@ def test_a_thin_wall_and_chords_that_cannot_join_take_one_more_round_of_chains(m
     patches whose chords cannot join (kept) and a patch with a wall thinner than alpha
     (graded). Both changes take the next round: two rounds of chains, where the wall
     found a round later cost a third."""
-    import sys
-    from pathlib import Path
-
     from pds_plugin import remeshing
 
     pytest.importorskip("manifold3d")
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-    from remesh_vs_meshlab import held_out_part
-
-    _, source, _ = held_out_part(4401, 28)
+    _, source, _ = bench_module("remesh_vs_meshlab").held_out_part(4401, 28)
     found, walled = [], remeshing._thin_walled
     monkeypatch.setattr(remeshing, "_thin_walled",
                         lambda *a: found.append(walled(*a)) or found[-1])
@@ -400,13 +404,8 @@ def test_a_chain_part_is_halved_where_r_dips_between_its_ends():
 def tilted_float32_part(builder, seed):
     """A generated CAD part (bench/_cad_corpus) turned by random angles and written as a
     float32 STL, read back: its planar faces are planar to their rounding only."""
-    import sys
-    from pathlib import Path
-
     pytest.importorskip("manifold3d")
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-    import _cad_corpus
-
+    _cad_corpus = bench_module("_cad_corpus")
     rng = np.random.default_rng(seed)
     return tilted_float32(getattr(_cad_corpus, builder)(rng), rng)
 
@@ -505,8 +504,6 @@ def test_a_solid_wound_inconsistently_is_compared_with_itself():
     such a surface depends on the point it is taken about, and taken about each mesh's
     own vertex mean the input and the remesh differed by 0.76 of it (FAILED). Both are
     taken about the input's vertex mean now; the remesh keeps it to rounding."""
-    from pathlib import Path
-
     path = Path(__file__).resolve().parents[2] / "shared" / "data" / "multibody.stl"
     if not path.exists():
         pytest.skip("../shared/data/multibody.stl is absent")
@@ -595,14 +592,8 @@ def test_a_tilted_part_read_from_text_finds_its_planar_faces(tmp_path):
     flat only to its last digit, far above float64's noise: its faces were patches of
     their own (1,889 patches instead of 483, 1st percentile 15.5°). The tolerance is
     the noise of the digits the file holds now (sources.solids.stored_precision)."""
-    import sys
-    from pathlib import Path
-
     pytest.importorskip("manifold3d")
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-    from remesh_vs_meshlab import held_out_part
-
-    _, binary, _ = held_out_part(4401, 3)                  # a flange turned at random
+    _, binary, _ = bench_module("remesh_vs_meshlab").held_out_part(4401, 3)   # turned
     path = tmp_path / "flange.stl"
     corner = "vertex %.6e %.6e %.6e\n"
     path.write_text("solid flange\n" + "".join(
@@ -614,6 +605,7 @@ def test_a_tilted_part_read_from_text_finds_its_planar_faces(tmp_path):
     assert np.percentile(text.angles(), 1) >= 25
     assert text.tolerance > 1e6 * np.spacing(88.0)
 
+
 def test_narrow_facets_with_a_sharp_corner_are_kept(monkeypatch):
     """OpenCASCADE tessellates a sphere coarsely into facets with corners of 20-30°
     (held-out STEP knob 5109/3 at deflection 0.1). Remeshed, each had a triangle that
@@ -621,16 +613,10 @@ def test_narrow_facets_with_a_sharp_corner_are_kept(monkeypatch):
     not join (a second round of chains), and the rest paid a certificate each. Narrow
     ones are kept as they are; wider ones (a cone's sides, two quads of this knob) are
     still remeshed, their sharp corners the certificates' exceptions."""
-    import sys
-    from pathlib import Path
-
     from pds_plugin import remeshing
 
     pytest.importorskip("OCP", reason="OCP (the [step] extra) is not installed")
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-    from remesh_vs_meshlab import occt_part
-
-    _, source, _ = occt_part(5109, 3, 0.1)
+    _, source, _ = bench_module("remesh_vs_meshlab").occt_part(5109, 3, 0.1)
     rounds, sample = [], remeshing.graded_sample_chains
     monkeypatch.setattr(remeshing, "graded_sample_chains",
                         lambda *a, **k: rounds.append(1) or sample(*a, **k))
@@ -639,6 +625,7 @@ def test_narrow_facets_with_a_sharp_corner_are_kept(monkeypatch):
     assert np.percentile(result.angles(), 1) >= 25 and len(rounds) == 1
     cone = trimesh.creation.cone(20, 12, sections=24)        # sides 4.6 alpha wide, 15°
     assert len(pds.remesh(cone).patch_meshes) == 25
+
 
 @pytest.mark.parametrize("seed", range(4))
 def test_no_edge_of_the_graded_complex_is_longer_than_a_joinable_chord(seed):
