@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from pds_plugin import section, sections
+from pds_plugin import SectionError, section, sections
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
 SEGMENTS = 64
@@ -476,3 +476,32 @@ def test_a_far_separate_part_is_not_a_stray_vertex():
     far = trimesh.creation.box(extents=(1, 1, 1)).apply_translation((1e6, 1e6, 0))
     region = section(trimesh.util.concatenate([plate, far]), (0, 0, 0), (0, 0, 1))
     assert region.area == pytest.approx(101.0, rel=1e-9) and region.betti == (2, 0)
+
+
+def cracked_stl(mesh, path):
+    """``mesh`` as an STL whose facets store one vertex a float32 unit in the last place
+    apart (every other corner moved up by one): read back, the part is open everywhere."""
+    corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)
+    corners[::2] = np.nextafter(corners[::2], np.float32(np.inf))
+    trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3),
+                    process=False).export(path)
+    return path
+
+
+def test_an_stl_whose_facets_hold_a_vertex_an_ulp_apart_is_welded_and_cut(tmp_path):
+    """Such a file read as open, and every section of it was refused. Its vertices
+    within its float noise of each other are merged when that closes it (with a
+    warning); a mesh that merging does not close is refused as before."""
+    part = trimesh.creation.annulus(r_min=1.0, r_max=2.0, height=1.0, sections=48)
+    part.apply_transform(trimesh.transformations.rotation_matrix(0.4, [1, 2, 3]))
+    part.export(tmp_path / "intact.stl")
+    path = cracked_stl(part, tmp_path / "cracked.stl")
+    assert not trimesh.load_mesh(path).is_watertight
+    with pytest.warns(UserWarning, match="merged, which closes it"):
+        region = section(path, plane_origin=(0, 0, 0), plane_normal=(0, 0, 1))
+    intact = section(tmp_path / "intact.stl", plane_origin=(0, 0, 0), plane_normal=(0, 0, 1))
+    assert region.betti == intact.betti == (1, 1)
+    assert math.isclose(region.area, intact.area, rel_tol=1e-6)
+    opened = cracked_stl(trimesh.Trimesh(part.vertices, part.faces[1:]), tmp_path / "open.stl")
+    with pytest.raises(SectionError, match="not watertight"):
+        section(opened, plane_origin=(0, 0, 0), plane_normal=(0, 0, 1))

@@ -44,7 +44,7 @@ from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         with_sample_cones)
 from .region import check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
-from .sources.solids import float_noise
+from .sources.solids import float_noise, needle_faces, welded
 
 if TYPE_CHECKING:
     import pymeshlab
@@ -119,6 +119,10 @@ class RemeshResult:
         How many input faces naming one vertex twice (no area: a tessellated pole's, a
         blend corner's) were dropped before the remesh (:func:`_needles_dropped`); the
         input above is the surface without them.
+    welded : int
+        How many input vertices were merged into others within the float noise, which
+        closed an open input (:func:`pds_plugin.sources.solids.welded`); the input above
+        is the closed one.
     """
 
     mesh: "trimesh.Trimesh"
@@ -136,6 +140,7 @@ class RemeshResult:
     graded: bool = False
     turned: int = 0
     dropped: int = 0
+    welded: int = 0
 
     @cached_property
     def certificates(self) -> tuple:
@@ -186,7 +191,7 @@ class RemeshResult:
                 "kept_patches": self.kept_patches, "watertight": list(self.watertight),
                 "euler_number": list(self.euler_number), "volume_error": self.volume_error,
                 "surface_distance": self.surface_distance, "tolerance": self.tolerance,
-                "turned": self.turned, "dropped": self.dropped,
+                "turned": self.turned, "dropped": self.dropped, "welded": self.welded,
                 "min_angle_remeshed": float(angles.min(initial=180.0)),
                 "angle_p1_remeshed": float(np.percentile(angles, 1)) if len(angles) else None,
                 "interfaces": self.interfaces.as_dict(),
@@ -212,6 +217,9 @@ class RemeshResult:
                     f"kept as they were)" if self.interfaces.inherited_edges else "")
                  + f"; patch certificates failed: {failed}"]
         lines += [f"    {problem}" for problem in self.interfaces.problems]
+        if self.welded:
+            lines.append(f"  input: {self.welded} vertices within the float noise of others "
+                         f"merged first (it was open there)")
         if self.dropped:
             lines.append(f"  input: {self.dropped} face(s) naming one vertex twice (no "
                          f"area) dropped first")
@@ -291,8 +299,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     >>> {float(m.field(m.vertices).min()) for m in uniform.patch_meshes}   # r = alpha
     {0.2}
     """
-    source = _as_trimesh(mesh)
-    dropped = _needles_dropped(source)
+    read = _as_trimesh(mesh)
+    dropped = _needles_dropped(read)
+    source = welded(read)
+    merged = len(read.vertices) - len(source.vertices)
     turned = _wound_alike(source)
     check_seed(seed)
     vertices = np.asarray(source.vertices, dtype=np.float64)
@@ -412,7 +422,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
             result, unkept = _assemble(source, vertices, faces, kept, remeshed, meshes,
                                        chains, tolerance, len(patches), alpha, graded)
             if not unkept:
-                return replace(result, turned=turned, dropped=dropped)
+                return replace(result, turned=turned, dropped=dropped, welded=merged)
             joined = [id(patch) not in unkept for patch in remeshed]
         remeshed = [patch for patch, ok in zip(remeshed, joined) if ok]
         topology = None
@@ -1071,9 +1081,7 @@ def _needles_dropped(source) -> int:
     blend (FreeCAD, CadQuery). Its edge to the other vertex is run both ways by it, so
     the edge bounds four faces and the closed part read as open: its volume was not
     checked. Without it the surface is the same point set, and closed."""
-    faces = source.faces
-    needle = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (
-        faces[:, 2] == faces[:, 0])
+    needle = needle_faces(source.faces)
     if needle.any():
         source.update_faces(~needle)
         source.remove_unreferenced_vertices()

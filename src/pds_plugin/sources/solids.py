@@ -178,7 +178,7 @@ class _Solid:
     """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
 
     def __init__(self, solid, tolerance=None):
-        self.mesh = _consistently_oriented(_source_of(solid).load(solid))
+        self.mesh = _consistently_oriented(welded(_source_of(solid).load(solid)))
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
         if not np.isfinite(self.vertices).all():
@@ -547,6 +547,67 @@ def _chord_error(mesh) -> float:
     length = np.linalg.norm(edge[:, 1] - edge[:, 0], axis=1)
     width = 2 * np.asarray(mesh.area_faces)[mesh.face_adjacency[curved]].min(axis=1) / length
     return float(np.median(width * np.tan(angle[curved] / 4) / 2))
+
+
+def welded(mesh):
+    """``mesh``, or, if it is open and merging its vertices closer than its float noise
+    (:func:`float_noise`) closes it, a copy so merged, with a warning. An exporter that
+    writes each facet's corners on its own can leave one vertex a unit in the last
+    place apart in two facets: the part read as open, and every section of it was
+    refused. A mesh that merging does not close, or would close only by collapsing a
+    face (the noise of a stray vertex far out is larger than the part), is returned as
+    it is; faces naming one vertex twice already are dropped with the merge.
+
+    >>> import trimesh
+    >>> box = trimesh.creation.box()
+    >>> corners = box.vertices[box.faces].reshape(-1, 3).astype(np.float32)
+    >>> corners[::2] = np.nextafter(corners[::2], np.float32(2))        # an ulp apart
+    >>> soup = trimesh.Trimesh(corners, np.arange(36).reshape(-1, 3))
+    >>> soup.is_watertight, welded(box) is box
+    (False, True)
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True):
+    ...     closed = welded(soup)
+    >>> closed.is_watertight, len(closed.vertices)
+    (True, 8)
+    """
+    if mesh.is_watertight:
+        return mesh
+    import trimesh
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    vertices = np.asarray(mesh.vertices, dtype=np.float64)
+    pairs = cKDTree(vertices).query_pairs(float_noise(vertices), output_type="ndarray")
+    if not len(pairs):
+        return mesh
+    count = len(vertices)
+    _, group = connected_components(coo_matrix((np.ones(len(pairs)), tuple(pairs.T)),
+                                               shape=(count, count)), directed=False)
+    first = np.full(group.max() + 1, count)
+    np.minimum.at(first, group, np.arange(count))    # each group's first vertex stays
+    faces = group[np.asarray(mesh.faces)]
+    needle = needle_faces(faces)
+    if np.any(needle & ~needle_faces(mesh.faces)) or needle.all():
+        return mesh                 # a face would collapse: not noise (a stray vertex's)
+    closed = trimesh.Trimesh(vertices[first], faces[~needle], process=False)
+    if not closed.is_watertight:
+        return mesh
+    warnings.warn(f"the mesh is open where {count - len(first)} of its vertices lie within "
+                  f"its float noise ({float_noise(vertices):.3g}) of others: they were "
+                  f"merged, which closes it", UserWarning, stacklevel=4)
+    return closed
+
+
+def needle_faces(faces) -> np.ndarray:
+    """Which faces (k, 3) name one vertex twice: they have no area.
+
+    >>> needle_faces(np.array([[0, 1, 2], [3, 3, 4]])).tolist()
+    [False, True]
+    """
+    faces = np.asarray(faces)
+    return (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 2] == faces[:, 0])
 
 
 def _consistently_oriented(mesh):
