@@ -468,7 +468,9 @@ def box_scenes(draw):
     the height of a cutting plane through the middle of the first."""
     boxes = []
     for _ in range(draw(st.integers(1, 3))):
-        x, y, z = (draw(st.floats(-2, 2)) for _ in range(3))
+        # no subnormal corner: the oracle's union (GEOS) of boxes at x = 2.2e-311 and
+        # x = -0.5 is 0.1875 short (pds's is right: 2.125)
+        x, y, z = (draw(st.floats(-2, 2, allow_subnormal=False)) for _ in range(3))
         dx, dy, dz = (draw(st.floats(0.3, 2)) for _ in range(3))
         boxes.append((x, y, z, x + dx, y + dy, z + dz))
     x0, y0, z0, x1, y1, z1 = boxes[0]
