@@ -52,6 +52,7 @@ import numpy as np
 import trimesh
 
 import pds_plugin as pds
+from pds_plugin.sources.solids import needle_faces
 
 DATA = Path(__file__).resolve().parents[1] / ".." / "shared" / "data"
 SHARED = ("featuretype.STL", "angle_block.STL", "7_8ths_cube.stl", "ADIS16480.STL",
@@ -287,10 +288,7 @@ def held_out(seed: int, count: int, deflection: float | None = None) -> None:
             path.write_bytes(written)
             # the input as a surface: a face naming one vertex twice (OpenCASCADE's, at a
             # pole) is a segment, not part of it, and would make a closed part read as open
-            faces = source.faces
-            surface = trimesh.Trimesh(source.vertices, faces[(faces[:, 0] != faces[:, 1])
-                                                             & (faces[:, 1] != faces[:, 2])
-                                                             & (faces[:, 2] != faces[:, 0])])
+            surface = trimesh.Trimesh(source.vertices, source.faces[~needle_faces(source.faces)])
             for graded in (True, False):
                 spent, lab = [], []
                 for _ in range(3):                  # turns: the load falls on both alike

@@ -18,6 +18,19 @@ if os.environ.get("CI"):
     settings.load_profile("ci")
 
 
+def cracked_stl(mesh, path):
+    """``mesh`` (a trimesh.Trimesh) as an STL whose facets store one vertex a float32
+    unit in the last place apart (every other corner moved up by one): read back, the
+    part is open everywhere."""
+    import trimesh
+
+    corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)
+    corners[::2] = np.nextafter(corners[::2], np.float32(np.inf))
+    trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3),
+                    process=False).export(path)
+    return path
+
+
 def shared_file(name: str) -> Path:
     """A file of ../shared/data, or skip the test when it is absent."""
     path = DATA / name

@@ -11,6 +11,7 @@ import pytest
 import trimesh
 
 import pds_plugin as pds
+from conftest import cracked_stl
 
 
 def bench_module(name):
@@ -613,10 +614,7 @@ def test_an_stl_whose_facets_hold_a_vertex_an_ulp_apart_is_welded_first(tmp_path
     noise it is closed, and remeshed as the intact part is."""
     pytest.importorskip("manifold3d")
     _, part, _ = bench_module("remesh_vs_meshlab").held_out_part(4401, 3)
-    corners = part.vertices[part.faces].reshape(-1, 3).astype(np.float32)
-    corners[::2] = np.nextafter(corners[::2], np.float32(np.inf))
-    path = tmp_path / "cracked.stl"
-    trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3), process=False).export(path)
+    path = cracked_stl(part, tmp_path / "cracked.stl")
     assert not trimesh.load_mesh(path).is_watertight
     with pytest.warns(UserWarning, match="merged, which closes it"):
         result = pds.remesh(str(path), seed=3)

@@ -9,6 +9,7 @@ import pytest
 import trimesh
 
 from pds_plugin import SectionError, section, sections
+from conftest import cracked_stl
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"   # ../shared/data
 SEGMENTS = 64
@@ -476,16 +477,6 @@ def test_a_far_separate_part_is_not_a_stray_vertex():
     far = trimesh.creation.box(extents=(1, 1, 1)).apply_translation((1e6, 1e6, 0))
     region = section(trimesh.util.concatenate([plate, far]), (0, 0, 0), (0, 0, 1))
     assert region.area == pytest.approx(101.0, rel=1e-9) and region.betti == (2, 0)
-
-
-def cracked_stl(mesh, path):
-    """``mesh`` as an STL whose facets store one vertex a float32 unit in the last place
-    apart (every other corner moved up by one): read back, the part is open everywhere."""
-    corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)
-    corners[::2] = np.nextafter(corners[::2], np.float32(np.inf))
-    trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3),
-                    process=False).export(path)
-    return path
 
 
 def test_an_stl_whose_facets_hold_a_vertex_an_ulp_apart_is_welded_and_cut(tmp_path):

@@ -579,7 +579,8 @@ def welded(mesh):
     from scipy.spatial import cKDTree
 
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
-    pairs = cKDTree(vertices).query_pairs(float_noise(vertices), output_type="ndarray")
+    noise = float_noise(vertices)
+    pairs = cKDTree(vertices).query_pairs(noise, output_type="ndarray")
     if not len(pairs):
         return mesh
     count = len(vertices)
@@ -595,7 +596,7 @@ def welded(mesh):
     if not closed.is_watertight:
         return mesh
     warnings.warn(f"the mesh is open where {count - len(first)} of its vertices lie within "
-                  f"its float noise ({float_noise(vertices):.3g}) of others: they were "
+                  f"its float noise ({noise:.3g}) of others: they were "
                   f"merged, which closes it", UserWarning, stacklevel=4)
     return closed
 
