@@ -694,3 +694,25 @@ def test_patches_whose_chords_no_triangle_joins_are_kept_before_meshing(monkeypa
     assert result.solid_ok and result.ok_with_exceptions, str(result)
     assert abs(result.mesh.volume - source.volume) <= 1e-9 * source.volume
     assert 0 < result.kept_patches < result.patches
+
+
+def test_patches_of_one_triangle_are_read_together_as_one_by_one():
+    """remeshing._triangle_planes, the one-pass reading of the patches of one face (a
+    tessellated sphere's facets), gives what _plane_rings gives each, bit for bit: the
+    same vertices, 2D points, frame and ring."""
+    from pds_plugin.remeshing import _plane_rings, _triangle_planes
+
+    sphere = trimesh.creation.icosphere(2, radius=7.0)
+    sphere.apply_transform(trimesh.transformations.random_rotation_matrix(
+        np.random.default_rng(3).random(3)))
+    vertices, faces = np.asarray(sphere.vertices), np.asarray(sphere.faces, np.int64)
+    normals, areas = np.asarray(sphere.face_normals), np.asarray(sphere.area_faces)
+    members = np.arange(len(faces))
+    together = _triangle_planes(vertices, faces, normals, areas, members)
+    for k, plane in enumerate(together):
+        alone = _plane_rings(vertices, faces, normals, areas, members[k:k + 1],
+                             faces[k][[0, 1, 1, 2, 2, 0]].reshape(-1, 2))
+        assert plane is not None and alone is not None
+        for mine, theirs in zip([*plane[:3], *plane[3], *plane[4], *plane[5]],
+                                [*alone[:3], *alone[3], *alone[4], *alone[5]]):
+            assert np.array_equal(mine, theirs)

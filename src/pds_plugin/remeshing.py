@@ -1169,14 +1169,16 @@ def _usable_patches(vertices, faces, normals, areas, label, alpha, gap) -> list:
     rim_order = np.flatnonzero(rim)
     rim_order = rim_order[np.argsort(owner[rim_order], kind="stable")]
     rim_starts = np.searchsorted(owner[rim_order], np.arange(count + 1))
-    planes = []
-    for p in range(count):
-        if not wide[p]:
-            planes.append(None)
-            continue
+    # the patches of one triangle (most, on a tessellated sphere) in one pass
+    single = np.flatnonzero(wide & (np.diff(starts) == 1))
+    planes = [None] * count
+    for p, plane in zip(single.tolist(), _triangle_planes(vertices, faces, normals, areas,
+                                                          order[starts[single]])):
+        planes[p] = plane
+    for p in np.flatnonzero(wide & (np.diff(starts) > 1)).tolist():
         members = order[starts[p]:starts[p + 1]]
         edges = directed[rim_order[rim_starts[p]:rim_starts[p + 1]]]
-        planes.append(_plane_rings(vertices, faces, normals, areas, members, edges))
+        planes[p] = _plane_rings(vertices, faces, normals, areas, members, edges)
     shifts = _layout([None if plane is None else plane[4] for plane in planes], gap)
     # the patches of one ring (most: a CAD face, a facet) are valid polygons or not all
     # at once, their regions made together
@@ -1229,6 +1231,36 @@ def _plane_rings(vertices, faces, normals, areas, members, edges):
     order = outer + [k for k in range(len(rings)) if k != outer[0]]
     return (members, ids, xy, basis, [rings[k] for k in order],
             [np.array(cycles[k], dtype=np.int64) for k in order])
+
+
+def _triangle_planes(vertices, faces, normals, areas, members) -> list:
+    """:func:`_plane_rings` of patches of one face each (``members``), computed together
+    with the same arithmetic: a triangle's boundary is the face itself, its cycle
+    starting at its lowest vertex number."""
+    corner = faces[members]
+    normal = normals[members] * areas[members, None]
+    normal /= np.sqrt(_dots(normal, normal))
+    origin = vertices[corner[:, 0]]
+    axis = vertices[corner[:, 1]] - origin
+    axis -= normal * _dots(axis, normal)
+    axis /= np.sqrt(_dots(axis, axis))
+    other = np.cross(normal, axis)
+    ids = np.sort(corner, axis=1)
+    xy = (vertices[ids] - origin[:, None]) @ np.stack([axis, other], axis=2)
+    turn = np.argmin(corner, axis=1)[:, None] + np.arange(3)
+    cycle = np.argsort(np.argsort(corner, axis=1), axis=1)      # each corner's place in ids
+    cycle = np.take_along_axis(cycle, turn % 3, axis=1)
+    ring = np.take_along_axis(xy, cycle[:, :, None], axis=1)
+    following = np.roll(ring, -1, axis=1)
+    signed = (ring[:, :, 0] * following[:, :, 1] - following[:, :, 0] * ring[:, :, 1]).sum(axis=1)
+    return [(members[k:k + 1], ids[k], xy[k], (origin[k], axis[k], other[k], normal[k]),
+             [ring[k]], [cycle[k]]) if signed[k] > 0 else None for k in range(len(members))]
+
+
+def _dots(a, b) -> np.ndarray:
+    """The dot products of the rows of ``a`` and ``b``, a column, each as ``a[k] @ b[k]``
+    computes it (the same rounding)."""
+    return (a[:, None, :] @ b[:, :, None])[:, 0]
 
 
 def _layout(rings, gap) -> list:
