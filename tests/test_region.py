@@ -19,6 +19,29 @@ def test_rings_are_oriented_and_open():
     assert region.betti == (1, 1) and region.area == 15.0 and region.perimeter == 20.0
 
 
+def test_rings_of_many_components_and_holes_drop_only_repeats_within_rounding():
+    """Region.rings reads every ring in one pass: each polygon's exterior then its holes,
+    in order, a vertex within FOLD_WIDTH float spacings of the one before it in its own
+    ring (the last before the first) left out, and no other."""
+    rng = np.random.default_rng(5)
+    polygons, expected = [], []
+    for k in range(40):
+        x, y = 10.0 * (k % 8), 10.0 * (k // 8)
+        outer = [(x, y), (x + 8, y), (x + 8, y + 8), (x, y + 8)]
+        holes = [[(x + 1 + 2 * j, y + 1), (x + 1 + 2 * j, y + 2), (x + 2 + 2 * j, y + 1)]
+                 for j in range(int(rng.integers(0, 4)))]
+        if k % 3 == 0:            # a repeat of the vertex before it, within rounding
+            outer.insert(2, (x + 8, y + 1e-15))
+        if k % 5 == 0:            # a ring's first vertex repeating its last
+            outer.append((x, y + 5e-15))
+        polygons.append(Polygon(outer, holes))
+        expected.append([(x + 8, y), (x + 8, y + 8), (x, y + 8), (x, y + 5e-15)] if k % 5 == 0
+                        else [(x, y), (x + 8, y), (x + 8, y + 8), (x, y + 8)])
+        expected.extend([list(map(tuple, hole)) for hole in holes])
+    region = Region(MultiPolygon(polygons), np.eye(4))
+    assert [ring.tolist() for ring in region.rings] == [list(map(list, r)) for r in expected]
+
+
 def test_several_components_and_an_island_in_a_hole():
     ring = box(0, 0, 10, 10).difference(box(2, 2, 8, 8))
     region = pds.Region.from_shapely(MultiPolygon([ring, box(4, 4, 6, 6), box(20, 0, 21, 1)]))

@@ -207,12 +207,22 @@ class Region:
         A vertex within rounding of the one before it (``FOLD_WIDTH`` float spacings)
         repeats it and is left out: the samplers would put a sample on each.
         """
-        rings, width = [], FOLD_WIDTH * self.resolution
-        for polygon in self.geometry.geoms:
-            for ring in (polygon.exterior, *polygon.interiors):
-                rings.append(np.ascontiguousarray(
-                    _repeats_dropped(shapely.get_coordinates(ring)[:-1], width)))
-        return rings
+        # every ring at once (a drawing's hundreds of holes, a remesh's patches laid
+        # out together): each exterior, then its holes, their closing points dropped
+        rings = shapely.get_rings(shapely.get_parts(self.geometry))
+        if not len(rings):
+            return []
+        xy, owner = shapely.get_coordinates(rings, return_index=True)
+        sizes = np.bincount(owner, minlength=len(rings)) - 1
+        closing = np.cumsum(sizes + 1) - 1
+        xy = np.delete(xy, closing, axis=0)
+        first = np.cumsum(sizes) - sizes
+        before = np.arange(len(xy)) - 1
+        before[first] = first + sizes - 1                   # a ring's first: its last
+        # _repeats_dropped's test, every vertex against the one before it in its ring
+        kept = (np.abs(xy - xy[before]) > FOLD_WIDTH * self.resolution).any(axis=1)
+        ends = np.cumsum(np.add.reduceat(kept, first))
+        return np.split(xy[kept], ends[:-1])
 
     @cached_property
     def segments(self) -> np.ndarray:

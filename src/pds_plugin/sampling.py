@@ -275,7 +275,9 @@ def check_rings_apart(region: Region):
     """
     if len(region.rings) < 2:
         return
-    rings = np.array([shapely.linearrings(ring) for ring in region.rings])
+    sizes = [len(ring) for ring in region.rings]
+    rings = shapely.linearrings(np.concatenate(region.rings),
+                                indices=np.repeat(np.arange(len(sizes)), sizes))
     first, second = shapely.STRtree(rings).query(rings, predicate="intersects")
     pairs = first < second
     if pairs.any():
