@@ -962,7 +962,7 @@ def _facets(patches, vertices, faces, normals, feature_angle) -> np.ndarray:
                                         > math.cos(math.radians(feature_angle)))
     length = np.linalg.norm(vertices[end] - vertices[start], axis=1)
     convex = [len(patch.region.rings) == 1
-              and turning_angles(patch.region.rings[0]).min() >= -_ROUNDED_TURN
+              and patch.turns[0].min() >= -_ROUNDED_TURN
               for patch in patches]
     return convex & (2 * np.bincount(owner, length * fold, minlength=len(patches))
                      >= np.bincount(owner, length, minlength=len(patches)))
@@ -978,8 +978,7 @@ def _sharpest_corner(patch) -> float:
     sharper than _CHECKED_CORNER): the triangle at that corner has it or less."""
     if not len(patch.corners):
         return math.pi
-    return min(float(np.min(np.pi - turning_angles(ring), initial=np.pi))
-               for ring in patch.region.rings)
+    return min(float(np.min(np.pi - turns, initial=np.pi)) for turns in patch.turns)
 
 
 def _graded_instead(patches, meshes, fields, flat, bound) -> list:
@@ -1138,7 +1137,8 @@ def _coplanar_patches(source, vertices, faces, normals, areas, tolerance) -> np.
 @dataclass
 class _Patch:
     """A planar patch to remesh: its faces, rings (vertex numbers, the patch on the
-    left seen from its outward normal), 2D frame and Region."""
+    left seen from its outward normal), 2D frame, Region, corners sharper than
+    :data:`_CHECKED_CORNER` and its region's rings' turning angles."""
 
     faces: np.ndarray
     rings: list
@@ -1146,6 +1146,7 @@ class _Patch:
     region: object
     basis: tuple
     corners: np.ndarray
+    turns: list
 
 
 def _usable_patches(vertices, faces, normals, areas, label, alpha, gap) -> list:
@@ -1323,9 +1324,10 @@ def _patch(members, ids, xy, basis, rings, cycles, shift, region):
                                  dtype=np.int64) for ring in region.rings]
         except KeyError:
             return None
-    corners = np.concatenate([ids[np.pi - turning_angles(ring) < _CHECKED_CORNER]
-                              for ids, ring in zip(ring_ids, region.rings)])
-    return _Patch(members, ring_ids, frame, region, basis, corners)
+    turns = [turning_angles(ring) for ring in region.rings]
+    corners = np.concatenate([ids[np.pi - turn < _CHECKED_CORNER]
+                              for ids, turn in zip(ring_ids, turns)])
+    return _Patch(members, ring_ids, frame, region, basis, corners, turns)
 
 
 def _manifold_patches(patches) -> list:
