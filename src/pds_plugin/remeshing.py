@@ -60,7 +60,7 @@ _VOLUME_TOL = 1e-9      # relative volume change allowed by ``ok``
 _INSIDE = 1e-9          # a barycentric coordinate down to -this still puts a point in
 _CHECKED_CORNER = LADDER_ANGLE  # 33.56°: spikes that rings get mirror pairs at and graded
 # chains do not; a patch with a sharper corner, or with a vertex that is one of another
-# patch's (:func:`_at_a_spike`), is certified as it is meshed, and kept if its certificate
+# patch's (:func:`_at_spikes`), is certified as it is meshed, and kept if its certificate
 # does not hold
 
 KEEP_NARROWER = 1.0
@@ -412,10 +412,8 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         # chains sampled again without it; so is a patch with a corner sharper than
         # 33.56° whose certificate does not hold (a spike where three faces meet: its
         # legs' samples closer than the clearance)
-        pointed = np.concatenate([p.corners for p in remeshed] + [np.zeros(0, np.int64)])
-        joined = [mesh is not None and (not _at_a_spike(patch, pointed)
-                                        or mesh.certificate().ok_with_exceptions)
-                  for patch, mesh in zip(remeshed, meshes)]
+        joined = [mesh is not None and (not spiked or mesh.certificate().ok_with_exceptions)
+                  for spiked, mesh in zip(_at_spikes(remeshed), meshes)]
         if all(joined):
             # patches whose volume change no move within the tolerance undoes (a bent
             # quad of a float32 export, with no interior point) are kept, likewise
@@ -1039,15 +1037,22 @@ def _thin_walled(patches, given, sizes, fields, flat) -> list:
                                    *middle[owner[i] == k].T).any()]
 
 
-def _at_a_spike(patch, pointed) -> bool:
-    """Is a corner of ``patch`` sharper than :data:`_CHECKED_CORNER`, or is one of its
-    vertices such a corner of another patch (``pointed``)? The chains leaving that
+def _at_spikes(patches) -> list:
+    """Per patch: is a corner of it sharper than :data:`_CHECKED_CORNER`, or is one of
+    its vertices such a corner of another patch? The chains leaving that
     vertex keep their first part long, clear of the spike, with r there the smaller: in
     a patch whose own corner is not sharp (random cut block 44: 90° beside a 32° spike)
     that part is a chord longer than twice the r at its end, and the graded sampler
     keeps out of its lens (limit the smaller end's r / (1 - L)) where the certificate
     excuses only r(x) / (1 - L): a point between was 1.013 r from every sample."""
-    return bool(len(patch.corners)) or bool(np.isin(np.concatenate(patch.rings), pointed).any())
+    if not patches:
+        return []
+    pointed = np.concatenate([p.corners for p in patches])
+    ids = [ring for patch in patches for ring in patch.rings]
+    owner = np.repeat(np.arange(len(patches)),
+                      [sum(len(ring) for ring in patch.rings) for patch in patches])
+    return (np.bincount(owner, np.isin(np.concatenate(ids), pointed), minlength=len(patches))
+            > 0).tolist()
 
 
 def _as_trimesh(mesh) -> "trimesh.Trimesh":
