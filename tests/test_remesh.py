@@ -696,23 +696,43 @@ def test_patches_whose_chords_no_triangle_joins_are_kept_before_meshing(monkeypa
     assert 0 < result.kept_patches < result.patches
 
 
-def test_patches_of_one_triangle_are_read_together_as_one_by_one():
-    """remeshing._triangle_planes, the one-pass reading of the patches of one face (a
-    tessellated sphere's facets), gives what _plane_rings gives each, bit for bit: the
-    same vertices, 2D points, frame and ring."""
-    from pds_plugin.remeshing import _plane_rings, _triangle_planes
+def test_small_patches_are_read_together_as_one_by_one():
+    """remeshing._fan_planes, the one-pass reading of small patches whose boundary is one
+    cycle through all their vertices (a sphere's facets, a freeform surface's quads),
+    gives what _plane_rings gives each, bit for bit; a pinched patch it leaves to
+    _plane_rings (which refuses it)."""
+    from pds_plugin.remeshing import _fan_planes, _plane_rings
 
-    sphere = trimesh.creation.icosphere(2, radius=7.0)
-    sphere.apply_transform(trimesh.transformations.random_rotation_matrix(
-        np.random.default_rng(3).random(3)))
+    def both(vertices, faces, members):
+        normals = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]],
+                           vertices[faces[:, 2]] - vertices[faces[:, 0]])
+        areas = np.linalg.norm(normals, axis=1) / 2
+        normals = normals / (2 * areas[:, None])
+        directed = faces[members][:, :, [0, 1, 1, 2, 2, 0]].reshape(len(members), -1, 2)
+        edges = []
+        for patch in directed:                  # the edges no other face of it runs back
+            runs = {tuple(e) for e in patch.tolist()}
+            edges.append([e for e in patch.tolist() if (e[1], e[0]) not in runs])
+        edges = np.array(edges, dtype=np.int64)
+        return (_fan_planes(vertices, faces, normals, areas, members, edges),
+                [_plane_rings(vertices, faces, normals, areas, m, e)
+                 for m, e in zip(members, edges)])
+
+    turn = trimesh.transformations.random_rotation_matrix(np.random.default_rng(3).random(3))
+    sphere = trimesh.creation.uv_sphere(7.0, count=[12, 16]).apply_transform(turn)
     vertices, faces = np.asarray(sphere.vertices), np.asarray(sphere.faces, np.int64)
-    normals, areas = np.asarray(sphere.face_normals), np.asarray(sphere.area_faces)
-    members = np.arange(len(faces))
-    together = _triangle_planes(vertices, faces, normals, areas, members)
-    for k, plane in enumerate(together):
-        alone = _plane_rings(vertices, faces, normals, areas, members[k:k + 1],
-                             faces[k][[0, 1, 1, 2, 2, 0]].reshape(-1, 2))
-        assert plane is not None and alone is not None
-        for mine, theirs in zip([*plane[:3], *plane[3], *plane[4], *plane[5]],
-                                [*alone[:3], *alone[3], *alone[4], *alone[5]]):
-            assert np.array_equal(mine, theirs)
+    quads = np.flatnonzero(np.isin(faces, faces[1]).sum(axis=1) == 2)[:1]   # a quad's pair
+    for members in (np.arange(len(faces))[:, None], np.array([[1, quads[0]]])):
+        together, alone = both(vertices, faces, members)
+        for plane, one in zip(together, alone):
+            assert plane is not None and one is not None
+            for mine, theirs in zip([*plane[:3], *plane[3], *plane[4], *plane[5]],
+                                    [*one[:3], *one[3], *one[4], *one[5]]):
+                assert np.array_equal(mine, theirs)
+    # a square annulus less one triangle: its two ends touch at a corner (pinched)
+    square = [(0, 0), (3, 0), (3, 3), (0, 3), (1, 1), (2, 1), (2, 2), (1, 2)]
+    vertices = np.array([(x, y, 0.0) for x, y in square])
+    faces = np.array([[0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6],
+                      [3, 0, 4]], dtype=np.int64)
+    together, alone = both(vertices, faces, np.arange(7)[None])
+    assert together == [None] and alone == [None]

@@ -1175,16 +1175,23 @@ def _usable_patches(vertices, faces, normals, areas, label, alpha, gap) -> list:
     rim_order = np.flatnonzero(rim)
     rim_order = rim_order[np.argsort(owner[rim_order], kind="stable")]
     rim_starts = np.searchsorted(owner[rim_order], np.arange(count + 1))
-    # the patches of one triangle (most, on a tessellated sphere) in one pass
-    single = np.flatnonzero(wide & (np.diff(starts) == 1))
+    # the small patches whose boundary could be one cycle through all their vertices (a
+    # sphere's facets, a freeform surface's quads: most patches of a tessellated curved
+    # surface) in one pass per size, the others, or those it does not take, one by one
     planes = [None] * count
-    for p, plane in zip(single.tolist(), _triangle_planes(vertices, faces, normals, areas,
-                                                          order[starts[single]])):
-        planes[p] = plane
-    for p in np.flatnonzero(wide & (np.diff(starts) > 1)).tolist():
-        members = order[starts[p]:starts[p + 1]]
-        edges = directed[rim_order[rim_starts[p]:rim_starts[p + 1]]]
-        planes[p] = _plane_rings(vertices, faces, normals, areas, members, edges)
+    sizes = np.diff(starts)
+    for size in range(1, _FAN_FACES + 1):
+        which = np.flatnonzero(wide & (sizes == size) & (np.diff(rim_starts) == size + 2))
+        members = order[starts[which][:, None] + np.arange(size)]
+        edges = directed[rim_order[rim_starts[which][:, None] + np.arange(size + 2)]]
+        for p, plane in zip(which.tolist(), _fan_planes(vertices, faces, normals, areas,
+                                                        members, edges)):
+            planes[p] = plane
+    for p in np.flatnonzero(wide).tolist():
+        if planes[p] is None:
+            members = order[starts[p]:starts[p + 1]]
+            edges = directed[rim_order[rim_starts[p]:rim_starts[p + 1]]]
+            planes[p] = _plane_rings(vertices, faces, normals, areas, members, edges)
     shifts = _layout([None if plane is None else plane[4] for plane in planes], gap)
     # the patches of one ring (most: a CAD face, a facet) are valid polygons or not all
     # at once, their regions made together
@@ -1239,28 +1246,48 @@ def _plane_rings(vertices, faces, normals, areas, members, edges):
             [np.array(cycles[k], dtype=np.int64) for k in order])
 
 
-def _triangle_planes(vertices, faces, normals, areas, members) -> list:
-    """:func:`_plane_rings` of patches of one face each (``members``), computed together
-    with the same arithmetic: a triangle's boundary is the face itself, its cycle
-    starting at its lowest vertex number."""
-    corner = faces[members]
-    normal = normals[members] * areas[members, None]
+_FAN_FACES = 8
+"""Patches of up to this many faces are read by :func:`_fan_planes` when they can be."""
+
+
+def _fan_planes(vertices, faces, normals, areas, members, edges) -> list:
+    """:func:`_plane_rings` of patches of k faces each (``members``, (P, k)) whose k + 2
+    boundary ``edges`` ((P, k + 2, 2), in :func:`_plane_rings`' order) can be one cycle
+    through all their vertices, computed together with the same arithmetic; None where a
+    patch is not that (pinched, more than one cycle, a vertex inside: read it one by
+    one) or its ring runs clockwise (as :func:`_plane_rings`' None)."""
+    count, size = edges.shape[:2]
+    normal = normals[members[:, 0]] * areas[members[:, 0], None]
+    for k in range(1, members.shape[1]):        # the order of .sum(axis=0): row by row
+        normal += normals[members[:, k]] * areas[members[:, k], None]
     normal /= np.sqrt(_dots(normal, normal))
-    origin = vertices[corner[:, 0]]
-    axis = vertices[corner[:, 1]] - origin
+    origin = vertices[edges[:, 0, 0]]
+    axis = vertices[edges[:, 0, 1]] - origin
     axis -= normal * _dots(axis, normal)
     axis /= np.sqrt(_dots(axis, axis))
     other = np.cross(normal, axis)
-    ids = np.sort(corner, axis=1)
+    # walk each boundary from its lowest vertex, as _plane_rings does
+    by_start = np.argsort(edges[:, :, 0], axis=1)
+    start = np.take_along_axis(edges[:, :, 0], by_start, axis=1)
+    end = np.take_along_axis(edges[:, :, 1], by_start, axis=1)
+    walk = np.empty((count, size), np.int64)
+    walk[:, 0] = start[:, 0]
+    rows = np.arange(count)
+    for k in range(1, size):
+        walk[:, k] = end[rows, (start == walk[:, k - 1, None]).argmax(axis=1)]
+    closes = end[rows, (start == walk[:, -1, None]).argmax(axis=1)] == walk[:, 0]
+    ids = np.sort(walk, axis=1)
+    corners = np.sort(faces[members].reshape(count, 3 * members.shape[1]), axis=1)
+    one_cycle = (closes & (np.diff(start, axis=1) > 0).all(axis=1)        # not pinched
+                 & (np.diff(ids, axis=1) > 0).all(axis=1)                # a simple cycle
+                 & ((np.diff(corners, axis=1) > 0).sum(axis=1) == size - 1))  # no inner one
     xy = (vertices[ids] - origin[:, None]) @ np.stack([axis, other], axis=2)
-    turn = np.argmin(corner, axis=1)[:, None] + np.arange(3)
-    cycle = np.argsort(np.argsort(corner, axis=1), axis=1)      # each corner's place in ids
-    cycle = np.take_along_axis(cycle, turn % 3, axis=1)
+    cycle = np.argsort(np.argsort(walk, axis=1), axis=1)      # each vertex's place in ids
     ring = np.take_along_axis(xy, cycle[:, :, None], axis=1)
     following = np.roll(ring, -1, axis=1)
     signed = (ring[:, :, 0] * following[:, :, 1] - following[:, :, 0] * ring[:, :, 1]).sum(axis=1)
-    return [(members[k:k + 1], ids[k], xy[k], (origin[k], axis[k], other[k], normal[k]),
-             [ring[k]], [cycle[k]]) if signed[k] > 0 else None for k in range(len(members))]
+    return [(members[k], ids[k], xy[k], (origin[k], axis[k], other[k], normal[k]), [ring[k]],
+             [cycle[k]]) if one_cycle[k] and signed[k] > 0 else None for k in range(count)]
 
 
 def _dots(a, b) -> np.ndarray:
