@@ -20,6 +20,12 @@ Two sources of sections:
   extremes along their normal. The rotation is applied before the export, so no face
   stays axis-aligned and float32 rounding bends every straight edge, as in a real export
   (rotating after reading would only repeat what a random plane already does).
+- **occt** (asked for by name: ``bench/cad_corpus.py --source occt``, it needs the
+  ``[step]`` extra): :data:`OCCT_PARTS`, the random B-rep parts of
+  ``bench/_step_parts.py`` (flanges, rounded and chamfered blocks, knobs, rings, vases)
+  as OpenCASCADE tessellates and writes them (FreeCAD's and CadQuery's STL, at chordal
+  deflections :data:`OCCT_DEFLECTIONS`), every other one turned at random and written
+  again as float32; cut like the generated parts.
 
 Every case is named ``"<part> <plane>"`` (e.g. ``"teapot.stl z5/7"``,
 ``"g07-flange p2"``); :func:`case` rebuilds one from its name, so a failure reported by
@@ -101,7 +107,7 @@ def mesh(region, mode: str, seed: int = 0, **options):
 class Case:
     """One section of one part: the part, the plane, and where the plane is."""
 
-    source: str                   # "shared" or "generated"
+    source: str                   # "shared", "generated" or "occt"
     part: str                     # the file in ../shared/data, or the generated part's name
     plane: str                    # the plane's name within the part, e.g. "z3/7", "p2"
     origin: tuple                 # a point of the plane, in the part's coordinates
@@ -113,7 +119,8 @@ class Case:
 
     def solid(self):
         """The part, as trimesh read it (from the shared file, or the generated STL)."""
-        return _shared_solid(self.part) if self.source == "shared" else _generated_solid(self.part)
+        return {"shared": _shared_solid, "generated": _generated_solid,
+                "occt": _occt_solid}[self.source](self.part)
 
     def region(self):
         """The section, as ``pds.section`` gives it (planes on faces moved just above)."""
@@ -391,20 +398,70 @@ def _generated_solid(name):
 def generated_cases(parts=GENERATED_PARTS) -> list[Case]:
     """:data:`PLANES_PER_PART` random planes through each generated part, strictly between
     its extremes along the plane's normal (10 % of the extent kept clear at each end)."""
+    return [found for part in parts for found in _random_planes(
+        "generated", part, GENERATED_PARTS.index(part), _generated_solid(part).vertices)]
+
+
+def _random_planes(source, part, index, vertices) -> list[Case]:
+    """:func:`generated_cases`' planes through one part (``index``: its seed)."""
+    rng = np.random.default_rng([GENERATED_SEED, index, 1])
     found = []
-    for part in parts:
-        index = GENERATED_PARTS.index(part)
-        rng = np.random.default_rng([GENERATED_SEED, index, 1])
-        vertices = _generated_solid(part).vertices
-        for k in range(PLANES_PER_PART):
-            normal = rng.normal(size=3)
-            normal /= np.linalg.norm(normal)
-            height = vertices @ normal
-            level = height.min() + rng.uniform(0.1, 0.9) * np.ptp(height)
-            centre = vertices.mean(axis=0)
-            origin = centre + (level - centre @ normal) * normal
-            found.append(Case("generated", part, f"p{k}", _floats(origin), _floats(normal)))
+    for k in range(PLANES_PER_PART):
+        normal = rng.normal(size=3)
+        normal /= np.linalg.norm(normal)
+        height = vertices @ normal
+        level = height.min() + rng.uniform(0.1, 0.9) * np.ptp(height)
+        centre = vertices.mean(axis=0)
+        origin = centre + (level - centre @ normal) * normal
+        found.append(Case(source, part, f"p{k}", _floats(origin), _floats(normal)))
     return found
+
+
+# --- OpenCASCADE's exports ---------------------------------------------------------------
+
+OCCT_DEFLECTIONS = (0.02, 0.1)
+"""The chordal deflections (mm) the OCCT parts are tessellated at: fine and coarse."""
+OCCT_PARTS = tuple(f"o{k:02d}-{name}@{deflection:g}" for k, name in enumerate(
+    ("flange", "rounded-box", "chamfered-block", "knob", "ring", "vase") * 2)
+                   for deflection in OCCT_DEFLECTIONS)
+"""Each builder of ``_step_parts.HELD_OUT`` twice, at each deflection."""
+
+
+@lru_cache(maxsize=None)
+def occt_stl(name: str) -> bytes:
+    """The OCCT part ``name`` as OpenCASCADE writes its STL (``_step_parts.write_stl``);
+    odd parts turned at random and written again (float32)."""
+    import tempfile
+
+    import trimesh
+    from trimesh.transformations import random_rotation_matrix
+
+    import _step_parts
+
+    index = int(name[1:3])
+    rng = np.random.default_rng([GENERATED_SEED, index])
+    shape, _ = _step_parts.HELD_OUT[index % len(_step_parts.HELD_OUT)](rng)
+    with tempfile.TemporaryDirectory() as folder:
+        written = _step_parts.write_stl(shape, Path(folder) / "part.stl",
+                                        float(name.rsplit("@", 1)[1])).read_bytes()
+    if not index % 2:
+        return written
+    solid = trimesh.load(io.BytesIO(written), file_type="stl")
+    solid.apply_transform(random_rotation_matrix(rand=rng.random(3)))
+    return solid.export(file_type="stl")
+
+
+@lru_cache(maxsize=None)
+def _occt_solid(name):
+    import trimesh
+
+    return trimesh.load(io.BytesIO(occt_stl(name)), file_type="stl")
+
+
+def occt_cases(parts=OCCT_PARTS) -> list[Case]:
+    """:func:`generated_cases`' planes through each OCCT part."""
+    return [found for part in parts for found in _random_planes(
+        "occt", part, OCCT_PARTS.index(part), _occt_solid(part).vertices)]
 
 
 def all_cases() -> list[Case]:
@@ -436,7 +493,8 @@ def case(name: str) -> Case:
     """The case called ``name`` (e.g. ``"teapot.stl z5/7"``)."""
     part = name.rsplit(" ", 1)[0]
     pool = (shared_cases([part]) if part in SHARED_PARTS
-            else generated_cases([part]) if part in GENERATED_PARTS else [])
+            else generated_cases([part]) if part in GENERATED_PARTS
+            else occt_cases([part]) if part in OCCT_PARTS else [])
     for found in pool:
         if found.name == name:
             return found

@@ -5,6 +5,7 @@
     python bench/cad_corpus.py --quick          # a slice: 2 planes per shared part, 5 generated
     python bench/cad_corpus.py --only teapot.stl --only "g03-flange p2" --verbose
     python bench/cad_corpus.py --jobs 2 --write # two worker processes; write docs/benchmarks.md
+    python bench/cad_corpus.py --source occt --seed 5  # OpenCASCADE's exports (the [step] extra)
 
 Each section is meshed uniform at ``alpha="auto"``, graded at ``alpha="auto"`` and uniform
 at alpha = its extent / 150 (``_cad_corpus.MODES``), then certified. A mesh is **ok**
@@ -41,7 +42,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import _cad_corpus  # noqa: E402
-from _cad_corpus import DATA, MODES, all_cases, case, mesh  # noqa: E402
+from _cad_corpus import DATA, MODES, all_cases, case, mesh, occt_cases  # noqa: E402
 from _environment import machine                             # noqa: E402
 from _sections import put_section                            # noqa: E402
 
@@ -219,7 +220,7 @@ def verdict_table(records) -> list[str]:
     """Verdict counts per source and mode, and for all sources."""
     lines = ["| source | mode | meshes | ok | ok with exceptions | FAILED | error | refused "
              "| certified |", "|---|---|--:|--:|--:|--:|--:|--:|--:|"]
-    for source in ("shared", "generated", "all"):
+    for source in ("shared", "generated", "occt", "all"):
         for mode in MODES:
             mine = [r for r in records if r["mode"] == mode and source in ("all", r["source"])]
             if not mine:
@@ -330,7 +331,7 @@ def report(records, seconds, jobs, limit=None) -> list[str]:
 # --- command line ------------------------------------------------------------------------
 
 def selected(args) -> list[str]:
-    cases = all_cases()
+    cases = occt_cases() if args.source == "occt" else all_cases()
     if args.quick:
         cases = [c for c in cases if (c.source == "shared" and c.plane in ("z4/7", "tilt-x"))
                  or (c.source == "generated" and c.plane == "p0"
@@ -350,7 +351,9 @@ def parse(argv=None):
     parser.add_argument("--only", action="append", metavar="NAME",
                         help="cases whose name contains NAME (repeat for several), e.g. "
                         "'teapot.stl', 'teapot.stl z5/7', 'g03-flange'")
-    parser.add_argument("--source", choices=("shared", "generated"))
+    parser.add_argument("--source", choices=("shared", "generated", "occt"),
+                        help="only these parts; occt: OpenCASCADE's STL exports of random "
+                        "B-rep parts (not in the default corpus; needs the [step] extra)")
     parser.add_argument("--seed", type=int,
                         help="the seed of the generated parts (default 20): another seed gives "
                         "held-out parts the corpus was never tuned on")
