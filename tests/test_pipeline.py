@@ -295,6 +295,25 @@ def test_auto_alpha_warns_when_the_budget_caps_it_below_a_slot():
     assert certificate.min_separation < 0.001 and not certificate.ok
 
 
+def test_uniform_auto_says_when_one_thin_wall_makes_it_heavy_and_graded_is_light():
+    """A hole 0.05 from the outline of a 12 x 8 plate (a tessellated bolt hole near a
+    rim, cut obliquely): uniform "auto" takes alpha 0.0125 everywhere, about 400,000
+    samples, and says so before sampling, naming the wall and graded=True; the graded
+    mesh is certified with a few hundred vertices. A plate without such a wall is
+    meshed without a word."""
+    plate = Region.from_shapely(box(0, 0, 12, 8).difference(Point(10.95, 4).buffer(1.0, 64)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")            # raised where it is said: no sampling
+        with pytest.raises(UserWarning, match=r"set by the wall of width 0\.05 .* "
+                           r"times below the region's inradius .*\(graded=True"):
+            pds.mesh_region(plate, "auto")
+        graded = pds.mesh_region(plate, "auto", graded=True)
+        plain = pds.mesh_region(Region.from_shapely(box(0, 0, 12, 8).difference(
+            Point(9, 4).buffer(1.0, 64))), "auto")
+    assert graded.certificate().ok and len(graded.vertices) < 1000
+    assert plain.certificate().ok
+
+
 def test_auto_meshes_a_speck_over_the_budget_as_a_small_ring():
     """A square and, far from it, a speck whose altitude asks for alpha 5e-5 (a held-out
     gear section's triangle 0.007 across took the budget's 5 million samples and 18 s):

@@ -28,7 +28,7 @@ from .graded_sampling import graded_poisson_disc
 from .mesh import PlanarMesh
 from .region import ALPHA_RESOLUTION, Region, require_region
 from .sampling import DEFAULT_MAX_SAMPLES, estimate_samples, largest_alpha, poisson_disc
-from .sizing import DEFAULT_GRADING, graded_request, radius_field
+from .sizing import DEFAULT_GRADING, graded_request, inradius, radius_field
 
 __all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multiresolution",
            "section_report"]
@@ -257,6 +257,28 @@ def _warn_over_budget(region: Region, size: FeatureSize, budget: int, used: floa
                   f"far-apart parts separately, to keep it)", stacklevel=3)
 
 
+HEAVY_UNIFORM = 200_000
+"""Samples over which a uniform ``"auto"`` mesh whose alpha one feature sets far below
+the region's own size (:data:`FAR_BELOW`) says that ``graded=True`` would be lighter."""
+FAR_BELOW = 20.0
+"""How many times below the region's inradius alpha is "far below" (:data:`HEAVY_UNIFORM`)."""
+
+
+def _warn_if_one_feature_costs(region: Region, size: FeatureSize, alpha: float) -> None:
+    """Say when the feature ``size`` sets a uniform alpha far below the region's own
+    size and the mesh is heavy for it (a thin wall where a tessellated hole nears an
+    outline: the whole region at a fraction of that wall's width), and what is lighter."""
+    samples = estimate_samples(region, alpha)
+    if samples <= HEAVY_UNIFORM:
+        return
+    own = inradius(region)
+    if alpha * FAR_BELOW < own:
+        warnings.warn(f"alpha 'auto' is {alpha:.3g}, set by the {size}: {own / alpha:.0f} "
+                      f"times below the region's inradius {own:.3g}, about {samples:.2g} "
+                      "samples; a graded mesh (graded=True, pds-mesh's default) is as fine "
+                      f"at that feature and grows to {own:.3g} away from it", stacklevel=3)
+
+
 def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
               refine: float = 0.7, **sampling_options):
     """Mesh ``region`` with an alpha whose mesh has the region's topology, verified.
@@ -314,6 +336,8 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         if rest is not None:
             size, alpha = rest, rest.lfs / 2
     alpha = max(alpha, smallest)
+    if max_alpha is None:
+        _warn_if_one_feature_costs(region, size, alpha)
     while True:
         mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
         report = topology_report(mesh)
