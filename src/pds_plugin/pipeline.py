@@ -308,7 +308,10 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
     PlanarMesh
         Its ``certificate().topology_ok`` is True. When the sample budget keeps alpha
         above what the narrowest feature needs (a slot may then be bridged without
-        changing the topology), a warning says so, as :func:`suggest_alpha` does.
+        changing the topology), a warning says so, as :func:`suggest_alpha` does; so
+        does one, before sampling, when that feature sets alpha :data:`FAR_BELOW` times
+        below the region's inradius and the mesh takes over :data:`HEAVY_UNIFORM`
+        samples (a graded mesh is then a fraction of it).
 
     Raises
     ------
@@ -336,7 +339,7 @@ def auto_mesh(region: Region, seed: int = 0, max_alpha: float | None = None,
         if rest is not None:
             size, alpha = rest, rest.lfs / 2
     alpha = max(alpha, smallest)
-    if max_alpha is None:
+    if max_alpha is None and alpha == size.lfs / 2:        # set by the feature, not the budget
         _warn_if_one_feature_costs(region, size, alpha)
     while True:
         mesh = mesh_region(region, alpha, seed=seed, max_samples=budget, **sampling_options)
