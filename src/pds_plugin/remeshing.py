@@ -1277,10 +1277,10 @@ def _fan_planes(vertices, faces, normals, areas, members, edges) -> list:
         walk[:, k] = end[rows, (start == walk[:, k - 1, None]).argmax(axis=1)]
     closes = end[rows, (start == walk[:, -1, None]).argmax(axis=1)] == walk[:, 0]
     ids = np.sort(walk, axis=1)
-    corners = np.sort(faces[members].reshape(count, 3 * members.shape[1]), axis=1)
+    used = np.sort(faces[members].reshape(count, 3 * members.shape[1]), axis=1)
     one_cycle = (closes & (np.diff(start, axis=1) > 0).all(axis=1)        # not pinched
                  & (np.diff(ids, axis=1) > 0).all(axis=1)                # a simple cycle
-                 & ((np.diff(corners, axis=1) > 0).sum(axis=1) == size - 1))  # no inner one
+                 & ((np.diff(used, axis=1) > 0).sum(axis=1) == size - 1))   # no inner one
     xy = (vertices[ids] - origin[:, None]) @ np.stack([axis, other], axis=2)
     cycle = np.argsort(np.argsort(walk, axis=1), axis=1)      # each vertex's place in ids
     ring = np.take_along_axis(xy, cycle[:, :, None], axis=1)
