@@ -31,6 +31,18 @@ def square():
     (lambda r: pds.poisson_disc(r, -1.0), pds.ArgumentError),
     (lambda r: pds.poisson_disc(r, "big"), pds.ArgumentTypeError),
     (lambda r: pds.poisson_disc(r, 1e-4, max_samples=1000), pds.BudgetError),
+    # an alpha far too small: refused before anything is allocated (graded, a remesh's
+    # patches: numpy's MemoryError for 119 GiB at 1e-9 before)
+    (lambda r: pds.mesh_region(r, 1e-9, graded=True), pds.BudgetError),
+    (lambda r: pds.remesh(trimesh.creation.box(), 1e-9), pds.BudgetError),
+    (lambda r: pds.mesh_regions([r, box(1, 0, 2, 1)], 1e-9), pds.BudgetError),  # was killed
+    (lambda r: pds.mesh_regions([r, box(1, 0, 2, 1)], 1e-9, graded=True), pds.BudgetError),
+    # a user's sizing far below the budget's radii: its rings' densification stops
+    (lambda r: pds.mesh_region(r, 0.1, sizing=lambda x, y: 0 * x + 1e-9, max_samples=1000),
+     pds.BudgetError),
+    (lambda r: pds.remesh(trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, np.nan, 0], [0, 0, 1]],
+                                          [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+                                          process=False)), pds.SourceError),
     (lambda r: pds.solid_alpha_complex([[0, 0], [0, 0], [1, 0]], 1.0), pds.ArgumentError),
     (lambda r: pds.section(trimesh.creation.box(), (0, 0, 5), (0, 0, 1)), pds.SectionError),
     (lambda r: pds.sections(trimesh.creation.box(), (0, 0, 1), count=0), pds.ArgumentError),

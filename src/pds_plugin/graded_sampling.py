@@ -148,11 +148,12 @@ def _check_resolved(region: Region, field: RadiusField):
             "itself: Region.from_shapely(..., repair=True) drops it)")
 
 
-def _tau_rings(rings, field, grading):
+def _tau_rings(rings, field, grading, limit=None):
     """Each ring densified by bisection until every part is at most 0.3 of the lowest r
-    the field can have on it, with r at its points, the flags of its own vertices among
-    the points, and the normalized arc length τ = ∫ dt / r at its points and closing
-    point (trapezoid rule). The number of points grows with ∫ dt / r, not with
+    the field can have on it (None if that takes more than ``limit`` points: a user's
+    sizing far below the budget's radii), with r at its points, the flags of its own
+    vertices among the points, and the normalized arc length τ = ∫ dt / r at its points
+    and closing point (trapezoid rule). The number of points grows with ∫ dt / r, not with
     length / min r. All rings are densified together (one field evaluation per round for
     all of them); each round places the old points and the new midpoints by one index
     map instead of an ``np.insert`` per array, and a ring's next point comes from the
@@ -183,6 +184,8 @@ def _tau_rings(rings, field, grading):
         split = step > 0.3 * low
         if not split.any():
             break
+        if limit is not None and n + np.count_nonzero(split) > limit:
+            return None
         middle = 0.5 * (points[split] + following[split])
         # point i moves past the midpoints inserted before it; a midpoint follows its point
         old = np.arange(n) + np.cumsum(split) - split
@@ -714,7 +717,11 @@ class _GradedSampler:
         L = self.field.grading
         unit = TAU_MARGIN / (1.0 - 0.5 * L)
         rings = self.region.rings
-        dense_rings = _tau_rings(rings, self.field, L)
+        # about 7 densified points a boundary sample (parts of 0.3 r, at most halved)
+        dense_rings = _tau_rings(rings, self.field, L, 8 * self.max_samples)
+        if dense_rings is None:
+            raise BudgetError(f"the graded sampling's boundary alone would take more than "
+                              f"max_samples={self.max_samples} samples; {self._what_to_do()}")
         all_turns = _turning_angles(rings)
         sharp_turn = np.radians(feature_angle)
         plain = [k for k, turns in enumerate(all_turns) if not np.any(np.abs(turns) >= sharp_turn)]

@@ -39,12 +39,13 @@ import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
 
-from ._checks import check_alpha, check_seed
+from ._checks import check_alpha, check_positive_int, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
 from .region import Region, turning_angles
 from .graded_sampling import TAU_MARGIN, cleared_piece, corner_leg, corner_side, tau_positions
-from .sampling import LADDER_ANGLE, STRAIGHT_TURN, corner_clearance, ring_positions
+from .sampling import (DEFAULT_MAX_SAMPLES, LADDER_ANGLE, STRAIGHT_TURN, check_budget,
+                       corner_clearance, ring_positions)
 from .sizing import DEFAULT_GRADING, RadiusField, _apart, graded_request, inradius, radius_field
 from . import _sampling_kernels as kern
 from . import _graded_kernels, _sizing_kernels
@@ -1375,6 +1376,9 @@ def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool | None = None,
     ArgumentError, ArgumentTypeError
         If ``regions`` is empty or not regions, or ``alpha`` not a positive number or
         "auto".
+    BudgetError
+        If ``alpha`` would make more than ``max_samples`` samples in a region (said
+        before anything is sampled, with the smallest alpha the budget allows).
 
     Examples
     --------
@@ -1401,6 +1405,11 @@ def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool | None = None,
         parts.append(Region.from_shapely(geometry, frame))
     if isinstance(alpha, str) and alpha != "auto":
         raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
+    if not isinstance(alpha, str):    # an alpha far too small, refused before any chain
+        budget = DEFAULT_MAX_SAMPLES if max_samples is None else check_positive_int(
+            max_samples, "max_samples")
+        for part in parts:
+            check_budget(part, check_alpha(alpha), budget)
     lookup = {tuple(point): k for k, point in enumerate(xy.tolist())}
     rings = [[_ids_of(ring, lookup, name) for ring in part.rings]
              for name, part in zip(names, parts)]

@@ -27,7 +27,8 @@ from .graded_complex import graded_alpha_complex
 from .graded_sampling import graded_poisson_disc
 from .mesh import PlanarMesh
 from .region import ALPHA_RESOLUTION, Region, require_region
-from .sampling import DEFAULT_MAX_SAMPLES, estimate_samples, largest_alpha, poisson_disc
+from .sampling import (DEFAULT_MAX_SAMPLES, check_budget, estimate_samples, largest_alpha,
+                       poisson_disc)
 from .sizing import DEFAULT_GRADING, graded_request, inradius, radius_field
 
 __all__ = ["mesh_region", "suggest_alpha", "auto_mesh", "Resolution", "multiresolution",
@@ -155,6 +156,9 @@ def _graded_mesh(region, alpha, seed, conforming, grading, sizing, options) -> P
         raise ArgumentError("graded meshes are always conforming; leave conforming=True")
     cap = None if alpha == "auto" else check_alpha(alpha)
     _check_sampling_options(options)
+    if cap is not None:              # the graded sampling makes at least the uniform's
+        check_budget(region, cap, check_positive_int(
+            options.get("max_samples", DEFAULT_MAX_SAMPLES), "max_samples"))
     field = radius_field(region, DEFAULT_GRADING if grading is None else grading, cap, sizing,
                          options.get("feature_angle", 30.0))
     samples = graded_poisson_disc(region, field, seed, **options)

@@ -36,14 +36,14 @@ from scipy.sparse.csgraph import connected_components
 from shapely.geometry import MultiPolygon, Polygon
 
 from . import _sizing_kernels
-from ._checks import check_alpha, check_grading, check_seed
-from .errors import ArgumentError, ArgumentTypeError, PdsError
+from ._checks import check_alpha, check_grading, check_positive_int, check_seed
+from .errors import ArgumentError, ArgumentTypeError, PdsError, SourceError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
                         junction_fields, partition_topology, split_counts,
                         with_sample_cones)
 from .region import check_tolerance, simple_regions, turning_angles
-from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE
+from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
 from .sources.solids import float_noise, needle_faces, welded
 
 if TYPE_CHECKING:
@@ -283,7 +283,11 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     ArgumentError, ArgumentTypeError
         For a bad alpha or mesh.
     SourceError
-        If the mesh file cannot be read or has no triangles.
+        If the mesh file cannot be read or has no triangles, or a vertex has NaN or
+        infinite coordinates.
+    BudgetError
+        If ``alpha`` would make more than ``max_samples`` samples in a patch (said before
+        anything is meshed, with the smallest alpha the budget allows).
 
     Examples
     --------
@@ -335,7 +339,10 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                         * p.region.perimeter)]
     options = {"feature_angle": feature_angle}
     if max_samples is not None:
-        options["max_samples"] = max_samples
+        options["max_samples"] = check_positive_int(max_samples, "max_samples")
+    if remeshed:                    # an alpha far too small, refused before any field
+        check_budget(max((p.region for p in remeshed), key=lambda region: region.area),
+                     alpha, options.get("max_samples", DEFAULT_MAX_SAMPLES))
     flat = RadiusField(np.zeros((0, 2)), [], grading, alpha)
     # uniform: every patch at alpha, graded: the facets of tessellated curved surfaces
     # (their walls and corners are the tessellation's, not the part's: _facets); alpha
@@ -1074,6 +1081,9 @@ def _as_trimesh(mesh) -> "trimesh.Trimesh":
                                 f"pymeshlab.MeshSet, got {type(mesh).__name__}")
     if len(faces) == 0:
         raise ArgumentError("the mesh has no triangles: there is nothing to remesh")
+    if not np.isfinite(np.asarray(vertices, dtype=np.float64)).all():
+        raise SourceError("the mesh has NaN or infinite vertex coordinates; clean the mesh "
+                          "first")
     return trimesh.Trimesh(np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64),
                            process=True)
 

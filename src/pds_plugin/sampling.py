@@ -49,8 +49,8 @@ from .boundary_sampling import (RESOLUTION, along, chord_ends, domain_of_rings, 
 from .errors import BudgetError, RegionError
 from .region import Region, require_region, turning_angles
 
-__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_rings_apart",
-           "DEFAULT_MAX_SAMPLES"]
+__all__ = ["Samples", "poisson_disc", "estimate_samples", "largest_alpha", "check_budget",
+           "check_rings_apart", "DEFAULT_MAX_SAMPLES"]
 
 DEFAULT_MAX_SAMPLES = 5_000_000
 """Refuse samplings expected to exceed this many samples. At the cap, mesh_region of a unit
@@ -139,6 +139,25 @@ def estimate_samples(region: Region, alpha: float) -> float:
     7400
     """
     return 0.7 * region.area / alpha / alpha + region.perimeter / alpha   # inf, never an error
+
+
+def check_budget(region: Region, alpha: float, max_samples: int) -> None:
+    """Refuse an ``alpha`` whose sampling of ``region`` :func:`estimate_samples` puts over
+    ``max_samples``, before anything is allocated; the message gives the largest alpha the
+    budget allows. A graded sampling capped at ``alpha`` makes at least as many.
+
+    >>> from shapely.geometry import box
+    >>> check_budget(Region.from_shapely(box(0, 0, 1, 1)), 1e-9, 1000)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.BudgetError: alpha=1e-09 would make about 7e+17 samples, more than max_samples=1000; use alpha >= 0.0...
+    """
+    expected = estimate_samples(region, alpha)
+    if expected > max_samples:
+        raise BudgetError(
+            f"alpha={alpha:.6g} would make about {expected:.3g} samples, more than "
+            f"max_samples={max_samples}; use alpha >= {largest_alpha(region, max_samples):.6g} "
+            "or raise max_samples")
 
 
 def largest_alpha(region: Region, max_samples: int) -> float:
@@ -230,12 +249,7 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     require_region(region, "poisson_disc")
     alpha = check_alpha(alpha)
     max_samples = check_positive_int(max_samples, "max_samples")
-    expected = estimate_samples(region, alpha)
-    if expected > max_samples:
-        raise BudgetError(
-            f"alpha={alpha:.6g} would make about {expected:.3g} samples, more than "
-            f"max_samples={max_samples}; use alpha >= {largest_alpha(region, max_samples):.6g} "
-            "or raise max_samples")
+    check_budget(region, alpha, max_samples)
     if conforming:
         check_rings_apart(region)
     if boundary_samples is not None:
