@@ -40,6 +40,11 @@ def square():
     # a user's sizing far below the budget's radii: its rings' densification stops
     (lambda r: pds.mesh_region(r, 0.1, sizing=lambda x, y: 0 * x + 1e-9, max_samples=1000),
      pds.BudgetError),
+    # sizes float64 or trimesh's reading cannot hold (numpy's ValueError before)
+    (lambda r: pds.remesh(trimesh.creation.box((1e-9, 1e-9, 1e-9))), pds.ArgumentError),
+    (lambda r: pds.remesh(trimesh.creation.box((1e12, 1e12, 1e12))), pds.ArgumentError),
+    (lambda r: pds.section(trimesh.creation.box((1e-300,) * 3), (0, 0, 0), (0, 0, 1)),
+     pds.SourceError),
     (lambda r: pds.remesh(trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, np.nan, 0], [0, 0, 1]],
                                           [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
                                           process=False)), pds.SourceError),

@@ -37,14 +37,14 @@ from shapely.geometry import MultiPolygon, Polygon
 
 from . import _sizing_kernels
 from ._checks import check_alpha, check_grading, check_positive_int, check_seed
-from .errors import ArgumentError, ArgumentTypeError, PdsError, SourceError
+from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
                         junction_fields, partition_topology, split_counts,
                         with_sample_cones)
 from .region import check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
-from .sources.solids import float_noise, needle_faces, welded
+from .sources.solids import check_coordinates, float_noise, needle_faces, welded
 
 if TYPE_CHECKING:
     import pymeshlab
@@ -1081,11 +1081,17 @@ def _as_trimesh(mesh) -> "trimesh.Trimesh":
                                 f"pymeshlab.MeshSet, got {type(mesh).__name__}")
     if len(faces) == 0:
         raise ArgumentError("the mesh has no triangles: there is nothing to remesh")
-    if not np.isfinite(np.asarray(vertices, dtype=np.float64)).all():
-        raise SourceError("the mesh has NaN or infinite vertex coordinates; clean the mesh "
-                          "first")
-    return trimesh.Trimesh(np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64),
-                           process=True)
+    check_coordinates(vertices)
+    with np.errstate(invalid="ignore", over="ignore"):   # trimesh's merge past its range
+        read = trimesh.Trimesh(np.array(vertices, dtype=np.float64),
+                               np.array(faces, dtype=np.int64), process=True)
+    if needle_faces(read.faces).all():              # every face collapsed to a segment
+        size = float(np.ptp(np.asarray(vertices, dtype=np.float64), axis=0).max())
+        raise ArgumentError(f"no triangle of the mesh is left once its duplicate vertices "
+                            f"are merged (trimesh merges them on a 1e-8 grid, and on a "
+                            f"mesh {size:.3g} across that grid is too coarse or overflows); "
+                            "scale it (to millimetres, say) first")
+    return read
 
 
 def _needles_dropped(source) -> int:

@@ -178,12 +178,11 @@ class _Solid:
     """A solid loaded once as a float64 trimesh mesh, cut by as many planes as asked."""
 
     def __init__(self, solid, tolerance=None):
-        self.mesh = _consistently_oriented(welded(_source_of(solid).load(solid)))
+        loaded = _source_of(solid).load(solid)
+        check_coordinates(loaded.vertices)
+        self.mesh = _consistently_oriented(welded(loaded))
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
-        if not np.isfinite(self.vertices).all():
-            raise SourceError("the solid has NaN or infinite vertex coordinates; "
-                             "clean the mesh first")
         self.scale = float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
         self.shell = _shells(self.faces, len(self.vertices))
         # outward normals give the material winding number +1; a mesh turned inside out
@@ -430,6 +429,32 @@ def stored_precision(vertices):
 
 _DIGITS_SAMPLE = 1000
 """Coordinates :func:`stored_precision` reads back at most (evenly spread)."""
+
+
+SIZE_RANGE = (1e-50, 1e50)
+"""The sizes (largest side of the bounding box) a mesh may have: its areas and volumes,
+up to the cube of its size, stay far inside float64's range."""
+
+
+def check_coordinates(vertices) -> None:
+    """Refuse vertex coordinates that cannot be meshed: NaN or infinite ones, or a mesh
+    whose size lies outside :data:`SIZE_RANGE` (its areas and volumes would underflow or
+    overflow float64).
+
+    >>> check_coordinates([[0.0, 0.0, 0.0], [1e-300, 1e-300, 1e-300]])
+    Traceback (most recent call last):
+    ...
+    pds_plugin.errors.SourceError: the mesh is 1e-300 across: its areas and volumes underflow float64; scale it (to millimetres, say) first
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    if not np.isfinite(vertices).all():
+        raise SourceError("the mesh has NaN or infinite vertex coordinates; clean the mesh "
+                          "first")
+    size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
+    if size and not SIZE_RANGE[0] <= size <= SIZE_RANGE[1]:
+        raise SourceError(f"the mesh is {size:.3g} across: its areas and volumes "
+                          f"{'underflow' if size < 1 else 'overflow'} float64; scale it "
+                          "(to millimetres, say) first")
 
 
 def float_noise(vertices) -> float:
