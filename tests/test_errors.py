@@ -1,5 +1,7 @@
 """Every bad input gets a PdsError (a ValueError) of the kind it is; files stay OSError."""
 
+import io
+
 import numpy as np
 import pytest
 import trimesh
@@ -41,8 +43,11 @@ def square():
     (lambda r: pds.mesh_region(r, 0.1, sizing=lambda x, y: 0 * x + 1e-9, max_samples=1000),
      pds.BudgetError),
     # sizes float64 or trimesh's reading cannot hold (numpy's ValueError before)
-    (lambda r: pds.remesh(trimesh.creation.box((1e-9, 1e-9, 1e-9))), pds.ArgumentError),
-    (lambda r: pds.remesh(trimesh.creation.box((1e12, 1e12, 1e12))), pds.ArgumentError),
+    (lambda r: pds.remesh(trimesh.creation.box((1e-9, 1e-9, 1e-9))), pds.SourceError),
+    (lambda r: pds.remesh(trimesh.creation.box((1e12, 1e12, 1e12))), pds.SourceError),
+    (lambda r: pds.section(trimesh.load_mesh(io.BytesIO(trimesh.creation.box(
+        (1e-9,) * 3).export(file_type="stl")), file_type="stl"), (0, 0, 0), (0, 0, 1)),
+     pds.SourceError),
     (lambda r: pds.section(trimesh.creation.box((1e-300,) * 3), (0, 0, 0), (0, 0, 1)),
      pds.SourceError),
     (lambda r: pds.remesh(trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, np.nan, 0], [0, 0, 1]],

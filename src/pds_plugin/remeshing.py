@@ -283,8 +283,9 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
     ArgumentError, ArgumentTypeError
         For a bad alpha or mesh.
     SourceError
-        If the mesh file cannot be read or has no triangles, or a vertex has NaN or
-        infinite coordinates.
+        If the mesh file cannot be read or has no triangles, a vertex has NaN or
+        infinite coordinates, or the mesh is too small or too large to hold
+        (:func:`pds_plugin.sources.solids.check_coordinates`).
     BudgetError
         If ``alpha`` would make more than ``max_samples`` samples in a patch (said before
         anything is meshed, with the smallest alpha the budget allows).
@@ -1081,16 +1082,11 @@ def _as_trimesh(mesh) -> "trimesh.Trimesh":
                                 f"pymeshlab.MeshSet, got {type(mesh).__name__}")
     if len(faces) == 0:
         raise ArgumentError("the mesh has no triangles: there is nothing to remesh")
-    check_coordinates(vertices)
+    check_coordinates(vertices)                 # before trimesh drops NaN vertices
     with np.errstate(invalid="ignore", over="ignore"):   # trimesh's merge past its range
         read = trimesh.Trimesh(np.array(vertices, dtype=np.float64),
                                np.array(faces, dtype=np.int64), process=True)
-    if needle_faces(read.faces).all():              # every face collapsed to a segment
-        size = float(np.ptp(np.asarray(vertices, dtype=np.float64), axis=0).max())
-        raise ArgumentError(f"no triangle of the mesh is left once its duplicate vertices "
-                            f"are merged (trimesh merges them on a 1e-8 grid, and on a "
-                            f"mesh {size:.3g} across that grid is too coarse or overflows); "
-                            "scale it (to millimetres, say) first")
+    check_coordinates(read.vertices, read.faces)
     return read
 
 

@@ -179,7 +179,7 @@ class _Solid:
 
     def __init__(self, solid, tolerance=None):
         loaded = _source_of(solid).load(solid)
-        check_coordinates(loaded.vertices)
+        check_coordinates(loaded.vertices, loaded.faces)
         self.mesh = _consistently_oriented(welded(loaded))
         self.vertices = np.asarray(self.mesh.vertices, dtype=np.float64)
         self.faces = np.asarray(self.mesh.faces)
@@ -436,10 +436,11 @@ SIZE_RANGE = (1e-50, 1e50)
 up to the cube of its size, stay far inside float64's range."""
 
 
-def check_coordinates(vertices) -> None:
-    """Refuse vertex coordinates that cannot be meshed: NaN or infinite ones, or a mesh
+def check_coordinates(vertices, faces=()) -> None:
+    """Refuse vertex coordinates that cannot be meshed: NaN or infinite ones, a mesh
     whose size lies outside :data:`SIZE_RANGE` (its areas and volumes would underflow or
-    overflow float64).
+    overflow float64), or ``faces`` that all name one vertex twice (every triangle
+    collapsed when trimesh merged the vertices on its 1e-8 grid).
 
     >>> check_coordinates([[0.0, 0.0, 0.0], [1e-300, 1e-300, 1e-300]])
     Traceback (most recent call last):
@@ -455,6 +456,10 @@ def check_coordinates(vertices) -> None:
         raise SourceError(f"the mesh is {size:.3g} across: its areas and volumes "
                           f"{'underflow' if size < 1 else 'overflow'} float64; scale it "
                           "(to millimetres, say) first")
+    if len(faces) and needle_faces(np.asarray(faces)).all():
+        raise SourceError("no triangle of the mesh is left once trimesh merges its vertices "
+                          "on its 1e-8 grid (a mesh much under 1e-6 or over 1e10 across "
+                          "collapses); scale it (to millimetres, say) first")
 
 
 def float_noise(vertices) -> float:
