@@ -800,7 +800,8 @@ more, a square of side 1e90 of 312."""
 def check_scale(bounds, what: str = "the region spans",
                 fix: str = "scale the geometry (e.g. change its units)",
                 error=RegionError) -> None:
-    """Refuse what lies in the box ``bounds`` (xmin, ymin, xmax, ymax) if it spans at
+    """Refuse what lies in the box ``bounds`` (the lowest coordinates, then the highest:
+    xmin, ymin, xmax, ymax, or in 3D xmin, ymin, zmin, xmax, ymax, zmax) if it spans at
     most ``SCALE_LIMITS[0]`` (but more than 0) or has a coordinate of
     ``SCALE_LIMITS[1]`` or more (``what`` and ``fix`` name it in the message).
 
@@ -810,8 +811,10 @@ def check_scale(bounds, what: str = "the region spans",
     pds_plugin.errors.RegionError: the region spans 1e+60 with coordinates up to 1e+60: areas and distances need an extent above 1e-50 and coordinates below 1e+50; scale the geometry (e.g. change its units)
     """
     low, high = SCALE_LIMITS
-    xmin, ymin, xmax, ymax = map(float, bounds)
-    extent, largest = max(xmax - xmin, ymax - ymin), max(map(abs, (xmin, ymin, xmax, ymax)))
+    bounds = [float(bound) for bound in bounds]
+    half = len(bounds) // 2
+    extent = max(top - bottom for bottom, top in zip(bounds[:half], bounds[half:]))
+    largest = max(map(abs, bounds))
     if not largest < high or 0 < extent <= low:
         raise error(f"{what} {extent:.3g} with coordinates up to {largest:.3g}: areas and "
                     f"distances need an extent above {low:g} and coordinates below {high:g}; "

@@ -13,7 +13,7 @@ import numpy as np
 
 from .._checks import check_path, check_positive_int
 from ..errors import RegionError, SourceError
-from ..region import SCALE_LIMITS
+from ..region import SCALE_LIMITS, check_scale
 from .polygons import ROUNDING, outline_geometry
 
 __all__ = ["RELATIVE_TOLERANCE", "checked_file", "default_tolerance", "steps",
@@ -87,7 +87,8 @@ def default_tolerance(points) -> float:
     Raises
     ------
     RegionError
-        If the box has zero size (no points, or all the same), or a point is not finite.
+        If the box has zero size (no points, or all the same), a point is not finite, or
+        the box is beyond the scale float64 holds (:func:`pds_plugin.region.check_scale`).
 
     Examples
     --------
@@ -98,6 +99,9 @@ def default_tolerance(points) -> float:
     if not np.isfinite(points).all():
         raise RegionError("the drawing's coordinates overflow float64 (a transform or a size "
                           "beyond ±1.8e308 makes them infinite): fix the drawing or its units")
+    if len(points):
+        check_scale((*points.min(axis=0), *points.max(axis=0)), "the drawing spans",
+                    "fix the drawing or its units")
     diagonal = np.linalg.norm(np.ptp(points, axis=0)) if len(points) else 0.0
     if not diagonal > 0:
         raise RegionError("the drawing has zero size: nothing to mesh")

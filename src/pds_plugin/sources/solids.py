@@ -22,7 +22,7 @@ import shapely.affinity
 
 from .._checks import check_positive_int
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SectionError, SourceError
-from ..region import Region, check_tolerance
+from ..region import Region, check_scale, check_tolerance
 from . import manifold as manifold_backend
 from . import step as step_backend
 from . import trimesh as trimesh_backend
@@ -431,31 +431,24 @@ _DIGITS_SAMPLE = 1000
 """Coordinates :func:`stored_precision` reads back at most (evenly spread)."""
 
 
-SIZE_RANGE = (1e-50, 1e50)
-"""The sizes (largest side of the bounding box) a mesh may have: its areas and volumes,
-up to the cube of its size, stay far inside float64's range."""
-
-
 def check_coordinates(vertices, faces=()) -> None:
     """Refuse vertex coordinates that cannot be meshed: NaN or infinite ones, a mesh
-    whose size lies outside :data:`SIZE_RANGE` (its areas and volumes would underflow or
-    overflow float64), or ``faces`` that all name one vertex twice (every triangle
-    collapsed when trimesh merged the vertices on its 1e-8 grid).
+    beyond the scale float64 holds (:func:`pds_plugin.region.check_scale`), or ``faces``
+    that all name one vertex twice (every triangle collapsed when trimesh merged the
+    vertices on its 1e-8 grid).
 
     >>> check_coordinates([[0.0, 0.0, 0.0], [1e-300, 1e-300, 1e-300]])
     Traceback (most recent call last):
     ...
-    pds_plugin.errors.SourceError: the mesh is 1e-300 across: its areas and volumes underflow float64; scale it (to millimetres, say) first
+    pds_plugin.errors.SourceError: the mesh spans 1e-300 with coordinates up to 1e-300: areas and distances need an extent above 1e-50 and coordinates below 1e+50; scale it (to millimetres, say) first
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     if not np.isfinite(vertices).all():
         raise SourceError("the mesh has NaN or infinite vertex coordinates; clean the mesh "
                           "first")
-    size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
-    if size and not SIZE_RANGE[0] <= size <= SIZE_RANGE[1]:
-        raise SourceError(f"the mesh is {size:.3g} across: its areas and volumes "
-                          f"{'underflow' if size < 1 else 'overflow'} float64; scale it "
-                          "(to millimetres, say) first")
+    if len(vertices):
+        check_scale((*vertices.min(axis=0), *vertices.max(axis=0)), "the mesh spans",
+                    "scale it (to millimetres, say) first", SourceError)
     if len(faces) and needle_faces(np.asarray(faces)).all():
         raise SourceError("no triangle of the mesh is left once trimesh merges its vertices "
                           "on its 1e-8 grid (a mesh much under 1e-6 or over 1e10 across "
