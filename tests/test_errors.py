@@ -33,6 +33,10 @@ def square():
     (lambda r: pds.poisson_disc(r, -1.0), pds.ArgumentError),
     (lambda r: pds.poisson_disc(r, "big"), pds.ArgumentTypeError),
     (lambda r: pds.poisson_disc(r, 1e-4, max_samples=1000), pds.BudgetError),
+    # a bad seed named as such (numpy's "expected non-negative integer" and SeedSequence's
+    # TypeError before)
+    (lambda r: pds.poisson_disc(r, 0.1, seed=-1), pds.ArgumentError),
+    (lambda r: pds.poisson_disc(r, 0.1, seed=1.5), pds.ArgumentError),
     # an alpha far too small: refused before anything is allocated (graded, a remesh's
     # patches: numpy's MemoryError for 119 GiB at 1e-9 before)
     (lambda r: pds.mesh_region(r, 1e-9, graded=True), pds.BudgetError),

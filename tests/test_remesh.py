@@ -234,6 +234,18 @@ def test_the_command_line_remeshes_graded_or_uniform(tmp_path):
         assert all("grading" in c for c in values["certificates"])
 
 
+def test_the_command_line_refuses_an_output_it_cannot_write_before_remeshing(tmp_path, capsys):
+    """A suffix trimesh writes no triangle mesh to (.xyz: point clouds) is refused by the
+    argument parser, with the suffixes it takes; it raised trimesh's "object must be
+    PointCloud" after the whole remesh."""
+    from pds_plugin.cli import main
+
+    trimesh.creation.box().export(tmp_path / "box.stl")
+    assert main(["remesh", str(tmp_path / "box.stl"), "-o", str(tmp_path / "out.xyz")]) == 2
+    assert "give a file ending in .stl, .ply, .obj" in capsys.readouterr().err
+    assert not (tmp_path / "out.xyz").exists()
+
+
 def test_the_same_seed_gives_the_same_mesh():
     box = trimesh.creation.box((1.0, 1.0, 1.0))
     first, again = pds.remesh(box, 0.2, seed=5), pds.remesh(box, 0.2, seed=5)

@@ -35,7 +35,7 @@ import shapely
 from . import _graded_kernels as kern
 from . import _visibility_kernels as vis_kern
 from . import disc_tile
-from ._checks import check_positive_int
+from ._checks import check_positive_int, check_seed
 from .errors import BudgetError, RegionError
 from .region import ALPHA_RESOLUTION, Region
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
@@ -115,6 +115,7 @@ def graded_poisson_disc(region: Region, field: RadiusField, seed: int = 0, *,
     (True, 1)
     """
     max_samples = check_positive_int(max_samples, "max_samples")
+    seed = check_seed(seed)
     check_rings_apart(region)
     _check_resolved(region, field)
     if boundary_samples is not None:

@@ -42,7 +42,7 @@ import shapely
 from . import _sampling_kernels as kern
 from . import _visibility_kernels as vis_kern
 from . import boundary_rules
-from ._checks import check_alpha, check_positive_int
+from ._checks import check_alpha, check_positive_int, check_seed
 from .boundary_rules import LONGEST_CHORD, LONGEST_MOVED_CHORD
 from .boundary_sampling import (RESOLUTION, along, chord_ends, domain_of_rings, given_boundary,
                                 guard_candidates, joined, onto_curves)
@@ -248,6 +248,7 @@ def poisson_disc(region: Region, alpha: float, seed: int = 0, *,
     """
     require_region(region, "poisson_disc")
     alpha = check_alpha(alpha)
+    seed = check_seed(seed)
     max_samples = check_positive_int(max_samples, "max_samples")
     check_budget(region, alpha, max_samples)
     if conforming:

@@ -165,8 +165,9 @@ def parser() -> argparse.ArgumentParser:
 
 def _remesh_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", metavar="IN", help="a mesh file (STL, OBJ, PLY, OFF...)")
-    parser.add_argument("-o", "--output", metavar="OUT", type=Path, required=True,
-                        help="the remeshed mesh (format by suffix: .stl, .ply, .obj...)")
+    parser.add_argument("-o", "--output", metavar="OUT", type=_mesh_file, required=True,
+                        help="the remeshed mesh (format by suffix: "
+                             f"{', '.join(MESH_SUFFIXES)})")
     parser.add_argument("--alpha", type=_alpha, default="auto",
                         help="disc radius in the input's units, or 'auto' (default): the "
                              "bounding box's diagonal / 100")
@@ -380,6 +381,18 @@ def _grading(text: str) -> float:
     except ValueError:                    # not a number, or not in (0, 1)
         raise argparse.ArgumentTypeError(f"grading must be a number in (0, 1), got "
                                          f"{text!r}") from None
+
+
+MESH_SUFFIXES = (".stl", ".ply", ".obj", ".off", ".glb", ".gltf", ".3mf")
+"""The formats ``pds-mesh remesh`` writes (trimesh's exporters of triangle meshes)."""
+
+
+def _mesh_file(text: str) -> Path:
+    path = Path(text)
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise argparse.ArgumentTypeError(f"cannot write a mesh to {text!r}: give a file "
+                                         f"ending in {', '.join(MESH_SUFFIXES)}")
+    return path
 
 
 def _seed(text: str) -> int:
