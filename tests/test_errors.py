@@ -37,6 +37,7 @@ def square():
     # TypeError before)
     (lambda r: pds.poisson_disc(r, 0.1, seed=-1), pds.ArgumentError),
     (lambda r: pds.poisson_disc(r, 0.1, seed=1.5), pds.ArgumentError),
+    (lambda r: pds.section_report(None, seed=0), pds.ArgumentTypeError),   # AttributeError
     # an alpha far too small: refused before anything is allocated (graded, a remesh's
     # patches: numpy's MemoryError for 119 GiB at 1e-9 before)
     (lambda r: pds.mesh_region(r, 1e-9, graded=True), pds.BudgetError),

@@ -514,6 +514,8 @@ def section_report(mesh: PlanarMesh, *, seed: int, alpha_mode: str = "given",
     ------
     ArgumentError
         If ``alpha_mode`` is not "given" or "auto".
+    ArgumentTypeError
+        If ``mesh`` is not a PlanarMesh.
 
     Examples
     --------
@@ -528,6 +530,9 @@ def section_report(mesh: PlanarMesh, *, seed: int, alpha_mode: str = "given",
     """
     if alpha_mode not in ("given", "auto"):
         raise ArgumentError(f"alpha_mode must be 'given' or 'auto', got {alpha_mode!r}")
+    if not isinstance(mesh, PlanarMesh):
+        raise ArgumentTypeError(f"section_report takes a PlanarMesh (pds.mesh_region's), "
+                                f"got {type(mesh).__name__}")
     check_seed(seed)
     region, frame = mesh.region, mesh.region.frame
     feature = feature_size(region)
