@@ -1406,10 +1406,11 @@ def mesh_regions(regions, alpha, seed: int = 0, *, graded: bool | None = None,
     if isinstance(alpha, str) and alpha != "auto":
         raise ArgumentError(f"alpha must be a positive number or 'auto', got {alpha!r}")
     if not isinstance(alpha, str):    # an alpha far too small, refused before any chain
+        alpha = check_alpha(alpha)
         budget = DEFAULT_MAX_SAMPLES if max_samples is None else check_positive_int(
             max_samples, "max_samples")
         for part in parts:
-            check_budget(part, check_alpha(alpha), budget)
+            check_budget(part, alpha, budget)
     lookup = {tuple(point): k for k, point in enumerate(xy.tolist())}
     rings = [[_ids_of(ring, lookup, name) for ring in part.rings]
              for name, part in zip(names, parts)]
