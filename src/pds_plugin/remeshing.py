@@ -1673,27 +1673,35 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     every = np.concatenate(points)
     # every patch's new triangles and input faces in one determinant call each, about
     # the one point the solid's volume is measured from
-    new = _determinants(np.concatenate(
-        [np.take(every, triangles, axis=0) for triangles in new_faces]) - centre)
+    counts = [len(triangles) for triangles in new_faces]
+    every_triangle = np.concatenate(new_faces)
+    taken = np.take(every, every_triangle, axis=0)
+    new = split_counts(_determinants(taken - centre), counts)
     old = _determinants(np.concatenate(
         [np.take(vertices, faces[patch.faces], axis=0) for patch in patches]) - centre)
-    new = split_counts(new, [len(triangles) for triangles in new_faces])
     old = split_counts(old, [len(patch.faces) for patch in patches])
     change = [a.sum() / 6 - b.sum() / 6 for a, b in zip(new, old)]
     if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
         return _largest(heights), unkept
-    for k, ((start, normal, height), patch, triangles) in enumerate(zip(lifted, patches,
-                                                                         new_faces)):
+    # each patch's slope: its triangles' determinants with the column of one moved
+    # corner replaced by the normal, the three columns read for all patches at once
+    owner = np.repeat(np.arange(len(patches)), counts)
+    corner = taken - np.stack([patch.basis[0] for patch in patches])[owner][:, None]
+    axes = np.stack([patch.basis[3] for patch in patches])
+    first = np.array([start for start, _, _ in lifted])[owner][:, None]
+    last = first + np.array([len(height) for height in heights])[owner][:, None]
+    moved = split_counts((every_triangle >= first) & (every_triangle < last), counts)
+    columns = [split_counts(_determinants(np.where((np.arange(3) == j)[:, None],
+                                                   axes[owner][:, None], corner)), counts)
+               for j in range(3)]
+    for k, (_, normal, height) in enumerate(lifted):
         room = 0.99 * (tolerance - np.abs(height).max(initial=0.0))   # rounding's margin
-        corner = np.take(every, triangles, axis=0) - patch.basis[0]
-        moved = (triangles >= start) & (triangles < start + len(height))
-        slope = sum(_determinants(np.where((np.arange(3) == j)[:, None], patch.basis[3],
-                                           corner))[moved[:, j]].sum() for j in range(3)) / 6
+        slope = sum(columns[j][k][moved[k][:, j]].sum() for j in range(3)) / 6
         if not (slope and room > 0):
             continue
         shift = float(np.clip(-change[k] / slope, -room, room))
-        points[2 + k] = points[2 + k] + shift * patch.basis[3]
-        heights[k] = height + shift * (normal @ patch.basis[3])
+        points[2 + k] = points[2 + k] + shift * axes[k]
+        heights[k] = height + shift * (normal @ axes[k])
         change[k] += shift * slope
     return _largest(heights), _volume_spoilers(change, patches, volume)
 
