@@ -333,14 +333,18 @@ class SampledBoundary:
 
     @cached_property
     def _seers(self) -> dict:
+        """:meth:`_seers_of` the mixed chords."""
+        return self._seers_of(np.flatnonzero(self.mixed))
+
+    def _seers_of(self, chords) -> dict:
         """Chord index -> the samples of Q that see the chord (or a stretch of it) whole
-        through the mesh's triangles, for the mixed chords that are mesh edges (empty
+        through the mesh's triangles, for those of ``chords`` that are mesh edges (empty
         without ``faces``): ``(point, lo, hi)``, the stretch from ``lo`` to ``hi`` along
         the chord from ``a``. The apex c of the triangle abc on the chord sees all of it;
         the third corner d of the triangle on ac (or cb) sees the points y of ab in its
         angle at d (:func:`_stretch_seen`): the segment dy crosses the edge between
         those triangles, and so stays in their union."""
-        if self.faces is None:
+        if self.faces is None or not len(chords):
             return {}
         faces = np.asarray(self.faces, np.int64)
         n = len(self.points)
@@ -357,7 +361,7 @@ class SampledBoundary:
             return found[0] if len(found) == 1 and hi - lo == 2 else None
 
         seers = {}
-        for k in np.flatnonzero(self.mixed):
+        for k in chords:
             a, b = int(self.a[k]), int(self.b[k])
             key = edge_keys(np.array([a]), np.array([b]), n)[0]
             lo, hi = np.searchsorted(keys, key), np.searchsorted(keys, key, side="right")
@@ -484,10 +488,37 @@ class SampledBoundary:
         pa, pb = self.points[self.a[ends_of]], self.points[self.b[ends_of]]
         distance = np.minimum(np.hypot(*(candidates - pa).T), np.hypot(*(candidates - pb).T))
         relative = self._relatives(distance, candidates)
+        for k, bound in self._slivers_seen_from_samples(ends_of, relative).items():
+            relative[ends_of == k] = -np.inf             # a better proof for this sliver
+            if self._relative(bound) > self._relative((gap, at)):
+                gap, at = bound
         k = int(np.argmax(relative))
         if relative[k] > self._relative((gap, at)):
             gap, at = float(distance[k]), candidates[k]
         return gap, at
+
+    def _slivers_seen_from_samples(self, chord, relative) -> dict:
+        """Chord index -> a smaller bound (distance, place) on the coverage of its convex
+        sliver than its ends give, for the slivers whose ends leave a point of them
+        uncovered (``relative``: the bounds from the ends at their candidate points, of
+        chord ``chord``): the sliver cut into parts each seen from a chord end or from
+        a sample of Q that sees the chord through the mesh (the apex of its triangle,
+        the far corners of the triangles beside it: :func:`_seen_from_samples`). At a
+        steep grading the chords on arcs grow long, and the point of a sliver farthest
+        from both ends can lie close to the apex (a flange's section at L = 0.45: 1.22 r
+        from the ends, 0.59 r from the apex)."""
+        worst = np.full(len(self.a), -np.inf)
+        np.maximum.at(worst, chord, relative)
+        uncovered = np.flatnonzero(worst > (1.0 if self.radius is not None else self.alpha))
+        better = {}
+        for k, seers in self._seers_of(uncovered).items():
+            on = self.arc_chord == k
+            a, b = self.points[self.a[k]], self.points[self.b[k]]
+            bound = _seen_from_samples(np.concatenate([[a], self.arc_xy[on], [b]]), a, b,
+                                       seers, self.tol, self._relative)
+            if bound is not None and self._relative(bound) < worst[k]:
+                better[k] = bound
+        return better
 
     def _relatives(self, distance, places) -> np.ndarray:
         """Coverage bounds (distances at places), relative to the radius field there (the
