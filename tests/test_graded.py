@@ -167,6 +167,46 @@ def test_the_angle_block_section_is_certified(grading):
     assert cert.ok, str(cert)
 
 
+@pytest.mark.parametrize("grading", [0.4, 0.45, 0.6])
+@pytest.mark.parametrize("apart", [1.6, 2.0, 2.4])
+def test_steep_gradings_cut_every_piece_between_sharp_corners(grading, apart):
+    """A plate with a lens-shaped hole (two arcs between two sharp corners) at steep
+    gradings: every piece between sharp corners (the plate's sides, the lens's arcs) is
+    cut by a sample, and the mesh is certified. The sampler splits a piece into parts of
+    τ-length at least a = 1.02 / (1 - L/2); with r at most 0.4 of the piece, τ >= 2.5 was
+    one part whenever 2a > 2.5 (L above about 0.37): a chord as long as the piece, whose
+    arc's middle lay 1.22 r from every sample on flanges' sections, and here plates whose
+    16-long sides were single chords left holes in the mesh (FAILED at L = 0.45 for
+    three of these lenses, sizing.piece_factor)."""
+    lens = Point(0, 0).buffer(1.5, quad_segs=64).intersection(Point(apart, 0).buffer(1.5, quad_segs=64))
+    region = pds.Region.from_shapely(box(-12, -8, 14, 8).difference(lens))
+    mesh = graded_mesh(region, grading=grading)
+    samples = mesh.vertices[mesh.on_boundary]
+    x, y = samples.T
+    for inside in (np.abs(y) < 8 - 1e-9, np.abs(x - 1) < 14 - 1e-9):      # sides
+        assert ((np.abs(x - 1) == 13) | (np.abs(y) == 8))[inside].any()
+    for upper in (True, False):                                          # the arcs
+        arc = (np.abs(y) < 1.5) & ((y > 1e-9) if upper else (y < -1e-9))
+        assert arc.any()
+    assert mesh.certificate().ok_with_exceptions, str(mesh.certificate())
+
+
+def test_the_piece_rule_gives_every_piece_two_parts_no_longer_than_two():
+    """sizing.piece_factor: with r at most that share of a piece, the piece's τ-length T
+    is at least its inverse, so the sampler's floor(T / a) parts number at least two
+    and are each shorter than 2 in τ (a chord under 2 r where r is flat), for gradings up
+    to 0.95 (past about 0.98, a >= 2: no part is short enough); up to L = 0.3 it is the
+    0.4 every grading had before."""
+    from pds_plugin.sizing import piece_factor
+
+    for grading in np.linspace(0.01, 0.95, 95):
+        a = 1.02 / (1 - grading / 2)
+        fewest = math.floor(1 / piece_factor(grading) / a)
+        assert fewest >= 2 and (1 + 1 / fewest) * a < 2, grading
+        if grading <= 0.3:
+            assert piece_factor(grading) == 0.4
+
+
 def test_the_same_seed_gives_the_same_mesh_bit_for_bit():
     region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
     first, again, other = (graded_mesh(region, seed=s) for s in (3, 3, 4))

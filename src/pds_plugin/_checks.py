@@ -144,7 +144,7 @@ def check_grading(grading) -> float:
     >>> check_grading(1.0)
     Traceback (most recent call last):
     ...
-    pds_plugin.errors.ArgumentError: grading must lie in (0, 1) (the Lipschitz constant of the radius field; 0.1-0.3 is usual), got 1.0
+    pds_plugin.errors.ArgumentError: grading must lie in (0, 1) (the Lipschitz constant of the radius field; 0.1-0.4 is usual), got 1.0
     """
     try:
         number = float(grading)
@@ -154,7 +154,7 @@ def check_grading(grading) -> float:
         raise ArgumentTypeError(f"grading must be a number in (0, 1), got {grading!r}")
     if not 0 < number < 1:
         raise ArgumentError("grading must lie in (0, 1) (the Lipschitz constant of the radius "
-                            f"field; 0.1-0.3 is usual), got {number}")
+                            f"field; 0.1-0.4 is usual), got {number}")
     return number
 
 

@@ -273,7 +273,7 @@ def tau_positions(tau, corners, after, before, unit, rng):
     """Positions (in τ) of a ring's boundary samples, increasing: its sharp corners (or
     one random point if it has none) and each piece between them split into the most
     equal parts of τ-length at least ``unit``, so in [unit, 2 unit) when the piece is at
-    least 2 unit long, which the field makes every piece (sizing.py's _PIECE: a single
+    least 2 unit long, which the field makes every piece (sizing.piece_factor: a single
     part longer than √3 r needs a guard, which a neighbouring sample can refuse); at
     least three in all. A piece whose first part must be longer than ``unit`` (``after``
     its corner) or whose last part must (``before`` the next: :func:`_corner_clearance`)

@@ -30,8 +30,6 @@ DEFAULT_GRADING = 0.2
 _WALL = 0.9          # r <= 0.9 x wall thickness (margin for the densification error)
 _CORNER = 0.4        # corner disc: 0.4 x distance to the nearest non-incident boundary
 _RING = 1 / 6        # r <= perimeter / 6 of the ring
-_PIECE = 0.4         # r <= 0.4 x the piece between sharp corners: its τ-length is >= 2.5,
-                     # so it splits into two or more chords (graded_sampling._positions)
 _OPPOSED = -0.5      # walls face each other when their normals are opposed by > 120°
 _FLAT_BELOW = math.pi / 3   # convex corners sharper than this keep their size along
 _FLAT_REACH = 2             # their sides up to this many times it
@@ -323,7 +321,7 @@ def radius_field(region: Region, grading: float = DEFAULT_GRADING, cap: float | 
                                 f"{type(sizing).__name__}")
     if cap is None:
         cap = inradius(region)
-    points, sizes = _features(region, cap, feature_angle, curve_factor(grading, feature_angle))
+    points, sizes = _features(region, cap, feature_angle, _factors(grading, feature_angle))
     return RadiusField(points, sizes, grading, cap, sizing)
 
 
@@ -356,9 +354,9 @@ def radius_fields(regions, grading: float, cap: float, feature_angle: float = 30
     """
     grading = check_grading(grading)
     regions = list(regions)
-    curve = curve_factor(grading, feature_angle)
+    factors = _factors(grading, feature_angle)
     if len(regions) > 1 and _apart([region.bounds for region in regions], _APART * cap):
-        done = _joint_features(regions, cap, feature_angle, curve)
+        done = _joint_features(regions, cap, feature_angle, factors)
         if done is not None:
             return [RadiusField(points, sizes, grading, cap) for points, sizes in done]
     return [radius_field(region, grading, cap, feature_angle=feature_angle)
@@ -381,7 +379,7 @@ def _apart(bounds, distance) -> bool:
     return bool(np.all(gap > distance))
 
 
-def _joint_features(regions, cap, feature_angle, curve):
+def _joint_features(regions, cap, feature_angle, factors):
     """:func:`_features` of each region, measured together (:func:`radius_fields`): per
     region its feature points and sizes, or None if the densification would exceed
     _MAX_DENSE points."""
@@ -396,8 +394,8 @@ def _joint_features(regions, cap, feature_angle, curve):
     whole = _Joined(union, owner, regions)
     edges = _edges(rings)
     edge_owner = owner[edges[3]]
-    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(edges, cap,
-                                                             math.radians(feature_angle), curve)
+    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(
+        edges, cap, math.radians(feature_angle), *factors)
     dense = _densify(edges, ring_size, ring_size, piece)
     corner_xy, corner_s, is_corner, corner_ring = _corner_discs(whole, rings, edges, sharp, turn,
                                                                 piece, dense, True)
@@ -499,7 +497,37 @@ def curve_factor(grading: float, feature_angle: float = 30.0) -> float:
     return 2.0 * math.pi / (chords * a) * (1.0 - 1e-9)
 
 
-def _features(region: Region, cap: float, feature_angle: float, curve: float):
+def piece_factor(grading: float) -> float:
+    """The pieces rule's factor: r <= this times the length of the piece between sharp
+    corners (docs/graded.md, section 3, *pieces*).
+
+    The sampler splits a piece of τ-length T into ``floor(T / a)`` equal parts,
+    ``a = 1.02 / (1 - L/2)`` (graded_sampling.tau_positions); with T >= N a each is
+    shorter than (1 + 1/N) a. A part longer than 2 is a chord longer than 2 r where r
+    is flat, and the middle of its arc lies beyond r from both its ends (flanges'
+    sections at L = 0.45: one part of τ 2.44 between two corners, 1.22 r). So N is the
+    fewest parts with (1 + 1/N) a < 2, at least two, and r <= 1 / (1.04 N a) of the
+    piece (1.04: the trapezoid rule's 2 % on τ, and as much again); at most 0.4, the
+    factor of every grading up to L = 0.3 (τ >= 2.5, two parts or more).
+
+    Examples
+    --------
+    >>> piece_factor(0.2), round(piece_factor(0.45), 4), round(piece_factor(0.6), 4)
+    (0.4, 0.3653, 0.22)
+    """
+    a = 1.02 / (1.0 - 0.5 * grading)
+    parts = 2
+    while (1.0 + 1.0 / parts) * a >= 2.0 and parts < 64:     # none below 2 past L = 0.98
+        parts += 1
+    return min(0.4, 1.0 / (1.04 * parts * a))
+
+
+def _factors(grading: float, feature_angle: float) -> tuple:
+    """The ring rules' factors of a grading: (:func:`curve_factor`, :func:`piece_factor`)."""
+    return curve_factor(grading, feature_angle), piece_factor(grading)
+
+
+def _features(region: Region, cap: float, feature_angle: float, factors: tuple):
     """Feature points and sizes: the boundary densified until every edge is split into
     parts at most a quarter of the smallest size found on it.
 
@@ -512,8 +540,8 @@ def _features(region: Region, cap: float, feature_angle: float, curve: float):
     the boundary, not with the number of holes times a per-ring overhead."""
     rings = region.rings
     edges = _edges(rings)
-    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(edges, cap,
-                                                             math.radians(feature_angle), curve)
+    ring_size, vertex_size, piece, sharp, turn = _ring_sizes(
+        edges, cap, math.radians(feature_angle), *factors)
     dense = _densify(edges, ring_size, ring_size, piece)
     corner_xy, corner_s, is_corner = _corner_discs(region, rings, edges, sharp, turn, piece, dense)
     discs = corner_xy[is_corner], corner_s[is_corner]        # the shoulders are no discs
@@ -546,7 +574,7 @@ def _round(region, dense, flat_edge, edge_size, cap, corner_tree, corner_s):
     return size, np.minimum(edge_size, smallest)
 
 
-def _ring_sizes(edges, cap, sharp_turn, curve):
+def _ring_sizes(edges, cap, sharp_turn, curve, per_piece):
     """Sizes from each ring alone, all rings at once (``edges`` from :func:`_edges`): per
     edge (piece length, perimeter) and per vertex (also the curvature), the piece index
     of each edge within its ring, which vertices are sharp corners, and the signed
@@ -568,7 +596,7 @@ def _ring_sizes(edges, cap, sharp_turn, curve):
     piece_length = np.bincount(offset[ring_of] + piece, weights=length)
     perimeter = np.array([length[lo:hi].sum() for lo, hi in zip(first, following)])
     size = np.minimum(cap, _RING * perimeter)[ring_of]
-    edge_size = np.minimum(size, _PIECE * piece_length[offset[ring_of] + piece])
+    edge_size = np.minimum(size, per_piece * piece_length[offset[ring_of] + piece])
     size = np.minimum(edge_size, edge_size[previous])           # per vertex: both edges
     mean_edge = 0.5 * (length + length[previous])
     curved = ~sharp & (turn > 1e-12)
