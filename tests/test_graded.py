@@ -192,18 +192,19 @@ def test_steep_gradings_cut_every_piece_between_sharp_corners(grading, apart):
 
 
 def test_the_piece_rule_gives_every_piece_two_parts_no_longer_than_two():
-    """sizing.piece_factor: with r at most that share of a piece, the piece's τ-length T
-    is at least its inverse, so the sampler's floor(T / a) parts number at least two
-    and are each shorter than 2 in τ (a chord under 2 r where r is flat), for gradings up
-    to 0.95 (past about 0.98, a >= 2: no part is short enough); up to L = 0.3 it is the
-    0.4 every grading had before."""
+    """sizing.piece_factor: with the size at most that share of a piece, held at points
+    a quarter of it apart (r between them up to (1 + L/8) times it), the piece's
+    τ-length T is at least 1 / (factor (1 + L/8)), so the sampler's floor(T / a) parts
+    number at least two and are each shorter than 2 in τ (a chord under 2 r where r is
+    flat), for gradings up to 0.95 (past about 0.98, a >= 2: no part is short enough);
+    up to L = 0.25 it is the 0.4 every grading had before."""
     from pds_plugin.sizing import piece_factor
 
     for grading in np.linspace(0.01, 0.95, 95):
         a = 1.02 / (1 - grading / 2)
-        fewest = math.floor(1 / piece_factor(grading) / a)
+        fewest = math.floor(1 / (piece_factor(grading) * (1 + grading / 8)) / a)
         assert fewest >= 2 and (1 + 1 / fewest) * a < 2, grading
-        if grading <= 0.3:
+        if grading <= 0.25:
             assert piece_factor(grading) == 0.4
 
 
