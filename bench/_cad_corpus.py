@@ -73,6 +73,10 @@ GENERATED_SEED = int(os.environ.get("PDS_CORPUS_SEED", 20))
 --seed``, which sets ``PDS_CORPUS_SEED``) gives parts the corpus has never seen."""
 PLANES_PER_PART = 5
 
+GRADING = float(os.environ.get("PDS_CORPUS_GRADING", 0.2))
+"""The graded mode's grading L (``bench/cad_corpus.py --grading``, which sets
+``PDS_CORPUS_GRADING``): the default 0.2, or a steeper one (docs/graded.md, "Limits")."""
+
 MODES = ("uniform auto", "graded auto", "uniform fine")
 """The three ways every section is meshed: uniform ``alpha="auto"``, graded
 ``alpha="auto"``, and uniform at alpha = the section's extent / :data:`FINE`."""
@@ -96,7 +100,8 @@ def mesh(region, mode: str, seed: int = 0, **options):
     if mode == "uniform auto":
         return pds.mesh_region(region, "auto", seed=seed, **options)
     if mode == "graded auto":
-        return pds.mesh_region(region, "auto", seed=seed, graded=True, **options)
+        return pds.mesh_region(region, "auto", seed=seed, graded=True, grading=GRADING,
+                               **options)
     if mode == "uniform fine":
         x0, y0, x1, y1 = region.bounds
         return pds.mesh_region(region, max(x1 - x0, y1 - y0) / FINE, seed=seed, **options)
