@@ -191,6 +191,21 @@ def test_steep_gradings_cut_every_piece_between_sharp_corners(grading, apart):
     assert mesh.certificate().ok_with_exceptions, str(mesh.certificate())
 
 
+@pytest.mark.parametrize("sheet, grading", [(0, 0.45), (4, 0.6)])
+def test_laser_cut_sheets_at_steep_gradings_are_certified(sheet, grading):
+    """Generated DXF sheets (bench/_drawings.py: 100-260 holes, slots and hexagons) at
+    steep gradings: every mesh of sheets 0-3 said FAILED at L = 0.45, and sheets 4 and 7
+    at L = 0.6, before the pieces rule grew finer with L (sizing.piece_factor)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    from _drawings import laser_drawing
+
+    cert = graded_mesh(laser_drawing(sheet), grading=grading).certificate()
+    assert cert.ok_with_exceptions, str(cert)
+
+
 def test_the_piece_rule_gives_every_piece_two_parts_no_longer_than_two():
     """sizing.piece_factor: with the size at most that share of a piece, held at points
     a quarter of it apart (r between them up to (1 + L/8) times it), the piece's
