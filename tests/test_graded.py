@@ -223,6 +223,26 @@ def test_the_piece_rule_gives_every_piece_two_parts_no_longer_than_two():
             assert piece_factor(grading) == 0.4
 
 
+def test_the_certificates_chord_lens_is_the_samplers():
+    """A chord ab 2 long with r(a) = r(b) = 0.9 at L = 0.4, r growing away from them: the
+    sampler refuses darts where the triangle on the chord would have a circumradius above
+    min(r(x), r(a), r(b)) / (1 - L) = 1.5 (``_graded_kernels._encroaches``), so x =
+    (1, 0.3) (circumradius 1.82) takes no sample; the certificate's lens counted it only
+    above r(x) / (1 - L) = 2.2, and a peak there was plain coverage above 1 (a held-out
+    vase's section: 1.10 r, FAILED). Such an x is within the limit of a chord end."""
+    from types import SimpleNamespace
+
+    from pds_plugin.analysis.graded_certificate import _in_a_lens
+    from pds_plugin.sizing import RadiusField
+
+    field = RadiusField([[0, 0], [2, 0]], [0.9, 0.9], grading=0.4, cap=2.0)
+    chord = SimpleNamespace(points=np.array([[0.0, 0.0], [2.0, 0.0]]), a=np.array([0]),
+                            b=np.array([1]))
+    x = np.array([[1.0, 0.3], [1.0, 0.8], [1.0, -0.3]])    # in, too far in, outside
+    assert _in_a_lens(x, field(x), field, chord).tolist() == [True, False, False]
+    assert np.hypot(*x[0]) <= 0.9 / (1 - 0.4) < field(x[:1])[0] / (1 - 0.4)
+
+
 def test_the_same_seed_gives_the_same_mesh_bit_for_bit():
     region = pds.Region.from_shapely(box(0, 0, 30, 5).difference(box(2, 2, 2.3, 2.3)))
     first, again, other = (graded_mesh(region, seed=s) for s in (3, 3, 4))
