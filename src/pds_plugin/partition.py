@@ -105,11 +105,16 @@ class ChainSamples:
         ends = np.roll(samples, -1) if self.closed[chain] else samples[1:]
         return np.column_stack([samples[:len(ends)], ends])
 
-    def region_points(self, region: int, frame) -> np.ndarray:
-        """The samples of ``region``'s rings, ring after ring, read in its ``frame``."""
-        ids = np.concatenate(self.rings[region])
-        start = frame[self.u[ids]]                   # looked up once (a Frame searches)
-        return start + self.t[ids, None] * (frame[self.v[ids]] - start)
+    def regions_points(self, frames) -> list:
+        """Per region, the samples of its rings, ring after ring, read in its frame
+        (``frames``): all regions' looked up at once (:func:`read_frames`)."""
+        ids = [np.concatenate(rings) for rings in self.rings]
+        counts = [len(region) for region in ids]
+        region = np.repeat(np.arange(len(ids)), counts)
+        every = np.concatenate([np.zeros(0, np.int64), *ids])
+        start = read_frames(frames, region, self.u[every])
+        return split_counts(start + self.t[every, None]
+                            * (read_frames(frames, region, self.v[every]) - start), counts)
 
     def points(self, coordinates) -> np.ndarray:
         """The samples read in ``coordinates`` (indexable by vertex number: an array, or
@@ -142,6 +147,36 @@ class Frame:
                          or not (self.ids.take(at, mode="clip") == ids).all()):
             raise KeyError("a vertex outside this frame")
         return self.xy.take(at, axis=0)
+
+
+def read_frames(frames, region, vertex) -> np.ndarray:
+    """``frames[region[k]][vertex[k]]`` for every k: one search over all the frames when
+    they are :class:`Frame` s (a remesh's hundreds of patches: a look-up each cost
+    5 µs), else one look-up per region.
+
+    Examples
+    --------
+    >>> frames = [Frame([7, 3], [[1.0, 2.0], [3.0, 4.0]]), Frame([3], [[5.0, 6.0]])]
+    >>> read_frames(frames, np.array([1, 0, 0]), np.array([3, 3, 7])).tolist()
+    [[5.0, 6.0], [3.0, 4.0], [1.0, 2.0]]
+    """
+    region, vertex = np.asarray(region, np.int64), np.asarray(vertex, np.int64)
+    if not all(isinstance(frame, Frame) for frame in frames):
+        out = np.empty((len(region), 2))
+        for r, at in _groups(region):
+            out[at] = frames[r][vertex[at]]
+        return out
+    if not len(region):
+        return np.empty((0, 2))
+    ids = np.concatenate([frame.ids for frame in frames])
+    span = max(int(ids.max(initial=0)), int(vertex.max())) + 1
+    owner = np.repeat(np.arange(len(frames)), [len(frame.ids) for frame in frames])
+    keys = owner * span + ids                      # sorted: by frame, then by id
+    wanted = region * span + vertex
+    at = keys.searchsorted(wanted)
+    if not len(keys) or not (keys.take(at, mode="clip") == wanted).all():
+        raise KeyError("a vertex outside its frame")
+    return np.concatenate([frame.xy for frame in frames]).take(at, axis=0)
 
 
 def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, seed: int = 0,
@@ -321,12 +356,12 @@ class _ChainSet:
         side = np.array([[s[0], s[1] if len(s) > 1 else -1] for s in sides], dtype=np.int64)
         self.side = side
         self.frames, self.fields = frames, fields
-        # every chain vertex in its owners' frames (side 0, side 1): one look-up per region
+        # every chain vertex in its owners' frames (side 0, side 1)
         owners = np.repeat(side, self.count, axis=0)
         self.corner = np.full((2, len(self.vertex), 2), np.nan)
         for s in (0, 1):
-            for r, at in _groups(owners[:, s]):
-                self.corner[s, at] = frames[r][self.vertex[at]]
+            at = np.flatnonzero(owners[:, s] >= 0)
+            self.corner[s, at] = read_frames(frames, owners[at, s], self.vertex[at])
 
     def read(self, cid, segment, t, side):
         """The points in the frame of each one's owner ``side`` (0 or 1), and that
@@ -728,11 +763,12 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     is_junction = np.zeros(max((int(v.max(initial=-1)) for v in vertices), default=-1)
                            + 1, bool)
     is_junction[junction[junction < len(is_junction)]] = True
-    held, at = [], []                           # per region, its junctions (indices), there
-    for r, ids in enumerate(vertices):
-        mine = np.unique(ids[is_junction[ids]])
-        held.append(np.searchsorted(junction, mine))
-        at.append(frames[r][mine])
+    # per region, its junctions (indices into ``junction``) and where they are
+    mine = [np.unique(ids[is_junction[ids]]) for ids in vertices]
+    held = [np.searchsorted(junction, ids) for ids in mine]
+    counts = [len(ids) for ids in mine]
+    at = split_counts(read_frames(frames, np.repeat(np.arange(len(mine)), counts),
+                                  np.concatenate([np.zeros(0, np.int64), *mine])), counts)
     # one read of a few points a region: a call each costs less than the layout
     # field's cone tree over all their features (built for the chains' many reads)
     for r, (index, xy) in enumerate(zip(held, at)):
@@ -743,11 +779,8 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     if chains:
         ends = np.array([[vertices[0], vertices[-1]] for vertices in chains], dtype=np.int64)
         region = np.array([owner[_key(vertices[0], vertices[1])][0] for vertices in chains])
-        apart = np.empty(len(chains))
-        for r in np.unique(region).tolist():
-            mine = np.flatnonzero(region == r)
-            xy = frames[r][ends[mine].ravel()].reshape(-1, 2, 2)
-            apart[mine] = [math.hypot(*d) for d in (xy[:, 1] - xy[:, 0]).tolist()]
+        xy = read_frames(frames, np.repeat(region, 2), ends.ravel()).reshape(-1, 2, 2)
+        apart = np.array([math.hypot(*d) for d in (xy[:, 1] - xy[:, 0]).tolist()])
         clearance = np.maximum(1.0, _end_clearances(
             [(vertices[0], vertices[1]) for vertices in chains]
             + [(vertices[-1], vertices[-2]) for vertices in chains], angle)).reshape(2, -1)
@@ -755,8 +788,7 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
                       apart / (TAU_MARGIN * clearance[1]))
         np.minimum.at(size, np.searchsorted(junction, ends[:, 1]),
                       apart / (TAU_MARGIN * clearance[0]))
-    return [with_sample_cones(fields[r], frames[r][junction[index]], size[index])
-            for r, index in enumerate(held)]
+    return [with_sample_cones(fields[r], at[r], size[index]) for r, index in enumerate(held)]
 
 
 def agreeing_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
@@ -846,7 +878,7 @@ def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None,
     is read in.
 
     ``points``: per region, its rings' samples read in its frame (:meth:`ChainSamples.
-    region_points`), if already read.
+    regions_points`), if already read.
 
     Returns
     -------
@@ -855,7 +887,7 @@ def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None,
     size = np.full(len(chains.u), np.inf)
     held = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     if points is None:
-        points = [chains.region_points(r, frame) for r, frame in enumerate(frames)]
+        points = chains.regions_points(frames)
     union = None if topology is None else topology.layout_field(frames, fields)
     if union is not None and held:              # all regions' fields in one call
         np.minimum.at(size, np.concatenate(held), union(np.concatenate(points)))
@@ -917,11 +949,13 @@ class _Topology:
         """Per region, the bounding box (xmin, ymin, xmax, ymax) of its rings' vertices
         in its frame."""
         if self._boxes is None:
-            boxes = np.empty((len(self.rings), 4))
-            for r, region in enumerate(self.rings):
-                xy = np.asarray(self._frames[r][np.concatenate(region)], float)
-                boxes[r, :2], boxes[r, 2:] = xy.min(axis=0), xy.max(axis=0)
-            self._boxes = boxes
+            ids = [np.concatenate(region) for region in self.rings]
+            counts = [len(region) for region in ids]
+            xy = read_frames(self._frames, np.repeat(np.arange(len(ids)), counts),
+                             np.concatenate([np.zeros(0, np.int64), *ids]))
+            first = np.cumsum(counts) - counts
+            self._boxes = np.column_stack([np.minimum.reduceat(xy, first),
+                                           np.maximum.reduceat(xy, first)])
         return self._boxes
 
     def layout_field(self, frames, fields):
@@ -1010,21 +1044,26 @@ def _edge_owners(rings, frames):
     """Per undirected edge: the regions that run it; per directed edge: its region and
     that region's interior angles at the edge's start and end."""
     owner, angle = {}, {}
-    for r, region in enumerate(rings):
-        for ring in region:
-            xy = frames[r][ring]
-            inner = np.pi - turning_angles(xy)          # the region's angle at each vertex
-            following = np.roll(ring, -1)
-            for k, (a, b) in enumerate(zip(ring.tolist(), following.tolist())):
-                if (a, b) in angle:
-                    raise RegionError(f"regions {angle[(a, b)][0]} and {r} overlap along the "
-                                      f"edge of vertices {a} and {b} (both run it the same way)")
-                angle[(a, b)] = (r, inner[k], inner[(k + 1) % len(ring)])
-                sides = owner.setdefault(_key(a, b), [])
-                sides.append(r)
-                if len(sides) > 2:
-                    raise RegionError(f"the edge of vertices {a} and {b} bounds regions "
-                                      f"{sides}; an edge bounds two regions at most")
+    every = [(r, ring) for r, region in enumerate(rings) for ring in region]
+    if not every:
+        return owner, angle
+    counts = [len(ring) for _, ring in every]
+    xy = read_frames(frames, np.repeat([r for r, _ in every], counts),
+                     np.concatenate([ring for _, ring in every]))
+    # the region's angle at each vertex, all rings at once
+    inners = split_counts(np.pi - turning_angles(xy, counts), counts)
+    for (r, ring), inner in zip(every, inners):
+        ring = ring.tolist()
+        for k, (a, b) in enumerate(zip(ring, ring[1:] + ring[:1])):
+            if (a, b) in angle:
+                raise RegionError(f"regions {angle[(a, b)][0]} and {r} overlap along the "
+                                  f"edge of vertices {a} and {b} (both run it the same way)")
+            angle[(a, b)] = (r, inner[k], inner[(k + 1) % len(ring)])
+            sides = owner.setdefault(_key(a, b), [])
+            sides.append(r)
+            if len(sides) > 2:
+                raise RegionError(f"the edge of vertices {a} and {b} bounds regions "
+                                  f"{sides}; an edge bounds two regions at most")
     return owner, angle
 
 

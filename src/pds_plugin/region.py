@@ -905,7 +905,7 @@ def plane_label(frame) -> str:
     return f"n=({', '.join(f'{c + 0.0:.4g}' for c in normal)}) d={normal @ origin:.6g}"
 
 
-def turning_angles(ring: np.ndarray) -> np.ndarray:
+def turning_angles(ring: np.ndarray, counts=None) -> np.ndarray:
     """Signed turning angle (radians) at each vertex of a closed ring: at vertex k, from
     segment k-1 (into it) to segment k (out of it); positive turns left.
 
@@ -913,6 +913,9 @@ def turning_angles(ring: np.ndarray) -> np.ndarray:
     ----------
     ring : (k, 2) ndarray
         The ring's vertices without the closing duplicate, as :attr:`Region.rings`.
+    counts : sequence of int, optional
+        ``ring`` is several closed rings one after another, of these lengths: their
+        angles in one pass, each the same as its ring's alone.
 
     Returns
     -------
@@ -924,11 +927,22 @@ def turning_angles(ring: np.ndarray) -> np.ndarray:
     >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     >>> np.degrees(turning_angles(square)).tolist()
     [90.0, 90.0, 90.0, 90.0]
+    >>> np.degrees(turning_angles(np.concatenate([square, square[::-1]]), [4, 4])).tolist()
+    [90.0, 90.0, 90.0, 90.0, -90.0, -90.0, -90.0, -90.0]
     """
-    out = np.empty_like(ring)                   # segment k (np.roll costs 3x, and this
-    np.subtract(ring[1:], ring[:-1], out=out[:-1])      # runs once per ring and patch)
-    np.subtract(ring[:1], ring[-1:], out=out[-1:])
-    into = np.concatenate([out[-1:], out[:-1]])        # segment k - 1
+    if counts is None:
+        out = np.empty_like(ring)                   # segment k (np.roll costs 3x, and this
+        np.subtract(ring[1:], ring[:-1], out=out[:-1])      # runs once per ring and patch)
+        np.subtract(ring[:1], ring[-1:], out=out[-1:])
+        into = np.concatenate([out[-1:], out[:-1]])        # segment k - 1
+    else:
+        ends = np.cumsum(counts)
+        following = np.arange(1, len(ring) + 1)
+        following[ends - 1] = ends - counts
+        out = ring[following] - ring
+        previous = np.arange(-1, len(ring) - 1)
+        previous[ends - counts] = ends - 1
+        into = out[previous]
     cross = into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0]
     dot = (into * out).sum(axis=1)
     return np.arctan2(cross, dot)

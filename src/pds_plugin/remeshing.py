@@ -384,7 +384,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         chains = graded_sample_chains(rings, frames, own, feature_angle=feature_angle,
                                       seed=seed, pinned=pinned, topology=topology)
         # each patch's ring samples in its plane, computed once for both steps below
-        given = [_ring_samples(chains, k, frame) for k, frame in enumerate(frames)]
+        given = _ring_samples(chains, frames)
         ring_points = [points for _, points, _ in given]
         sizes, coned = _agreeing_sizes(chains, frames, own,
                                        chain_sample_radii(chains, frames, own,
@@ -477,11 +477,11 @@ def _groups(todo, patches, alpha) -> list:
     return [group for group in groups if group] + large
 
 
-def _ring_samples(chains, k, frame) -> tuple:
-    """Patch ``k``'s chain samples: their indices (its rings' in turn), their points in
-    its plane (``frame``) and the rings' sample counts."""
-    return (np.concatenate(chains.rings[k]), chains.region_points(k, frame),
-            [len(ring) for ring in chains.rings[k]])
+def _ring_samples(chains, frames) -> list:
+    """Per patch, its chain samples: their indices (its rings' in turn), their points in
+    its plane (its frame of ``frames``) and the rings' sample counts."""
+    return [(np.concatenate(rings), points, [len(ring) for ring in rings])
+            for rings, points in zip(chains.rings, chains.regions_points(frames))]
 
 
 def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
@@ -499,10 +499,11 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
     ``cache`` keeps the meshes by patch and samples: a patch whose samples did not
     change when another was dropped is not meshed again (the same mesh, bit for bit).
     ``samples``: per patch, :func:`_ring_samples` (computed here if not given)."""
+    if samples is None:
+        samples = _ring_samples(chains, [patch.frame for patch in patches])
     out, todo = [None] * len(patches), []
     for k, patch in enumerate(patches):
-        ids, points, counts = (samples[k] if samples is not None
-                               else _ring_samples(chains, k, patch.frame))
+        ids, points, counts = samples[k]
         given = split_counts(points, counts)
         key = (id(patch), points.tobytes(),                  # its rings' samples in turn
                own[k].sizes.tobytes() + sizes[ids].tobytes())
@@ -850,7 +851,7 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
     chain samples' points (:func:`_ring_samples`), computed here if not given."""
     ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
     if points is None:
-        points = [chains.region_points(k, frame) for k, frame in enumerate(frames)]
+        points = chains.regions_points(frames)
     union = None if topology is None else topology.layout_field(frames, fields)
     if union is not None and points:            # the same in every round; one call
         own = split_counts(union(np.concatenate(points)), [len(xy) for xy in points])
