@@ -109,12 +109,11 @@ class ChainSamples:
         """Per region, the samples of its rings, ring after ring, read in its frame
         (``frames``): all regions' looked up at once (:func:`read_frames`)."""
         ids = [np.concatenate(rings) for rings in self.rings]
-        counts = [len(region) for region in ids]
-        region = np.repeat(np.arange(len(ids)), counts)
         every = np.concatenate([np.zeros(0, np.int64), *ids])
-        start = read_frames(frames, region, self.u[every])
-        return split_counts(start + self.t[every, None]
-                            * (read_frames(frames, region, self.v[every]) - start), counts)
+        start = read_regions(frames, [self.u[region] for region in ids])
+        end = read_regions(frames, [self.v[region] for region in ids])
+        return split_counts(start + self.t[every, None] * (end - start),
+                            [len(region) for region in ids])
 
     def points(self, coordinates) -> np.ndarray:
         """The samples read in ``coordinates`` (indexable by vertex number: an array, or
@@ -177,6 +176,14 @@ def read_frames(frames, region, vertex) -> np.ndarray:
     if not len(keys) or not (keys.take(at, mode="clip") == wanted).all():
         raise KeyError("a vertex outside its frame")
     return np.concatenate([frame.xy for frame in frames]).take(at, axis=0)
+
+
+def read_regions(frames, ids) -> np.ndarray:
+    """Each region's vertices ``ids[r]`` read in its frame ``frames[r]``, region after
+    region (:func:`read_frames`)."""
+    counts = [len(region) for region in ids]
+    return read_frames(frames, np.repeat(np.arange(len(ids)), counts),
+                       np.concatenate([np.zeros(0, np.int64), *ids]))
 
 
 def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, seed: int = 0,
@@ -766,9 +773,7 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     # per region, its junctions (indices into ``junction``) and where they are
     mine = [np.unique(ids[is_junction[ids]]) for ids in vertices]
     held = [np.searchsorted(junction, ids) for ids in mine]
-    counts = [len(ids) for ids in mine]
-    at = split_counts(read_frames(frames, np.repeat(np.arange(len(mine)), counts),
-                                  np.concatenate([np.zeros(0, np.int64), *mine])), counts)
+    at = split_counts(read_regions(frames, mine), [len(ids) for ids in mine])
     # one read of a few points a region: a call each costs less than the layout
     # field's cone tree over all their features (built for the chains' many reads)
     for r, (index, xy) in enumerate(zip(held, at)):
@@ -950,9 +955,8 @@ class _Topology:
         in its frame."""
         if self._boxes is None:
             ids = [np.concatenate(region) for region in self.rings]
+            xy = read_regions(self._frames, ids)
             counts = [len(region) for region in ids]
-            xy = read_frames(self._frames, np.repeat(np.arange(len(ids)), counts),
-                             np.concatenate([np.zeros(0, np.int64), *ids]))
             first = np.cumsum(counts) - counts
             self._boxes = np.column_stack([np.minimum.reduceat(xy, first),
                                            np.maximum.reduceat(xy, first)])

@@ -40,7 +40,7 @@ from ._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
-                        junction_fields, partition_topology, read_frames, split_counts,
+                        junction_fields, partition_topology, read_regions, split_counts,
                         with_sample_cones)
 from .region import check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
@@ -1551,14 +1551,14 @@ def _on_input(xy, patches, vertices, faces) -> list:
     if not sum(sizes):
         return [(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)) for _ in xy]
     xy = np.concatenate(xy)
-    triangles = np.concatenate([faces[patch.faces] for patch in patches])
-    count = np.array([len(patch.faces) for patch in patches])
-    corners = read_frames([patch.frame for patch in patches],
-                          np.repeat(np.arange(len(patches)), 3 * count),
-                          triangles.ravel()).reshape(-1, 3, 2)
+    own_faces = [faces[patch.faces] for patch in patches]
+    triangles = np.concatenate(own_faces)
+    corners = read_regions([patch.frame for patch in patches],
+                           [corner.ravel() for corner in own_faces]).reshape(-1, 3, 2)
     # each corner's coordinates apart and contiguous, gathered with np.take (the same
     # numbers as corners[which, k], in a fraction of the time)
     corner = [np.ascontiguousarray(corners[:, k]) for k in range(3)]
+    count = np.array([len(patch.faces) for patch in patches])
     start = np.cumsum(count) - count
     own = np.repeat(np.arange(len(patches)), sizes)
     first, best = np.full(len(xy), -1), np.full(len(xy), -np.inf)
