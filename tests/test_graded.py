@@ -211,8 +211,8 @@ def test_the_piece_rule_gives_every_piece_two_parts_no_longer_than_two():
     a quarter of it apart (r between them up to (1 + L/8) times it), the piece's
     τ-length T is at least 1 / (factor (1 + L/8)), so the sampler's floor(T / a) parts
     number at least two and are each shorter than 2 in τ (a chord under 2 r where r is
-    flat), for gradings up to 0.72; beyond, at least four parts (no fewer r than four
-    parts' worth); up to L = 0.25 it is the 0.4 every grading had before."""
+    flat), for gradings up to 0.72; beyond, exactly four parts (more shrank r at short
+    pieces without end); up to L = 0.25 it is the 0.4 every grading had before."""
     from pds_plugin.sizing import piece_factor
 
     for grading in np.linspace(0.01, 0.99, 99):
