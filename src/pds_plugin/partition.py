@@ -105,10 +105,16 @@ class ChainSamples:
         ends = np.roll(samples, -1) if self.closed[chain] else samples[1:]
         return np.column_stack([samples[:len(ends)], ends])
 
+    @cached_property
+    def region_samples(self) -> list:
+        """Per region, the sample numbers of its rings, ring after ring."""
+        return [np.concatenate(rings) for rings in self.rings]
+
     def regions_points(self, frames) -> list:
-        """Per region, the samples of its rings, ring after ring, read in its frame
-        (``frames``): all regions' looked up at once (:func:`read_frames`)."""
-        ids = [np.concatenate(rings) for rings in self.rings]
+        """Per region, the samples of its rings, ring after ring (:attr:`region_samples`),
+        read in its frame (``frames``): all regions' looked up at once
+        (:func:`read_frames`)."""
+        ids = self.region_samples
         every = np.concatenate([np.zeros(0, np.int64), *ids])
         start = read_regions(frames, [self.u[region] for region in ids])
         end = read_regions(frames, [self.v[region] for region in ids])
@@ -890,7 +896,7 @@ def chain_sample_radii(chains: ChainSamples, frames, fields, *, topology=None,
     (S,) float ndarray
     """
     size = np.full(len(chains.u), np.inf)
-    held = [np.concatenate(ring_ids) for ring_ids in chains.rings]
+    held = chains.region_samples
     if points is None:
         points = chains.regions_points(frames)
     union = None if topology is None else topology.layout_field(frames, fields)

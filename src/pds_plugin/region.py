@@ -230,10 +230,7 @@ class Region:
         after ring, segment k of a ring from its vertex k to the next (all rings in one
         pass: a sheet's 300 holes took 4.9 ms ring by ring, now 0.4)."""
         xy = np.concatenate(self.rings)
-        ends = np.cumsum([len(ring) for ring in self.rings])
-        following = np.arange(1, len(xy) + 1)
-        following[ends - 1] = ends - np.diff(ends, prepend=0)
-        return np.stack([xy, xy[following]], axis=1)
+        return np.stack([xy, xy[_following([len(ring) for ring in self.rings])]], axis=1)
 
     def boundary_pieces(self, max_length: float):
         """The boundary cut into straight pieces no longer than ``max_length``.
@@ -905,6 +902,15 @@ def plane_label(frame) -> str:
     return f"n=({', '.join(f'{c + 0.0:.4g}' for c in normal)}) d={normal @ origin:.6g}"
 
 
+def _following(counts) -> np.ndarray:
+    """For closed rings of lengths ``counts`` laid one after another, the index of each
+    vertex's next one (a ring's last vertex is followed by its first)."""
+    ends = np.cumsum(counts, dtype=np.int64)
+    following = np.arange(1, ends[-1] + 1 if len(ends) else 1)
+    following[ends - 1] = ends - counts
+    return following
+
+
 def turning_angles(ring: np.ndarray, counts=None) -> np.ndarray:
     """Signed turning angle (radians) at each vertex of a closed ring: at vertex k, from
     segment k-1 (into it) to segment k (out of it); positive turns left.
@@ -936,13 +942,10 @@ def turning_angles(ring: np.ndarray, counts=None) -> np.ndarray:
         np.subtract(ring[:1], ring[-1:], out=out[-1:])
         into = np.concatenate([out[-1:], out[:-1]])        # segment k - 1
     else:
-        ends = np.cumsum(counts)
-        following = np.arange(1, len(ring) + 1)
-        following[ends - 1] = ends - counts
+        following = _following(counts)
         out = ring[following] - ring
-        previous = np.arange(-1, len(ring) - 1)
-        previous[ends - counts] = ends - 1
-        into = out[previous]
+        into = np.empty_like(out)
+        into[following] = out
     cross = into[:, 0] * out[:, 1] - into[:, 1] * out[:, 0]
     dot = (into * out).sum(axis=1)
     return np.arctan2(cross, dot)

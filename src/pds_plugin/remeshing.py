@@ -480,8 +480,8 @@ def _groups(todo, patches, alpha) -> list:
 def _ring_samples(chains, frames) -> list:
     """Per patch, its chain samples: their indices (its rings' in turn), their points in
     its plane (its frame of ``frames``) and the rings' sample counts."""
-    return [(np.concatenate(rings), points, [len(ring) for ring in rings])
-            for rings, points in zip(chains.rings, chains.regions_points(frames))]
+    return [(ids, points, [len(ring) for ring in rings]) for ids, rings, points
+            in zip(chains.region_samples, chains.rings, chains.regions_points(frames))]
 
 
 def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
@@ -849,7 +849,7 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
     same r at every sample they share. Returns the radii and, per patch, its field with
     the cones (what :func:`_patch_mesh` meshes it with). ``points``: per patch, its
     chain samples' points (:func:`_ring_samples`), computed here if not given."""
-    ids = [np.concatenate(ring_ids) for ring_ids in chains.rings]
+    ids = chains.region_samples
     if points is None:
         points = chains.regions_points(frames)
     union = None if topology is None else topology.layout_field(frames, fields)
