@@ -42,7 +42,7 @@ from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
                         junction_fields, partition_topology, read_regions, split_counts,
                         with_sample_cones)
-from .region import check_tolerance, simple_regions, turning_angles
+from .region import _following, check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
 from .sources.solids import check_coordinates, float_noise, needle_faces, welded
 
@@ -524,20 +524,23 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
                                        [g for _, _, g in group],
                                        [coned[k] for k, _, _ in group], seed + attempt, options)
         left, made = [], {}
-        for (k, key, given), mesh in zip([item for group in groups for item in group], meshes):
+        for (k, key, given), (mesh, joined) in zip([item for group in groups for item in group],
+                                                   meshes):
             made[k] = mesh
-            if mesh is not None and _joined(mesh, given):
+            if joined:
                 out[k] = cache[key] = mesh
             else:
                 left.append((k, key, given))
         for (k, key, given), source, turns, shift, rolls in copies:
-            mesh = made[source]
+            mesh, joined = made[source], False
             if mesh is not None:
                 mesh = _translated(mesh, turns, shift, given, patches[k], coned[k], rolls)
                 if mesh is None:                # not exact: meshed by itself
-                    mesh = _meshed_together([patches[k]], [given], [coned[k]], seed + attempt,
-                                            options)[0]
-            if mesh is not None and _joined(mesh, given):
+                    mesh, joined = _meshed_together([patches[k]], [given], [coned[k]],
+                                                    seed + attempt, options)[0]
+                else:
+                    joined = _joined(mesh, given)
+            if joined:
                 out[k] = cache[key] = mesh
             else:
                 left.append((k, key, given))
@@ -724,9 +727,7 @@ def _joined(mesh, given) -> bool:
     """Are the boundary edges of a patch's mesh exactly the chords between its
     ``given`` ring samples (as :func:`pds_plugin.partition.mesh_part` checks), the given
     samples its first vertices?"""
-    sizes = [len(ring) for ring in given]
-    following = np.arange(1, sum(sizes) + 1)
-    following[np.cumsum(sizes) - 1] = np.cumsum([0] + sizes[:-1])   # each ring closed
+    following = _following([len(ring) for ring in given])
     boundary = mesh.boundary_edges
     if len(boundary) != len(following):
         return False
@@ -739,7 +740,8 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
     """The graded meshes of ``patches`` (regions a gap apart in one plane, :func:`_gap`)
     with their ring samples ``given`` and ``fields``, sampled and triangulated in one
     call (one region of many components, the union of the fields' cones) and cut apart
-    by where their vertices lie (:func:`_cut_apart`). Each mesh is the patch's own: its
+    by where their vertices lie (:func:`_cut_apart`), each with whether it joins its
+    given samples (:func:`_joined`). Each mesh is the patch's own: its
     region, its field (which reads on the patch what the union read there), its given
     samples first. A patch alone, patches whose call fails (a budget) or whose fields'
     features do not lie in their boxes (the gap's premise), and a patch that a triangle
@@ -780,8 +782,9 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
                                           tile=True, **options)
             faces = graded_alpha_complex(samples.points, samples.radius, field.grading,
                                          boundary=samples.rings, chords=samples.chords)
-            out[k] = PlanarMesh(samples.points, faces, samples.on_boundary, patch.region,
-                                field.cap, True, field=field)
+            mesh = PlanarMesh(samples.points, faces, samples.on_boundary, patch.region,
+                              field.cap, True, field=field)
+            out[k] = mesh, _joined(mesh, rings)
     return out
 
 
@@ -799,8 +802,10 @@ def _features_inside(patches, fields) -> bool:
 
 def _cut_apart(patches, given, fields, samples, faces) -> list:
     """Per patch, its part of a mesh of them all (:func:`_meshed_together`): the samples
-    in its bounding box (the boxes are a gap apart), its given ring samples first; None
-    for a patch with a triangle across two boxes (none can be: the gap)."""
+    in its bounding box (the boxes are a gap apart), its given ring samples first, and
+    whether it joins them (:func:`_joined`, for all patches at once); None for a patch
+    with a triangle across two boxes (none can be: the gap)."""
+    from ._mesh_kernels import edges_of
     from .mesh import PlanarMesh
 
     points, count = samples.points, len(samples.points)
@@ -819,6 +824,17 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     bad = set(face_owner[across].ravel().tolist())
     by_owner = np.argsort(face_owner[:, 0], kind="stable")
     face_start = np.searchsorted(face_owner[by_owner, 0], np.arange(len(patches) + 1))
+    # a patch that no triangle crosses from another has the same edges, used as often,
+    # in the whole mesh as in its own: it joins if its boundary edges there are its
+    # chords, its given samples in turn
+    edges, uses = edges_of(faces, count)
+    boundary = edges[uses == 1]
+    boundary = boundary[owner[boundary[:, 0]] >= 0]
+    chords = np.arange(first[-1]) * count + _following([len(ring) for rings in given
+                                                        for ring in rings])
+    missed = ~np.isin(chords, boundary[:, 0] * count + boundary[:, 1])
+    joined = ((np.bincount(owner[boundary[:, 0]], minlength=len(patches)) == n_given)
+              & (np.bincount(owner[:first[-1]][missed], minlength=len(patches)) == 0))
     number = np.empty(count, np.int64)
     out = []
     for k, (patch, field) in enumerate(zip(patches, fields)):
@@ -831,8 +847,8 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
         mine = number[faces[by_owner[face_start[k]:face_start[k + 1]]]]
         on_boundary = np.zeros(len(ids), bool)
         on_boundary[:n_given[k]] = True
-        out.append(PlanarMesh(points[ids], mine, on_boundary, patch.region, field.cap, True,
-                              field=field))
+        out.append((PlanarMesh(points[ids], mine, on_boundary, patch.region, field.cap, True,
+                               field=field), bool(joined[k])))
     return out
 
 
@@ -939,9 +955,7 @@ def _chords_joinable(points, counts, field) -> bool:
     circumradius at most min r / (1 - L) over its corners (:mod:`.graded_complex`), so
     an edge ab at most 2 min(r(a), r(b)) / (1 - L); a longer chord (1e-9 of margin) is
     an edge of no triangle, and the patch would not join its neighbours."""
-    counts = np.asarray(counts)
-    following = np.arange(1, len(points) + 1)
-    following[np.cumsum(counts) - 1] = np.cumsum(counts) - counts      # rings are closed
+    following = _following(counts)
     r = field(points)
     longest = 2.0 * np.minimum(r, r[following]) / (1.0 - field.grading) * (1.0 + 1e-9)
     return bool(np.all(np.hypot(*(points[following] - points).T) <= longest))
