@@ -242,35 +242,43 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
 
 def _assembled(rings, owner, junction, chains, positions) -> ChainSamples:
     """The :class:`ChainSamples` of ``chains`` from each chain's (segment, fraction)
-    positions, junctions numbered once."""
-    sample_u, sample_v, sample_t = [], [], []
-    index = {}                             # junction vertex -> its sample number
+    positions, junctions numbered once.
 
-    def vertex_sample(vertex):
-        if vertex not in index:
-            index[vertex] = len(sample_u)
-            sample_u.append(vertex)
-            sample_v.append(vertex)
-            sample_t.append(0.0)
-        return index[vertex]
-
-    chain_samples = []
-    for (vertices, closed), (segment, t) in zip(chains, positions):
-        ids = []
-        for k, s in zip(segment, t):
-            if s == 0.0 and k == 0 and int(vertices[0]) in junction:
-                ids.append(vertex_sample(int(vertices[k])))
-            else:
-                ids.append(len(sample_u))
-                sample_u.append(int(vertices[k]))
-                sample_v.append(int(vertices[(k + 1) % len(vertices)]))
-                sample_t.append(float(s))
-        if not closed:
-            ids.append(vertex_sample(int(vertices[-1])))
-        chain_samples.append(np.array(ids, dtype=np.int64))
+    Samples are numbered in the chains' order, each chain's positions then its far end
+    (an open chain's): a position at a junction chain's start and a chain's far end
+    are junction samples, numbered where their vertex is met first."""
+    closed = np.array([bool(c[1]) for c in chains], bool)
+    sizes = np.array([len(c[0]) for c in chains], np.int64)
+    vertices = np.concatenate([c[0] for c in chains] + [np.zeros(0, np.int64)]).astype(np.int64)
+    start = np.cumsum(sizes) - sizes
+    counts = np.array([len(p[0]) for p in positions], np.int64)
+    segment = np.concatenate([p[0] for p in positions] + [np.zeros(0)]).astype(np.int64)
+    t = np.concatenate([p[1] for p in positions] + [np.zeros(0)]).astype(float)
+    at_junction = np.array([int(c[0][0]) in junction for c in chains], bool)
+    # the entries, chain by chain: its positions, then its far end if open
+    entries = counts + ~closed
+    chain = np.repeat(np.arange(len(chains)), entries)
+    place = np.arange(len(chain)) - np.repeat(np.cumsum(entries) - entries, entries)
+    end = place == counts[chain]
+    here = np.zeros(len(chain), np.int64)
+    here[~end] = segment
+    fraction = np.zeros(len(chain))
+    fraction[~end] = t
+    u = vertices[start[chain] + np.where(end, sizes[chain] - 1, here)]
+    v = vertices[start[chain] + (here + 1) % sizes[chain]]
+    junction_sample = end | ((fraction == 0.0) & (here == 0) & at_junction[chain])
+    # a junction's vertex is numbered where it is met first; every other entry is new
+    at = np.flatnonzero(junction_sample)
+    _, first, inverse = np.unique(u[at], return_index=True, return_inverse=True)
+    new = ~junction_sample
+    new[at[first]] = True
+    number = np.cumsum(new) - 1
+    number[at] = number[at[first]][inverse.ravel()]
+    sample_v = np.where(junction_sample, u, v)[new]
+    sample_t = np.where(junction_sample, 0.0, fraction)[new]
+    chain_samples = split_counts(number, entries)
     ring_samples = _ring_samples(rings, chains, chain_samples)
-    return ChainSamples(np.array(sample_u, np.int64), np.array(sample_v, np.int64),
-                        np.array(sample_t, float), ring_samples, [c[0] for c in chains],
+    return ChainSamples(u[new], sample_v, sample_t, ring_samples, [c[0] for c in chains],
                         [bool(c[1]) for c in chains],
                         [tuple(sorted(set(owner[_key(c[0][0], c[0][1])])))
                          for c in chains], chain_samples)
