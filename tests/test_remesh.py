@@ -168,7 +168,7 @@ def test_a_thin_wall_and_chords_that_cannot_join_take_one_more_round_of_chains(m
                         lambda *a: found.append(walled(*a)) or found[-1])
     joinable, joins = [], remeshing._chords_joinable
     monkeypatch.setattr(remeshing, "_chords_joinable",
-                        lambda *a: joinable.append(joins(*a)) or joinable[-1])
+                        lambda *a: joinable.extend(joins(*a)) or joins(*a))
     rounds, sample = [], remeshing.graded_sample_chains        # where each round starts
     monkeypatch.setattr(remeshing, "graded_sample_chains", lambda *a, **k: rounds.append(
         (len(joinable), len(found))) or sample(*a, **k))
@@ -676,9 +676,9 @@ def test_no_edge_of_the_graded_complex_is_longer_than_a_joinable_chord(seed):
     # a unit square's chords: joinable at r = 0.8, not when two corners read 0.39
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     flat = RadiusField(np.zeros((0, 2)), [], 0.2, 0.8)
-    assert _chords_joinable(square, [4], flat)
     dented = RadiusField([[0, 0], [1, 0]], [0.39, 0.39], 0.2, 0.8)
-    assert not _chords_joinable(square, [4], dented)
+    given = [(None, square, [4])] * 2
+    assert _chords_joinable(given, [flat, dented]) == [True, False]
     assert len(graded_alpha_complex(square, dented(square), 0.2, boundary=[[0, 1, 2, 3]])) == 0
 
 
@@ -691,7 +691,8 @@ def test_patches_whose_chords_no_triangle_joins_are_kept_before_meshing(monkeypa
     refused = []
     joinable = pds.remeshing._chords_joinable
     monkeypatch.setattr(pds.remeshing, "_chords_joinable",
-                        lambda *args: refused.append(not joinable(*args)) or not refused[-1])
+                        lambda *args: refused.extend(not ok for ok in joinable(*args))
+                        or joinable(*args))
     source = trimesh.creation.box(extents=(13.924, 14.93, 16.767))
     for axis, radius, shift in ((0, 1.584, (0, -1.024, 1.91)), (1, 1.482, (0.748, 0, -1.372)),
                                 (2, 2.639, (1.555, -2.157, 0))):

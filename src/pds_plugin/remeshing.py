@@ -394,8 +394,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
         # a patch with a chord longer than any edge of its complex (a strip about 2 alpha
         # wide at a spike) would not join its neighbours whatever is drawn inside: it is
         # kept before any patch is meshed, and the chains sampled again without it
-        joinable = [_chords_joinable(points, counts, field)
-                    for (_, points, counts), field in zip(given, coned)]
+        joinable = _chords_joinable(given, coned)
         # a patch at alpha with a wall thinner than alpha (most seen across its samples
         # before it is meshed, in the same round as the chords that cannot join; a
         # graded remesh's patches at alpha are facets, convex and at least alpha wide)
@@ -847,8 +846,8 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
         mine = number[faces[by_owner[face_start[k]:face_start[k + 1]]]]
         on_boundary = np.zeros(len(ids), bool)
         on_boundary[:n_given[k]] = True
-        out.append((PlanarMesh(points[ids], mine, on_boundary, patch.region, field.cap, True,
-                               field=field), bool(joined[k])))
+        out.append((PlanarMesh._made(points[ids], mine, on_boundary, patch.region, field.cap,
+                                     True, field), bool(joined[k])))
     return out
 
 
@@ -949,16 +948,24 @@ _AGREEMENT_TOL = 1e-9
 """A sample's r read lower than this (relative) by another patch is rounding."""
 
 
-def _chords_joinable(points, counts, field) -> bool:
-    """Can every chord of a patch (two consecutive of its ring samples ``points``, the
-    rings ``counts`` long) be an edge of its graded complex? A triangle of it has its
-    circumradius at most min r / (1 - L) over its corners (:mod:`.graded_complex`), so
-    an edge ab at most 2 min(r(a), r(b)) / (1 - L); a longer chord (1e-9 of margin) is
-    an edge of no triangle, and the patch would not join its neighbours."""
-    following = _following(counts)
-    r = field(points)
-    longest = 2.0 * np.minimum(r, r[following]) / (1.0 - field.grading) * (1.0 + 1e-9)
-    return bool(np.all(np.hypot(*(points[following] - points).T) <= longest))
+def _chords_joinable(given, fields) -> list:
+    """Per patch (its :func:`_ring_samples` ``given`` and its field), can every chord
+    (two consecutive ring samples) be an edge of its graded complex? A triangle of it
+    has its circumradius at most min r / (1 - L) over its corners
+    (:mod:`.graded_complex`), so an edge ab at most 2 min(r(a), r(b)) / (1 - L); a
+    longer chord (1e-9 of margin) is an edge of no triangle, and the patch would not
+    join its neighbours. All patches at once, each read by its own field."""
+    if not given:
+        return []
+    points = np.concatenate([xy for _, xy, _ in given])
+    following = _following([count for _, _, counts in given for count in counts])
+    sizes = [len(xy) for _, xy, _ in given]
+    r = np.concatenate([field(xy) for (_, xy, _), field in zip(given, fields)])
+    grading = np.repeat([field.grading for field in fields], sizes)
+    longest = 2.0 * np.minimum(r, r[following]) / (1.0 - grading) * (1.0 + 1e-9)
+    too_long = np.hypot(*(points[following] - points).T) > longest
+    owner = np.repeat(np.arange(len(given)), sizes)
+    return (np.bincount(owner[too_long], minlength=len(given)) == 0).tolist()
 
 
 def _facets(patches, vertices, faces, normals, feature_angle) -> np.ndarray:
