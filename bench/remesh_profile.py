@@ -57,7 +57,7 @@ SLOW = ("7_8ths_cube.stl", "shared.STL", "20mm-xyz-cube.stl", "g-block-pockets.s
 
 STAGES = [
     (remeshing, "_as_trimesh"), (remeshing, "_coplanar_patches"), (remeshing, "_usable_patches"),
-    (remeshing, "_plane_rings"), (remeshing, "_patch"), (remeshing, "_manifold_patches"),
+    (remeshing, "_plane_rings"), (remeshing, "_patches"), (remeshing, "_manifold_patches"),
     (sizing, "radius_field"), (sizing, "radius_fields"),
     (remeshing, "partition_topology"), (remeshing, "junction_fields"), (remeshing, "agreeing_fields"),
     (remeshing, "graded_sample_chains"), (remeshing, "chain_sample_radii"),

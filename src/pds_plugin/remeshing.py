@@ -42,7 +42,7 @@ from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
                         chain_sample_radii, graded_sample_chains, interface_report,
                         junction_fields, partition_topology, read_regions, split_counts,
                         with_sample_cones)
-from .region import _following, check_tolerance, simple_regions, turning_angles
+from .region import Region, _following, check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
 from .sources.solids import check_coordinates, float_noise, needle_faces, welded
 
@@ -748,7 +748,6 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
     from .graded_complex import graded_alpha_complex
     from .graded_sampling import graded_poisson_disc
     from .mesh import PlanarMesh
-    from .region import Region
     from .sizing import RadiusField
 
     out = [None] * len(patches)
@@ -1231,8 +1230,7 @@ def _usable_patches(vertices, faces, normals, areas, label, alpha, gap) -> list:
     # at once, their regions made together
     single = [k for k, plane in enumerate(planes) if plane is not None and len(plane[4]) == 1]
     regions = dict(zip(single, simple_regions([planes[k][4][0] + shifts[k] for k in single])))
-    return [None if plane is None else _patch(*plane, shift, regions.get(k))
-            for k, (plane, shift) in enumerate(zip(planes, shifts))]
+    return _patches(planes, shifts, regions)
 
 
 def _plane_rings(vertices, faces, normals, areas, members, edges):
@@ -1360,40 +1358,78 @@ def _layout(rings, gap) -> list:
     return shifts
 
 
-def _patch(members, ids, xy, basis, rings, cycles, shift, region):
-    """The :class:`_Patch` of :func:`_plane_rings`' output, its 2D frame moved by
-    ``shift``, or None if not a valid polygon. ``region``: for a patch of one ring its
-    region, made with the others' (``region.simple_regions``; None if not valid); for a
-    patch with holes None (made here)."""
-    from .region import Region
+def _patches(planes, shifts, regions) -> list:
+    """The :class:`_Patch` of each of :func:`_plane_rings`' outputs ``planes`` (None for
+    None), its 2D frame moved by its shift, or None if not a valid polygon.
+    ``regions``: by patch of one ring, its region, made with the others'
+    (``region.simple_regions``; None if not valid); a patch with holes has its region
+    made here. The rings' turning angles and sharp corners are measured for all patches
+    in one pass."""
+    laid = []                                   # (k, its 2D vertices, its region)
+    for k, (plane, shift) in enumerate(zip(planes, shifts)):
+        if plane is None:
+            continue
+        rings, region = plane[4], regions.get(k)
+        if len(rings) > 1:
+            try:
+                region = Region.from_shapely(Polygon(rings[0] + shift,
+                                                     [ring + shift for ring in rings[1:]]))
+            except PdsError:
+                continue
+        if region is not None:
+            laid.append((k, plane[2] + shift, region))
+    ring_ids = _ring_ids([(planes[k][1], xy, region, planes[k][5]) for k, xy, region in laid])
+    made = [(k, xy, region, ids) for (k, xy, region), ids in zip(laid, ring_ids)
+            if ids is not None]
+    out = [None] * len(planes)
+    if not made:
+        return out
+    rings = [ring for _, _, region, _ in made for ring in region.rings]
+    counts = [len(ring) for ring in rings]
+    turns = turning_angles(np.concatenate(rings), counts)
+    sharp = np.pi - turns < _CHECKED_CORNER
+    patch_of = np.repeat(np.arange(len(made)), [sum(map(len, ids)) for *_, ids in made])
+    corners = split_counts(np.concatenate([ids for *_, ring_ids in made for ids in ring_ids])[sharp],
+                           np.bincount(patch_of[sharp], minlength=len(made)))
+    turns = split_counts(turns, counts)
+    first = 0
+    for (k, xy, region, ids), sharpest in zip(made, corners):
+        members, vertices, _, basis = planes[k][:4]
+        last = first + len(region.rings)
+        out[k] = _Patch(members, ids, Frame(vertices, xy), region, basis, sharpest,
+                        turns[first:last])
+        first = last
+    return out
 
-    if len(rings) == 1 and region is None:
-        return None
-    xy = xy + shift
-    frame = Frame(ids, xy)
-    if len(rings) > 1:
-        try:
-            region = Region.from_shapely(Polygon(rings[0] + shift,
-                                                 [ring + shift for ring in rings[1:]]))
-        except PdsError:
-            return None
-    # the region's rings are most often the cycles' own points (one ring, already
-    # counterclockwise, starting where the cycle does): checked, else looked up
-    if (len(region.rings) == len(cycles)
-            and all(len(ring) == len(cycle) and np.array_equal(ring, xy[cycle])
-                    for ring, cycle in zip(region.rings, cycles))):
-        ring_ids = [ids[cycle] for cycle in cycles]
-    else:
+
+def _ring_ids(patches) -> list:
+    """Per patch (its vertex numbers, their 2D points, its region, its cycles: positions
+    in the numbers), its region's rings as vertex numbers, or None if a point of them is
+    no vertex. The rings are most often the cycles' own points (one ring, already
+    counterclockwise, starting where the cycle does): checked for all patches at once,
+    the others looked up."""
+    alike = [k for k, (_, _, region, cycles) in enumerate(patches)
+             if len(region.rings) == len(cycles)
+             and all(len(ring) == len(cycle) for ring, cycle in zip(region.rings, cycles))]
+    same = np.zeros(len(patches), bool)
+    if alike:
+        points = np.concatenate([patches[k][1][cycle] for k in alike for cycle in patches[k][3]])
+        rings = np.concatenate([ring for k in alike for ring in patches[k][2].rings])
+        sizes = [sum(map(len, patches[k][3])) for k in alike]
+        same[alike] = np.logical_and.reduceat((points == rings).all(axis=1),
+                                              np.cumsum([0] + sizes[:-1]))
+    out = []
+    for (ids, xy, region, cycles), ok in zip(patches, same.tolist()):
+        if ok:
+            out.append([ids[cycle] for cycle in cycles])
+            continue
         lookup = {tuple(point): vertex for vertex, point in zip(ids.tolist(), xy.tolist())}
         try:
-            ring_ids = [np.array([lookup[tuple(point)] for point in ring.tolist()],
-                                 dtype=np.int64) for ring in region.rings]
+            out.append([np.array([lookup[tuple(point)] for point in ring.tolist()], np.int64)
+                        for ring in region.rings])
         except KeyError:
-            return None
-    turns = [turning_angles(ring) for ring in region.rings]
-    corners = np.concatenate([ids[np.pi - turn < _CHECKED_CORNER]
-                              for ids, turn in zip(ring_ids, turns)])
-    return _Patch(members, ring_ids, frame, region, basis, corners, turns)
+            out.append(None)
+    return out
 
 
 def _manifold_patches(patches) -> list:
