@@ -42,7 +42,7 @@ from shapely.geometry import MultiPolygon, Polygon
 from ._checks import check_alpha, check_positive_int, check_seed
 from .errors import ArgumentError, ArgumentTypeError, RegionError
 from .mesh import PlanarMesh
-from .region import Region, turning_angles
+from .region import Region, _following, turning_angles
 from .graded_sampling import TAU_MARGIN, cleared_piece, corner_leg, corner_side, tau_positions
 from .sampling import (DEFAULT_MAX_SAMPLES, LADDER_ANGLE, STRAIGHT_TURN, check_budget,
                        corner_clearance, ring_positions)
@@ -232,7 +232,7 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     """
     alpha = check_alpha(alpha)
     rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
-    owner, angle = _edge_owners(rings, frames)
+    owner, angle, _ = _edge_owners(rings, frames)
     junction = _junctions(owner, pinned)
     chains = _chains(rings, owner, junction)
     positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
@@ -344,7 +344,7 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     cid, segment, t, ((xy, radius), (_, other)) = chain_set.dense_reads(grading)
     radius = np.minimum(radius, other)
     bounds = np.searchsorted(cid, np.arange(len(chains) + 1))
-    single = _single_edges(chains, bounds, xy, radius, angle, junction, unit)
+    single = _single_edges(chains, bounds, xy, radius, top.edge_angles, junction, unit)
     taus, positions, cleared = [], [], []
     for c, (vertices, closed) in enumerate(chains):
         part = slice(bounds[c], bounds[c + 1])
@@ -480,22 +480,23 @@ def _groups(labels):
             yield int(ordered[lo]), order[lo:hi]
 
 
-def _single_edges(chains, bounds, dense, radius, angle, junction, unit) -> dict:
+def _single_edges(chains, bounds, dense, radius, table, junction, unit) -> dict:
     """What :func:`_graded_chain` gives the open chains of one edge between two junctions
     (most chains of a remeshed CAD part, whose faces meet kept tessellations pinned at
     every vertex; every chain of a sphere's facets), all at once: by chain, its τ, its
     samples' positions and its cleared corners. The same arithmetic, element by element;
     the other chains are left out. The legs of the junctions whose angles ask a
     clearance (:func:`_chain_clearance`'s, on the edge and on the chord back that closes
-    the chain) are found for all chains in one pass (:func:`_first_reaches`)."""
-    simple = [c for c, (vertices, closed) in enumerate(chains)
-              if not closed and len(vertices) == 2 and int(vertices[0]) in junction
-              and int(vertices[1]) in junction]
+    the chain) are found for all chains in one pass (:func:`_first_reaches`), their
+    angles read in ``table`` (:class:`_EdgeAngles`)."""
+    two = [c for c, (vertices, closed) in enumerate(chains) if not closed and len(vertices) == 2]
+    ends = np.array([chains[c][0] for c in two], dtype=np.int64).reshape(-1, 2)
+    both = np.isin(ends, np.fromiter(junction, np.int64, len(junction))).all(axis=1)
+    simple, ends = [c for c, ok in zip(two, both.tolist()) if ok], ends[both]
     if not simple:
         return {}
-    ends = np.array([chains[c][0] for c in simple], dtype=np.int64)
-    sharpest = np.array([[_junction_angle(a, b, angle), _junction_angle(b, a, angle)]
-                         for a, b in ends.tolist()])
+    sharpest = np.column_stack([table.sharpest(ends[:, 0], ends[:, 1]),
+                                table.sharpest(ends[:, 1], ends[:, 0])])
     k = corner_clearance(np.pi - (np.pi - sharpest), 1.0)
     # τ increments along every chain's dense points, closed by its chord back
     cid = np.repeat(np.arange(len(bounds) - 1), np.diff(bounds))
@@ -777,7 +778,7 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     [[0.21, 0.01, 0.01, 0.208, 0.291, 0.293]]
     """
     top = topology if topology is not None else _Topology(rings, frames, pinned)
-    rings, owner, angle, junctions = top.rings, top.owner, top.angle, top.junction
+    rings, owner, junctions = top.rings, top.owner, top.junction
     junction = np.array(sorted(junctions), dtype=np.int64)
     size = np.full(len(junction), np.inf)
     vertices = [np.concatenate(region) for region in rings]
@@ -800,9 +801,9 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
         region = np.array([owner[_key(vertices[0], vertices[1])][0] for vertices in chains])
         xy = read_frames(frames, np.repeat(region, 2), ends.ravel()).reshape(-1, 2, 2)
         apart = np.array([math.hypot(*d) for d in (xy[:, 1] - xy[:, 0]).tolist()])
-        clearance = np.maximum(1.0, _end_clearances(
-            [(vertices[0], vertices[1]) for vertices in chains]
-            + [(vertices[-1], vertices[-2]) for vertices in chains], angle)).reshape(2, -1)
+        beside = np.array([[vertices[1], vertices[-2]] for vertices in chains], dtype=np.int64)
+        clearance = np.maximum(1.0, _end_clearances(ends.T.ravel(), beside.T.ravel(),
+                                                    top.edge_angles)).reshape(2, -1)
         np.minimum.at(size, np.searchsorted(junction, ends[:, 0]),
                       apart / (TAU_MARGIN * clearance[1]))
         np.minimum.at(size, np.searchsorted(junction, ends[:, 1]),
@@ -955,7 +956,7 @@ class _Topology:
 
     def __init__(self, rings, frames, pinned=()):
         self.rings = [[np.asarray(ring, dtype=np.int64) for ring in region] for region in rings]
-        self.owner, self.angle = _edge_owners(self.rings, frames)
+        self.owner, self.angle, self.edge_angles = _edge_owners(self.rings, frames)
         self.junction = _junctions(self.owner, pinned)
         self.chains = _chains(self.rings, self.owner, self.junction)
         self.sides = [sorted(set(self.owner[_key(vertices[0], vertices[1])]))
@@ -1060,16 +1061,20 @@ def _key(a, b):
 
 def _edge_owners(rings, frames):
     """Per undirected edge: the regions that run it; per directed edge: its region and
-    that region's interior angles at the edge's start and end."""
+    that region's interior angles at the edge's start and end, as a dict and as an
+    :class:`_EdgeAngles` table."""
     owner, angle = {}, {}
     every = [(r, ring) for r, region in enumerate(rings) for ring in region]
     if not every:
-        return owner, angle
+        return owner, angle, _EdgeAngles(*[np.zeros(0, np.int64)] * 2, *[np.zeros(0)] * 2)
     counts = [len(ring) for _, ring in every]
-    xy = read_frames(frames, np.repeat([r for r, _ in every], counts),
-                     np.concatenate([ring for _, ring in every]))
+    vertices = np.concatenate([ring for _, ring in every])
+    xy = read_frames(frames, np.repeat([r for r, _ in every], counts), vertices)
     # the region's angle at each vertex, all rings at once
-    inners = split_counts(np.pi - turning_angles(xy, counts), counts)
+    inner = np.pi - turning_angles(xy, counts)
+    following = _following(counts)
+    table = _EdgeAngles(vertices, vertices[following], inner, inner[following])
+    inners = split_counts(inner, counts)
     for (r, ring), inner in zip(every, inners):
         ring = ring.tolist()
         for k, (a, b) in enumerate(zip(ring, ring[1:] + ring[:1])):
@@ -1082,7 +1087,36 @@ def _edge_owners(rings, frames):
             if len(sides) > 2:
                 raise RegionError(f"the edge of vertices {a} and {b} bounds regions "
                                   f"{sides}; an edge bounds two regions at most")
-    return owner, angle
+    return owner, angle, table
+
+
+class _EdgeAngles:
+    """Every directed edge of the rings with its region's interior angles at its start
+    and end (:func:`_edge_owners`' ``angle``), to look many edges up at once."""
+
+    def __init__(self, start, end, at_start, at_end):
+        self.span = int(max(start.max(initial=0), end.max(initial=0))) + 1
+        codes = start * self.span + end
+        order = np.argsort(codes, kind="stable")
+        self.codes, self.at_start, self.at_end = codes[order], at_start[order], at_end[order]
+
+    def at(self, vertex, neighbour) -> tuple[np.ndarray, np.ndarray]:
+        """The angles at ``vertex`` of the regions that run each edge (vertex,
+        neighbour): the one running it from ``vertex`` and the one running it back (NaN
+        where no region does)."""
+        return (self._read(vertex, neighbour, self.at_start),
+                self._read(neighbour, vertex, self.at_end))
+
+    def sharpest(self, vertex, neighbour) -> np.ndarray:
+        """:func:`_junction_angle` of every (vertex, neighbour) pair."""
+        return np.fmin(*self.at(vertex, neighbour))
+
+    def _read(self, start, end, values):
+        wanted = np.asarray(start, np.int64) * self.span + np.asarray(end, np.int64)
+        at = np.minimum(self.codes.searchsorted(wanted), max(len(self.codes) - 1, 0))
+        if not len(self.codes):
+            return np.full(len(wanted), np.nan)
+        return np.where(self.codes[at] == wanted, values[at], np.nan)
 
 
 def _junctions(owner, pinned) -> set:
@@ -1263,19 +1297,13 @@ def _end_clearance(vertex, neighbour, angle) -> float:
     return max(clearances)
 
 
-def _end_clearances(pairs, angle) -> np.ndarray:
-    """:func:`_end_clearance` of every (vertex, neighbour) pair, with one call of
-    ``corner_clearance``."""
-    found, owner = [], []
-    for k, (vertex, neighbour) in enumerate(pairs):
-        for a, b, at_start in ((vertex, neighbour, True), (neighbour, vertex, False)):
-            entry = angle.get((int(a), int(b)))
-            if entry is not None:
-                found.append(entry[1] if at_start else entry[2])
-                owner.append(k)
-    out = np.full(len(pairs), -np.inf)
-    np.maximum.at(out, np.array(owner, dtype=np.int64),
-                  corner_clearance(np.array(found, dtype=float), 1.0))
+def _end_clearances(vertex, neighbour, table) -> np.ndarray:
+    """:func:`_end_clearance` of every (vertex, neighbour) pair, looked up in the
+    :class:`_EdgeAngles` ``table`` (-inf where no region runs the edge)."""
+    out = np.full(len(vertex), -np.inf)
+    for angles in table.at(vertex, neighbour):
+        found = ~np.isnan(angles)
+        out[found] = np.maximum(out[found], corner_clearance(angles[found], 1.0))
     return out
 
 
