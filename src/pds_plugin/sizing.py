@@ -116,10 +116,14 @@ class RadiusField:
         >>> lowered = field.with_cones([[4, 0], [0.1, 0]], [0.2, 0.5])    # the 2nd is dominated
         >>> lowered.sizes.tolist(), lowered([[4, 0]]).tolist()
         ([0.1, 0.2], [0.2])
+        >>> field.with_cones([[4, 0]], [1.5]) is field          # no cone below the cap
+        True
         """
         points = np.asarray(points, float).reshape(-1, 2)
         sizes = np.asarray(sizes, float).ravel()
         below = sizes < self.cap
+        if not below.any():                 # no new cone below the cap: this field
+            return self
         points, sizes = np.ascontiguousarray(points[below]), np.ascontiguousarray(sizes[below])
         features = np.concatenate([self.features, points])
         all_sizes = np.concatenate([self.sizes, sizes])
