@@ -908,36 +908,38 @@ def _cones_at(xy, sizes, field) -> np.ndarray:
 
 class _FewCones:
     """:func:`_cones_at` of every patch of at most 32 samples at once (most patches of a
-    CAD part: the 20 mm cube's letters), each a row of padded arrays, its distances
-    times L found once for all rounds of :func:`_agreeing_sizes`: the same numbers
-    (the padding's sizes are infinite, so it is no one's minimum)."""
+    CAD part: the 20 mm cube's letters, a sphere's facets), each a row of padded arrays
+    (patches within a factor two of one sample count together), its distances times L
+    found once for all rounds of :func:`_agreeing_sizes`: the same numbers (the padding's
+    sizes are infinite, so it is no one's minimum)."""
 
     def __init__(self, ids, points, fields):
-        self.which = [k for k, xy in enumerate(points) if 0 < len(xy) <= 32]
-        if not self.which:
-            return
-        counts = np.array([len(points[k]) for k in self.which])
-        width = int(counts.max())
-        self.mask = np.arange(width)[None, :] < counts[:, None]
-        xy = np.zeros((len(self.which), width, 2))
-        xy[self.mask] = np.concatenate([points[k] for k in self.which])
-        distance = np.hypot(xy[:, :, None, 0] - xy[:, None, :, 0],
-                            xy[:, :, None, 1] - xy[:, None, :, 1])
-        grading = np.array([fields[k].grading for k in self.which])
-        self.slope = grading[:, None, None] * distance        # field.grading * distance
-        self.cap = np.array([fields[k].cap for k in self.which])[:, None]
-        self.ids = np.concatenate([ids[k] for k in self.which])
-        self.cut = np.cumsum(counts)[:-1]
+        counts = np.array([len(xy) for xy in points])
+        size = np.ceil(np.log2(np.maximum(counts, 1))).astype(np.int64)
+        self.classes = []
+        for s in np.unique(size[(counts > 0) & (counts <= 32)]).tolist():
+            which = np.flatnonzero((size == s) & (counts > 0) & (counts <= 32)).tolist()
+            width = int(counts[which].max())
+            mask = np.arange(width)[None, :] < counts[which, None]
+            xy = np.zeros((len(which), width, 2))
+            xy[mask] = np.concatenate([points[k] for k in which])
+            distance = np.hypot(xy[:, :, None, 0] - xy[:, None, :, 0],
+                                xy[:, :, None, 1] - xy[:, None, :, 1])
+            grading = np.array([fields[k].grading for k in which])
+            slope = grading[:, None, None] * distance          # field.grading * distance
+            cap = np.array([fields[k].cap for k in which])[:, None]
+            self.classes.append((which, mask, slope, cap, np.concatenate([ids[k] for k in which]),
+                                 np.cumsum(counts[which])[:-1]))
 
     def __call__(self, sizes) -> dict:
         """Per patch of at most 32 samples (by index), its cones at its samples."""
-        if not self.which:
-            return {}
-        padded = np.full(self.mask.shape, np.inf)
-        padded[self.mask] = sizes[self.ids]
-        cones = np.minimum((padded[:, None, :] + self.slope).min(axis=2, initial=np.inf),
-                           self.cap)
-        return dict(zip(self.which, np.split(cones[self.mask], self.cut)))
+        out = {}
+        for which, mask, slope, cap, ids, cut in self.classes:
+            padded = np.full(mask.shape, np.inf)
+            padded[mask] = sizes[ids]
+            cones = np.minimum((padded[:, None, :] + slope).min(axis=2, initial=np.inf), cap)
+            out.update(zip(which, np.split(cones[mask], cut)))
+        return out
 
 
 _AGREEMENT_ROUNDS = 16
