@@ -804,13 +804,15 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
     rings, owner, junctions = top.rings, top.owner, top.junction
     junction = np.array(sorted(junctions), dtype=np.int64)
     size = np.full(len(junction), np.inf)
-    vertices = [np.concatenate(region) for region in rings]
-    is_junction = np.zeros(max((int(v.max(initial=-1)) for v in vertices), default=-1)
-                           + 1, bool)
-    is_junction[junction[junction < len(is_junction)]] = True
-    # per region, its junctions (indices into ``junction``) and where they are
-    mine = [np.unique(ids[is_junction[ids]]) for ids in vertices]
-    held = [np.searchsorted(junction, ids) for ids in mine]
+    # per region, its junctions (indices into ``junction``) and where they are, all
+    # regions at once: (region, vertex) pairs, each once, by region then vertex
+    counts = [sum(len(ring) for ring in region) for region in rings]
+    vertex = np.concatenate([ring for region in rings for ring in region] + [junction[:0]])
+    span = int(max(vertex.max(initial=0), junction.max(initial=0))) + 1
+    pairs = np.unique(np.repeat(np.arange(len(rings)), counts) * span + vertex)
+    pairs = pairs[np.isin(pairs % span, junction)]
+    mine = split_counts(pairs % span, np.bincount(pairs // span, minlength=len(rings)))
+    held = split_counts(np.searchsorted(junction, pairs % span), [len(ids) for ids in mine])
     at = split_counts(read_regions(frames, mine), [len(ids) for ids in mine])
     # one read of a few points a region: a call each costs less than the layout
     # field's cone tree over all their features (built for the chains' many reads)
