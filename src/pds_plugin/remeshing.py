@@ -1342,21 +1342,27 @@ def _layout(rings, gap) -> list:
     >>> [None if s is None else s.tolist() for s in shifts]
     [[0.0, 0.0], None, [4.0, 0.0]]
     """
-    boxes = {k: (r[0].min(axis=0), r[0].max(axis=0)) for k, r in enumerate(rings)
-             if r is not None}
-    if not boxes:
+    laid = [k for k, r in enumerate(rings) if r is not None]
+    if not laid:
         return [None] * len(rings)
-    size = {k: high - low for k, (low, high) in boxes.items()}
-    width = max(math.sqrt(sum(float(np.prod(d + gap)) for d in size.values())),
-                max(float(d[0]) for d in size.values()))
-    shifts = [None] * len(rings)
+    outer = [rings[k][0] for k in laid]            # every patch's box, in one pass
+    starts = np.cumsum([0] + [len(ring) for ring in outer[:-1]])
+    outer = np.concatenate(outer)
+    low = np.minimum.reduceat(outer, starts)
+    size = np.maximum.reduceat(outer, starts) - low
+    wide, tall = size[:, 0].tolist(), size[:, 1].tolist()
+    width = max(math.sqrt(sum(((size + gap)[:, 0] * (size + gap)[:, 1]).tolist())), max(wide))
+    at = np.empty((len(laid), 2))
     x = y = row = 0.0
-    for k in sorted(boxes, key=lambda k: (-float(size[k][1]), k)):
-        if x > 0 and x + size[k][0] > width:
+    for i in sorted(range(len(laid)), key=lambda i: (-tall[i], laid[i])):
+        if x > 0 and x + wide[i] > width:
             x, y, row = 0.0, y + row + gap, 0.0
-        shifts[k] = np.array([x, y]) - boxes[k][0]
-        x += float(size[k][0]) + gap
-        row = max(row, float(size[k][1]))
+        at[i] = x, y
+        x += wide[i] + gap
+        row = max(row, tall[i])
+    shifts = [None] * len(rings)
+    for k, shift in zip(laid, at - low):
+        shifts[k] = shift
     return shifts
 
 
