@@ -7,13 +7,15 @@ the vertices, the features' places and sizes from the region's geometry, and the
 bounds from their closed forms (docs/conforming.md, "Theorem 1 and its exceptions").
 """
 
+import json
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
-from shapely.geometry import Point, Polygon, box
+from shapely.geometry import MultiPolygon, Point, Polygon, box
 
 import pds_plugin as pds
 from test_conforming import notched_plate, plates_with_pin_holes
@@ -128,6 +130,54 @@ def test_a_corner_with_one_short_side_keeps_its_neighbours_alpha_apart(seed):
                            0.2, seed=seed)
     cert = mesh.certificate()
     assert cert.ok and cert.min_separation >= 1, cert
+
+
+def _rung_at_a_corner(held):
+    """A 53° corner at the origin, side A along +x (1.998 long, to a reflex corner), side
+    B at 53°, meshed at alpha = 1 with its boundary samples given: q on side B ``held``
+    from the corner and m on side A across from it (q's foot), where
+    ``boundary_rules._rungs_across_walls`` puts a rung when q lies in the lens of the
+    chord from A's far end to the corner."""
+    turn = np.array([math.cos(math.radians(53.0)), math.sin(math.radians(53.0))])
+    corner, a_end, d, e = (np.array(p, float) for p in ((0, 0), (1.998, 0), (1.998, -1.5), (4, -1.5)))
+    f, g = 5.0 * turn + np.array([2.0, 0.0]), 5.0 * turn
+    region = pds.Region.from_shapely(Polygon([corner, a_end, d, e, f, g]))
+    q = held * turn
+    m = np.array([q[0], 0.0])
+
+    def between(p, r, parts):
+        return [p + (r - p) * k / parts for k in range(1, parts)]
+    samples = np.array([corner, m, a_end, d, *between(d, e, 2), e, *between(e, f, 4), f,
+                        *between(f, g, 2), g, *between(g, q, 3), q])
+    return pds.mesh_region(region, 1.0, seed=0, boundary_samples=[samples]), m, q
+
+
+def test_a_rung_across_a_corner_from_a_sample_at_its_clearance_is_explained():
+    """q at its clearance (1.1206 at 53°), m anywhere on the other side: they are at least
+    q's distance to that side apart, clearance x sin 53° = cos 26.5° (it was unexplained)."""
+    mesh, m, q = _rung_at_a_corner(1.13)
+    cert = assert_itemised(mesh)
+    assert cert.excused_pairs > 0
+    assert np.hypot(*(m - q)) >= math.cos(math.radians(26.5)) * (1 - 1e-9)
+
+
+def test_a_pair_both_inside_a_corners_clearances_stays_unexplained():
+    """Neither sample at its clearance: nothing the sampler does keeps them apart."""
+    cert = _rung_at_a_corner(0.9)[0].certificate()
+    assert not cert.ok_with_exceptions
+    assert any("pairs of samples" in reason for reason in cert.unexplained)
+
+
+def test_a_vase_sections_rung_at_a_corner_is_certified():
+    """An OpenCASCADE export's section (tests/data/vase_section.json, FAILED before): a
+    rung 0.67 alpha from a 53° corner, across from the first sample past the corner's
+    clearance, 0.897 alpha apart."""
+    data = json.loads((Path(__file__).parent / "data" / "vase_section.json").read_text())
+    region = pds.Region(MultiPolygon([Polygon(data["ring"])]), np.eye(4),
+                        tolerance=data["tolerance"])
+    cert = pds.mesh_region(region, data["alpha"], seed=0).certificate()
+    assert cert.ok_with_exceptions and not cert.unexplained, str(cert)
+    assert cert.excused_pairs > 0
 
 
 def test_a_twenty_degree_v_notch_needs_no_exception():

@@ -424,8 +424,19 @@ def _explain_corner(meet, a, b, first, second, alpha, tol, cause, feature, bound
                 fixed[short] = cKDTree(boundary).query(far[short])[0] <= tol
     # two free samples are alpha apart beside a corner of 60° or more: only sharper
     # corners keep them closer, and the bound's minimum needs less than 90°
-    apart = ((fixed_a | (at_a >= clear_a * (1 - _TOL))) & (fixed_b | (at_b >= clear_b * (1 - _TOL)))
-             & ((angle < np.pi / 2) | fixed_a | fixed_b))
+    held_a = fixed_a | (at_a >= clear_a * (1 - _TOL))
+    held_b = fixed_b | (at_b >= clear_b * (1 - _TOL))
+    apart = held_a & held_b & ((angle < np.pi / 2) | fixed_a | fixed_b)
+    # one sample inside its clearance, the other held by its own (or fixed), below 90°: a
+    # rung across the corner's wedge (boundary_rules._rungs_across_walls: the point of the
+    # side across from the held sample, which lies in the lens of the chord ending at the
+    # corner) or the middle of a side halved by _guards_halved. That sample may be
+    # anywhere on its side: the held one keeps it at least its own distance to that side,
+    # clear sin θ (alpha cos(θ/2) below 60°), the least distance with a clearance of 0
+    across = ~apart & (held_a != held_b) & (angle < np.pi / 2)
+    clear_a = np.where(across & ~held_a, 0.0, clear_a)
+    clear_b = np.where(across & ~held_b, 0.0, clear_b)
+    apart |= across
     rows = np.flatnonzero(meet)[apart]
     cause[rows], feature[rows], place[rows] = _SHARP_CORNER, np.degrees(angle[apart]), corner[apart]
     bound[rows] = _nearest_on_sides(at_a[apart], fixed_a[apart], clear_a[apart], at_b[apart],
