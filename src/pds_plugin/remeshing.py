@@ -1368,7 +1368,8 @@ def _layout(rings, gap) -> list:
 
 def _patches(planes, shifts, regions) -> list:
     """The :class:`_Patch` of each of :func:`_plane_rings`' outputs ``planes`` (None for
-    None), its 2D frame moved by its shift, or None if not a valid polygon.
+    None; their vertex numbers increasing), its 2D frame moved by its shift, or None if
+    not a valid polygon.
     ``regions``: by patch of one ring, its region, made with the others'
     (``region.simple_regions``; None if not valid); a patch with holes has its region
     made here. The rings' turning angles and sharp corners are measured for all patches
@@ -1404,7 +1405,7 @@ def _patches(planes, shifts, regions) -> list:
     for (k, xy, region, ids), sharpest in zip(made, corners):
         members, vertices, _, basis = planes[k][:4]
         last = first + len(region.rings)
-        out[k] = _Patch(members, ids, Frame(vertices, xy), region, basis, sharpest,
+        out[k] = _Patch(members, ids, Frame.of_sorted(vertices, xy), region, basis, sharpest,
                         turns[first:last])
         first = last
     return out
