@@ -1104,10 +1104,10 @@ def _edge_owners(rings, frames):
     vertices = np.concatenate([ring for _, ring in every])
     xy = read_frames(frames, np.repeat([r for r, _ in every], counts), vertices)
     # the region's angle at each vertex, all rings at once
-    inner = np.pi - turning_angles(xy, counts)
+    inside = np.pi - turning_angles(xy, counts)
     following = _following(counts)
-    table = _EdgeAngles(vertices, vertices[following], inner, inner[following])
-    inners = split_counts(inner, counts)
+    table = _EdgeAngles(vertices, vertices[following], inside, inside[following])
+    inners = split_counts(inside, counts)
     for (r, ring), inner in zip(every, inners):
         ring = ring.tolist()
         for k, (a, b) in enumerate(zip(ring, ring[1:] + ring[:1])):
@@ -1146,9 +1146,9 @@ class _EdgeAngles:
 
     def _read(self, start, end, values):
         wanted = np.asarray(start, np.int64) * self.span + np.asarray(end, np.int64)
-        at = np.minimum(self.codes.searchsorted(wanted), max(len(self.codes) - 1, 0))
         if not len(self.codes):
             return np.full(len(wanted), np.nan)
+        at = np.minimum(self.codes.searchsorted(wanted), len(self.codes) - 1)
         return np.where(self.codes[at] == wanted, values[at], np.nan)
 
 

@@ -1369,11 +1369,10 @@ def _layout(rings, gap) -> list:
 def _patches(planes, shifts, regions) -> list:
     """The :class:`_Patch` of each of :func:`_plane_rings`' outputs ``planes`` (None for
     None; their vertex numbers increasing), its 2D frame moved by its shift, or None if
-    not a valid polygon.
-    ``regions``: by patch of one ring, its region, made with the others'
-    (``region.simple_regions``; None if not valid); a patch with holes has its region
-    made here. The rings' turning angles and sharp corners are measured for all patches
-    in one pass."""
+    not a valid polygon. ``regions``: by patch of one ring, its region, made with the
+    others' (``region.simple_regions``; None if not valid); a patch with holes has its
+    region made here. The rings' turning angles and sharp corners are measured for all
+    patches in one pass."""
     laid = []                                   # (k, its 2D vertices, its region)
     for k, (plane, shift) in enumerate(zip(planes, shifts)):
         if plane is None:
@@ -1397,9 +1396,9 @@ def _patches(planes, shifts, regions) -> list:
     counts = [len(ring) for ring in rings]
     turns = turning_angles(np.concatenate(rings), counts)
     sharp = np.pi - turns < _CHECKED_CORNER
+    vertex = np.concatenate([ids for *_, ring_ids in made for ids in ring_ids])
     patch_of = np.repeat(np.arange(len(made)), [sum(map(len, ids)) for *_, ids in made])
-    corners = split_counts(np.concatenate([ids for *_, ring_ids in made for ids in ring_ids])[sharp],
-                           np.bincount(patch_of[sharp], minlength=len(made)))
+    corners = split_counts(vertex[sharp], np.bincount(patch_of[sharp], minlength=len(made)))
     turns = split_counts(turns, counts)
     first = 0
     for (k, xy, region, ids), sharpest in zip(made, corners):
