@@ -1290,13 +1290,20 @@ def _junction_ladder(spike, along, chains, straight, alpha, seed):
 
 
 def _along_chains(chains) -> dict:
-    """Per directed edge of the chains: (chain, whether the chain runs it that way)."""
-    along = {}
-    for c, (vertices, closed) in enumerate(chains):
-        heads = np.asarray(vertices).tolist()
-        tails = heads[1:] + heads[:1] if closed else heads[1:]
-        along.update(zip(zip(heads, tails), itertools.repeat((c, True))))
-        along.update(zip(zip(tails, heads), itertools.repeat((c, False))))
+    """Per directed edge of the chains: (chain, whether the chain runs it that way); an
+    edge a chain runs both ways (a closed chain of two vertices) is run backwards."""
+    if not chains:
+        return {}
+    sizes = [len(vertices) for vertices, _ in chains]
+    heads = np.concatenate([vertices for vertices, _ in chains]).astype(np.int64)
+    chain = np.repeat(np.arange(len(chains)), sizes)
+    ends = np.cumsum(sizes) - 1
+    edge = np.ones(len(heads), bool)              # an open chain's last vertex starts none
+    edge[ends[[not closed for _, closed in chains]]] = False
+    tails = heads[_following(sizes)][edge].tolist()
+    heads, chain = heads[edge].tolist(), chain[edge].tolist()
+    along = dict(zip(zip(heads, tails), zip(chain, itertools.repeat(True))))
+    along.update(zip(zip(tails, heads), zip(chain, itertools.repeat(False))))
     return along
 
 
