@@ -979,7 +979,7 @@ def _facets(patches, vertices, faces, normals, feature_angle) -> np.ndarray:
     owner = np.repeat(np.arange(len(patches)),
                       [sum(len(ring) for ring in patch.rings) for patch in patches])
     start = np.concatenate(rings)
-    end = np.concatenate([np.r_[ring[1:], ring[:1]] for ring in rings])
+    end = start[_following([len(ring) for ring in rings])]
     n = len(vertices)
     code = (faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2) * [n, 1]).sum(axis=1)
     order = np.argsort(code, kind="stable")
@@ -1448,7 +1448,7 @@ def _manifold_patches(patches) -> list:
         return []
     rings = [(k, ring) for k, patch in enumerate(patches) for ring in patch.rings]
     start = np.concatenate([ring for _, ring in rings]).astype(np.int64)
-    end = np.concatenate([np.r_[ring[1:], ring[:1]] for _, ring in rings]).astype(np.int64)
+    end = start[_following([len(ring) for _, ring in rings])]
     owner = np.repeat([k for k, _ in rings], [len(ring) for _, ring in rings])
     n = int(max(start.max(initial=0), end.max(initial=0))) + 1
     bad = np.zeros(len(start), bool)
