@@ -807,16 +807,25 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     from .mesh import PlanarMesh
 
     points, count = samples.points, len(samples.points)
-    n_given = [sum(len(ring) for ring in rings) for rings in given]
-    first = np.cumsum([0] + n_given)
+    n_given = np.array([sum(len(ring) for ring in rings) for rings in given], np.int64)
+    first = np.cumsum(np.append(0, n_given))
     owner = np.full(count, -1, np.int64)
     owner[:first[-1]] = np.repeat(np.arange(len(patches)), n_given)
     inner = np.arange(first[-1], count)
-    x, y = points[inner, 0], points[inner, 1]
-    for k, (x0, y0, x1, y1) in enumerate(patch.region.bounds for patch in patches):
-        owner[inner[(x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)]] = k
+    if len(inner):                  # the box each interior sample lies in (boundary too)
+        boxes = shapely.box(*np.array([patch.region.bounds for patch in patches]).T)
+        at, box = shapely.STRtree(boxes).query(shapely.points(points[inner]),
+                                               predicate="intersects")
+        owner[inner[at]] = box
     order = np.argsort(owner[first[-1]:], kind="stable") + first[-1]   # interiors by patch
     inner_start = np.searchsorted(owner[order], np.arange(len(patches) + 1))
+    # each sample's number in its patch's mesh: its given samples, then its interior
+    number = np.full(count, -1, np.int64)
+    number[:first[-1]] = np.arange(first[-1]) - np.repeat(first[:-1], n_given)
+    patch_of = owner[order]
+    placed = patch_of >= 0
+    number[order[placed]] = (np.arange(len(order)) - inner_start[patch_of]
+                             + n_given[patch_of])[placed]
     face_owner = owner[faces]
     across = (face_owner != face_owner[:, :1]).any(axis=1) | (face_owner[:, 0] < 0)
     bad = set(face_owner[across].ravel().tolist())
@@ -833,20 +842,21 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     missed = ~np.isin(chords, boundary[:, 0] * count + boundary[:, 1])
     joined = ((np.bincount(owner[boundary[:, 0]], minlength=len(patches)) == n_given)
               & (np.bincount(owner[:first[-1]][missed], minlength=len(patches)) == 0))
-    number = np.empty(count, np.int64)
+    # every patch's points, flags and triangles as consecutive rows of one array each
+    by_patch = np.lexsort((number, owner))
+    by_patch = by_patch[owner[by_patch] >= 0]
+    vertex_start = np.searchsorted(owner[by_patch], np.arange(len(patches) + 1))
+    xy, on_boundary = points[by_patch], number[by_patch] < n_given[owner[by_patch]]
+    triangles = number[faces[by_owner]]
     out = []
     for k, (patch, field) in enumerate(zip(patches, fields)):
         if k in bad:
             out.append(None)
             continue
-        ids = np.concatenate([np.arange(first[k], first[k + 1]),
-                              order[inner_start[k]:inner_start[k + 1]]])
-        number[ids] = np.arange(len(ids))
-        mine = number[faces[by_owner[face_start[k]:face_start[k + 1]]]]
-        on_boundary = np.zeros(len(ids), bool)
-        on_boundary[:n_given[k]] = True
-        out.append((PlanarMesh._made(points[ids], mine, on_boundary, patch.region, field.cap,
-                                     True, field), bool(joined[k])))
+        rows = slice(vertex_start[k], vertex_start[k + 1])
+        out.append((PlanarMesh._made(xy[rows], triangles[face_start[k]:face_start[k + 1]],
+                                     on_boundary[rows], patch.region, field.cap, True, field),
+                    bool(joined[k])))
     return out
 
 
