@@ -374,13 +374,21 @@ fields (:func:`radius_fields`)."""
 
 def _apart(bounds, distance) -> bool:
     """Do every two of the boxes ``bounds`` ((xmin, ymin, xmax, ymax) each) lie more
-    than ``distance`` apart along x or along y?"""
-    b = np.asarray(bounds, float)
-    x_gap = np.maximum(b[:, None, 0] - b[None, :, 2], b[None, :, 0] - b[:, None, 2])
-    y_gap = np.maximum(b[:, None, 1] - b[None, :, 3], b[None, :, 1] - b[:, None, 3])
-    gap = np.maximum(x_gap, y_gap)
-    np.fill_diagonal(gap, np.inf)
-    return bool(np.all(gap > distance))
+    than ``distance`` apart along x or along y? The pairs measured are those a box
+    query finds within twice that (hundreds of a remesh's patches: all pairs took
+    5 ms).
+
+    >>> _apart([[0, 0, 1, 1], [3, 0, 4, 1]], 1.5), _apart([[0, 0, 1, 1], [3, 0, 4, 1]], 2.0)
+    (True, False)
+    """
+    b = np.asarray(bounds, float).reshape(-1, 4)
+    reach = np.array([-2.0, -2.0, 2.0, 2.0]) * distance
+    i, j = shapely.STRtree(shapely.box(*b.T)).query(shapely.box(*(b + reach).T),
+                                                     predicate="intersects")
+    i, j = i[i != j], j[i != j]
+    x_gap = np.maximum(b[i, 0] - b[j, 2], b[j, 0] - b[i, 2])
+    y_gap = np.maximum(b[i, 1] - b[j, 3], b[j, 1] - b[i, 3])
+    return bool(np.all(np.maximum(x_gap, y_gap) > distance))
 
 
 def _joint_features(regions, cap, feature_angle, factors):
