@@ -734,20 +734,22 @@ class _FlatTau:
 
     def __init__(self, taus, segment, t, bounds):
         self.tau = np.concatenate(taus)
-        self.chain = np.repeat(np.arange(len(taus)), [len(tau) for tau in taus])
-        self.start = np.concatenate([[0], np.cumsum([len(tau) for tau in taus])[:-1]])
+        self.size = np.array([len(tau) for tau in taus], np.int64)
+        self.start = np.cumsum(self.size) - self.size
         self.length = np.array([tau[-1] for tau in taus])
         self.before_end = np.array([tau[-2] for tau in taus])      # an open chain's last end
         self.segment, self.t, self.bounds = segment, t, bounds
 
     def to_chain(self, chain, at):
         """Positions ``at`` along chains ``chain`` as (segment, fraction) pairs."""
-        kind = np.concatenate([np.zeros(len(self.tau)), np.ones(len(at))])
-        order = np.lexsort((kind, np.concatenate([self.tau, at]),
-                            np.concatenate([self.chain, chain])))
-        is_tau = kind[order] == 0
-        before = np.empty(len(at), np.int64)         # the last τ <= at in its chain
-        before[order[~is_tau] - len(self.tau)] = np.cumsum(is_tau)[~is_tau] - 1
+        # the last τ <= at in its chain: a binary search of all positions at once
+        low, high = self.start[chain], self.start[chain] + self.size[chain]
+        while (searching := low < high).any():
+            middle = (low + high) // 2
+            right = self.tau[np.minimum(middle, len(self.tau) - 1)] <= at
+            low = np.where(searching & right, middle + 1, low)
+            high = np.where(searching & ~right, middle, high)
+        before = low - 1
         count = self.bounds[chain + 1] - self.bounds[chain]
         j = np.clip(before - self.start[chain], 0, count - 1)
         k = self.start[chain] + j
