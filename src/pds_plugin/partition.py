@@ -1239,7 +1239,7 @@ def _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed, j
             at = np.concatenate([[0.0], np.sort(inner)])
         straight[c] = [at, cum, [min(max(end * alpha, alpha), cap) for end in ends]]
         out.append(None)
-    along = _along_chains(chains)
+    along = _ChainEdges(chains)
     for spike in spikes:
         _junction_ladder(spike, along, chains, straight, alpha, seed)
     for c, (at, cum, _) in straight.items():
@@ -1291,22 +1291,41 @@ def _junction_ladder(spike, along, chains, straight, alpha, seed):
     straight[c][0] = np.concatenate([[0.0], inner])
 
 
-def _along_chains(chains) -> dict:
-    """Per directed edge of the chains: (chain, whether the chain runs it that way); an
-    edge a chain runs both ways (a closed chain of two vertices) is run backwards."""
-    if not chains:
-        return {}
-    sizes = [len(vertices) for vertices, _ in chains]
-    heads = np.concatenate([vertices for vertices, _ in chains]).astype(np.int64)
-    chain = np.repeat(np.arange(len(chains)), sizes)
-    ends = np.cumsum(sizes) - 1
-    edge = np.ones(len(heads), bool)              # an open chain's last vertex starts none
-    edge[ends[[not closed for _, closed in chains]]] = False
-    tails = heads[_following(sizes)][edge].tolist()
-    heads, chain = heads[edge].tolist(), chain[edge].tolist()
-    along = dict(zip(zip(heads, tails), zip(chain, itertools.repeat(True))))
-    along.update(zip(zip(tails, heads), zip(chain, itertools.repeat(False))))
-    return along
+class _ChainEdges:
+    """Per directed edge of the chains: (chain, whether the chain runs it that way),
+    looked up for many edges at once (:meth:`read`) or one (``edges[a, b]``); an edge a
+    chain runs both ways (a closed chain of two vertices) is run backwards."""
+
+    def __init__(self, chains):
+        sizes = [len(vertices) for vertices, _ in chains]
+        heads = np.concatenate([vertices for vertices, _ in chains]
+                               + [np.zeros(0, np.int64)]).astype(np.int64)
+        chain = np.repeat(np.arange(len(chains)), sizes)
+        edge = np.ones(len(heads), bool)          # an open chain's last vertex starts none
+        edge[(np.cumsum(sizes) - 1)[[not closed for _, closed in chains]]] = False
+        tails = heads[_following(sizes)][edge] if len(heads) else heads
+        heads, chain = heads[edge], chain[edge]
+        self.span = int(heads.max(initial=0)) + 1
+        codes = np.concatenate([heads * self.span + tails, tails * self.span + heads])
+        order = np.argsort(codes, kind="stable")              # forward before backward
+        last = np.append(codes[order][1:] != codes[order][:-1], True)[:len(order)]
+        self.codes = codes[order][last]
+        self.chain = np.concatenate([chain, chain])[order][last]
+        self.forward = (order < len(heads))[last]
+
+    def read(self, heads, tails) -> tuple[np.ndarray, np.ndarray]:
+        """The chain and direction of each edge (heads[k], tails[k]) (a chain's)."""
+        at = self.codes.searchsorted(np.asarray(heads, np.int64) * self.span
+                                     + np.asarray(tails, np.int64))
+        return self.chain[at], self.forward[at]
+
+    def __getitem__(self, edge) -> tuple[int, bool]:
+        a, b = (int(v) for v in edge)
+        code = a * self.span + b
+        at = int(self.codes.searchsorted(code))
+        if max(a, b) >= self.span or at == len(self.codes) or self.codes[at] != code:
+            raise KeyError(edge)
+        return int(self.chain[at]), bool(self.forward[at])
 
 
 def _spikes(rings, frames, junction) -> list:
@@ -1412,37 +1431,40 @@ def _angle_of_clearance(clearance, floor) -> float:
 
 def _ring_samples(rings, chains, chain_samples):
     """Per region, per ring, the sample numbers along it, from the chains it runs (in
-    the ring's direction; a closed chain is the whole ring, in cyclic order)."""
-    along = _along_chains(chains)
+    the ring's direction; a closed chain is the whole ring, in cyclic order), starting
+    where an open chain starts (each ring edge's chain looked up at once)."""
+    every = [ring for region in rings for ring in region]
+    if not every:
+        return [[] for _ in rings]
+    counts = [len(ring) for ring in every]
+    heads = np.concatenate(every)
+    chain, forward = _ChainEdges(chains).read(heads, heads[_following(counts)])
+    first = np.array([vertices[0] for vertices, _ in chains], np.int64)
+    last = np.array([vertices[-1] for vertices, _ in chains], np.int64)
+    closed = np.array([closed for _, closed in chains], bool)
+    starts = ~closed[chain] & (heads == np.where(forward, first[chain], last[chain]))
     out = []
+    runs = zip(split_counts(chain.tolist(), counts), split_counts(forward.tolist(), counts),
+               split_counts(starts.tolist(), counts))
     for region in rings:
-        ring_ids = []
-        for ring in region:
-            ring = ring.tolist()
-            n = len(ring)
-            start = next((k for k in range(n) if _starts_chain(ring, k, along, chains)), 0)
+        found = []
+        for ring_chain, ring_forward, ring_starts in itertools.islice(runs, len(region)):
+            n = len(ring_chain)
+            start = ring_starts.index(True) if True in ring_starts else 0
             ids, seen = [], 0
             while seen < n:
                 k = (start + seen) % n
-                c, forward = along[(ring[k], ring[(k + 1) % n])]
-                vertices, closed = chains[c]
-                samples = chain_samples[c] if forward else chain_samples[c][::-1]
-                if closed:
+                c = ring_chain[k]
+                samples = chain_samples[c] if ring_forward[k] else chain_samples[c][::-1]
+                if chains[c][1]:
                     ids.extend(samples.tolist())
-                    seen += len(vertices)
+                    seen += len(chains[c][0])
                 else:
                     ids.extend(samples[:-1].tolist())
-                    seen += len(vertices) - 1
-            ring_ids.append(np.array(ids, dtype=np.int64))
-        out.append(ring_ids)
+                    seen += len(chains[c][0]) - 1
+            found.append(np.array(ids, dtype=np.int64))
+        out.append(found)
     return out
-
-
-def _starts_chain(ring, k, along, chains) -> bool:
-    """Whether an open chain starts at ring vertex ``k`` in the ring's direction."""
-    c, forward = along[(ring[k], ring[(k + 1) % len(ring)])]
-    vertices, closed = chains[c]
-    return not closed and ring[k] == (vertices[0] if forward else vertices[-1])
 
 
 # --- composite sections --------------------------------------------------------------
