@@ -1480,18 +1480,28 @@ def _assemble(source, vertices, faces, kept, patches, meshes, chains, tolerance,
     number = np.where(junction, chains.u, len(vertices) + np.cumsum(~junction) - 1)
     points = [vertices, chains.points(vertices)[~junction]]
     count = len(vertices) + int(np.count_nonzero(~junction))
-    new_faces, patch_of, lifted = [], [], []
-    given = [sum(len(ids) for ids in ring_ids) for ring_ids in chains.rings]
+    given = [len(ids) for ids in chains.region_samples]
     placed = _on_input([mesh.vertices[n:] for mesh, n in zip(meshes, given)], patches,
                        vertices, faces)
-    for k, (mesh, (inner, normal, height)) in enumerate(zip(meshes, placed)):
-        ring_ids = chains.rings[k]
-        to_out = np.concatenate([number[np.concatenate(ring_ids)], count + np.arange(len(inner))])
-        points.append(inner)
-        lifted.append((count, normal, height))
-        count += len(inner)
-        new_faces.append(to_out[mesh.faces])
-        patch_of.append(np.full(len(mesh.faces), k))
+    # every patch's vertices numbered in the output at once: its given samples are chain
+    # samples, its interior points follow the chain samples, patch by patch
+    sizes = np.array([len(mesh.vertices) for mesh in meshes], np.int64)
+    inner = sizes - given
+    starts = np.cumsum(sizes) - sizes
+    interior = (np.arange(sizes.sum()) - np.repeat(starts, sizes)) >= np.repeat(given, sizes)
+    to_out = np.empty(sizes.sum(), np.int64)
+    to_out[~interior] = number[np.concatenate(chains.region_samples + [np.zeros(0, np.int64)])]
+    to_out[interior] = count + np.arange(inner.sum())
+    first_inner = count + np.cumsum(inner) - inner
+    lifted = [(int(first), normal, height)
+              for first, (_, normal, height) in zip(first_inner.tolist(), placed)]
+    points += [points_in for points_in, _, _ in placed]
+    count += int(inner.sum())
+    triangles = [len(mesh.faces) for mesh in meshes]
+    new_faces = split_counts(to_out[np.concatenate(
+        [mesh.faces + start for mesh, start in zip(meshes, starts.tolist())]
+        + [np.zeros((0, 3), np.int64)])], triangles)
+    patch_of = [np.repeat(np.arange(len(meshes)), triangles)]
     centre = vertices[np.unique(faces)].mean(axis=0)
     (closed_in, euler_in, volume_in) = _surface_facts(vertices, faces, centre)
     distance, unkept = _volume_kept(points, lifted, new_faces, patches, vertices, faces,
