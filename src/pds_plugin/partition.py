@@ -569,22 +569,23 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     pass, the same arithmetic element by element; ``unit`` elsewhere."""
     after, before = np.full((len(taus), 2), unit), np.full((len(taus), 2), unit)
     count = hi - lo
-    legs = []                      # (chain, end, its table, local start, walk, direction)
-    for i in np.flatnonzero(k[:, 0] > 1).tolist():
-        m = int(count[i])
-        legs += [(i, 0, after, 0, np.arange(m), 1), (i, 0, before, 0, np.array([0, m - 1]), -1)]
-    for i in np.flatnonzero(k[:, 1] > 1).tolist():
-        m = int(count[i])
-        legs += [(i, 1, after, m - 1, np.array([m - 1, 0]), 1),
-                 (i, 1, before, m - 1, np.arange(m - 1, -1, -1), -1)]
-    if not legs:
+    first_end, last_end = np.flatnonzero(k[:, 0] > 1), np.flatnonzero(k[:, 1] > 1)
+    if not len(first_end) and not len(last_end):
         return after, before
-    chain, end, tables, start, walks, direction = zip(*legs)
-    chain, end, start = np.array(chain), np.array(end), np.array(start)
-    direction = np.array(direction, dtype=float)
-    sizes = np.array([len(walk) for walk in walks])
-    leg = np.repeat(np.arange(len(legs)), sizes)
-    walk = np.concatenate(walks)
+    m0, m1 = count[first_end], count[last_end]
+    # the legs, four kinds (chain end, its table, start, walk, direction): from the first
+    # end along the edge (after) and along the chord back (before); from the last end
+    # along the chord back (after) and along the edge (before)
+    kinds = [(first_end, 0, True, 0 * m0, _ranges(m0), 1.0),
+             (first_end, 0, False, 0 * m0, np.column_stack([0 * m0, m0 - 1]).ravel(), -1.0),
+             (last_end, 1, True, m1 - 1, np.column_stack([m1 - 1, 0 * m1]).ravel(), 1.0),
+             (last_end, 1, False, m1 - 1, np.repeat(m1 - 1, m1) - _ranges(m1), -1.0)]
+    ends, which, kind_after, starts, walks, ways = zip(*kinds)
+    legs = [len(chains) for chains in ends]
+    chain, start, walk = np.concatenate(ends), np.concatenate(starts), np.concatenate(walks)
+    end, is_after, direction = (np.repeat(v, legs) for v in (which, kind_after, ways))
+    sizes = np.concatenate([m0, np.full(len(m0), 2), np.full(len(m1), 2), m1])
+    leg = np.repeat(np.arange(len(chain)), sizes)
     offsets = np.cumsum([0] + [len(tau) for tau in taus[:-1]])
     flat_tau = np.concatenate(taus)
     length = flat_tau[offsets + count]                 # each chain's τ, closed
@@ -607,9 +608,14 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     t = g[a] / (g[a] - g[b])
     reach = position[a] + t * (position[b] - position[a])
     value[found] = np.where(reach > unit, reach, unit)
-    for i, e, table, v in zip(chain.tolist(), end.tolist(), tables, value.tolist()):
-        table[i, e] = v
+    after[chain[is_after], end[is_after]] = value[is_after]
+    before[chain[~is_after], end[~is_after]] = value[~is_after]
     return after, before
+
+
+def _ranges(sizes) -> np.ndarray:
+    """``np.arange(m)`` for each m of ``sizes``, one after another."""
+    return np.arange(sizes.sum()) - np.repeat(np.cumsum(sizes) - sizes, sizes)
 
 
 def _graded_chain(vertices, closed, sides, angle, dense, radius, segment, unit,
