@@ -859,26 +859,80 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
     sample along a path in the region (h the arc's offset from the chord's line at p, s
     the arc length from a to p, ``along``, of S, ``total``). That is linear between the
     arc's vertices: its largest value (relative to the radius field: ``relatives`` of
-    the distances and places) is at one of them or where s = S / 2. It holds where the piece is not star-shaped from a
-    chord end: a flattened B-spline bending a hair the other way just past the end (a
-    held-out STEP vase: 0.04 from its end, the point was given the far end's 4.6)."""
+    the distances and places) is at one of them or where s = S / 2. It holds where the
+    piece is not star-shaped from a chord end: a flattened B-spline bending a hair the
+    other way just past the end (a held-out STEP vase: 0.04 from its end, the point was
+    given the far end's 4.6).
+
+    Where the piece reaches a chord end along the chord, the chord (the piece's edge)
+    leads there too, from the point c of its line across from p: y at t from c is within
+    min(t + u, h - t + w) of a sample (u = |c a| or |c b|, w = min(s, S - s)), so within
+    the least of u + h, w + h and (h + u + w) / 2. Those are linear between the arc's
+    vertices, the places where s = S / 2 and where c passes the chord's middle: over each
+    such stretch the least of their largest values at its ends bounds it, taken relative
+    to the smaller r at those ends. The better of the two bounds is returned (a thin
+    wedge of an OpenCASCADE vase's section, its arc bending at a 190° vertex the chord's
+    end cannot see past: 1.036 r along the arc, 0.993 r with the chord)."""
     ab = b - a
     length2 = float(ab @ ab)
     if length2 == 0 or np.any(np.diff((piece - a) @ ab) < 0):
         return None
+    length = np.sqrt(length2)
     d = piece - a
-    offset = np.abs(d[:, 0] * ab[1] - d[:, 1] * ab[0]) / np.sqrt(length2)
-    places, lengths = list(piece), list(along)
-    middle = np.flatnonzero((along[:-1] < total / 2) & (along[1:] >= total / 2))
-    for i in middle:
-        t = (total / 2 - along[i]) / (along[i + 1] - along[i])
-        places.append(piece[i] + t * (piece[i + 1] - piece[i]))
-        lengths.append(total / 2)
-        offset = np.append(offset, offset[i] + t * (offset[i + 1] - offset[i]))
-    places, lengths = np.array(places), np.array(lengths)
-    distance = offset + np.minimum(lengths, total - lengths)
-    k = int(np.argmax(relatives(distance, places)))
-    return float(distance[k]), places[k]
+    offset = np.abs(d[:, 0] * ab[1] - d[:, 1] * ab[0]) / length
+    across = d @ ab / length                     # c's distance from a along the chord
+    places, lengths, heights, feet = [list(v) for v in (piece, along, offset, across)]
+    for i in range(len(piece) - 1):              # the stretches' other ends, in order
+        cuts = sorted({t for t in ((total / 2 - along[i]) / (along[i + 1] - along[i])
+                                   if along[i + 1] != along[i] else -1.0,
+                                   (length / 2 - across[i]) / (across[i + 1] - across[i])
+                                   if across[i + 1] != across[i] else -1.0) if 0 < t < 1})
+        for t in cuts:
+            places.append(piece[i] + t * (piece[i + 1] - piece[i]))
+            lengths.append(along[i] + t * (along[i + 1] - along[i]))
+            heights.append(offset[i] + t * (offset[i + 1] - offset[i]))
+            feet.append(across[i] + t * (across[i + 1] - across[i]))
+    order = np.lexsort((np.array(feet), np.array(lengths)))
+    places, lengths, heights, feet = (np.array(v)[order] for v in (places, lengths, heights,
+                                                                   feet))
+    w = np.minimum(lengths, total - lengths)
+    arc = heights + w
+    relative = relatives(arc, places)
+    k = int(np.argmax(relative))
+    gaps = [float(np.hypot(*(piece[0] - a))), float(np.hypot(*(piece[-1] - b)))]
+    near = 1e-12 * length
+    if min(gaps) > near:                         # it reaches neither end along the chord
+        return float(arc[k]), places[k]
+    # each stretch cut in _SUBDIVISIONS parts (the four are linear along it), so that the
+    # smaller r at a part's ends is close to r inside it
+    t = np.linspace(0.0, 1.0, _SUBDIVISIONS + 1)[:-1]
+
+    def cut(v):                                  # (n,) or (n, 2): the parts' ends in turn
+        step = t.reshape((1, -1) + (1,) * (v.ndim - 1)) * np.diff(v, axis=0)[:, None]
+        return np.concatenate([(v[:-1, None] + step).reshape((-1,) + v.shape[1:]), v[-1:]])
+
+    places, lengths, heights, feet = (cut(v) for v in (places, lengths, heights, feet))
+    w = np.minimum(lengths, total - lengths)
+    u = np.minimum(np.where((gaps[0] <= near) & (feet >= 0), feet + gaps[0], np.inf),
+                   np.where((gaps[1] <= near) & (feet <= length), length - feet + gaps[1],
+                            np.inf))
+
+    def largest(values):                         # over each part: at one of its ends
+        return np.maximum(values[:-1], values[1:])
+
+    bound = np.minimum(np.minimum(largest(u + heights), largest(heights + w)),
+                       largest((heights + u + w) / 2))
+    inverse = relatives(np.ones(len(places)), places)      # 1 / r (1 without a field)
+    at = np.arange(len(bound)) + (inverse[1:] > inverse[:-1])   # its end of smaller r
+    ratio = bound * inverse[at]
+    j = int(np.argmax(ratio))
+    if ratio[j] < relative[k]:
+        return float(bound[j]), places[at[j]]
+    return float(arc[k]), places[k]
+
+
+_SUBDIVISIONS = 16
+"""Parts of each stretch of :func:`_along_the_arc`'s bound with the chord."""
 
 
 def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, tol: float,
