@@ -872,7 +872,7 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
     such stretch the least of their largest values at its ends bounds it, taken relative
     to the smaller r at those ends. The better of the two bounds is returned (a thin
     wedge of an OpenCASCADE vase's section, its arc bending at a 190° vertex the chord's
-    end cannot see past: 1.036 r along the arc, 0.993 r with the chord)."""
+    end cannot see past: 1.036 r along the arc, 0.997 r with the chord)."""
     ab = b - a
     length2 = float(ab @ ab)
     if length2 == 0 or np.any(np.diff((piece - a) @ ab) < 0):
@@ -881,20 +881,18 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
     d = piece - a
     offset = np.abs(d[:, 0] * ab[1] - d[:, 1] * ab[0]) / length
     across = d @ ab / length                     # c's distance from a along the chord
-    places, lengths, heights, feet = [list(v) for v in (piece, along, offset, across)]
-    for i in range(len(piece) - 1):              # the stretches' other ends, in order
-        cuts = sorted({t for t in ((total / 2 - along[i]) / (along[i + 1] - along[i])
-                                   if along[i + 1] != along[i] else -1.0,
-                                   (length / 2 - across[i]) / (across[i + 1] - across[i])
-                                   if across[i + 1] != across[i] else -1.0) if 0 < t < 1})
-        for t in cuts:
-            places.append(piece[i] + t * (piece[i + 1] - piece[i]))
-            lengths.append(along[i] + t * (along[i + 1] - along[i]))
-            heights.append(offset[i] + t * (offset[i + 1] - offset[i]))
-            feet.append(across[i] + t * (across[i + 1] - across[i]))
-    order = np.lexsort((np.array(feet), np.array(lengths)))
-    places, lengths, heights, feet = (np.array(v)[order] for v in (places, lengths, heights,
-                                                                   feet))
+    # the stretches' ends in order: the arc's vertices, and between them where s = S / 2
+    # and where c passes the chord's middle (all four are linear along an arc edge)
+    edge, step = [], []
+    for i in range(len(piece) - 1):
+        cuts = sorted((middle - values[i]) / (values[i + 1] - values[i])
+                      for values, middle in ((along, total / 2), (across, length / 2))
+                      if values[i] < middle < values[i + 1])
+        edge += [i] * (1 + len(cuts))
+        step += [0.0] + cuts
+    edge, step = np.array(edge, np.int64), np.array(step)
+    places, lengths, heights, feet = (_on_edges(v, edge, step)
+                                      for v in (piece, along, offset, across))
     w = np.minimum(lengths, total - lengths)
     arc = heights + w
     relative = relatives(arc, places)
@@ -905,13 +903,10 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
         return float(arc[k]), places[k]
     # each stretch cut in _SUBDIVISIONS parts (the four are linear along it), so that the
     # smaller r at a part's ends is close to r inside it
-    t = np.linspace(0.0, 1.0, _SUBDIVISIONS + 1)[:-1]
-
-    def cut(v):                                  # (n,) or (n, 2): the parts' ends in turn
-        step = t.reshape((1, -1) + (1,) * (v.ndim - 1)) * np.diff(v, axis=0)[:, None]
-        return np.concatenate([(v[:-1, None] + step).reshape((-1,) + v.shape[1:]), v[-1:]])
-
-    places, lengths, heights, feet = (cut(v) for v in (places, lengths, heights, feet))
+    edge = np.repeat(np.arange(len(places) - 1), _SUBDIVISIONS)
+    step = np.tile(np.linspace(0.0, 1.0, _SUBDIVISIONS + 1)[:-1], len(places) - 1)
+    places, lengths, heights, feet = (_on_edges(v, edge, step)
+                                      for v in (places, lengths, heights, feet))
     w = np.minimum(lengths, total - lengths)
     u = np.minimum(np.where((gaps[0] <= near) & (feet >= 0), feet + gaps[0], np.inf),
                    np.where((gaps[1] <= near) & (feet <= length), length - feet + gaps[1],
@@ -933,6 +928,14 @@ def _along_the_arc(piece: np.ndarray, along: np.ndarray, total: float, a: np.nda
 
 _SUBDIVISIONS = 16
 """Parts of each stretch of :func:`_along_the_arc`'s bound with the chord."""
+
+
+def _on_edges(values, edge, step) -> np.ndarray:
+    """``values`` ((n,) or (n, 2), along a polyline) at the fractions ``step`` of its
+    edges ``edge``, then its last value as it is."""
+    step = step.reshape((-1,) + (1,) * (values.ndim - 1))
+    return np.concatenate([values[edge] + step * (values[edge + 1] - values[edge]),
+                           values[-1:]])
 
 
 def _seen_from_samples(piece: np.ndarray, a: np.ndarray, b: np.ndarray, seers, tol: float,
