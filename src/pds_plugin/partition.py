@@ -1131,33 +1131,48 @@ def _edge_owners(rings, frames):
     return owner, angle, table
 
 
+class _EdgeTable:
+    """Directed edges (start, end) of vertex numbers, sorted to be found many at a time;
+    of an edge given twice, the later one is found."""
+
+    def __init__(self, start, end):
+        start, end = np.asarray(start, np.int64), np.asarray(end, np.int64)
+        self.span = int(max(start.max(initial=0), end.max(initial=0))) + 1
+        codes = start * self.span + end
+        order = np.argsort(codes, kind="stable")
+        last = np.append(codes[order][1:] != codes[order][:-1], True)[:len(order)]
+        self.codes, self.index = codes[order][last], order[last]
+
+    def find(self, start, end) -> np.ndarray:
+        """The index (among the edges given) of each edge (start[k], end[k]), -1 where
+        there is none."""
+        start, end = np.asarray(start, np.int64), np.asarray(end, np.int64)
+        wanted = start * self.span + end
+        if not len(self.codes):
+            return np.full(len(wanted), -1)
+        at = np.minimum(self.codes.searchsorted(wanted), len(self.codes) - 1)
+        found = (self.codes[at] == wanted) & (start < self.span) & (end < self.span)
+        return np.where(found, self.index[at], -1)
+
+
 class _EdgeAngles:
     """Every directed edge of the rings with its region's interior angles at its start
     and end (:func:`_edge_owners`' ``angle``), to look many edges up at once."""
 
     def __init__(self, start, end, at_start, at_end):
-        self.span = int(max(start.max(initial=0), end.max(initial=0))) + 1
-        codes = start * self.span + end
-        order = np.argsort(codes, kind="stable")
-        self.codes, self.at_start, self.at_end = codes[order], at_start[order], at_end[order]
+        self.edges, self.at_start, self.at_end = _EdgeTable(start, end), at_start, at_end
 
     def at(self, vertex, neighbour) -> tuple[np.ndarray, np.ndarray]:
         """The angles at ``vertex`` of the regions that run each edge (vertex,
         neighbour): the one running it from ``vertex`` and the one running it back (NaN
         where no region does)."""
-        return (self._read(vertex, neighbour, self.at_start),
-                self._read(neighbour, vertex, self.at_end))
+        forward, back = self.edges.find(vertex, neighbour), self.edges.find(neighbour, vertex)
+        return (np.where(forward >= 0, self.at_start[forward], np.nan),
+                np.where(back >= 0, self.at_end[back], np.nan))
 
     def sharpest(self, vertex, neighbour) -> np.ndarray:
         """:func:`_junction_angle` of every (vertex, neighbour) pair."""
         return np.fmin(*self.at(vertex, neighbour))
-
-    def _read(self, start, end, values):
-        wanted = np.asarray(start, np.int64) * self.span + np.asarray(end, np.int64)
-        if not len(self.codes):
-            return np.full(len(wanted), np.nan)
-        at = np.minimum(self.codes.searchsorted(wanted), len(self.codes) - 1)
-        return np.where(self.codes[at] == wanted, values[at], np.nan)
 
 
 def _junctions(owner, pinned) -> set:
@@ -1311,25 +1326,19 @@ class _ChainEdges:
         edge[(np.cumsum(sizes) - 1)[[not closed for _, closed in chains]]] = False
         tails = heads[_following(sizes)][edge] if len(heads) else heads
         heads, chain = heads[edge], chain[edge]
-        self.span = int(heads.max(initial=0)) + 1
-        codes = np.concatenate([heads * self.span + tails, tails * self.span + heads])
-        order = np.argsort(codes, kind="stable")              # forward before backward
-        last = np.append(codes[order][1:] != codes[order][:-1], True)[:len(order)]
-        self.codes = codes[order][last]
-        self.chain = np.concatenate([chain, chain])[order][last]
-        self.forward = (order < len(heads))[last]
+        # forward, then backward: the later is found where a chain runs an edge both ways
+        self.edges = _EdgeTable(np.concatenate([heads, tails]), np.concatenate([tails, heads]))
+        self.chain = np.concatenate([chain, chain])
+        self.forward = np.arange(2 * len(heads)) < len(heads)
 
     def read(self, heads, tails) -> tuple[np.ndarray, np.ndarray]:
         """The chain and direction of each edge (heads[k], tails[k]) (a chain's)."""
-        at = self.codes.searchsorted(np.asarray(heads, np.int64) * self.span
-                                     + np.asarray(tails, np.int64))
+        at = self.edges.find(heads, tails)
         return self.chain[at], self.forward[at]
 
     def __getitem__(self, edge) -> tuple[int, bool]:
-        a, b = (int(v) for v in edge)
-        code = a * self.span + b
-        at = int(self.codes.searchsorted(code))
-        if max(a, b) >= self.span or at == len(self.codes) or self.codes[at] != code:
+        at = int(self.edges.find([edge[0]], [edge[1]])[0])
+        if at < 0:
             raise KeyError(edge)
         return int(self.chain[at]), bool(self.forward[at])
 
