@@ -257,6 +257,31 @@ def test_farthest_point_of_curves_from_targets_is_found_to_half_a_step(seed):
     assert brute - step / 2 <= found <= brute + 1e-4
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_farthest_point_of_chords_of_a_cut_polygon_is_found_to_half_a_step(seed):
+    # a square's sides cut into collinear segments, chords between random points along
+    # it: across a cut (the split bound settles it), across a corner (a true deviation)
+    rng = np.random.default_rng(seed)
+    corners = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    ring = np.concatenate([a + np.sort(rng.random(rng.integers(1, 6)))[:, None] * (b - a)
+                           for a, b in zip(corners, np.roll(corners, -1, axis=0))]
+                          + [corners])
+    ring = ring[np.argsort(np.arctan2(*(ring - 0.5).T[::-1]))]
+    targets = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
+    along = np.sort(rng.random(12)) * 4
+    side = np.minimum(along.astype(int), 3)
+    points = corners[side] + (along - side)[:, None] * (np.roll(corners, -1, axis=0)[side]
+                                                        - corners[side])
+    curves = np.stack([points, np.roll(points, -1, axis=0)], axis=1)
+    step = 0.01
+    found = _farthest(curves, targets, step)
+    t = np.linspace(0, 1, 4001)[:, None, None]
+    dense = (curves[None, :, 0] + t * (curves[None, :, 1] - curves[None, :, 0])).reshape(-1, 2)
+    brute = shapely.STRtree(shapely.linestrings(targets)).query_nearest(
+        shapely.points(dense), all_matches=False, return_distance=True)[1].max()
+    assert brute - step / 2 <= found <= brute + 1e-9
+
+
 def test_signed_areas_are_the_plain_float_expression_bit_for_bit():
     rng = np.random.default_rng(0)
     points = rng.random((500, 2)) * 1e3 - 300

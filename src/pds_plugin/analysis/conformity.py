@@ -679,12 +679,15 @@ def _farthest(curves, targets, step) -> float:
     nearest of ``targets``, to ``step / 2`` below.
 
     Each curve is cut in halves until every piece is settled: its distance cannot exceed
-    the farthest point found by more than ``step / 2``. Two bounds settle a piece from
-    its ends p and q, at distances d(p) and d(q) from their nearest targets s(p) and s(q):
+    the farthest point found by more than ``step / 2``. Bounds settle a piece from its
+    ends p and q, at distances d(p) and d(q) from their nearest targets s(p) and s(q):
     the distance is 1-Lipschitz, so it stays under ``(d(p) + d(q) + |pq|) / 2``; and the
     distance to one segment is convex along a line, so it stays under
-    ``max(d(p), |q s(p)|)`` and ``max(d(q), |p s(q)|)``. A piece no longer than ``step``
-    is always settled.
+    ``max(d(p), |q s(p)|)`` and ``max(d(q), |p s(q)|)``, and, s(p) taken up to any point
+    m of pq and s(q) from there, under ``max(d(p), d(q), |m s(p)|, |m s(q)|)``: with m
+    where pq passes an end of s(p) (a piece across the vertex two targets share, along a
+    straight boundary cut into segments, is settled at once instead of halved down to
+    ``step``). A piece no longer than ``step`` is always settled.
     """
     if not len(curves):
         return 0.0
@@ -709,6 +712,10 @@ def _farthest(curves, targets, step) -> float:
         along_sq = np.maximum(dq, point_segment(p, targets[sq, 0], targets[sq, 1])[0])
         bound = np.minimum(lipschitz, np.minimum(along_sp, along_sq))
         open_ = bound > farthest + step / 2
+        if open_.any():
+            split = _split_bound(p[open_], q[open_], dp[open_], dq[open_],
+                                 targets[sp[open_]], targets[sq[open_]])
+            open_[open_] = split > farthest + step / 2
         p, q, dp, dq, sp, sq = (a[open_] for a in (p, q, dp, dq, sp, sq))
         if not len(p):
             break
@@ -719,6 +726,20 @@ def _farthest(curves, targets, step) -> float:
         dp, dq = np.concatenate([dp, dm]), np.concatenate([dm, dq])
         sp, sq = np.concatenate([sp, sm]), np.concatenate([sm, sq])
     return farthest
+
+
+def _split_bound(p, q, dp, dq, at_p, at_q) -> np.ndarray:
+    """:func:`_farthest`'s bound on pieces pq whose ends' nearest segments are ``at_p``
+    and ``at_q`` ((k, 2, 2)), split where pq comes nearest an end of ``at_p`` (the
+    better of its two ends)."""
+    ends = np.maximum(dp, dq)
+    bound = np.full(len(p), np.inf)
+    for end in (0, 1):
+        m = point_segment(at_p[:, end], p, q)[1]
+        split = np.maximum(point_segment(m, at_p[:, 0], at_p[:, 1])[0],
+                           point_segment(m, at_q[:, 0], at_q[:, 1])[0])
+        bound = np.minimum(bound, np.maximum(ends, split))
+    return bound
 
 
 def _seen_in_parts(piece: np.ndarray, a: np.ndarray, b: np.ndarray, apex, tol: float,
