@@ -53,7 +53,7 @@ from . import _graded_kernels, _sizing_kernels
 __all__ = ["mesh_regions", "CompositeMesh", "PartitionCertificate", "sample_chains",
            "graded_sample_chains", "junction_fields", "agreeing_fields", "chain_sample_radii",
            "partition_topology",
-           "with_sample_cones",
+           "with_sample_cones", "fields_with_cones",
            "ChainSamples",
            "mesh_part", "interface_report", "InterfaceReport"]
 
@@ -849,7 +849,7 @@ def junction_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
                       apart / (TAU_MARGIN * clearance[1]))
         np.minimum.at(size, np.searchsorted(junction, ends[:, 1]),
                       apart / (TAU_MARGIN * clearance[0]))
-    return [with_sample_cones(fields[r], at[r], size[index]) for r, index in enumerate(held)]
+    return fields_with_cones(fields, at, [size[index] for index in held])
 
 
 def agreeing_fields(rings, frames, fields, pinned=(), *, topology=None) -> list:
@@ -986,6 +986,18 @@ def with_sample_cones(field, points, sizes):
     """``field`` combined by min with the cones ``sizes + L |x - points|`` (a
     :class:`~pds_plugin.sizing.RadiusField` of the same grading, cap and sizing)."""
     return field.with_cones(points, sizes)
+
+
+def fields_with_cones(fields, points, sizes) -> list:
+    """:func:`with_sample_cones` of each field with its points and sizes; a field given
+    no cone below its cap (most fields of a remesh) is itself, found for all at once
+    instead of call by call."""
+    counts = [len(s) for s in sizes]
+    below = np.concatenate([np.zeros(0), *sizes]) < np.repeat([f.cap for f in fields], counts)
+    lowered = np.bincount(np.repeat(np.arange(len(fields)), counts), below,
+                          minlength=len(fields)) > 0
+    return [with_sample_cones(field, xy, size) if lower else field
+            for field, xy, size, lower in zip(fields, points, sizes, lowered.tolist())]
 
 
 class _Topology:

@@ -39,9 +39,9 @@ from . import _sizing_kernels
 from ._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
 from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
-                        chain_sample_radii, graded_sample_chains, interface_report,
-                        junction_fields, partition_topology, read_regions, split_counts,
-                        with_sample_cones)
+                        chain_sample_radii, fields_with_cones, graded_sample_chains,
+                        interface_report, junction_fields, partition_topology, read_regions,
+                        split_counts)
 from .region import Region, _following, check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
 from .sources.solids import check_coordinates, float_noise, needle_faces, welded
@@ -385,7 +385,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                                       seed=seed, pinned=pinned, topology=topology)
         # each patch's ring samples in its plane, computed once for both steps below
         given = _ring_samples(chains, frames)
-        ring_points = [points for _, points, _ in given]
+        ring_points = [points for _, points, _, _ in given]
         sizes, coned = _agreeing_sizes(chains, frames, own,
                                        chain_sample_radii(chains, frames, own,
                                                           topology=topology,
@@ -478,9 +478,15 @@ def _groups(todo, patches, alpha) -> list:
 
 def _ring_samples(chains, frames) -> list:
     """Per patch, its chain samples: their indices (its rings' in turn), their points in
-    its plane (its frame of ``frames``) and the rings' sample counts."""
-    return [(ids, points, [len(ring) for ring in rings]) for ids, rings, points
-            in zip(chains.region_samples, chains.rings, chains.regions_points(frames))]
+    its plane (its frame of ``frames``), the rings' sample counts, and the points ring by
+    ring (views, every patch's rings cut in one pass)."""
+    points = chains.regions_points(frames)
+    counts = [[len(ring) for ring in rings] for rings in chains.rings]
+    rings = split_counts(np.concatenate([np.zeros((0, 2)), *points]),
+                         [count for ring_counts in counts for count in ring_counts])
+    ends = np.cumsum([len(ring_counts) for ring_counts in counts]).tolist()
+    return [(ids, xy, ring_counts, rings[end - len(ring_counts):end]) for ids, xy, ring_counts, end
+            in zip(chains.region_samples, points, counts, ends)]
 
 
 def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
@@ -502,8 +508,7 @@ def _patch_meshes(patches, chains, seed, options, cache, own, sizes, coned,
         samples = _ring_samples(chains, [patch.frame for patch in patches])
     out, todo = [None] * len(patches), []
     for k, patch in enumerate(patches):
-        ids, points, counts = samples[k]
-        given = split_counts(points, counts)
+        ids, points, _, given = samples[k]
         key = (id(patch), points.tobytes(),                  # its rings' samples in turn
                own[k].sizes.tobytes() + sizes[ids].tobytes())
         if key in cache:
@@ -899,7 +904,7 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
         if not lower.any():
             break
         sizes, changed = np.where(lower, lowest, sizes), lower
-    return sizes, [with_sample_cones(f, xy, sizes[i]) for f, i, xy in zip(fields, ids, points)]
+    return sizes, fields_with_cones(fields, points, [sizes[i] for i in ids])
 
 
 def _cones_at(xy, sizes, field) -> np.ndarray:
@@ -968,10 +973,10 @@ def _chords_joinable(given, fields) -> list:
     join its neighbours. All patches at once, each read by its own field."""
     if not given:
         return []
-    points = np.concatenate([xy for _, xy, _ in given])
-    following = _following([count for _, _, counts in given for count in counts])
-    sizes = [len(xy) for _, xy, _ in given]
-    r = np.concatenate([field(xy) for (_, xy, _), field in zip(given, fields)])
+    points = np.concatenate([xy for _, xy, _, _ in given])
+    following = _following([count for _, _, counts, _ in given for count in counts])
+    sizes = [len(xy) for _, xy, _, _ in given]
+    r = np.concatenate([field(xy) for (_, xy, _, _), field in zip(given, fields)])
     grading = np.repeat([field.grading for field in fields], sizes)
     longest = 2.0 * np.minimum(r, r[following]) / (1.0 - grading) * (1.0 + 1e-9)
     too_long = np.hypot(*(points[following] - points).T) > longest
@@ -1856,7 +1861,7 @@ def _split_kept(kept_faces, chains, number, count, vertices):
                           chains.t[which].tolist()):
         on_edge.setdefault((a, b), []).append((t, s))
         on_edge.setdefault((b, a), []).append((1 - t, s))
-    pieces, centres = [], []
+    pieces, centred = [], []
     for face in kept_faces[split].tolist():
         ring = []
         for k in range(3):
@@ -1865,15 +1870,15 @@ def _split_kept(kept_faces, chains, number, count, vertices):
             ring.extend(int(number[s]) for _, s in sorted(on_edge.get((a, b), [])))
         fan = _corner_fan(ring, face)
         if fan is None:
-            centre = count + len(centres)
-            centres.append(vertices[face].mean(axis=0))
+            centre = count + len(centred)
+            centred.append(face)
             fan = [[centre, x, y] for x, y in zip(ring, ring[1:] + ring[:1])]
         pieces.append(fan)
     sizes = np.ones(len(kept_faces), np.int64)             # the faces in their order
     sizes[split] = [len(fan) for fan in pieces]
     out = np.repeat(kept_faces, sizes, axis=0)
     out[np.repeat(split, sizes)] = np.concatenate([np.array(fan, np.int64) for fan in pieces])
-    return out, np.array(centres).reshape(-1, 3)
+    return out, vertices[np.array(centred, np.int64).reshape(-1, 3)].mean(axis=1)
 
 
 def _corner_fan(ring, face):
