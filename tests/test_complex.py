@@ -94,6 +94,19 @@ def test_bad_points_are_refused(points, message):
         pds.solid_alpha_complex(points, 1.0)
 
 
+@pytest.mark.parametrize("boundary, message", [
+    ([[0, 1, 2], [3, 4, 4]], r"distinct and in \[0, 6\); got \[3, 4, 4\]"),   # the ring named
+    ([[0, 1, 2], [3, 4, 6], [5, 5, 3]], r"got \[3, 4, 6\]"),          # the first wrong one
+    ([[0, 1, -1]], r"got \[0, 1, -1\]"),
+    ([[0, 1]], "at least 3 point indices"),
+    ([[0.0, 1.0, 2.0]], "at least 3 point indices"),
+])
+def test_bad_boundary_rings_are_refused(boundary, message):
+    points = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [2, 1]], float)
+    with pytest.raises(ValueError, match=message):
+        pds.solid_alpha_complex(points, 1.0, boundary=boundary)
+
+
 def test_bad_alpha_is_refused():
     with pytest.raises(ValueError, match="alpha must be a positive finite number"):
         pds.solid_alpha_complex(np.random.default_rng(0).random((5, 2)), -1)

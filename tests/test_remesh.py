@@ -677,7 +677,7 @@ def test_no_edge_of_the_graded_complex_is_longer_than_a_joinable_chord(seed):
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     flat = RadiusField(np.zeros((0, 2)), [], 0.2, 0.8)
     dented = RadiusField([[0, 0], [1, 0]], [0.39, 0.39], 0.2, 0.8)
-    given = [(None, square, [4])] * 2
+    given = [(None, square, [4], [square])] * 2
     assert _chords_joinable(given, [flat, dented]) == [True, False]
     assert len(graded_alpha_complex(square, dented(square), 0.2, boundary=[[0, 1, 2, 3]])) == 0
 

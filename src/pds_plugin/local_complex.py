@@ -121,16 +121,24 @@ def checked_rings(boundary, n) -> list[np.ndarray]:
     into ``n`` points, or a clear error."""
     if boundary is None:
         return []
-    rings = []
-    for ring in boundary:
-        ring = np.asarray(ring)
-        if ring.ndim != 1 or len(ring) < 3 or not np.issubdtype(ring.dtype, np.integer):
+    rings = [np.asarray(ring) for ring in boundary]
+    for ring in rings:
+        if ring.ndim != 1 or len(ring) < 3 or ring.dtype.kind not in "iu":
             raise ArgumentError("each boundary ring must be a sequence of at least 3 point indices")
-        if ring.min() < 0 or ring.max() >= n or len(np.unique(ring)) != len(ring):
-            raise ArgumentError(f"boundary ring indices must be distinct and in [0, {n}); "
-                                f"got {ring.tolist()[:8]}")
-        rings.append(ring.astype(np.int64))
-    return rings
+    if not rings:
+        return []
+    # every ring's indices checked at once: in range, and distinct within their ring
+    sizes = [len(ring) for ring in rings]
+    every = np.concatenate(rings).astype(np.int64)
+    owner = np.repeat(np.arange(len(rings)), sizes)
+    wrong = owner[(every < 0) | (every >= n)]
+    codes = np.sort(owner * n + np.clip(every, 0, n - 1))
+    wrong = np.concatenate([wrong, codes[1:][codes[1:] == codes[:-1]] // max(n, 1)])
+    if len(wrong):
+        raise ArgumentError(f"boundary ring indices must be distinct and in [0, {n}); "
+                            f"got {rings[int(wrong.min())].tolist()[:8]}")
+    ends = np.cumsum(sizes).tolist()
+    return [every[end - size:end] for size, end in zip(sizes, ends)]
 
 
 def check_distinct(binned, order, start, rings=()):

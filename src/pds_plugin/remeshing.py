@@ -793,14 +793,11 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
 
 def _features_inside(patches, fields) -> bool:
     """Does every feature of each field lie in its patch's bounding box (so that a
-    whole gap lies between it and every other patch)?"""
-    for patch, field in zip(patches, fields):
-        x0, y0, x1, y1 = patch.region.bounds
-        f = field.features
-        if len(f) and not ((f[:, 0] >= x0) & (f[:, 0] <= x1) & (f[:, 1] >= y0)
-                           & (f[:, 1] <= y1)).all():
-            return False
-    return True
+    whole gap lies between it and every other patch)? All patches at once."""
+    features = np.concatenate([np.zeros((0, 2)), *(field.features for field in fields)])
+    box = shapely.bounds([patch.region.geometry for patch in patches])[
+        np.repeat(np.arange(len(fields)), [len(field.features) for field in fields])]
+    return bool(((features >= box[:, :2]) & (features <= box[:, 2:])).all())
 
 
 def _cut_apart(patches, given, fields, samples, faces) -> list:
