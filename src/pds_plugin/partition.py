@@ -589,12 +589,20 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     offsets = np.cumsum([0] + [len(tau) for tau in taus[:-1]])
     flat_tau = np.concatenate(taus)
     length = flat_tau[offsets + count]                 # each chain's τ, closed
-    # corner_side's τ from the corner, corner_leg's reach, leg by leg
-    position = np.remainder(direction[leg] * (flat_tau[offsets[chain][leg] + walk]
-                                              - flat_tau[offsets[chain] + start][leg]),
-                            length[chain][leg])
     last = np.cumsum(sizes) - 1
-    position[last] = np.where(position[last] == 0, length[chain], position[last])
+    ends_walk = np.zeros(len(leg), bool)
+    ends_walk[last] = True
+
+    def position(i):
+        """corner_side's τ from the corner at the walks' points ``i`` (a walk's last
+        point at 0 is the whole chain round)."""
+        c = chain[leg[i]]
+        out = np.remainder(direction[leg[i]] * (flat_tau[offsets[c] + walk[i]]
+                                                - flat_tau[offsets[c] + start[leg[i]]]),
+                           length[c])
+        return np.where(ends_walk[i] & (out == 0), length[c], out)
+
+    # corner_leg's reach, leg by leg; τ only where it is read
     at = lo[chain][leg] + walk
     g = (np.hypot(*(dense[at] - dense[(lo[chain] + start)[leg]]).T)
          - (TAU_MARGIN * k[chain, end])[leg] * radius[at])
@@ -602,11 +610,11 @@ def _first_reaches(taus, lo, hi, dense, radius, k, unit):
     local = np.arange(len(leg)) - first[leg]
     j = np.minimum.reduceat(np.where(g >= 0, local, len(leg)), first)
     found = np.flatnonzero(j < len(leg))
-    value = position[last]                         # never reached: the whole walk
+    value = position(last)                         # never reached: the whole walk
     b = first[found] + j[found]
-    a = b - 1
+    a = b - 1                                      # g < 0 at a walk's first point
     t = g[a] / (g[a] - g[b])
-    reach = position[a] + t * (position[b] - position[a])
+    reach = position(a) + t * (position(b) - position(a))
     value[found] = np.where(reach > unit, reach, unit)
     after[chain[is_after], end[is_after]] = value[is_after]
     before[chain[~is_after], end[~is_after]] = value[~is_after]
