@@ -121,6 +121,30 @@ def test_chains_are_sampled_once_with_both_sides_rules():
     assert np.all(steps >= 0.12 * (1 - 1e-12)) and np.all(steps <= np.sqrt(3) * 0.12 * (1 + 1e-12))
 
 
+@pytest.mark.parametrize("pinned", [[], [0, 2], [1, 3, 5]])
+def test_rings_read_at_once_are_the_rings_walked_chain_by_chain(pinned):
+    # three regions side by side and one whose ring passes vertex 2 twice (a loop at a
+    # junction); each ring's samples against the walk along its chains
+    from pds_plugin.partition import _ChainEdges, _following, _ring_walk, split_counts
+    xy = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [2, 1], [1.5, 2], [0.5, 2]], float)
+    rings = [[np.array([0, 1, 2, 3])], [np.array([1, 4, 5, 2])],
+             [np.array([3, 2, 5, 6, 2, 7])]]
+    chains = sample_chains(rings, [xy] * 3, 0.2, pinned=pinned)
+    every = np.concatenate([ring for region in rings for ring in region])
+    counts = [len(ring) for region in rings for ring in region]
+    pairs = list(zip(chains.chains, chains.closed))
+    chain, forward = _ChainEdges(pairs).read(every, every[_following(counts)])
+    first = np.array([c[0] for c in chains.chains])
+    last = np.array([c[-1] for c in chains.chains])
+    starts = ~np.array(chains.closed)[chain] & (every == np.where(forward, first[chain],
+                                                                  last[chain]))
+    walked = [_ring_walk(*run, pairs, chains.chain_samples) for run in zip(
+        *(split_counts(a.tolist(), counts) for a in (chain, forward, starts)))]
+    read = [ring for region in chains.rings for ring in region]
+    assert len(read) == len(walked) == 3
+    assert all(np.array_equal(a, b) for a, b in zip(read, walked))
+
+
 def test_bad_input_gets_a_clear_error():
     with pytest.raises(pds.RegionError, match="'a' and 'b' overlap .* around"):
         pds.mesh_regions({"a": box(0, 0, 2, 2), "b": box(1, 1, 3, 3)}, 0.2)

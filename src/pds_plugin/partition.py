@@ -30,7 +30,6 @@ solid unrolled into their planes) are meshed so that the meshes join with no T-j
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -1467,7 +1466,9 @@ def _angle_of_clearance(clearance, floor) -> float:
 def _ring_samples(rings, chains, chain_samples):
     """Per region, per ring, the sample numbers along it, from the chains it runs (in
     the ring's direction; a closed chain is the whole ring, in cyclic order), starting
-    where an open chain starts (each ring edge's chain looked up at once)."""
+    where an open chain starts (each ring edge's chain looked up at once). The rings
+    whose chains follow each other edge for edge from those starts (all but rings that
+    pass a vertex twice) are read in one pass; any other is walked (:func:`_ring_walk`)."""
     every = [ring for region in rings for ring in region]
     if not every:
         return [[] for _ in rings]
@@ -1478,28 +1479,58 @@ def _ring_samples(rings, chains, chain_samples):
     last = np.array([vertices[-1] for vertices, _ in chains], np.int64)
     closed = np.array([closed for _, closed in chains], bool)
     starts = ~closed[chain] & (heads == np.where(forward, first[chain], last[chain]))
-    out = []
+    # the pieces: an open chain at each start, a ring without one a chain from its first
+    # edge; a ring is read so if its pieces follow each other edge for edge round it
+    ring = np.repeat(np.arange(len(every)), counts)
+    ring_first = np.cumsum(counts) - counts
+    lonely = np.bincount(ring, starts, minlength=len(every)) == 0
+    piece = np.flatnonzero(starts | (lonely[ring] & (np.arange(len(heads)) == ring_first[ring])))
+    c, ahead = chain[piece], forward[piece]
+    span = np.array([len(vertices) for vertices, _ in chains])[c] - ~closed[c]
+    next_piece = np.append(piece[1:], -1)         # a ring's last piece: its first's
+    follows = (next_piece == piece + span) | (ring[next_piece] != ring[piece])
+    follows[-1] = True
+    tiled = ((np.bincount(ring[piece], span, minlength=len(every)) == counts)
+             & (np.bincount(ring[piece], ~follows, minlength=len(every)) == 0))
+    # each piece's samples, forward or back, an open chain's far end left to the next
+    samples = np.concatenate(chain_samples).astype(np.int64)
+    size = np.array([len(numbers) for numbers in chain_samples])
+    at = np.cumsum(size) - size
+    taken = np.where(tiled[ring[piece]], size[c] - ~closed[c], 0)
+    step = np.repeat(np.where(ahead, 1, -1), taken)
+    ids = samples[np.repeat(np.where(ahead, at[c], at[c] + size[c] - 1), taken)
+                  + step * (np.arange(taken.sum()) - np.repeat(np.cumsum(taken) - taken, taken))]
+    read = split_counts(ids, np.bincount(ring[piece], taken, minlength=len(every)).astype(int))
     runs = zip(split_counts(chain.tolist(), counts), split_counts(forward.tolist(), counts),
                split_counts(starts.tolist(), counts))
+    out, k = [], 0
     for region in rings:
         found = []
-        for ring_chain, ring_forward, ring_starts in itertools.islice(runs, len(region)):
-            n = len(ring_chain)
-            start = ring_starts.index(True) if True in ring_starts else 0
-            ids, seen = [], 0
-            while seen < n:
-                k = (start + seen) % n
-                c = ring_chain[k]
-                samples = chain_samples[c] if ring_forward[k] else chain_samples[c][::-1]
-                if chains[c][1]:
-                    ids.extend(samples.tolist())
-                    seen += len(chains[c][0])
-                else:
-                    ids.extend(samples[:-1].tolist())
-                    seen += len(chains[c][0]) - 1
-            found.append(np.array(ids, dtype=np.int64))
+        for _ in region:
+            run = next(runs)
+            found.append(read[k] if tiled[k] else _ring_walk(*run, chains, chain_samples))
+            k += 1
         out.append(found)
     return out
+
+
+def _ring_walk(ring_chain, ring_forward, ring_starts, chains, chain_samples):
+    """One ring's sample numbers (:func:`_ring_samples`), walked chain by chain from the
+    first start (its edges' chains, directions and starts, as lists)."""
+    n = len(ring_chain)
+    start = ring_starts.index(True) if True in ring_starts else 0
+    ids, seen = [], 0
+    while seen < n:
+        k = (start + seen) % n
+        c = ring_chain[k]
+        samples = chain_samples[c] if ring_forward[k] else chain_samples[c][::-1]
+        if chains[c][1]:
+            ids.extend(samples.tolist())
+            seen += len(chains[c][0])
+        else:
+            ids.extend(samples[:-1].tolist())
+            seen += len(chains[c][0]) - 1
+    return np.array(ids, dtype=np.int64)
 
 
 # --- composite sections --------------------------------------------------------------
