@@ -244,12 +244,17 @@ def sample_chains(rings, frames, alpha: float, *, feature_angle: float = 30.0, s
     chains = _chains(rings, owner, junction)
     positions = _chain_positions(chains, owner, angle, frames, alpha, feature_angle, seed,
                                  junction, _spikes(rings, frames, junction))
-    return _assembled(rings, owner, junction, chains, positions)
+    return _assembled(rings, _sides(owner, chains), junction, chains, positions)
 
 
-def _assembled(rings, owner, junction, chains, positions) -> ChainSamples:
-    """The :class:`ChainSamples` of ``chains`` from each chain's (segment, fraction)
-    positions, junctions numbered once.
+def _sides(owner, chains) -> list:
+    """The regions each chain bounds, in increasing order (``owner`` of its first edge)."""
+    return [sorted(set(owner[_key(vertices[0], vertices[1])])) for vertices, _ in chains]
+
+
+def _assembled(rings, sides, junction, chains, positions) -> ChainSamples:
+    """The :class:`ChainSamples` of ``chains`` (``sides``: the regions each bounds) from
+    each chain's (segment, fraction) positions, junctions numbered once.
 
     Samples are numbered in the chains' order, each chain's positions then its far end
     (an open chain's): a position at a junction chain's start and a chain's far end
@@ -286,9 +291,7 @@ def _assembled(rings, owner, junction, chains, positions) -> ChainSamples:
     chain_samples = split_counts(number, entries)
     ring_samples = _ring_samples(rings, chains, chain_samples)
     return ChainSamples(u[new], sample_v, sample_t, ring_samples, [c[0] for c in chains],
-                        [bool(c[1]) for c in chains],
-                        [tuple(sorted(set(owner[_key(c[0][0], c[0][1])])))
-                         for c in chains], chain_samples)
+                        [bool(c[1]) for c in chains], [tuple(s) for s in sides], chain_samples)
 
 
 def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, seed: int = 0,
@@ -341,9 +344,9 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     True
     """
     top = topology if topology is not None else _Topology(rings, frames, pinned)
-    rings, owner, angle, junction, chains = top.rings, top.owner, top.angle, top.junction, top.chains
+    rings, angle, junction, chains = top.rings, top.angle, top.junction, top.chains
     if not chains:
-        return _assembled(rings, owner, junction, chains, [])
+        return _assembled(rings, top.sides, junction, chains, [])
     grading = max(field.grading for field in fields)
     unit = TAU_MARGIN / (1.0 - 0.5 * grading)
     sides = top.sides
@@ -364,7 +367,7 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
     chain, at = _halved(chain_set, taus, positions, cleared, segment, t, bounds)
     along_segment, along_t = _FlatTau(taus, segment, t, bounds).to_chain(chain, at)
     counts = np.bincount(chain, minlength=len(chains))
-    return _assembled(rings, owner, junction, chains,
+    return _assembled(rings, sides, junction, chains,
                       list(zip(split_counts(along_segment, counts),
                                split_counts(along_t, counts))))
 
@@ -1019,8 +1022,7 @@ class _Topology:
         self.owner, self.angle, self.edge_angles = _edge_owners(self.rings, frames)
         self.junction = _junctions(self.owner, pinned)
         self.chains = _chains(self.rings, self.owner, self.junction)
-        self.sides = [sorted(set(self.owner[_key(vertices[0], vertices[1])]))
-                      for vertices, _ in self.chains]
+        self.sides = _sides(self.owner, self.chains)
         self._frames = frames
         self._boxes = None
         self._union = None
