@@ -145,6 +145,14 @@ def test_rings_read_at_once_are_the_rings_walked_chain_by_chain(pinned):
     assert all(np.array_equal(a, b) for a, b in zip(read, walked))
 
 
+def test_regions_running_an_edge_the_same_way_are_refused_by_name():
+    xy = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0], [2, 1], [0.5, -1]], float)
+    rings = [[np.array([0, 1, 2, 3])], [np.array([1, 4, 5, 2])], [np.array([0, 1, 6])]]
+    with pytest.raises(ValueError, match="regions 0 and 2 overlap along the edge of "
+                                         "vertices 0 and 1"):
+        sample_chains(rings, [xy] * 3, 0.2)
+
+
 def test_bad_input_gets_a_clear_error():
     with pytest.raises(pds.RegionError, match="'a' and 'b' overlap .* around"):
         pds.mesh_regions({"a": box(0, 0, 2, 2), "b": box(1, 1, 3, 3)}, 0.2)

@@ -1125,31 +1125,49 @@ def _edge_owners(rings, frames):
     """Per undirected edge: the regions that run it; per directed edge: its region and
     that region's interior angles at the edge's start and end, as a dict and as an
     :class:`_EdgeAngles` table."""
-    owner, angle = {}, {}
     every = [(r, ring) for r, region in enumerate(rings) for ring in region]
     if not every:
-        return owner, angle, _EdgeAngles(*[np.zeros(0, np.int64)] * 2, *[np.zeros(0)] * 2)
+        return {}, {}, _EdgeAngles(*[np.zeros(0, np.int64)] * 2, *[np.zeros(0)] * 2)
     counts = [len(ring) for _, ring in every]
     vertices = np.concatenate([ring for _, ring in every])
-    xy = read_frames(frames, np.repeat([r for r, _ in every], counts), vertices)
+    region = np.repeat([r for r, _ in every], counts)
+    xy = read_frames(frames, region, vertices)
     # the region's angle at each vertex, all rings at once
     inside = np.pi - turning_angles(xy, counts)
     following = _following(counts)
-    table = _EdgeAngles(vertices, vertices[following], inside, inside[following])
-    inners = split_counts(inside, counts)
-    for (r, ring), inner in zip(every, inners):
-        ring = ring.tolist()
-        for k, (a, b) in enumerate(zip(ring, ring[1:] + ring[:1])):
-            if (a, b) in angle:
-                raise RegionError(f"regions {angle[(a, b)][0]} and {r} overlap along the "
-                                  f"edge of vertices {a} and {b} (both run it the same way)")
-            angle[(a, b)] = (r, inner[k], inner[(k + 1) % len(ring)])
-            sides = owner.setdefault(_key(a, b), [])
-            sides.append(r)
-            if len(sides) > 2:
-                raise RegionError(f"the edge of vertices {a} and {b} bounds regions "
-                                  f"{sides}; an edge bounds two regions at most")
+    tails = vertices[following]
+    table = _EdgeAngles(vertices, tails, inside, inside[following])
+    # no edge run twice the same way, so at most twice: each undirected edge's runs, in
+    # the rings' order
+    low, high = np.minimum(vertices, tails), np.maximum(vertices, tails)
+    span = int(high.max()) + 1
+    if len(np.unique(vertices * span + tails)) < len(vertices):
+        _refuse_overlap(vertices, tails, region)
+    order = np.argsort(low * span + high, kind="stable")
+    key = (low * span + high)[order]
+    first = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+    runs = np.diff(np.r_[first, len(key)])
+    first_run, second_run = order[first], order[np.minimum(first + 1, len(order) - 1)]
+    by_appearance = np.argsort(first_run)
+    ones = region[first_run[by_appearance]].tolist()
+    twos = np.where(runs == 2, region[second_run], -1)[by_appearance].tolist()
+    owner = dict(zip(zip(low[first_run[by_appearance]].tolist(),
+                         high[first_run[by_appearance]].tolist()),
+                     [[a] if b < 0 else [a, b] for a, b in zip(ones, twos)]))
+    angle = dict(zip(zip(vertices.tolist(), tails.tolist()),
+                     zip(region.tolist(), inside, inside[following])))
     return owner, angle, table
+
+
+def _refuse_overlap(heads, tails, region):
+    """Raise the error of the first edge, in the rings' order, that a region runs the
+    same way as another: they overlap along it."""
+    way = {}
+    for a, b, r in zip(heads.tolist(), tails.tolist(), region.tolist()):
+        if (a, b) in way:
+            raise RegionError(f"regions {way[(a, b)]} and {r} overlap along the edge of "
+                              f"vertices {a} and {b} (both run it the same way)")
+        way[(a, b)] = r
 
 
 class _EdgeTable:
