@@ -158,6 +158,24 @@ def test_orientation_sign_is_exact_on_nearly_collinear_points(seed, scale):
     assert orient(*a, *b, *c) == (exact > 0) - (exact < 0)
 
 
+@settings(max_examples=200, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), scale=st.sampled_from([1.0, 1e-8, 1e8]),
+       shared=st.sets(st.sampled_from(["ax=cx", "by=cy", "ay=cy", "bx=cx"]), min_size=1))
+def test_orientation_sign_is_exact_with_shared_coordinates(seed, scale, shared):
+    """Points on axis-parallel lines through each other (a box's corner on a chord's
+    line), tiny differences among them: the shortcut for exact zeros agrees with exact
+    rationals."""
+    from fractions import Fraction
+    from pds_plugin._visibility_kernels import orient
+    rng = np.random.default_rng(seed)
+    (ax, ay), (bx, by), (cx, cy) = (1 + rng.integers(-3, 4, (3, 2)) * 2e-16) * scale
+    ax, by = (cx if "ax=cx" in shared else ax), (cy if "by=cy" in shared else by)
+    ay, bx = (cy if "ay=cy" in shared else ay), (cx if "bx=cx" in shared else bx)
+    exact = ((Fraction(ax) - Fraction(cx)) * (Fraction(by) - Fraction(cy))
+             - (Fraction(ay) - Fraction(cy)) * (Fraction(bx) - Fraction(cx)))
+    assert orient(ax, ay, bx, by, cx, cy) == (exact > 0) - (exact < 0)
+
+
 def perturbed_inside_oracle(a, b, c, d, ranks) -> int:
     """The incircle sign of (a, b, c; d) in exact rationals, a tie settled by lifting
     each point by -eps**rank (the smallest rank perturbed most): the 4x4 determinant

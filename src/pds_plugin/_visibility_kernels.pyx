@@ -102,6 +102,10 @@ cdef int orient_sign(double ax, double ay, double bx, double by, double cx,
         return 1
     if det < -bound:
         return -1
+    # both products exactly zero (a difference of doubles is 0 only between equal ones):
+    # c on an axis-parallel line through a and b, as a box's corner on a chord's line
+    if (ax == cx or by == cy) and (ay == cy or bx == cx):
+        return 0
     return _orient_exact(ax, ay, bx, by, cx, cy)
 
 
