@@ -1765,34 +1765,60 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     counts = [len(triangles) for triangles in new_faces]
     every_triangle = np.concatenate(new_faces)
     taken = np.take(every, every_triangle, axis=0)
-    new = split_counts(_determinants(taken - centre), counts)
     old = _determinants(np.concatenate(
         [np.take(vertices, faces[patch.faces], axis=0) for patch in patches]) - centre)
-    old = split_counts(old, [len(patch.faces) for patch in patches])
-    change = [a.sum() / 6 - b.sum() / 6 for a, b in zip(new, old)]
+    change = (_row_sums(_determinants(taken - centre), counts) / 6
+              - _row_sums(old, [len(patch.faces) for patch in patches]) / 6)
     if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
         return _largest(heights), unkept
     # each patch's slope: its triangles' determinants with the column of one moved
-    # corner replaced by the normal, the three columns read for all patches at once
+    # corner replaced by the normal, summed over its moved corners, the three columns
+    # (in turn) for all patches at once
     owner = np.repeat(np.arange(len(patches)), counts)
     corner = taken - np.stack([patch.basis[0] for patch in patches])[owner][:, None]
     axes = np.stack([patch.basis[3] for patch in patches])
     first = np.array([start for start, _, _ in lifted])[owner][:, None]
     last = first + np.array([len(height) for height in heights])[owner][:, None]
-    moved = split_counts((every_triangle >= first) & (every_triangle < last), counts)
-    columns = [split_counts(_determinants(np.where((np.arange(3) == j)[:, None],
-                                                   axes[owner][:, None], corner)), counts)
-               for j in range(3)]
-    for k, (_, normal, height) in enumerate(lifted):
-        room = 0.99 * (tolerance - np.abs(height).max(initial=0.0))   # rounding's margin
-        slope = sum(columns[j][k][moved[k][:, j]].sum() for j in range(3)) / 6
-        if not (slope and room > 0):
-            continue
-        shift = float(np.clip(-change[k] / slope, -room, room))
-        points[2 + k] = points[2 + k] + shift * axes[k]
-        heights[k] = height + shift * (normal @ axes[k])
-        change[k] += shift * slope
-    return _largest(heights), _volume_spoilers(change, patches, volume)
+    moved = (every_triangle >= first) & (every_triangle < last)
+    slope = 0.0
+    for j in range(3):
+        column = _determinants(np.where((np.arange(3) == j)[:, None], axes[owner][:, None],
+                                        corner))
+        slope = slope + _row_sums(column[moved[:, j]],
+                                  np.bincount(owner[moved[:, j]], minlength=len(patches)))
+    slope = slope / 6
+    highest = np.zeros(len(patches))
+    with_points = np.flatnonzero([len(height) for height in heights])
+    if len(with_points):
+        highest[with_points] = np.maximum.reduceat(
+            np.abs(np.concatenate(heights)), _starts([len(heights[k]) for k in with_points]))
+    room = 0.99 * (tolerance - highest)                   # rounding's margin
+    shifted = np.flatnonzero((slope != 0) & (room > 0))
+    shift = np.clip(-change[shifted] / slope[shifted], -room[shifted], room[shifted])
+    for k, by in zip(shifted.tolist(), shift.tolist()):
+        points[2 + k] = points[2 + k] + by * axes[k]
+        heights[k] = heights[k] + by * (lifted[k][1] @ axes[k])
+    change[shifted] += shift * slope[shifted]
+    return _largest(heights), _volume_spoilers(list(change), patches, volume)
+
+
+def _row_sums(values, counts) -> np.ndarray:
+    """``values[a:b].sum()`` of each run of ``counts`` items, the same numbers: the runs
+    of one length summed as the rows of one array (numpy sums a row as it sums the run
+    alone); 0 for an empty run."""
+    counts = np.asarray(counts, np.int64)
+    starts = _starts(counts)
+    out = np.zeros(len(counts))
+    for n in np.unique(counts[counts > 0]).tolist():
+        rows = np.flatnonzero(counts == n)
+        out[rows] = values[starts[rows, None] + np.arange(n)].sum(axis=1)
+    return out
+
+
+def _starts(counts) -> np.ndarray:
+    """Where each run of ``counts`` items starts."""
+    counts = np.asarray(counts, np.int64)
+    return np.cumsum(counts) - counts
 
 
 def _largest(heights) -> float:
