@@ -795,9 +795,14 @@ def _features_inside(patches, fields) -> bool:
     """Does every feature of each field lie in its patch's bounding box (so that a
     whole gap lies between it and every other patch)? All patches at once."""
     features = np.concatenate([np.zeros((0, 2)), *(field.features for field in fields)])
-    box = shapely.bounds([patch.region.geometry for patch in patches])[
-        np.repeat(np.arange(len(fields)), [len(field.features) for field in fields])]
+    box = _boxes(patches)[np.repeat(np.arange(len(fields)),
+                                    [len(field.features) for field in fields])]
     return bool(((features >= box[:, :2]) & (features <= box[:, 2:])).all())
+
+
+def _boxes(patches) -> np.ndarray:
+    """Each patch's bounding box (x0, y0, x1, y1), all in one call."""
+    return shapely.bounds([patch.region.geometry for patch in patches])
 
 
 def _cut_apart(patches, given, fields, samples, faces) -> list:
@@ -815,7 +820,7 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     owner[:first[-1]] = np.repeat(np.arange(len(patches)), n_given)
     inner = np.arange(first[-1], count)
     if len(inner):                  # the box each interior sample lies in (boundary too)
-        boxes = shapely.box(*np.array([patch.region.bounds for patch in patches]).T)
+        boxes = shapely.box(*_boxes(patches).T)
         at, box = shapely.STRtree(boxes).query(shapely.points(points[inner]),
                                                predicate="intersects")
         owner[inner[at]] = box
