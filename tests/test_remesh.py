@@ -749,3 +749,15 @@ def test_small_patches_are_read_together_as_one_by_one():
                       [3, 0, 4]], dtype=np.int64)
     together, alone = both(vertices, faces, np.arange(7)[None])
     assert together == [None] and alone == [None]
+
+
+def test_row_sums_are_each_runs_own_sum_bit_for_bit():
+    # the volume kept sums each patch's determinants this way: the same numbers as the
+    # patch's own sum, runs short and long (numpy's pairwise blocks), empty ones zero
+    from pds_plugin.remeshing import _row_sums
+    rng = np.random.default_rng(5)
+    counts = np.concatenate([rng.integers(0, 20, 200), [0, 1, 7, 8, 9, 128, 129, 300]])
+    values = rng.standard_normal(counts.sum()) * 10.0 ** rng.integers(-8, 8, counts.sum())
+    starts = np.cumsum(counts) - counts
+    expected = [values[a:a + n].sum() for a, n in zip(starts, counts)]
+    assert np.array_equal(_row_sums(values, counts), expected)

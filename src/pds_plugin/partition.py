@@ -1143,8 +1143,9 @@ def _edge_owners(rings, frames):
     span = int(high.max()) + 1
     if len(np.unique(vertices * span + tails)) < len(vertices):
         _refuse_overlap(vertices, tails, region)
-    order = np.argsort(low * span + high, kind="stable")
-    key = (low * span + high)[order]
+    code = low * span + high
+    order = np.argsort(code, kind="stable")
+    key = code[order]
     first = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
     runs = np.diff(np.r_[first, len(key)])
     first_run, second_run = order[first], order[np.minimum(first + 1, len(order) - 1)]
