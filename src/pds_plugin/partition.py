@@ -1487,9 +1487,10 @@ def _angle_of_clearance(clearance, floor) -> float:
 def _ring_samples(rings, chains, chain_samples):
     """Per region, per ring, the sample numbers along it, from the chains it runs (in
     the ring's direction; a closed chain is the whole ring, in cyclic order), starting
-    where an open chain starts (each ring edge's chain looked up at once). The rings
-    whose chains follow each other edge for edge from those starts (all but rings that
-    pass a vertex twice) are read in one pass; any other is walked (:func:`_ring_walk`)."""
+    where an open chain starts (each ring edge's chain looked up at once). Rings whose
+    chains follow each other edge for edge from those starts (every ring met so far, a
+    ring through a vertex twice too) are read in one pass; any other is walked chain by
+    chain (:func:`_ring_walk`), as every ring was before."""
     every = [ring for region in rings for ring in region]
     if not every:
         return [[] for _ in rings]
@@ -1508,7 +1509,7 @@ def _ring_samples(rings, chains, chain_samples):
     piece = np.flatnonzero(starts | (lonely[ring] & (np.arange(len(heads)) == ring_first[ring])))
     c, ahead = chain[piece], forward[piece]
     span = np.array([len(vertices) for vertices, _ in chains])[c] - ~closed[c]
-    next_piece = np.append(piece[1:], -1)         # a ring's last piece: its first's
+    next_piece = np.append(piece[1:], -1)         # a ring's last piece has none
     follows = (next_piece == piece + span) | (ring[next_piece] != ring[piece])
     follows[-1] = True
     tiled = ((np.bincount(ring[piece], span, minlength=len(every)) == counts)
@@ -1520,19 +1521,14 @@ def _ring_samples(rings, chains, chain_samples):
     taken = np.where(tiled[ring[piece]], size[c] - ~closed[c], 0)
     step = np.repeat(np.where(ahead, 1, -1), taken)
     ids = samples[np.repeat(np.where(ahead, at[c], at[c] + size[c] - 1), taken)
-                  + step * (np.arange(taken.sum()) - np.repeat(np.cumsum(taken) - taken, taken))]
+                  + step * _ranges(taken)]
     read = split_counts(ids, np.bincount(ring[piece], taken, minlength=len(every)).astype(int))
-    runs = zip(split_counts(chain.tolist(), counts), split_counts(forward.tolist(), counts),
-               split_counts(starts.tolist(), counts))
-    out, k = [], 0
-    for region in rings:
-        found = []
-        for _ in region:
-            run = next(runs)
-            found.append(read[k] if tiled[k] else _ring_walk(*run, chains, chain_samples))
-            k += 1
-        out.append(found)
-    return out
+    for k in np.flatnonzero(~tiled).tolist():
+        edges = slice(ring_first[k], ring_first[k] + counts[k])
+        read[k] = _ring_walk(chain[edges].tolist(), forward[edges].tolist(),
+                             starts[edges].tolist(), chains, chain_samples)
+    ends = np.cumsum([len(region) for region in rings]).tolist()
+    return [read[end - len(region):end] for region, end in zip(rings, ends)]
 
 
 def _ring_walk(ring_chain, ring_forward, ring_starts, chains, chain_samples):
