@@ -174,7 +174,9 @@ def _tolerance_pass_seconds(region) -> float:
 
 
 _WARNINGS = (("over the budget", "alpha kept above a feature by the sample budget"),
-             ("beyond its limit", "alpha kept above a feature by the sampling grid's limit"))
+             ("beyond its limit", "alpha kept above a feature by the sampling grid's limit"),
+             ("times below the region's inradius",
+              "uniform alpha set by one feature far below the inradius (graded advised)"))
 
 
 def _warning_class(message: str) -> str:
