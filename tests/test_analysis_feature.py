@@ -262,6 +262,19 @@ def regions(draw):
     return Region.from_shapely(shapely.MultiPolygon(parts))
 
 
+def test_a_bump_between_two_reflex_corners_on_one_line_is_a_wall():
+    # the base of a bump on an octagon's edge: its two reflex corners lie on that edge's
+    # line (to rounding), the segment between them runs through material; the search
+    # skipped it (it reaches the far corner from just behind the next segment's line)
+    reg = Region.from_shapely(shapely.Polygon([
+        (0, -2), (1.414214, -1.414214), (2, 0), (1.414214, 1.414214), (1, 1.585786),
+        (1, 1.97), (0.072426, 1.97), (0, 2), (-1.414214, 1.414214), (-2, 0),
+        (-1.414214, -1.414214)]))
+    expected = brute_force(reg, walls_only=True)
+    assert expected == pytest.approx(1.00399896577, rel=1e-9)
+    assert feature_size(reg).value == pytest.approx(expected, rel=1e-9, abs=1e-12)
+
+
 @settings(max_examples=40, deadline=None)
 @given(regions())
 def test_spatial_search_equals_brute_force(reg):

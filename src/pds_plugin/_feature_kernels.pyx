@@ -115,14 +115,22 @@ cdef bint _faces(const Boundary *b, Py_ssize_t v, Py_ssize_t j, double fx, doubl
     asked even when f is an end of j: across a slot whose bottom joins its two sides,
     the segment from one bottom corner to the other runs along the boundary, inside
     the closed angles at both, but it reaches the far side from the slot, not from that
-    side's material (the slot is a gap, not a wall)."""
+    side's material (the slot is a gap, not a wall). Where f is j's start and the
+    region's angle there is reflex, the material reaches past j's line: f may then be
+    reached from anywhere in that angle (the base of a bump whose two reflex corners lie
+    on one line of the boundary: the segment between them runs through material, on the
+    wrong side of j by rounding)."""
     cdef double vx = b.p0[2 * v], vy = b.p0[2 * v + 1], slack = b.tolerance * d
     cdef double ex, ey, length
     if not _in_cone(b, v, fx - vx, fy - vy, slack):
         return False
     ex, ey = b.p1[2 * j] - b.p0[2 * j], b.p1[2 * j + 1] - b.p0[2 * j + 1]
     length = sqrt(ex * ex + ey * ey)
-    return _cross(ex, ey, vx - fx, vy - fy) >= -slack * length
+    if _cross(ex, ey, vx - fx, vy - fy) >= -slack * length:
+        return True
+    # at a convex start _in_cone asks j's side again, and says no
+    return fx == b.p0[2 * j] and fy == b.p0[2 * j + 1] and _in_cone(b, j, vx - fx, vy - fy,
+                                                                     slack)
 
 
 cdef inline double _to_segment(const Boundary *b, double x, double y,
