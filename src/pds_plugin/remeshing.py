@@ -757,7 +757,8 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
 
     out = [None] * len(patches)
     first = fields[0]
-    if len(patches) > 1 and _features_inside(patches, fields) and all(
+    boxes = shapely.bounds([patch.region.geometry for patch in patches])   # (x0, y0, x1, y1)
+    if len(patches) > 1 and _features_inside(boxes, fields) and all(
             f.grading == first.grading and f.cap == first.cap and f.sizing is None
             for f in fields):
         budget = options.get("max_samples", DEFAULT_MAX_SAMPLES) * len(patches)
@@ -778,7 +779,7 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
             except PdsError:
                 faces = None
             if faces is not None:
-                out = _cut_apart(patches, given, fields, samples, faces)
+                out = _cut_apart(patches, boxes, given, fields, samples, faces)
     for k, (patch, rings, field) in enumerate(zip(patches, given, fields)):
         if out[k] is None:
             samples = graded_poisson_disc(patch.region, field, seed, boundary_samples=rings,
@@ -791,23 +792,18 @@ def _meshed_together(patches, given, fields, seed, options) -> list:
     return out
 
 
-def _features_inside(patches, fields) -> bool:
-    """Does every feature of each field lie in its patch's bounding box (so that a
-    whole gap lies between it and every other patch)? All patches at once."""
+def _features_inside(boxes, fields) -> bool:
+    """Does every feature of each field lie in its patch's bounding box (``boxes``: (x0,
+    y0, x1, y1) rows), so that a whole gap lies between it and every other patch? All
+    patches at once."""
     features = np.concatenate([np.zeros((0, 2)), *(field.features for field in fields)])
-    box = _boxes(patches)[np.repeat(np.arange(len(fields)),
-                                    [len(field.features) for field in fields])]
+    box = boxes[np.repeat(np.arange(len(fields)), [len(field.features) for field in fields])]
     return bool(((features >= box[:, :2]) & (features <= box[:, 2:])).all())
 
 
-def _boxes(patches) -> np.ndarray:
-    """Each patch's bounding box (x0, y0, x1, y1), all in one call."""
-    return shapely.bounds([patch.region.geometry for patch in patches])
-
-
-def _cut_apart(patches, given, fields, samples, faces) -> list:
+def _cut_apart(patches, boxes, given, fields, samples, faces) -> list:
     """Per patch, its part of a mesh of them all (:func:`_meshed_together`): the samples
-    in its bounding box (the boxes are a gap apart), its given ring samples first, and
+    in its bounding box (``boxes``; they are a gap apart), its given ring samples first, and
     whether it joins them (:func:`_joined`, for all patches at once); None for a patch
     with a triangle across two boxes (none can be: the gap)."""
     from ._mesh_kernels import edges_of
@@ -820,8 +816,7 @@ def _cut_apart(patches, given, fields, samples, faces) -> list:
     owner[:first[-1]] = np.repeat(np.arange(len(patches)), n_given)
     inner = np.arange(first[-1], count)
     if len(inner):                  # the box each interior sample lies in (boundary too)
-        boxes = shapely.box(*_boxes(patches).T)
-        at, box = shapely.STRtree(boxes).query(shapely.points(points[inner]),
+        at, box = shapely.STRtree(shapely.box(*boxes.T)).query(shapely.points(points[inner]),
                                                predicate="intersects")
         owner[inner[at]] = box
     order = np.argsort(owner[first[-1]:], kind="stable") + first[-1]   # interiors by patch
