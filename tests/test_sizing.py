@@ -12,7 +12,9 @@ from hypothesis import strategies as st
 from shapely.geometry import LineString, Point, Polygon, box
 
 import pds_plugin as pds
-from pds_plugin._sizing_kernels import build_cone_tree, nearest_facing, normal_bounds
+from pds_plugin._sizing_kernels import (build_cone_tree, cone_minimum, cone_minimum_pairwise,
+                                        dominated_cones, dominated_pairwise, nearest_facing,
+                                        normal_bounds)
 from pds_plugin.errors import ArgumentError, ArgumentTypeError
 from pds_plugin.sizing import RadiusField, angle_bound, inradius, radius_field
 
@@ -250,16 +252,17 @@ def test_fields_measured_together_are_the_fields_one_by_one():
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_a_field_with_cones_added_is_the_field_of_both_feature_sets(seed):
+@pytest.mark.parametrize("old, new", [(400, 60), (20, 10)])     # by trees, by pairs
+def test_a_field_with_cones_added_is_the_field_of_both_feature_sets(seed, old, new):
     """RadiusField.with_cones tests the field's own features against the new cones only;
     it must keep exactly the cones a RadiusField of both sets keeps (ties, cones equal
     to an old one, cones at the cap, a dominated old one), so the fields read the same
     bit for bit."""
     rng = np.random.default_rng(seed)
     cap, L = 1.0, float(rng.uniform(0.1, 0.6))
-    field = RadiusField(rng.uniform(0, 10, (400, 2)), rng.uniform(0.01, 1.2, 400), L, cap)
-    points = np.vstack([rng.uniform(0, 10, (60, 2)), field.features[:5], field.features[5:7]])
-    sizes = np.concatenate([rng.uniform(0.005, 1.3, 60), field.sizes[:5],
+    field = RadiusField(rng.uniform(0, 10, (old, 2)), rng.uniform(0.01, 1.2, old), L, cap)
+    points = np.vstack([rng.uniform(0, 10, (new, 2)), field.features[:5], field.features[5:7]])
+    sizes = np.concatenate([rng.uniform(0.005, 1.3, new), field.sizes[:5],
                             0.5 * field.sizes[5:7]])            # equal, and below two old
     both = RadiusField(np.vstack([field.features, points]),
                        np.concatenate([field.sizes, sizes]), L, cap)
@@ -274,6 +277,30 @@ def test_a_field_with_cones_added_is_the_field_of_both_feature_sets(seed):
                               RadiusField(points, sizes, L, cap))):
         np.testing.assert_array_equal(added.sizes, reference.sizes)
         np.testing.assert_array_equal(added(x), reference(x))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_the_pairwise_cone_kernels_answer_as_the_tree_search(seed):
+    """A few cones are tested and read pair by pair (``dominated_pairwise``,
+    ``cone_minimum_pairwise``), not through a cone tree: the same answers bit for bit,
+    twins (equal cones) and the queries' form (old cones against new) included."""
+    rng = np.random.default_rng(seed)
+    count, L, cap = int(rng.integers(2, 80)), float(rng.uniform(0.05, 0.6)), 1.5
+    xy = rng.normal(scale=rng.choice([0.1, 1.0, 10.0]), size=(count, 2))
+    s = rng.uniform(0.01, 2.0, count)
+    twins = rng.integers(0, count, count // 3 + 1)
+    xy, s = np.vstack([xy, xy[twins]]), np.append(s, s[twins])
+    tree = build_cone_tree(xy, s, 8)
+    for start in (0, count // 2):
+        assert np.array_equal(dominated_pairwise(xy, s, L, start),
+                              dominated_cones(xy, s, L, *tree, start))
+    old = np.vstack([xy[twins], rng.normal(size=(30, 2))])
+    old_s = np.append(s[twins], rng.uniform(0.01, 2.0, 30))
+    assert np.array_equal(dominated_pairwise(xy, s, L, queries=old, query_s=old_s),
+                          dominated_cones(xy, s, L, *tree, queries=old, query_s=old_s))
+    x = np.vstack([xy, rng.uniform(-20, 20, (500, 2))])
+    assert np.array_equal(cone_minimum_pairwise(x, xy, s, L, cap),
+                          cone_minimum(x, xy, s, L, cap, *tree))
 
 
 def test_the_wall_search_tries_a_bounded_number_of_facing_points(monkeypatch):

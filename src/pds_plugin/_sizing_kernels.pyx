@@ -209,6 +209,35 @@ def cone_minimum(queries, xy, s, double L, double cap, perm, first, stop, left, 
     return out_array
 
 
+def cone_minimum_pairwise(queries, xy, s, double L, double cap):
+    """:func:`cone_minimum` without the tree: every cone at every query point, for a few
+    of them, where building the tree costs more than the pairs; the same numbers (each
+    cone computed as :func:`cone_at` computes it, and a minimum does not depend on the
+    order).
+
+    >>> cone_minimum_pairwise(np.array([[1.0, 0.0]]), np.array([[0.0, 0.0]]),
+    ...                       np.array([0.1]), 0.5, 1.0).tolist()
+    [0.6]
+    """
+    cdef const double[:, ::1] q = np.ascontiguousarray(queries, np.float64)
+    cdef const double[:, ::1] f = np.ascontiguousarray(xy, np.float64)
+    cdef const double[::1] sz = np.ascontiguousarray(s, np.float64)
+    cdef Py_ssize_t n = q.shape[0], m = f.shape[0], k, i
+    cdef double x, y, dx, dy, value, best
+    out_array = np.empty(n)
+    cdef double[::1] out = out_array
+    with nogil:
+        for k in range(n):
+            x, y, best = q[k, 0], q[k, 1], cap
+            for i in range(m):
+                dx, dy = f[i, 0] - x, f[i, 1] - y
+                value = sz[i] + L * sqrt(dx * dx + dy * dy)
+                if value < best:
+                    best = value
+            out[k] = best
+    return out_array
+
+
 cdef void quarters_at(const ConeTree *t, double x_lo, double y_lo, double size, double *best,
                       int64_t *stack) noexcept nogil:
     """:func:`cone_at` at the centres of the four quarters of the box
@@ -343,6 +372,39 @@ def dominated_cones(xy, s, double L, perm, first, stop, left, right, box, smin,
             out[k] = _dominated(q[k, 0], q[k, 1], qs[k], k if mine else -1, f, sz, L, pm, fs,
                                 st, lf, rt, bx, sm, stack)
         free(stack)
+    return out_array
+
+
+def dominated_pairwise(xy, s, double L, Py_ssize_t start=0, queries=None, query_s=None):
+    """:func:`dominated_cones` without the tree: each tested cone against every cone, for
+    a few cones (a remeshed patch's tens), where building the tree and searching it cost
+    more than the pairs. The same answers: the search prunes only nodes whose cones cannot
+    pass the test, and each pair is computed as :func:`_dominated` computes it.
+
+    >>> xy = np.array([[0.0, 0.0], [1.0, 0.0], [5.0, 0.0]])
+    >>> dominated_pairwise(xy, np.array([0.1, 0.9, 0.5]), 0.5).tolist()
+    [False, True, False]
+    """
+    cdef bint own = queries is None
+    cdef const double[:, ::1] f = np.ascontiguousarray(xy, np.float64)
+    cdef const double[::1] sz = np.ascontiguousarray(s, np.float64)
+    cdef const double[:, ::1] q = f if own else np.ascontiguousarray(queries, np.float64)
+    cdef const double[::1] qs = sz if own else np.ascontiguousarray(query_s, np.float64)
+    cdef Py_ssize_t n = q.shape[0], m = f.shape[0], k, j, i
+    cdef double x, y, s_i, dx, dy, value
+    out_array = np.zeros(n, np.bool_)
+    cdef uint8_t[::1] out = out_array.view(np.uint8)
+    with nogil:
+        for k in range(start, n):
+            x, y, s_i, i = q[k, 0], q[k, 1], qs[k], k if own else -1
+            for j in range(m):
+                if j == i:
+                    continue
+                dx, dy = f[j, 0] - x, f[j, 1] - y
+                value = sz[j] + L * sqrt(dx * dx + dy * dy)
+                if value < s_i or (value == s_i and j < i):
+                    out[k] = 1
+                    break
     return out_array
 
 

@@ -907,13 +907,18 @@ def _agreeing_sizes(chains, frames, fields, sizes, topology=None, points=None):
 def _cones_at(xy, sizes, field) -> np.ndarray:
     """min_j sizes_j + L |x_i - x_j| at each point x_i of ``xy`` (cones of ``sizes`` at
     the points themselves, ``field``'s L), no more than its cap: pairwise for up to 32
-    points (most patches of a CAD part), else by the cone tree's exact minimum (the
-    cones the dominance test of a field would drop change no minimum)."""
+    points (most patches of a CAD part), in NumPy, and then in C, else by the cone
+    tree's exact minimum (the cones the dominance test of a field would drop change no
+    minimum)."""
+    from .sizing import _PAIRWISE
+
     if len(xy) <= 32:
         distance = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
         return np.minimum((sizes[None, :] + field.grading * distance).min(axis=1, initial=np.inf),
                           field.cap)
     xy, sizes = np.ascontiguousarray(xy), np.ascontiguousarray(sizes)
+    if len(xy) ** 2 <= _PAIRWISE:
+        return _sizing_kernels.cone_minimum_pairwise(xy, xy, sizes, field.grading, field.cap)
     return _sizing_kernels.cone_minimum(xy, xy, sizes, field.grading, field.cap,
                                         *_sizing_kernels.build_cone_tree(xy, sizes, 8))
 

@@ -11,6 +11,7 @@ L-Lipschitz functions is L-Lipschitz.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -36,6 +37,7 @@ _FLAT_REACH = 2             # their sides up to this many times it
 _K = 24              # nearest neighbours looked at first for the corners' discs
 _ROUNDS = 8          # densify-and-measure rounds of the wall sizes at most
 _MAX_DENSE = 400_000 # densified boundary points at most (about 0.4 GB of neighbour lists)
+_PAIRWISE = 4096     # cone pairs a dominance test takes one by one rather than by a tree
 
 
 def angle_bound(grading: float) -> float:
@@ -91,18 +93,16 @@ class RadiusField:
         if not below.all():
             features, sizes = features[below], sizes[below]
         keep, tree = _undominated(features, sizes, grading, True)
-        if keep.all():                      # the tree of the test is the field's
+        if keep.all():
             self.features, self.sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
+            if tree is not None:            # the tree of the test is the field's
+                self._tree = tree
         else:
             self.features = np.ascontiguousarray(features[keep])
             self.sizes = np.ascontiguousarray(sizes[keep])
-            tree = None
         self.grading = float(grading)
         self.cap = float(cap)
         self.sizing = sizing
-        if tree is None and len(self.sizes):
-            tree = kern.build_cone_tree(self.features, self.sizes, 8)
-        self._tree = tree if len(self.sizes) else None
 
     def with_cones(self, points, sizes) -> "RadiusField":
         """This field combined by min with the cones ``sizes + L |x - points|``: the same
@@ -130,30 +130,47 @@ class RadiusField:
         own, L = len(self.sizes), self.grading
         if len(all_sizes) < 2:
             return RadiusField(features, all_sizes, L, self.cap, self.sizing)
-        tree = kern.build_cone_tree(features, all_sizes, 8)
-        keep = ~kern.dominated_cones(features, all_sizes, L, *tree, own)
-        if own and len(sizes):
-            keep[:own] = ~kern.dominated_cones(points, sizes, L,
-                                               *kern.build_cone_tree(points, sizes, 8),
-                                               queries=self.features, query_s=self.sizes)
+        tree = None
+        if len(sizes) * len(all_sizes) <= _PAIRWISE:
+            keep = ~kern.dominated_pairwise(features, all_sizes, L, own)
+            if own:
+                keep[:own] = ~kern.dominated_pairwise(points, sizes, L, queries=self.features,
+                                                      query_s=self.sizes)
+        else:
+            tree = kern.build_cone_tree(features, all_sizes, 8)
+            keep = ~kern.dominated_cones(features, all_sizes, L, *tree, own)
+            if own:
+                keep[:own] = ~kern.dominated_cones(points, sizes, L,
+                                                   *kern.build_cone_tree(points, sizes, 8),
+                                                   queries=self.features, query_s=self.sizes)
         field = RadiusField.__new__(RadiusField)
-        if keep.all():                      # the tree of the test is the field's
+        if keep.all():
             field.features, field.sizes = features, all_sizes
+            if tree is not None:            # the tree of the test is the field's
+                field._tree = tree
         else:
             field.features = np.ascontiguousarray(features[keep])
             field.sizes = np.ascontiguousarray(all_sizes[keep])
-            tree = kern.build_cone_tree(field.features, field.sizes, 8) if keep.any() else None
         field.grading, field.cap, field.sizing = L, self.cap, self.sizing
-        field._tree = tree if len(field.sizes) else None
         return field
+
+    @cached_property
+    def _tree(self):
+        """The cone tree of the features (``_sizing_kernels.build_cone_tree``), None
+        without features; built when first searched (the fields a remesh combines with
+        its patches' sample cones are mostly read only through their groups' union)."""
+        return kern.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
 
     def __call__(self, points) -> np.ndarray:
         points = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 2))
-        if self._tree is not None and len(points):
+        if not len(self.sizes) or not len(points):
+            r = np.full(len(points), self.cap)
+        elif len(self.sizes) * len(points) <= _PAIRWISE:
+            r = kern.cone_minimum_pairwise(points, self.features, self.sizes, self.grading,
+                                           self.cap)
+        else:
             r = kern.cone_minimum(points, self.features, self.sizes, self.grading, self.cap,
                                   *self._tree)
-        else:
-            r = np.full(len(points), self.cap)
         if self.sizing is not None:
             user = np.asarray(self.sizing(points[:, 0], points[:, 1]), float)
             user = np.broadcast_to(user, r.shape)
@@ -276,6 +293,9 @@ def _undominated(features, sizes, L, with_tree=False):
     is the field's own tree when none is dominated."""
     if len(sizes) < 2:
         keep = np.ones(len(sizes), bool)
+        return (keep, None) if with_tree else keep
+    if len(sizes) ** 2 <= _PAIRWISE:
+        keep = ~kern.dominated_pairwise(features, sizes, L)
         return (keep, None) if with_tree else keep
     features, sizes = np.ascontiguousarray(features), np.ascontiguousarray(sizes)
     tree = kern.build_cone_tree(features, sizes, 8)
