@@ -518,25 +518,25 @@ def _single_edges(chains, bounds, dense, radius, table, junction, unit) -> dict:
     lo, hi = bounds[simple], bounds[np.asarray(simple) + 1]
     taus = _running_sums(increment, lo, hi)
     after, before = _first_reaches(taus, lo, hi, dense, radius, k, unit)
-    out = {}
-    for i, (c, tau, plain) in enumerate(zip(simple, taus, (k <= 1).all(axis=1).tolist())):
-        span = tau[-2]                          # the far end: the chain's last dense point
-        if plain:                               # equal parts, no clearance
-            parts = max(int(span // unit), 1)
-            out[c] = (tau, span * np.arange(parts) / parts, (np.zeros(0), np.zeros(0)))
-            continue
-        corners = tau[[0, -2]]                  # τ = 0 at the first
-        first, last = after[i, 0], before[i, 1]
-        if span < first + last:                 # too short for both clearances: its ends
-            inner = np.zeros(0)
-        elif first > unit or last > unit:
-            inner = cleared_piece(0.0, span, first, last, unit)
-        else:
-            parts = max(int(span // unit), 1)
-            inner = span * np.arange(1, parts) / parts
-        out[c] = (tau, np.concatenate([corners[:1], inner]),          # in order already
-                  (corners[after[i] > unit], corners[before[i] > unit]))
-    return out
+    # τ = 0 at the first end; the far end is the chain's last dense point. Equal parts
+    # (the first at 0), one part if too short for both clearances, else the parts
+    # :func:`cleared_piece` gives where a clearance exceeds a unit (a chain whose ends
+    # ask none has after = before = unit: equal parts)
+    span = np.array([tau[-2] for tau in taus])
+    first, last = after[:, 0], before[:, 1]
+    short = span < first + last
+    parts = np.where(short, 1, np.maximum(np.floor_divide(span, unit).astype(np.int64), 1))
+    place = np.arange(parts.sum()) - np.repeat(np.cumsum(parts) - parts, parts)
+    positions = split_counts(np.repeat(span, parts) * place / np.repeat(parts, parts), parts)
+    for i in np.flatnonzero(~short & ((first > unit) | (last > unit))).tolist():
+        positions[i] = np.concatenate([[0.0], cleared_piece(0.0, span[i], first[i], last[i],
+                                                            unit)])
+    # the cleared corners (τ 0 and the span) with parts after and before them
+    corners = np.column_stack([np.zeros(len(span)), span])
+    cleared_after = split_counts(corners[after > unit], (after > unit).sum(axis=1))
+    cleared_before = split_counts(corners[before > unit], (before > unit).sum(axis=1))
+    return {c: (tau, at, clear) for c, tau, at, clear in
+            zip(simple, taus, positions, zip(cleared_after, cleared_before))}
 
 
 def _running_sums(values, lo, hi) -> list:
