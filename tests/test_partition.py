@@ -202,3 +202,23 @@ def test_materials_reach_the_finite_element_codes():
 def test_boundaries_that_nearly_touch_are_refused():
     with pytest.raises(pds.RegionError, match="nearly touch at .* without sharing"):
         pds.mesh_regions({"a": box(0, 0, 1, 1), "b": box(1 + 1e-11, 0.2, 2, 0.8)}, 0.1)
+
+
+def test_frames_read_at_once_refuse_a_vertex_outside_its_frame():
+    """read_frames searches all frames through one index of keys region x span + id
+    (Frames keeps it for a remesh's many reads): the same points as frame by frame, and
+    a vertex no frame holds, even one whose key would land in another frame's range
+    (above every id, or negative), is refused, not read from the wrong frame."""
+    from pds_plugin.partition import Frame, Frames, read_frames
+
+    frames = Frames([Frame([7, 3], [[1.0, 2.0], [3.0, 4.0]]), Frame([3, 0], [[5.0, 6.0],
+                                                                          [7.0, 8.0]])])
+    region, vertex = np.array([1, 0, 0, 1]), np.array([3, 3, 7, 0])
+    expected = [frames[r][[v]][0].tolist() for r, v in zip(region, vertex)]
+    assert read_frames(frames, region, vertex).tolist() == expected
+    assert read_frames(list(frames), region, vertex).tolist() == expected
+    # span 8: (region 0, vertex 8) has the key of (region 1, vertex 0), and (region 1,
+    # vertex -1) that of (region 0, vertex 7)
+    for region, vertex in (([0], [8]), ([1], [-1]), ([0], [0])):
+        with pytest.raises(KeyError):
+            read_frames(frames, np.array(region), np.array(vertex))

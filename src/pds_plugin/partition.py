@@ -161,10 +161,26 @@ class Frame:
         return self.xy.take(at, axis=0)
 
 
+class Frames(tuple):
+    """:class:`Frame` s, region by region, with all their vertices in one sorted index
+    (:attr:`index`), made once for the many :func:`read_frames` calls of a remesh's
+    steps over its hundreds of patches."""
+
+    @cached_property
+    def index(self) -> tuple:
+        """(keys, span, xy): each vertex's key ``region x span + id``, increasing (by
+        frame, then by id; ``span`` is one more than the largest id), and its xy."""
+        ids = np.concatenate([np.zeros(0, np.int64), *(frame.ids for frame in self)])
+        span = int(ids.max(initial=-1)) + 1
+        owner = np.repeat(np.arange(len(self)), [len(frame.ids) for frame in self])
+        return owner * span + ids, span, np.concatenate([np.zeros((0, 2)),
+                                                         *(frame.xy for frame in self)])
+
+
 def read_frames(frames, region, vertex) -> np.ndarray:
     """``frames[region[k]][vertex[k]]`` for every k: one search over all the frames when
     they are :class:`Frame` s (a remesh's hundreds of patches: a look-up each cost
-    5 µs), else one look-up per region.
+    5 µs; pass them as :class:`Frames` to index them once), else one look-up per region.
 
     Examples
     --------
@@ -173,22 +189,22 @@ def read_frames(frames, region, vertex) -> np.ndarray:
     [[5.0, 6.0], [3.0, 4.0], [1.0, 2.0]]
     """
     region, vertex = np.asarray(region, np.int64), np.asarray(vertex, np.int64)
-    if not all(isinstance(frame, Frame) for frame in frames):
-        out = np.empty((len(region), 2))
-        for r, at in _groups(region):
-            out[at] = frames[r][vertex[at]]
-        return out
+    if not isinstance(frames, Frames):
+        if not all(isinstance(frame, Frame) for frame in frames):
+            out = np.empty((len(region), 2))
+            for r, at in _groups(region):
+                out[at] = frames[r][vertex[at]]
+            return out
+        frames = Frames(frames)
     if not len(region):
         return np.empty((0, 2))
-    ids = np.concatenate([frame.ids for frame in frames])
-    span = max(int(ids.max(initial=0)), int(vertex.max())) + 1
-    owner = np.repeat(np.arange(len(frames)), [len(frame.ids) for frame in frames])
-    keys = owner * span + ids                      # sorted: by frame, then by id
+    keys, span, xy = frames.index
     wanted = region * span + vertex
     at = keys.searchsorted(wanted)
-    if not len(keys) or not (keys.take(at, mode="clip") == wanted).all():
+    if (vertex.min() < 0 or vertex.max() >= span or not len(keys)
+            or not (keys.take(at, mode="clip") == wanted).all()):
         raise KeyError("a vertex outside its frame")
-    return np.concatenate([frame.xy for frame in frames]).take(at, axis=0)
+    return xy.take(at, axis=0)
 
 
 def read_regions(frames, ids) -> np.ndarray:

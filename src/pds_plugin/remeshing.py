@@ -38,7 +38,7 @@ from shapely.geometry import MultiPolygon, Polygon
 from . import _sizing_kernels
 from ._checks import check_alpha, check_grading, check_positive_int, check_seed
 from .errors import ArgumentError, ArgumentTypeError, PdsError
-from .partition import (ATTEMPTS, Frame, InterfaceReport, agreeing_fields,
+from .partition import (ATTEMPTS, Frame, Frames, InterfaceReport, agreeing_fields,
                         chain_sample_radii, fields_with_cones, graded_sample_chains,
                         interface_report, junction_fields, partition_topology, read_regions,
                         split_counts)
@@ -373,7 +373,7 @@ def remesh(mesh, alpha="auto", *, graded: bool = True, grading: float | None = N
                 kept[patch.faces] = False
             on_kept = np.zeros(len(vertices), bool)
             on_kept[faces[kept].ravel()] = True
-            rings, frames = [p.rings for p in remeshed], [p.frame for p in remeshed]
+            rings, frames = [p.rings for p in remeshed], Frames(p.frame for p in remeshed)
             pinned = np.flatnonzero(on_kept).tolist()
             # the chains found once for the four steps (and again only when patches are
             # kept), the patches' fields read in one call (they lie apart in one plane)
