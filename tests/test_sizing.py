@@ -318,3 +318,16 @@ def test_the_wall_search_tries_a_bounded_number_of_facing_points(monkeypatch):
     field = sizing.radius_field(region, 0.2, 3e-4)
     assert len(calls) <= sizing._ROUNDS * sizing._FACING_TRIES
     assert 0 < field.sizes.min() < 3e-4
+
+
+def test_a_field_searched_from_c_still_pickles():
+    """A field keeps its compiled view (``_kernel``) once made; a pickle (Dask ships a
+    batch's meshes with their fields) leaves it out, and the copy reads the same."""
+    import pickle
+
+    field = RadiusField([[0, 0], [3, 1]], [0.1, 0.2], 0.3, cap=1.0)
+    assert field._kernel is field._kernel
+    copy = pickle.loads(pickle.dumps(field))
+    x = np.random.default_rng(0).uniform(-2, 5, (100, 2))
+    np.testing.assert_array_equal(copy(x), field(x))
+    assert copy._kernel is not field._kernel

@@ -162,7 +162,7 @@ def _tau_rings(rings, field, grading, limit=None):
     calls were most of their cost)."""
     points = np.concatenate(rings)
     counts = np.array([len(r) for r in rings])
-    done = kern.densified_rings(kern.Field(field), points, counts, grading)
+    done = kern.densified_rings(field._kernel, points, counts, grading)
     if done is not None:                        # the same, in one kernel call
         points, radius, first, counts, tau_of = done
         ends = np.cumsum(counts)
@@ -799,7 +799,7 @@ class _GradedSampler:
         test, the split, r at the quarters, the in/out test and the coverage test of the
         quarters) and one throw. With ``tile``, the disc tile's points come first
         (:meth:`_add_tile`), and the leaves they cover get no dart."""
-        self.kernel_field = kern.Field(self.field)
+        self.kernel_field = self.field._kernel
         tiled = self._add_tile(rng) if tile else None
         boxes, since = self._leaves(), 0
         if tiled is not None:

@@ -380,8 +380,9 @@ def graded_sample_chains(rings, frames, fields, *, feature_angle: float = 30.0, 
         taus.append(tau)
         positions.append(at)
         cleared.append(clear)
-    chain, at = _halved(chain_set, taus, positions, cleared, segment, t, bounds)
-    along_segment, along_t = _FlatTau(taus, segment, t, bounds).to_chain(chain, at)
+    flat = _FlatTau(taus, segment, t, bounds)
+    chain, at = _halved(chain_set, flat, positions, cleared)
+    along_segment, along_t = flat.to_chain(chain, at)
     counts = np.bincount(chain, minlength=len(chains))
     return _assembled(rings, sides, junction, chains,
                       list(zip(split_counts(along_segment, counts),
@@ -444,7 +445,7 @@ class _ChainSet:
         owner read by its own field: what the union reads there, the same numbers bit
         for bit, without building the union)."""
         done = _graded_kernels.densified_chains(
-            [_graded_kernels.Field(field) for field in self.fields],
+            [field._kernel for field in self.fields],
             np.ascontiguousarray(self.corner[0]), np.ascontiguousarray(self.corner[1]),
             self.side, self.count, np.ascontiguousarray(self.closed, dtype=np.uint8), grading)
         if done is not None:
@@ -713,7 +714,7 @@ def _chain_clearance(dense, radius, tau, corner, turn, unit):
     return after, before
 
 
-def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
+def _halved(chain_set, flat, positions, cleared):
     """The positions with every part longer than :data:`_LONGEST_PART` times the smallest
     r at its ends and its middle halved in τ, again until none is (at most
     :data:`_MAX_HALVINGS` rounds; r dips between the ends where a cone of the agreeing
@@ -721,9 +722,9 @@ def _halved(chain_set, taus, positions, cleared, segment, t, bounds):
     and 0.374 at its middle, 1.015 r from both ends, a sharp corner blocking its guard); a part that keeps a sharp corner's neighbour clear of it (``cleared``: per
     chain, the positions of such corners, parts after and parts before them) only when
     longer than that times the larger r (the neighbour's: r at the corner may be far
-    smaller, and halving there would undo the clearance). All chains at once; returns
-    the chain of each position and the positions, by chain and increasing."""
-    flat = _FlatTau(taus, segment, t, bounds)
+    smaller, and halving there would undo the clearance). All chains at once, their τ
+    in ``flat`` (:class:`_FlatTau`); returns the chain of each position and the
+    positions, by chain and increasing."""
     chain = np.repeat(np.arange(len(positions)), [len(at) for at in positions])
     at = np.concatenate(positions)
     # the guarded parts' ends as chain + 1j x position: exact keys for np.isin

@@ -161,6 +161,19 @@ class RadiusField:
         its patches' sample cones are mostly read only through their groups' union)."""
         return kern.build_cone_tree(self.features, self.sizes, 8) if len(self.sizes) else None
 
+    @cached_property
+    def _kernel(self):
+        """The field as the compiled kernels search it (``_graded_kernels.Field``), made
+        once (a remesh's steps ask each of its hundreds of patch fields several times)."""
+        from . import _graded_kernels
+
+        return _graded_kernels.Field(self)
+
+    def __getstate__(self):
+        state = dict(self.__dict__)         # a pickle leaves out the compiled view
+        state.pop("_kernel", None)          # (made again when asked)
+        return state
+
     def __call__(self, points) -> np.ndarray:
         points = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 2))
         if not len(self.sizes) or not len(points):
