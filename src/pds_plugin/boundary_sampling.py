@@ -16,7 +16,8 @@ their complexes are constrained by (:mod:`.complex`, :mod:`.graded_complex`).
   in/out tests of the paper's (not conforming) sampler;
 - :func:`chord_reach` and :func:`graded_chords`: the chords of a graded sampling, each
   binned within the reach a kept triangle's edge can have from it: one rule for the
-  graded sampler and the graded complex.
+  graded sampler and the graded complex; :func:`graded_domain`: the same chords binned
+  where they pass, for the graded sampler's exact in/out tests.
 
 The chords travel as :class:`~pds_plugin._visibility_kernels.ChordBundle`\\ s.
 """
@@ -36,6 +37,7 @@ from .region import Region
 
 __all__ = ["RESOLUTION", "given_boundary", "along", "onto_curves", "joined", "chord_ends",
            "guard_candidates", "domain_of_rings", "chord_reach", "graded_chords",
+           "graded_domain",
            "vertex_chords", "hidden_bends", "star_shaped_from"]
 
 RESOLUTION = 1e-10
@@ -445,6 +447,31 @@ def graded_chords(points, rings, reach, n_points: int, x0: float, y0: float, wid
     nx, ny = int(width / h) + 1, int(height / h) + 1
     start, items = graded_kern.bin_chords_by_reach(xy, reach, x0, y0, h, nx, ny)
     return vis_kern.ChordBundle(xy, prev, out, start, items, x0, y0, h, nx, ny)
+
+
+def graded_domain(points, rings, n_points: int, x0: float, y0: float, width: float,
+                  height: float, smallest_cell: float) -> tuple:
+    """The arguments of the exact in/out tests (``_visibility_kernels.points_inside`` and
+    ``boxes_state``) of a graded sampling: its chords (:func:`graded_chords`'s bundle)
+    each listed only in the cells near it (a reach of half a cell), and the cells'
+    sides. The visibility tests' bundle lists each chord within its reach, some 36
+    cells, where these tests look for the few that cross a box or a ray. The half cell
+    lists a chord that lies on the line between two cells in both of them (with no
+    reach, rounding listed it in one, and the sweep of ``cell_sides`` missed its
+    crossings).
+
+    Examples
+    --------
+    >>> from pds_plugin import _visibility_kernels as vis_kern
+    >>> square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    >>> domain = graded_domain(square, [np.arange(4)], 4, -0.5, -0.5, 2.0, 2.0, 0.25)
+    >>> vis_kern.points_inside(*domain, [0.5, 1.0, 2.0], [0.5, 0.5, 0.5])
+    array([ True, False, False])
+    """
+    count = sum(len(ring) for ring in rings)
+    chords = graded_chords(points, rings, np.full(count, 0.5 * smallest_cell), n_points, x0,
+                           y0, width, height, smallest_cell)
+    return chords, vis_kern.cell_sides(chords)
 
 
 def _ring_chords(points, rings, n_points: int):

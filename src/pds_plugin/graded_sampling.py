@@ -39,8 +39,8 @@ from ._checks import check_positive_int, check_seed
 from .errors import BudgetError, RegionError
 from .region import ALPHA_RESOLUTION, Region
 from .boundary_sampling import (RESOLUTION, along, chord_ends, chord_reach, given_boundary,
-                                graded_chords, guard_candidates, hidden_bends, joined,
-                                onto_curves)
+                                graded_chords, graded_domain, guard_candidates,
+                                hidden_bends, joined, onto_curves)
 from .boundary_rules import LONGEST_CHORD
 from .sampling import DEFAULT_MAX_SAMPLES, Samples, check_rings_apart, corner_clearance
 from .sizing import RadiusField
@@ -774,7 +774,8 @@ class _GradedSampler:
         self.count = kern.place(boundary, radius, self.bins, self.nxt, self.points, self.radius,
                                 0, self.x0, self.y0)
         self._check_count()
-        self.domain = self.vis, vis_kern.cell_sides(self.vis)   # exact in/out tests
+        self.domain = graded_domain(boundary, self.rings, len(self.points), self.x0, self.y0,
+                                    self.width, self.height, self.h)     # exact in/out tests
         guards = guard_candidates(boundary, self.rings, self.field)
         guards = guards[vis_kern.points_inside(*self.domain, guards[:, 0], guards[:, 1])]
         self._insert(guards, np.arange(len(guards)))

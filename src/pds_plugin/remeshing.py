@@ -1770,8 +1770,8 @@ def _volume_kept(points, lifted, new_faces, patches, vertices, faces, volume, to
     counts = [len(triangles) for triangles in new_faces]
     every_triangle = np.concatenate(new_faces)
     taken = np.take(every, every_triangle, axis=0)
-    old = _determinants(np.concatenate(
-        [np.take(vertices, faces[patch.faces], axis=0) for patch in patches]) - centre)
+    input_faces = faces[np.concatenate([patch.faces for patch in patches])]
+    old = _determinants(np.take(vertices, input_faces, axis=0) - centre)
     change = (_row_sums(_determinants(taken - centre), counts) / 6
               - _row_sums(old, [len(patch.faces) for patch in patches]) / 6)
     if abs(sum(change)) <= _VOLUME_TOL / 8 * abs(volume):
