@@ -847,19 +847,18 @@ class _GradedSampler:
         low = np.floor((bounds[:, :2] / cap - offset) / side).astype(np.int64)
         high = np.floor((bounds[:, 2:] / cap - offset) / side).astype(np.int64)
         base, columns = low.min(axis=0), int(high[:, 1].max() - low[:, 1].min()) + 1
-
-        found, numbers = [], []
-        for (x0, y0, x1, y1), (i0, j0), (i1, j1) in zip(bounds, low, high):
-            i, j = (a.ravel() for a in np.meshgrid(np.arange(i0, i1 + 1), np.arange(j0, j1 + 1),
-                                                   indexing="ij"))
-            xy = ((np.column_stack([i, j]) * side + offset)[:, None, :] + tile.points) * cap
-            tiles, at = np.nonzero((xy[..., 0] >= x0) & (xy[..., 0] <= x1)
-                                   & (xy[..., 1] >= y0) & (xy[..., 1] <= y1))
-            found.append(xy[tiles, at])
-            numbers.append(((i[tiles] - base[0]) * columns + j[tiles] - base[1]) * count + at)
-        points = np.concatenate(found)
-        if len(found) > 1:            # the polygons' boxes may overlap: each point once
-            points = points[np.unique(np.concatenate(numbers), return_index=True)[1]]
+        # the tiles (i, j) over each box, row by row, all boxes at once
+        rows, cols = (high - low + 1).T
+        box = np.repeat(np.arange(len(bounds)), rows * cols)
+        k = np.arange(len(box)) - np.repeat(np.cumsum(rows * cols) - rows * cols, rows * cols)
+        i, j = low[box, 0] + k // cols[box], low[box, 1] + k % cols[box]
+        xy = ((np.column_stack([i, j]) * side + offset)[:, None, :] + tile.points) * cap
+        x0, y0, x1, y1 = (bounds[box, c, None] for c in range(4))
+        tiles, at = np.nonzero((xy[..., 0] >= x0) & (xy[..., 0] <= x1)
+                               & (xy[..., 1] >= y0) & (xy[..., 1] <= y1))
+        numbers = ((i[tiles] - base[0]) * columns + j[tiles] - base[1]) * count + at
+        # the polygons' boxes may overlap: each point once, by its number
+        points = xy[tiles, at][np.unique(numbers, return_index=True)[1]]
         points = points[vis_kern.points_inside(*self.domain, points[:, 0], points[:, 1])]
         kept = np.zeros(len(points), bool)
         radius = self._insert(points, np.arange(len(points)), kept)
