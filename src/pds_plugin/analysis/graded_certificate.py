@@ -239,8 +239,13 @@ def _relative_separation(mesh, radius, sampled):
     close = ratio < max(best, 1 - SEPARATION_TOL)
     if not close.any():
         return best, short_edges
-    seen = sees(shapely.union(mesh.region.geometry, sampled.polygon()),
-                 np.stack([points[p[close]], points[q[close]]], axis=1), mesh.alpha)
+    # a pair sees each other through the region or through the mesh's polygon Q: the
+    # region alone first, their union (a GEOS overlay) only for the pairs it does not see
+    segments = np.stack([points[p[close]], points[q[close]]], axis=1)
+    seen = sees(mesh.region.geometry, segments, mesh.alpha)
+    if not seen.all():
+        seen[~seen] = sees(shapely.union(mesh.region.geometry, sampled.polygon()),
+                           segments[~seen], mesh.alpha)
     below = seen & (ratio[close] < 1 - SEPARATION_TOL)
     pairs = np.column_stack([p[close][below], q[close][below]])
     nearest = float(min(best, ratio[close][seen].min(initial=np.inf)))

@@ -193,7 +193,9 @@ def small_feature_exceptions(mesh, quality, sampled: SampledBoundary, close_pair
     scale = np.asarray(radius, float) if graded else np.full(n, float(alpha))
     faces = np.asarray(mesh.faces, np.int64).reshape(-1, 3)
     pairs = np.asarray(close_pairs, np.int64).reshape(-1, 2)
-    pairs = np.unique(np.sort(pairs, axis=1), axis=0) if len(pairs) else pairs
+    if len(pairs):                  # np.unique's rows (sorted), by keys p n + q (its axis=0
+        keys = np.unique(np.sort(pairs, axis=1) @ np.array([n, 1]))    # costs 10 times more)
+        pairs = np.column_stack([keys // n, keys % n])
     angles, edges = quality.angles, quality.edge_lengths          # edge k opposite corner k
     smallest = angle_bound(grading) if graded else 30.0
     # the corners' min and max as np.minimum of the columns: min(axis=1) costs 30 times more
