@@ -44,6 +44,7 @@ from .partition import (ATTEMPTS, Frame, Frames, InterfaceReport, agreeing_field
                         split_counts)
 from .region import Region, _following, check_tolerance, simple_regions, turning_angles
 from .sampling import DEFAULT_MAX_SAMPLES, LADDER_ANGLE, check_budget
+from .sizing import _PAIRWISE
 from .sources.solids import check_coordinates, float_noise, needle_faces, welded
 
 if TYPE_CHECKING:
@@ -910,8 +911,6 @@ def _cones_at(xy, sizes, field) -> np.ndarray:
     points (most patches of a CAD part), in NumPy, and then in C, else by the cone
     tree's exact minimum (the cones the dominance test of a field would drop change no
     minimum)."""
-    from .sizing import _PAIRWISE
-
     if len(xy) <= 32:
         distance = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
         return np.minimum((sizes[None, :] + field.grading * distance).min(axis=1, initial=np.inf),
